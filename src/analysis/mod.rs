@@ -1,0 +1,168 @@
+//! Running experiments: solvers in, finished tables, figures and check outcomes out.
+//! Nothing here reads or writes files; references arrive pre-loaded.
+
+mod checks;
+mod linear;
+
+use crate::checks::reference::ReferenceStore;
+use crate::checks::{fmt_num, CheckOutcome};
+use crate::error::Result;
+use crate::experiment::{Analysis, Experiment};
+use crate::model::modal::{modal_summary, ModeSummary};
+use crate::model::Damping;
+use crate::output::figure::Figure;
+use crate::output::table::Table;
+
+/// Everything an experiment produced, ready to be written and rendered.
+#[derive(Debug, Clone)]
+pub struct ExperimentResult {
+    pub experiment: Experiment,
+    /// Modes of the bare structure.
+    pub modes: Vec<ModeSummary>,
+    /// Named parameters for the report's parameter table.
+    pub parameters: Vec<(String, String)>,
+    /// Every assumption the run rests on.
+    pub assumptions: Vec<String>,
+    pub tables: Vec<Table>,
+    pub figures: Vec<Figure>,
+    pub checks: Vec<CheckOutcome>,
+}
+
+impl ExperimentResult {
+    /// True when no check failed.
+    pub fn passed(&self) -> bool {
+        !self.checks.iter().any(|c| c.status.fails())
+    }
+}
+
+/// Runs one experiment.
+pub fn run(exp: &Experiment, refs: &ReferenceStore) -> Result<ExperimentResult> {
+    let modes = modal_summary(&exp.structure, &[]);
+    let mut tables = vec![linear::modal_table(exp, &modes)];
+    let mut figures = Vec::new();
+    match &exp.analysis {
+        Analysis::Modal => {}
+        Analysis::LinearFrf { freq_hz } => {
+            let (table, figs) = linear::frf(exp, &modes, freq_hz);
+            tables.push(table);
+            figures.extend(figs);
+        }
+    }
+    let checks = checks::evaluate(exp, &modes, refs);
+    Ok(ExperimentResult {
+        parameters: parameters(exp),
+        assumptions: assumptions(exp),
+        experiment: exp.clone(),
+        modes,
+        tables,
+        figures,
+        checks,
+    })
+}
+
+fn list(v: &[f64]) -> String {
+    v.iter().map(|x| fmt_num(*x)).collect::<Vec<_>>().join(", ")
+}
+
+/// The parameter table of the report.
+pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
+    let s = &exp.structure;
+    let mut p = vec![
+        ("masses m_1..m_n (kg)".to_string(), list(&s.masses)),
+        (
+            "stiffness K (N/m), rows".to_string(),
+            (0..s.dof())
+                .map(|i| {
+                    format!(
+                        "[{}]",
+                        list(&s.stiffness.row(i).iter().copied().collect::<Vec<_>>())
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(" "),
+        ),
+        (
+            "damping".to_string(),
+            match &s.damping_spec {
+                Damping::ModalRatios(z) => format!("modal ratios zeta = [{}]", list(z)),
+                Damping::Rayleigh { alpha, beta } => format!(
+                    "Rayleigh alpha = {} 1/s, beta = {} s",
+                    fmt_num(*alpha),
+                    fmt_num(*beta)
+                ),
+            },
+        ),
+        (
+            "excitation".to_string(),
+            format!(
+                "F = {} N sin(omega t) on m_{}",
+                fmt_num(exp.excitation.force),
+                exp.excitation.mass + 1
+            ),
+        ),
+        ("analysis".to_string(), exp.analysis.kind().to_string()),
+    ];
+    if let Analysis::LinearFrf { freq_hz } = &exp.analysis {
+        if let (Some(a), Some(b)) = (freq_hz.first(), freq_hz.last()) {
+            p.push((
+                "frequency grid (Hz)".into(),
+                format!(
+                    "{} to {}, {} points",
+                    fmt_num(*a),
+                    fmt_num(*b),
+                    freq_hz.len()
+                ),
+            ));
+        }
+    }
+    for c in &exp.cases {
+        let d = if c.dampers.is_empty() {
+            "no damper".to_string()
+        } else {
+            c.dampers
+                .iter()
+                .map(|d| {
+                    let clr = if d.clearance.is_infinite() {
+                        "inf".to_string()
+                    } else {
+                        format!("{} mm", fmt_num(d.clearance * 1e3))
+                    };
+                    format!(
+                        "m_{}: m_d = {} kg (mu = {}), d = {clr}",
+                        d.host + 1,
+                        fmt_num(d.mass),
+                        fmt_num(d.mass / s.masses[d.host])
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        p.push((format!("case {} ({})", c.id, c.label), d));
+    }
+    p
+}
+
+/// The assumptions a run rests on: derived from the model settings, then the file's own.
+pub fn assumptions(exp: &Experiment) -> Vec<String> {
+    let mut a = Vec::new();
+    let damping = match &exp.structure.damping_spec {
+        Damping::ModalRatios(z) => format!(
+            "Damping of the bare structure: modal damping ratios [{}]",
+            list(z)
+        ),
+        Damping::Rayleigh { alpha, beta } => format!(
+            "Damping of the bare structure: Rayleigh alpha = {}, beta = {}",
+            fmt_num(*alpha),
+            fmt_num(*beta)
+        ),
+    };
+    a.push(match &exp.damping_assumption {
+        Some(why) => format!("{damping} ({why})."),
+        None => format!("{damping}."),
+    });
+    if let Some(src) = &exp.structure_source {
+        a.push(format!("Structure: {src}."));
+    }
+    a.extend(exp.meta.assumptions.iter().cloned());
+    a
+}

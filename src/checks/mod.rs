@@ -1,0 +1,190 @@
+//! Checks: a computed quantity against a reference under a stated tolerance, yielding
+//! pass, fail, or a known deviation (an expected difference with a written reason).
+
+pub mod reference;
+
+use serde::Serialize;
+
+use crate::experiment::Tolerance;
+
+/// The verdict of one check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// Within tolerance.
+    Pass,
+    /// Outside tolerance, and not expected: the run fails.
+    Fail,
+    /// Outside tolerance, as expected for the stated reason.
+    KnownDeviation,
+    /// Declared a known deviation but now within tolerance: revisit the declaration.
+    KnownDeviationPasses,
+}
+
+impl Status {
+    /// Label for tables.
+    pub fn label(self) -> &'static str {
+        match self {
+            Status::Pass => "pass",
+            Status::Fail => "FAIL",
+            Status::KnownDeviation => "known deviation",
+            Status::KnownDeviationPasses => "known deviation now passes: revisit",
+        }
+    }
+
+    /// Whether this status fails a run.
+    pub fn fails(self) -> bool {
+        self == Status::Fail
+    }
+}
+
+/// The outcome of one check, with every number a reader needs.
+#[derive(Debug, Clone, Serialize)]
+pub struct CheckOutcome {
+    /// Short name, e.g. "omega_2".
+    pub name: String,
+    /// What was compared.
+    pub description: String,
+    pub computed: f64,
+    pub expected: f64,
+    pub unit: String,
+    /// `|computed - expected|`.
+    pub abs_diff: f64,
+    /// `|computed - expected| / |expected|`.
+    pub rel_diff: f64,
+    /// The tolerance in words.
+    pub tolerance: String,
+    pub status: Status,
+    /// Where the expected value comes from.
+    pub provenance: String,
+    /// The reason for a known deviation.
+    pub reason: Option<String>,
+    /// Extra detail (e.g. the worst point of a curve).
+    pub detail: Option<String>,
+}
+
+/// Formats a tolerance for people.
+pub fn describe_tolerance(t: Tolerance) -> String {
+    match (t.rel > 0.0, t.abs > 0.0) {
+        (true, true) => format!("{} + {:.3} %", fmt_num(t.abs), t.rel * 100.0),
+        (true, false) => format!("{:.3} % relative", t.rel * 100.0),
+        (false, true) => format!("{} absolute", fmt_num(t.abs)),
+        (false, false) => "exact".to_string(),
+    }
+}
+
+/// Number formatting shared by tables and checks.
+pub fn fmt_num(v: f64) -> String {
+    if v == 0.0 {
+        "0".to_string()
+    } else if !v.is_finite() {
+        format!("{v}")
+    } else if v.abs() >= 1e-3 && v.abs() < 1e5 {
+        let s = format!("{v:.6}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
+/// What a check compares: its name, meaning, unit and the reference's provenance.
+#[derive(Debug, Clone)]
+pub struct Subject {
+    pub name: String,
+    pub description: String,
+    pub unit: String,
+    pub provenance: String,
+}
+
+impl Subject {
+    /// A subject from its parts.
+    pub fn new(
+        name: impl Into<String>,
+        description: impl Into<String>,
+        unit: impl Into<String>,
+        provenance: impl Into<String>,
+    ) -> Subject {
+        Subject {
+            name: name.into(),
+            description: description.into(),
+            unit: unit.into(),
+            provenance: provenance.into(),
+        }
+    }
+}
+
+/// Compares a scalar with a reference value.
+pub fn compare_scalar(
+    subject: Subject,
+    computed: f64,
+    expected: f64,
+    tolerance: Tolerance,
+    known_deviation: Option<&str>,
+) -> CheckOutcome {
+    let abs_diff = (computed - expected).abs();
+    let rel_diff = if expected != 0.0 {
+        abs_diff / expected.abs()
+    } else {
+        f64::INFINITY
+    };
+    let within = abs_diff <= tolerance.abs + tolerance.rel * expected.abs();
+    CheckOutcome {
+        name: subject.name,
+        description: subject.description,
+        computed,
+        expected,
+        unit: subject.unit,
+        abs_diff,
+        rel_diff,
+        tolerance: describe_tolerance(tolerance),
+        status: status(within, known_deviation.is_some()),
+        provenance: subject.provenance,
+        reason: known_deviation.map(str::to_string),
+        detail: None,
+    }
+}
+
+/// The status from "within tolerance" and "declared a known deviation".
+pub fn status(within: bool, known: bool) -> Status {
+    match (within, known) {
+        (true, false) => Status::Pass,
+        (false, false) => Status::Fail,
+        (false, true) => Status::KnownDeviation,
+        (true, true) => Status::KnownDeviationPasses,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scalar_statuses() {
+        let tol = Tolerance {
+            rel: 0.005,
+            abs: 0.0,
+        };
+        let pass = compare_scalar(Subject::new("w", "", "rad/s", ""), 81.91, 81.9, tol, None);
+        assert_eq!(pass.status, Status::Pass);
+        let fail = compare_scalar(Subject::new("w", "", "rad/s", ""), 218.5, 243.9, tol, None);
+        assert_eq!(fail.status, Status::Fail);
+        assert!((fail.rel_diff - 25.4 / 243.9).abs() < 1e-12);
+        let known = compare_scalar(
+            Subject::new("w", "", "rad/s", ""),
+            218.5,
+            243.9,
+            tol,
+            Some("measured"),
+        );
+        assert_eq!(known.status, Status::KnownDeviation);
+        let revisit = compare_scalar(
+            Subject::new("w", "", "rad/s", ""),
+            243.9,
+            243.9,
+            tol,
+            Some("measured"),
+        );
+        assert_eq!(revisit.status, Status::KnownDeviationPasses);
+    }
+}

@@ -1,0 +1,106 @@
+//! Reference data: values stated in the paper's text, and curves from other sources.
+//! A reference is data + tolerance (given by the check) + provenance.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::error::{read_to_string, Error, Result};
+
+/// A file of reference values, such as `reference/paper-text.toml`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ValueFile {
+    pub meta: ValueFileMeta,
+    #[serde(rename = "quantity")]
+    pub quantities: Vec<Quantity>,
+}
+
+/// Where a value file's numbers come from.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ValueFileMeta {
+    /// Kind of source: "paper text", "digitised figure", "independent solver".
+    pub provenance: String,
+    /// The document the numbers come from.
+    pub source: String,
+}
+
+/// One stated quantity, scalar or vector.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Quantity {
+    pub id: String,
+    #[serde(default)]
+    pub value: Option<f64>,
+    #[serde(default)]
+    pub values: Option<Vec<f64>>,
+    pub unit: String,
+    /// Section of the source that states it.
+    pub section: String,
+    /// The source's words.
+    pub quote: String,
+    #[serde(default)]
+    pub note: Option<String>,
+}
+
+impl ValueFile {
+    /// Reads and parses a value file.
+    pub fn load(path: &Path) -> Result<ValueFile> {
+        let text = read_to_string(path)?;
+        toml::from_str(&text).map_err(|e| Error::Parse {
+            file: path.display().to_string(),
+            message: e.to_string().trim_end().to_string(),
+        })
+    }
+
+    /// The quantity with this id.
+    pub fn get(&self, id: &str) -> Option<&Quantity> {
+        self.quantities.iter().find(|q| q.id == id)
+    }
+
+    /// A human-readable provenance line for a quantity.
+    pub fn provenance(&self, q: &Quantity) -> String {
+        format!(
+            "{}: {}, section {} (\"{}\")",
+            self.meta.provenance, self.meta.source, q.section, q.quote
+        )
+    }
+}
+
+/// Reference files loaded once, before any experiment runs (no I/O during analysis).
+#[derive(Debug, Clone, Default)]
+pub struct ReferenceStore {
+    values: std::collections::BTreeMap<String, ValueFile>,
+}
+
+impl ReferenceStore {
+    /// Loads every value file the experiments' checks name, from `dir`.
+    pub fn load(
+        dir: &Path,
+        experiments: &[crate::experiment::Experiment],
+    ) -> Result<ReferenceStore> {
+        let mut store = ReferenceStore::default();
+        for exp in experiments {
+            for check in &exp.checks {
+                let file = &check.reference_file;
+                if file.ends_with(".toml") && !store.values.contains_key(file) {
+                    store
+                        .values
+                        .insert(file.clone(), ValueFile::load(&dir.join(file))?);
+                }
+            }
+        }
+        Ok(store)
+    }
+
+    /// A loaded value file.
+    pub fn values(&self, file: &str) -> Option<&ValueFile> {
+        self.values.get(file)
+    }
+
+    /// Adds a value file (for tests and tools).
+    pub fn insert_values(&mut self, file: impl Into<String>, values: ValueFile) {
+        self.values.insert(file.into(), values);
+    }
+}

@@ -1,0 +1,281 @@
+//! The command line: wires loading, running and writing; no physics and no rendering here.
+//!
+//! Exit codes: 0 every check passed, 1 a check failed, 2 bad input or an I/O error.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::{Parser, Subcommand};
+use rayon::prelude::*;
+
+use crate::analysis::{self, ExperimentResult};
+use crate::checks::reference::ReferenceStore;
+use crate::checks::Status;
+use crate::experiment::{self, Experiment};
+use crate::model::modal::modal_summary;
+use crate::output::ReportWriter;
+
+/// Replicates Araki et al. (1997), "Impact damper with granular materials for multibody
+/// system", figure by figure, and checks every result against references.
+#[derive(Debug, Parser)]
+#[command(name = "shotdamp", version, about, long_about = None)]
+pub struct Cli {
+    /// Folder of experiment files.
+    #[arg(long, global = true, default_value = "experiments")]
+    pub experiments: PathBuf,
+    /// Folder of reference data.
+    #[arg(long, global = true, default_value = "reference")]
+    pub reference: PathBuf,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// List the experiments and the figures they reproduce.
+    List,
+    /// Print the modes of an experiment's structure, with the mass ratios of Eq. 13.
+    Modal {
+        /// Experiment file.
+        file: PathBuf,
+        /// Case whose dampers give the mass ratios (default: every case with dampers).
+        #[arg(long)]
+        case: Option<String>,
+    },
+    /// Run some experiments and write their report.
+    Run {
+        /// Experiment files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Report folder.
+        #[arg(long, default_value = "runs")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Folder of templates overriding the embedded ones.
+        #[arg(long)]
+        templates: Option<PathBuf>,
+    },
+    /// Run every experiment and regenerate the whole report.
+    Report {
+        /// Report folder.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Folder of templates overriding the embedded ones.
+        #[arg(long)]
+        templates: Option<PathBuf>,
+    },
+}
+
+/// Entry point of the binary.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match dispatch(&cli) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Runs a command; `Ok(false)` when a check failed.
+pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
+    match &cli.command {
+        Command::List => {
+            for path in experiment::discover(&cli.experiments)? {
+                let exp = experiment::load(&path, &cli.reference)?;
+                println!(
+                    "{:<28} {:<12} {:<12} {}",
+                    exp.meta.id,
+                    exp.meta.figure,
+                    exp.analysis.kind(),
+                    exp.meta.title
+                );
+            }
+            Ok(true)
+        }
+        Command::Modal { file, case } => {
+            let exp = experiment::load(file, &cli.reference)?;
+            print_modal(&exp, case.as_deref())?;
+            Ok(true)
+        }
+        Command::Run {
+            files,
+            out,
+            jobs,
+            templates,
+        } => {
+            let exps = files
+                .iter()
+                .map(|f| experiment::load(f, &cli.reference))
+                .collect::<crate::Result<Vec<_>>>()?;
+            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref())
+        }
+        Command::Report {
+            out,
+            jobs,
+            templates,
+        } => {
+            let files = experiment::discover(&cli.experiments)?;
+            if files.is_empty() {
+                anyhow::bail!(
+                    "{}: no experiment files (*.toml) found",
+                    cli.experiments.display()
+                );
+            }
+            let exps = files
+                .iter()
+                .map(|f| experiment::load(f, &cli.reference))
+                .collect::<crate::Result<Vec<_>>>()?;
+            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref())
+        }
+    }
+}
+
+fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
+    let cases: Vec<_> = match case {
+        Some(id) => {
+            let c = exp.cases.iter().find(|c| c.id == id).with_context(|| {
+                format!(
+                    "{}: no case \"{id}\"; the cases are {:?}",
+                    exp.path.display(),
+                    exp.cases.iter().map(|c| &c.id).collect::<Vec<_>>()
+                )
+            })?;
+            vec![c]
+        }
+        None => exp.cases.iter().filter(|c| !c.dampers.is_empty()).collect(),
+    };
+    let modes = modal_summary(&exp.structure, &[]);
+    let n = modes.len();
+    println!(
+        "{} ({}): modes of the bare structure",
+        exp.meta.id,
+        exp.path.display()
+    );
+    print!("{:>4} {:>12} {:>10}", "mode", "omega rad/s", "f Hz");
+    for r in 0..n {
+        print!(" {:>9}", format!("phi_m{}", r + 1));
+    }
+    println!(
+        " {:>10} {:>12} {:>11} {:>8}",
+        "M_i kg", "K_i N/m", "C_i N s/m", "zeta_i"
+    );
+    for m in &modes {
+        print!("{:>4} {:>12.3} {:>10.4}", m.number, m.omega, m.freq_hz);
+        for v in &m.shape {
+            print!(" {v:>9.4}");
+        }
+        println!(
+            " {:>10.5} {:>12.2} {:>11.5} {:>8.5}",
+            m.modal_mass, m.modal_stiffness, m.modal_damping, m.damping_ratio
+        );
+    }
+    for c in cases {
+        let with = modal_summary(&exp.structure, &c.dampers);
+        let mus: Vec<String> = with
+            .iter()
+            .map(|m| format!("mu_{} = {:.5}", m.number, m.mass_ratio))
+            .collect();
+        println!("case {} ({}): {}", c.id, c.label, mus.join(", "));
+    }
+    Ok(())
+}
+
+fn pool(jobs: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(j) = jobs {
+        if j == 0 {
+            return Err(crate::Error::invalid(
+                "--jobs",
+                "jobs",
+                0,
+                "give at least 1 worker thread",
+            )
+            .into());
+        }
+        b = b.num_threads(j);
+    }
+    Ok(b.build()?)
+}
+
+/// Runs experiments in parallel, writes the report, prints a summary.
+fn run_and_write(
+    exps: &[Experiment],
+    reference: &Path,
+    out: &Path,
+    jobs: Option<usize>,
+    templates: Option<&Path>,
+) -> anyhow::Result<bool> {
+    let refs = ReferenceStore::load(reference, exps)?;
+    let writer = ReportWriter::create(out, templates)?;
+    let pool = pool(jobs)?;
+    let tty = std::io::stderr().is_terminal();
+    let results: crate::Result<Vec<ExperimentResult>> = pool.install(|| {
+        exps.par_iter()
+            .map(|exp| {
+                let started = std::time::Instant::now();
+                let r = analysis::run(exp, &refs)?;
+                writer.write_experiment(&r, &exp.path.display().to_string())?;
+                let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
+                let mark = if n_fail > 0 { "FAIL" } else { "ok" };
+                if tty || std::env::var_os("CI").is_some() {
+                    eprintln!(
+                        "{mark:>4} {:<28} {} checks, {n_fail} failed ({:.2} s)",
+                        exp.meta.id,
+                        r.checks.len(),
+                        started.elapsed().as_secs_f64()
+                    );
+                }
+                Ok(r)
+            })
+            .collect()
+    });
+    let results = match results {
+        Ok(r) => r,
+        Err(e) => {
+            writer.abandon();
+            return Err(e.into());
+        }
+    };
+    let dest = writer.finish(&results)?;
+    let failed: Vec<String> = results
+        .iter()
+        .flat_map(|r| {
+            r.checks.iter().filter(|c| c.status.fails()).map(move |c| {
+                format!(
+                    "  {}: {}: computed {} vs expected {} (tolerance {}){}",
+                    r.experiment.meta.id,
+                    c.name,
+                    crate::checks::fmt_num(c.computed),
+                    crate::checks::fmt_num(c.expected),
+                    c.tolerance,
+                    c.detail
+                        .as_ref()
+                        .map(|d| format!("; {d}"))
+                        .unwrap_or_default()
+                )
+            })
+        })
+        .collect();
+    let total: usize = results.iter().map(|r| r.checks.len()).sum();
+    println!("report: {}", dest.join("index.html").display());
+    if failed.is_empty() {
+        println!("{total} checks: none failed");
+        Ok(true)
+    } else {
+        println!("{total} checks: {} failed", failed.len());
+        for f in failed {
+            println!("{f}");
+        }
+        Ok(false)
+    }
+}

@@ -1,0 +1,73 @@
+//! Errors of the library. Every error says where (file, key), what (the value) and what
+//! is allowed, so that a user can fix the input without reading code.
+
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+/// Everything that can go wrong before or while producing results.
+#[derive(Debug, Error)]
+pub enum Error {
+    /// A value in an input file is not allowed.
+    #[error("{file}: {key} = {value}: {message}")]
+    Invalid {
+        file: String,
+        key: String,
+        value: String,
+        message: String,
+    },
+    /// An input file is not valid TOML or does not have the expected shape.
+    #[error("{file}: {message}")]
+    Parse { file: String, message: String },
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A data table could not be written or read.
+    #[error("{path}: {message}")]
+    Table { path: PathBuf, message: String },
+    /// Rendering a plot or a page failed.
+    #[error("rendering {what}: {message}")]
+    Render { what: String, message: String },
+}
+
+impl Error {
+    /// A value that is not allowed, with the key path and what is allowed.
+    pub fn invalid(
+        file: impl AsRef<Path>,
+        key: impl Into<String>,
+        value: impl std::fmt::Display,
+        message: impl Into<String>,
+    ) -> Error {
+        Error::Invalid {
+            file: file.as_ref().display().to_string(),
+            key: key.into(),
+            value: value.to_string(),
+            message: message.into(),
+        }
+    }
+
+    /// An I/O error on `path`.
+    pub fn io(path: impl AsRef<Path>, source: std::io::Error) -> Error {
+        Error::Io {
+            path: path.as_ref().to_path_buf(),
+            source,
+        }
+    }
+
+    /// True for errors caused by the user's input (exit code 2 at the edge, like I/O).
+    pub fn is_input(&self) -> bool {
+        matches!(self, Error::Invalid { .. } | Error::Parse { .. })
+    }
+}
+
+/// Result with the library's error.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Reads a file to a string, with its path in the error.
+pub fn read_to_string(path: impl AsRef<Path>) -> Result<String> {
+    std::fs::read_to_string(path.as_ref()).map_err(|e| Error::io(path, e))
+}

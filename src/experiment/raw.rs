@@ -1,0 +1,159 @@
+//! Raw experiment files: serde structs that mirror the TOML exactly.
+//!
+//! Nothing here is validated; [`super::validate`] turns these into typed values once.
+//! The format is documented in `docs/experiment-format.md`.
+
+use serde::Deserialize;
+
+/// A whole experiment file after `extends` has been merged in.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExperiment {
+    /// Path of a shared file whose tables this file extends (merged before parsing).
+    #[serde(default)]
+    pub extends: Option<String>,
+    pub experiment: RawMeta,
+    pub structure: RawStructure,
+    pub excitation: RawExcitation,
+    pub analysis: RawAnalysis,
+    #[serde(default)]
+    pub cases: Vec<RawCase>,
+    #[serde(default)]
+    pub plots: Vec<RawPlot>,
+    #[serde(default)]
+    pub checks: Vec<RawCheck>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMeta {
+    pub id: String,
+    pub title: String,
+    pub figure: String,
+    pub caption: String,
+    pub claim: String,
+    /// Assumptions in words, on top of those derived from the model settings.
+    #[serde(default)]
+    pub assumptions: Vec<String>,
+    /// Free text shown under the figure (how to read it, what differs from the paper).
+    #[serde(default)]
+    pub notes: Vec<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawStructure {
+    pub masses_kg: Vec<f64>,
+    /// Chain stiffnesses k_1..k_n (ground - k_1 - m_1 - k_2 - m_2 ...).
+    #[serde(default)]
+    pub chain_stiffness_n_per_m: Option<Vec<f64>>,
+    /// A general symmetric stiffness matrix, rows.
+    #[serde(default)]
+    pub stiffness_matrix_n_per_m: Option<Vec<Vec<f64>>>,
+    pub damping: RawDamping,
+    #[serde(default)]
+    pub source: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDamping {
+    #[serde(default)]
+    pub modal_ratios: Option<Vec<f64>>,
+    #[serde(default)]
+    pub rayleigh_alpha: Option<f64>,
+    #[serde(default)]
+    pub rayleigh_beta: Option<f64>,
+    /// Why these values (the paper gives none).
+    #[serde(default)]
+    pub assumption: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExcitation {
+    /// 1-based index of the driven mass.
+    pub mass: i64,
+    pub force_n: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawAnalysis {
+    pub kind: String,
+    #[serde(default)]
+    pub freq_hz: Option<RawGrid>,
+}
+
+/// A frequency grid: `start`, `stop` and either `points` or `step`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawGrid {
+    pub start: f64,
+    pub stop: f64,
+    #[serde(default)]
+    pub points: Option<i64>,
+    #[serde(default)]
+    pub step: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCase {
+    pub id: String,
+    pub label: String,
+    #[serde(default)]
+    pub dampers: Vec<RawDamper>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDamper {
+    /// 1-based host mass, as in the paper.
+    pub mass: i64,
+    /// `m_d / m_host`.
+    #[serde(default)]
+    pub mass_ratio: Option<f64>,
+    /// `m_d` in kg (alternative to `mass_ratio`).
+    #[serde(default)]
+    pub mass_kg: Option<f64>,
+    /// A number of millimetres, or the string "inf".
+    pub clearance_mm: toml::Value,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPlot {
+    pub id: String,
+    pub kind: String,
+    #[serde(default)]
+    pub title: Option<String>,
+    /// 1-based masses to draw.
+    #[serde(default)]
+    pub masses: Option<Vec<i64>>,
+    /// Case ids to draw (default: all).
+    #[serde(default)]
+    pub cases: Option<Vec<String>>,
+    #[serde(default)]
+    pub y_scale: Option<String>,
+    #[serde(default)]
+    pub mark_natural_frequencies: Option<bool>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCheck {
+    pub kind: String,
+    /// `FILE#ID` for a value in `reference/FILE`, or `FILE` for a curve.
+    pub reference: String,
+    #[serde(default)]
+    pub mode: Option<i64>,
+    #[serde(default)]
+    pub rel_tol: Option<f64>,
+    #[serde(default)]
+    pub abs_tol: Option<f64>,
+    /// An expected difference, with its reason: a failure is then reported as a known
+    /// deviation, and a pass as a known deviation that now passes.
+    #[serde(default)]
+    pub known_deviation: Option<String>,
+}

@@ -1,0 +1,17 @@
+//! shotdamp replicates Araki et al. (1997), "Impact damper with granular materials for
+//! multibody system", figure by figure.
+//!
+//! Data flows one way:
+//! `experiments/*.toml` -> [`experiment`] (load + validate) -> [`analysis`] (run the
+//! solvers of [`model`], check against [`checks::reference`]) -> [`output`] (tables,
+//! plots, HTML report). Physics knows nothing of files; rendering knows nothing of physics.
+
+pub mod analysis;
+pub mod checks;
+pub mod cli;
+pub mod error;
+pub mod experiment;
+pub mod model;
+pub mod output;
+
+pub use error::{Error, Result};

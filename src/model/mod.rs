@@ -1,0 +1,7 @@
+//! The physical model: structure, dampers, modes and the linear response.
+
+pub mod frf;
+pub mod modal;
+pub mod structure;
+
+pub use structure::{Damper, Damping, Structure, GRAVITY};

@@ -1,0 +1,150 @@
+//! The primary structure: lumped masses in a chain, its stiffness and its fixed damping
+//! matrix (MODEL.md section 1).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::modal::symmetric_modes;
+
+/// Standard gravity, m/s^2 (MODEL.md section 1).
+pub const GRAVITY: f64 = 9.806_65;
+
+/// How the fixed damping matrix `C` of the bare structure is specified.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Damping {
+    /// Modal damping ratios `zeta_i`, one per mode of the bare structure:
+    /// `C = M0 Phi diag(2 zeta_i omega_i) Phi^T M0`, Phi mass-normalised.
+    ModalRatios(Vec<f64>),
+    /// Rayleigh damping `C = alpha M0 + beta K` (paper Eq. 12).
+    Rayleigh { alpha: f64, beta: f64 },
+}
+
+/// The bare primary structure: `M0 xddot + C xdot + K x = f`.
+#[derive(Debug, Clone)]
+pub struct Structure {
+    /// Lumped masses `m_1..m_n`, kg.
+    pub masses: Vec<f64>,
+    /// Stiffness matrix, N/m.
+    pub stiffness: DMatrix<f64>,
+    /// Damping matrix, N s/m (fixed: damper masses never change it).
+    pub damping: DMatrix<f64>,
+    /// How `damping` was specified (for reports).
+    pub damping_spec: Damping,
+}
+
+impl Structure {
+    /// Builds the chain ground - k_1 - m_1 - k_2 - m_2 - ... - k_n - m_n.
+    ///
+    /// Inputs are assumed validated (positive masses and stiffnesses, matching lengths).
+    pub fn chain(masses: &[f64], stiffnesses: &[f64], damping: Damping) -> Structure {
+        let k = chain_stiffness(stiffnesses);
+        Structure::from_matrices(masses, k, damping)
+    }
+
+    /// Builds a structure from a symmetric positive definite stiffness matrix.
+    pub fn from_matrices(masses: &[f64], stiffness: DMatrix<f64>, damping: Damping) -> Structure {
+        let m0 = DMatrix::from_diagonal(&DVector::from_column_slice(masses));
+        let c = match &damping {
+            Damping::Rayleigh { alpha, beta } => &m0 * *alpha + &stiffness * *beta,
+            Damping::ModalRatios(zetas) => {
+                let modes = symmetric_modes(&m0, &stiffness);
+                // Mass-normalised Phi: phi^T M0 phi = 1.
+                let n = masses.len();
+                let mut diag = DMatrix::<f64>::zeros(n, n);
+                for i in 0..n {
+                    diag[(i, i)] = 2.0 * zetas[i] * modes.omegas[i];
+                }
+                let phi = &modes.mass_normalised;
+                &m0 * phi * diag * phi.transpose() * &m0
+            }
+        };
+        Structure {
+            masses: masses.to_vec(),
+            stiffness,
+            damping: c,
+            damping_spec: damping,
+        }
+    }
+
+    /// Number of primary masses.
+    pub fn dof(&self) -> usize {
+        self.masses.len()
+    }
+
+    /// The diagonal mass matrix of the bare structure.
+    pub fn mass_matrix(&self) -> DMatrix<f64> {
+        DMatrix::from_diagonal(&DVector::from_column_slice(&self.masses))
+    }
+
+    /// The mass matrix with extra masses rigidly added: `M0 + sum m_dj e_pj e_pj^T`.
+    pub fn mass_matrix_with(&self, added: &[(usize, f64)]) -> DMatrix<f64> {
+        let mut m = self.mass_matrix();
+        for &(host, mass) in added {
+            m[(host, host)] += mass;
+        }
+        m
+    }
+}
+
+/// The stiffness matrix of a grounded chain of springs.
+pub fn chain_stiffness(k: &[f64]) -> DMatrix<f64> {
+    let n = k.len();
+    let mut m = DMatrix::<f64>::zeros(n, n);
+    for i in 0..n {
+        m[(i, i)] += k[i];
+        if i + 1 < n {
+            m[(i, i)] += k[i + 1];
+            m[(i, i + 1)] -= k[i + 1];
+            m[(i + 1, i)] -= k[i + 1];
+        }
+    }
+    m
+}
+
+/// One shot damper: a particle bed of mass `mass` in a container on primary mass `host`
+/// (0-based) with free travel `clearance` (m; `f64::INFINITY` for no top).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Damper {
+    /// Host mass index, 0-based.
+    pub host: usize,
+    /// Bed mass, kg.
+    pub mass: f64,
+    /// Clearance between bottom and top, m (infinite: no top).
+    pub clearance: f64,
+}
+
+/// `(host, mass)` pairs of a damper set, for [`Structure::mass_matrix_with`].
+pub fn added_masses(dampers: &[Damper]) -> Vec<(usize, f64)> {
+    dampers.iter().map(|d| (d.host, d.mass)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chain_matrix_matches_hand_assembly() {
+        let k = chain_stiffness(&[1.0, 2.0, 3.0]);
+        let expected =
+            DMatrix::from_row_slice(3, 3, &[3.0, -2.0, 0.0, -2.0, 5.0, -3.0, 0.0, -3.0, 3.0]);
+        assert_eq!(k, expected);
+    }
+
+    #[test]
+    fn modal_damping_matrix_gives_the_requested_ratios() {
+        let s = Structure::chain(
+            &[0.74, 0.71, 0.64],
+            &[24.3e3, 21.8e3, 19.8e3],
+            Damping::ModalRatios(vec![0.01, 0.02, 0.03]),
+        );
+        let modes = symmetric_modes(&s.mass_matrix(), &s.stiffness);
+        for i in 0..3 {
+            let phi = modes.mass_normalised.column(i);
+            let ci = (phi.transpose() * &s.damping * phi)[(0, 0)];
+            let zeta = ci / (2.0 * modes.omegas[i]);
+            assert!(
+                (zeta - [0.01, 0.02, 0.03][i]).abs() < 1e-12,
+                "mode {i}: {zeta}"
+            );
+        }
+    }
+}

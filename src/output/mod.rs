@@ -1,0 +1,160 @@
+//! Everything that leaves the program: tables, plots, pages. [`ReportWriter`] is the one
+//! owner of destinations; exporters render to bytes or draw to a path it gives them.
+
+pub mod figure;
+pub mod plot;
+pub mod report;
+pub mod table;
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::analysis::ExperimentResult;
+use crate::checks::CheckOutcome;
+use crate::error::{Error, Result};
+
+/// Writes a report into a fresh staging folder next to the destination and renames it into
+/// place only when everything is written: a failed run leaves the previous report intact.
+pub struct ReportWriter {
+    out: PathBuf,
+    staging: PathBuf,
+    tera: tera::Tera,
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<()> {
+    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+}
+
+fn mkdir(path: &Path) -> Result<()> {
+    std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))
+}
+
+/// The staging or backup sibling of `out`.
+fn sibling(out: &Path, tag: &str) -> PathBuf {
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "reports".into());
+    out.with_file_name(format!(".{name}.{tag}-{}", std::process::id()))
+}
+
+impl ReportWriter {
+    /// Prepares a staging folder for a report that will end up at `out`. Fails before any
+    /// long run when the destination cannot be written.
+    pub fn create(out: &Path, templates_dir: Option<&Path>) -> Result<ReportWriter> {
+        let out = if out.is_absolute() {
+            out.to_path_buf()
+        } else {
+            std::env::current_dir()
+                .map_err(|e| Error::io(".", e))?
+                .join(out)
+        };
+        if let Some(parent) = out.parent() {
+            mkdir(parent)?;
+        }
+        let staging = sibling(&out, "tmp");
+        if staging.exists() {
+            std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+        }
+        mkdir(&staging)?;
+        let tera = report::templates(templates_dir)?;
+        Ok(ReportWriter { out, staging, tera })
+    }
+
+    /// Where the report will be.
+    pub fn destination(&self) -> &Path {
+        &self.out
+    }
+
+    /// Writes one experiment's folder: figures (PNG, SVG), tables (CSV, Parquet), page.
+    pub fn write_experiment(&self, r: &ExperimentResult, source_file: &str) -> Result<()> {
+        let dir = self.staging.join(&r.experiment.meta.id);
+        let data = dir.join("data");
+        mkdir(&data)?;
+        for t in &r.tables {
+            write(&data.join(format!("{}.csv", t.name)), &table::to_csv(t)?)?;
+            write(
+                &data.join(format!("{}.parquet", t.name)),
+                &table::to_parquet(t)?,
+            )?;
+        }
+        for f in &r.figures {
+            plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
+            write(
+                &dir.join(format!("{}.svg", f.id)),
+                plot::to_svg(f)?.as_bytes(),
+            )?;
+        }
+        let view = report::experiment_view(r, source_file);
+        let html = report::render(&self.tera, "experiment.html", &view)?;
+        write(&dir.join("index.html"), html.as_bytes())
+    }
+
+    /// Writes the index, the stylesheet and `checks.json`, then moves the report into place.
+    pub fn finish(self, results: &[ExperimentResult]) -> Result<PathBuf> {
+        write(
+            &self.staging.join("style.css"),
+            report::STYLE_CSS.as_bytes(),
+        )?;
+        let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
+        write(&self.staging.join("index.html"), index.as_bytes())?;
+        write(&self.staging.join("checks.json"), &checks_json(results)?)?;
+
+        let backup = sibling(&self.out, "old");
+        if self.out.exists() {
+            std::fs::rename(&self.out, &backup).map_err(|e| Error::io(&self.out, e))?;
+        }
+        if let Err(e) = std::fs::rename(&self.staging, &self.out) {
+            // Put the previous report back before failing.
+            let _ = std::fs::rename(&backup, &self.out);
+            return Err(Error::io(&self.out, e));
+        }
+        if backup.exists() {
+            std::fs::remove_dir_all(&backup).map_err(|e| Error::io(&backup, e))?;
+        }
+        Ok(self.out.clone())
+    }
+
+    /// Removes the staging folder of an abandoned report.
+    pub fn abandon(self) {
+        let _ = std::fs::remove_dir_all(&self.staging);
+    }
+}
+
+#[derive(Serialize)]
+struct CheckRecord<'a> {
+    experiment: &'a str,
+    figure: &'a str,
+    #[serde(flatten)]
+    check: &'a CheckOutcome,
+}
+
+#[derive(Serialize)]
+struct ChecksFile<'a> {
+    shotdamp_version: &'a str,
+    passed: bool,
+    checks: Vec<CheckRecord<'a>>,
+}
+
+/// Every check of every experiment as JSON.
+pub fn checks_json(results: &[ExperimentResult]) -> Result<Vec<u8>> {
+    let file = ChecksFile {
+        shotdamp_version: env!("CARGO_PKG_VERSION"),
+        passed: results.iter().all(|r| r.passed()),
+        checks: results
+            .iter()
+            .flat_map(|r| {
+                r.checks.iter().map(move |c| CheckRecord {
+                    experiment: &r.experiment.meta.id,
+                    figure: &r.experiment.meta.figure,
+                    check: c,
+                })
+            })
+            .collect(),
+    };
+    serde_json::to_vec_pretty(&file).map_err(|e| Error::Render {
+        what: "checks.json".into(),
+        message: e.to_string(),
+    })
+}

@@ -1,0 +1,310 @@
+//! Draws [`Figure`]s to PNG and SVG with plotters, using an embedded font so that text
+//! renders on a machine with no system fonts.
+
+use std::ops::Range;
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::*;
+
+use crate::error::{Error, Result};
+
+use super::figure::{Dash, Figure, Marker, Panel, Series};
+
+/// Width of a figure, pixels.
+pub const WIDTH: u32 = 1100;
+/// Height of one panel, pixels.
+pub const PANEL_HEIGHT: u32 = 560;
+
+/// The palette (Tableau 10, colour-blind friendly order).
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(23, 190, 207),
+    RGBColor(140, 86, 75),
+    RGBColor(127, 127, 127),
+];
+
+static FONT: Once = Once::new();
+
+/// Registers the embedded DejaVu Sans under the "sans-serif" family (once per process).
+fn register_font() -> Result<()> {
+    let mut result = Ok(());
+    FONT.call_once(|| {
+        let fonts: [(FontStyle, &'static [u8]); 2] = [
+            (FontStyle::Normal, dejavu::sans::regular()),
+            (FontStyle::Bold, dejavu::sans::bold()),
+        ];
+        for (style, bytes) in fonts {
+            if plotters::style::register_font("sans-serif", style, bytes).is_err() {
+                result = Err(Error::Render {
+                    what: "font".into(),
+                    message: "the embedded DejaVu Sans font could not be loaded".into(),
+                });
+            }
+        }
+    });
+    result
+}
+
+fn color(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+fn render_err(what: &str, e: impl std::fmt::Display) -> Error {
+    Error::Render {
+        what: what.to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// Height of the whole figure, pixels.
+pub fn height(fig: &Figure) -> u32 {
+    PANEL_HEIGHT * fig.panels.len().max(1) as u32
+}
+
+/// Writes the figure as a PNG file.
+pub fn write_png(fig: &Figure, path: &Path) -> Result<()> {
+    register_font()?;
+    let root = BitMapBackend::new(path, (WIDTH, height(fig))).into_drawing_area();
+    draw(fig, root)
+}
+
+/// The figure as SVG text.
+pub fn to_svg(fig: &Figure) -> Result<String> {
+    register_font()?;
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (WIDTH, height(fig))).into_drawing_area();
+        draw(fig, root)?;
+    }
+    Ok(buf)
+}
+
+fn draw<DB: DrawingBackend>(
+    fig: &Figure,
+    root: DrawingArea<DB, plotters::coord::Shift>,
+) -> Result<()> {
+    let what = format!("figure {}", fig.id);
+    root.fill(&WHITE).map_err(|e| render_err(&what, e))?;
+    let areas = root.split_evenly((fig.panels.len().max(1), 1));
+    for (panel, area) in fig.panels.iter().zip(areas.iter()) {
+        draw_panel(panel, area, &what)?;
+    }
+    root.present().map_err(|e| render_err(&what, e))
+}
+
+/// Finite y values of all series (positive ones for log axes).
+fn y_extent(panel: &Panel) -> (f64, f64) {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for s in &panel.series {
+        for (&x, &y) in s.x.iter().zip(&s.y) {
+            if y.is_finite()
+                && x >= panel.x_range.0
+                && x <= panel.x_range.1
+                && (!panel.y_log || y > 0.0)
+            {
+                lo = lo.min(y);
+                hi = hi.max(y);
+            }
+        }
+    }
+    if !lo.is_finite() {
+        return if panel.y_log {
+            (1e-6, 1e-3)
+        } else {
+            (0.0, 1.0)
+        };
+    }
+    if panel.y_log {
+        (lo / 1.5, hi * 1.5)
+    } else {
+        let pad = ((hi - lo) * 0.06).max(1e-12 * hi.abs().max(1.0));
+        (lo - pad, hi + pad)
+    }
+}
+
+fn draw_panel<DB: DrawingBackend>(
+    panel: &Panel,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    what: &str,
+) -> Result<()> {
+    let (y0, y1) = y_extent(panel);
+    let x = panel.x_range.0..panel.x_range.1;
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(&panel.title, ("sans-serif", 22).into_font())
+        .margin(14)
+        .x_label_area_size(48)
+        .y_label_area_size(96);
+    if panel.y_log {
+        let chart = builder
+            .build_cartesian_2d(x, (y0..y1).log_scale())
+            .map_err(|e| render_err(what, e))?;
+        fill(chart, panel, what, |v| format!("{v:.0e}"))
+    } else {
+        let chart = builder
+            .build_cartesian_2d(x, y0..y1)
+            .map_err(|e| render_err(what, e))?;
+        fill(chart, panel, what, |v| format!("{v:.3}"))
+    }
+}
+
+fn fill<'a, DB, Y>(
+    mut chart: ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+    panel: &Panel,
+    what: &str,
+    y_fmt: impl Fn(&f64) -> String,
+) -> Result<()>
+where
+    DB: DrawingBackend + 'a,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    chart
+        .configure_mesh()
+        .x_desc(&panel.x_label)
+        .y_desc(&panel.y_label)
+        .y_label_formatter(&y_fmt)
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(200, 200, 200))
+        .draw()
+        .map_err(|e| render_err(what, e))?;
+
+    let y_range: Range<f64> = chart.y_range();
+    for v in &panel.vlines {
+        let style = ShapeStyle {
+            color: RGBColor(110, 110, 110).to_rgba(),
+            filled: false,
+            stroke_width: 1,
+        };
+        let pts = vec![(v.x, y_range.start), (v.x, y_range.end)];
+        chart
+            .draw_series(DashedLineSeries::new(pts, 6, 6, style))
+            .map_err(|e| render_err(what, e))?;
+        chart
+            .draw_series(std::iter::once(Text::new(
+                v.label.clone(),
+                (v.x, y_range.end),
+                ("sans-serif", 14).into_font().color(&RGBColor(80, 80, 80)),
+            )))
+            .map_err(|e| render_err(what, e))?;
+    }
+
+    for s in &panel.series {
+        draw_series(&mut chart, s, panel, what)?;
+    }
+    if panel.series.iter().any(|s| !s.label.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(160, 160, 160))
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| render_err(what, e))?;
+    }
+    Ok(())
+}
+
+fn draw_series<'a, DB, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+    s: &Series,
+    panel: &Panel,
+    what: &str,
+) -> Result<()>
+where
+    DB: DrawingBackend + 'a,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let c = color(s.color);
+    // Thicker strokes draw each segment as a polygon and look ragged on dense curves.
+    let style = ShapeStyle {
+        color: c.to_rgba(),
+        filled: false,
+        stroke_width: 1,
+    };
+    // Split at non-finite (or non-positive on log axes) values so that gaps stay gaps.
+    let ok = |y: f64| y.is_finite() && (!panel.y_log || y > 0.0);
+    let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+    for (&x, &y) in s.x.iter().zip(&s.y) {
+        if ok(y) && x.is_finite() {
+            if let Some(run) = runs.last_mut() {
+                run.push((x, y));
+            }
+        } else if runs.last().is_some_and(|r| !r.is_empty()) {
+            runs.push(Vec::new());
+        }
+    }
+    let mut labelled = false;
+    for run in runs.into_iter().filter(|r| !r.is_empty()) {
+        let want_label = !labelled && !s.label.is_empty();
+        if s.line {
+            let anno = match s.dash {
+                Dash::Solid => chart.draw_series(LineSeries::new(run.clone(), style)),
+                Dash::Dashed => chart.draw_series(DashedLineSeries::new(run.clone(), 10, 6, style)),
+                Dash::Dotted => chart.draw_series(DashedLineSeries::new(run.clone(), 2, 5, style)),
+                Dash::DashDot => {
+                    chart.draw_series(DashedLineSeries::new(run.clone(), 14, 4, style))
+                }
+            }
+            .map_err(|e| render_err(what, e))?;
+            if want_label {
+                labelled = true;
+                let segs = dash_segments(s.dash);
+                let legend_style = ShapeStyle {
+                    stroke_width: 2,
+                    ..style
+                };
+                anno.label(s.label.clone()).legend(move |(x, y)| {
+                    let seg =
+                        |(a, b): (i32, i32)| PathElement::new(vec![(a, 0), (b, 0)], legend_style);
+                    EmptyElement::at((x, y)) + seg(segs[0]) + seg(segs[1]) + seg(segs[2])
+                });
+            }
+        }
+        let want_label = !labelled && !s.label.is_empty();
+        let anno = match s.marker {
+            Marker::None => None,
+            Marker::Circle => {
+                Some(chart.draw_series(run.iter().map(|&p| Circle::new(p, 4, style))))
+            }
+            Marker::Cross => Some(chart.draw_series(run.iter().map(|&p| Cross::new(p, 4, style)))),
+            Marker::Square => Some(
+                chart.draw_series(
+                    run.iter()
+                        .map(|&p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], style)),
+                ),
+            ),
+        };
+        if let Some(anno) = anno {
+            let anno = anno.map_err(|e| render_err(what, e))?;
+            if want_label {
+                labelled = true;
+                let marker = s.marker;
+                anno.label(s.label.clone()).legend(move |(x, y)| match marker {
+                    Marker::Cross => EmptyElement::at((x + 12, y)) + Cross::new((0, 0), 4, style),
+                    _ => EmptyElement::at((x + 12, y)) + Cross::new((0, 0), 0, style),
+                } + Circle::new((0, 0), if matches!(marker, Marker::Cross) { 0 } else { 4 }, style));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Segments of a legend swatch whose spacing shows the dash pattern.
+fn dash_segments(dash: Dash) -> [(i32, i32); 3] {
+    match dash {
+        Dash::Solid => [(0, 8), (8, 16), (16, 24)],
+        Dash::Dashed => [(0, 6), (9, 15), (18, 24)],
+        Dash::Dotted => [(0, 2), (11, 13), (22, 24)],
+        Dash::DashDot => [(0, 9), (13, 15), (19, 24)],
+    }
+}

@@ -1,0 +1,315 @@
+//! The HTML report: contexts of pre-formatted strings, filled into tera templates.
+//! Templates only fill in, loop and branch; every number is formatted here.
+
+use std::path::Path;
+
+use serde::Serialize;
+use tera::{Context, Tera};
+
+use crate::analysis::ExperimentResult;
+use crate::checks::{fmt_num, CheckOutcome, Status};
+use crate::error::{read_to_string, Error, Result};
+
+/// Template names and their embedded defaults.
+const TEMPLATES: [(&str, &str); 3] = [
+    ("base.html", include_str!("../../templates/base.html")),
+    ("index.html", include_str!("../../templates/index.html")),
+    (
+        "experiment.html",
+        include_str!("../../templates/experiment.html"),
+    ),
+];
+
+/// The report's stylesheet.
+pub const STYLE_CSS: &str = include_str!("../../templates/style.css");
+
+/// Loads the templates: embedded defaults, each replaced by `dir/NAME` where it exists.
+pub fn templates(dir: Option<&Path>) -> Result<Tera> {
+    let mut tera = Tera::new();
+    for (name, default) in TEMPLATES {
+        let text = match dir.map(|d| d.join(name)).filter(|p| p.is_file()) {
+            Some(p) => read_to_string(&p)?,
+            None => default.to_string(),
+        };
+        tera.add_raw_template(name, &text)
+            .map_err(|e| Error::Render {
+                what: format!("template {name}"),
+                message: e.to_string(),
+            })?;
+    }
+    Ok(tera)
+}
+
+/// One check, formatted.
+#[derive(Debug, Serialize)]
+pub struct CheckRow {
+    pub experiment: String,
+    pub name: String,
+    pub description: String,
+    pub computed: String,
+    pub expected: String,
+    pub difference: String,
+    pub tolerance: String,
+    pub status: String,
+    pub status_class: String,
+    pub provenance: String,
+    pub reason: String,
+    pub detail: String,
+}
+
+impl CheckRow {
+    fn new(experiment: &str, c: &CheckOutcome) -> CheckRow {
+        CheckRow {
+            experiment: experiment.to_string(),
+            name: c.name.clone(),
+            description: c.description.clone(),
+            computed: format!("{} {}", fmt_num(c.computed), c.unit),
+            expected: format!("{} {}", fmt_num(c.expected), c.unit),
+            difference: if c.rel_diff.is_finite() {
+                format!("{} ({:.3} %)", fmt_num(c.abs_diff), c.rel_diff * 100.0)
+            } else {
+                fmt_num(c.abs_diff)
+            },
+            tolerance: c.tolerance.clone(),
+            status: c.status.label().to_string(),
+            status_class: status_class(c.status).to_string(),
+            provenance: c.provenance.clone(),
+            reason: c.reason.clone().unwrap_or_default(),
+            detail: c.detail.clone().unwrap_or_default(),
+        }
+    }
+}
+
+fn status_class(s: Status) -> &'static str {
+    match s {
+        Status::Pass => "pass",
+        Status::Fail => "fail",
+        Status::KnownDeviation => "known",
+        Status::KnownDeviationPasses => "revisit",
+    }
+}
+
+/// A figure with its files.
+#[derive(Debug, Serialize)]
+pub struct FigureView {
+    pub title: String,
+    pub caption: String,
+    pub png: String,
+    pub svg: String,
+}
+
+/// A data table with its files.
+#[derive(Debug, Serialize)]
+pub struct TableView {
+    pub name: String,
+    pub description: String,
+    pub rows: usize,
+    pub csv: String,
+    pub parquet: String,
+}
+
+/// The page of one experiment.
+#[derive(Debug, Serialize)]
+pub struct ExperimentView {
+    pub id: String,
+    pub title: String,
+    pub figure: String,
+    pub caption: String,
+    pub claim: String,
+    pub source_file: String,
+    pub parameters: Vec<(String, String)>,
+    pub assumptions: Vec<String>,
+    pub notes: Vec<String>,
+    pub figures: Vec<FigureView>,
+    pub tables: Vec<TableView>,
+    pub checks: Vec<CheckRow>,
+    pub modes: Vec<Vec<String>>,
+    pub mode_header: Vec<String>,
+    pub verdict: String,
+    pub verdict_class: String,
+    pub counts: String,
+}
+
+/// Counts of statuses, in words.
+fn counts(checks: &[CheckOutcome]) -> (String, &'static str, String) {
+    let n = |s: Status| checks.iter().filter(|c| c.status == s).count();
+    let (pass, fail, known, revisit) = (
+        n(Status::Pass),
+        n(Status::Fail),
+        n(Status::KnownDeviation),
+        n(Status::KnownDeviationPasses),
+    );
+    let words = format!("{pass} pass, {fail} fail, {known} known deviation, {revisit} to revisit");
+    let (verdict, class) = if checks.is_empty() {
+        ("no checks".to_string(), "none")
+    } else if fail > 0 {
+        ("FAIL".to_string(), "fail")
+    } else if known > 0 || revisit > 0 {
+        ("pass, with known deviations".to_string(), "known")
+    } else {
+        ("pass".to_string(), "pass")
+    };
+    (verdict, class, words)
+}
+
+/// Builds the view of one experiment; `source_file` is how the report names its input.
+pub fn experiment_view(r: &ExperimentResult, source_file: &str) -> ExperimentView {
+    let id = &r.experiment.meta.id;
+    let (verdict, class, words) = counts(&r.checks);
+    let n = r.modes.len();
+    let mut mode_header = vec!["mode".to_string(), "omega (rad/s)".into(), "f (Hz)".into()];
+    mode_header.extend((0..n).map(|i| format!("phibar m{}", i + 1)));
+    mode_header.extend([
+        "M_i (kg)".to_string(),
+        "K_i (N/m)".into(),
+        "C_i (N s/m)".into(),
+        "zeta_i".into(),
+    ]);
+    let modes = r
+        .modes
+        .iter()
+        .map(|m| {
+            let mut row = vec![
+                m.number.to_string(),
+                format!("{:.2}", m.omega),
+                format!("{:.3}", m.freq_hz),
+            ];
+            row.extend(m.shape.iter().map(|v| format!("{v:.3}")));
+            row.extend([
+                format!("{:.4}", m.modal_mass),
+                format!("{:.1}", m.modal_stiffness),
+                format!("{:.4}", m.modal_damping),
+                format!("{:.4}", m.damping_ratio),
+            ]);
+            row
+        })
+        .collect();
+    ExperimentView {
+        id: id.clone(),
+        title: r.experiment.meta.title.clone(),
+        figure: r.experiment.meta.figure.clone(),
+        caption: r.experiment.meta.caption.clone(),
+        claim: r.experiment.meta.claim.clone(),
+        source_file: source_file.to_string(),
+        parameters: r.parameters.clone(),
+        assumptions: r.assumptions.clone(),
+        notes: r.experiment.meta.notes.clone(),
+        figures: r
+            .figures
+            .iter()
+            .map(|f| FigureView {
+                title: f.title.clone(),
+                caption: f.caption.clone(),
+                png: format!("{}.png", f.id),
+                svg: format!("{}.svg", f.id),
+            })
+            .collect(),
+        tables: r
+            .tables
+            .iter()
+            .map(|t| TableView {
+                name: t.name.clone(),
+                description: t.description.clone(),
+                rows: t.height(),
+                csv: format!("data/{}.csv", t.name),
+                parquet: format!("data/{}.parquet", t.name),
+            })
+            .collect(),
+        checks: r.checks.iter().map(|c| CheckRow::new(id, c)).collect(),
+        modes,
+        mode_header,
+        verdict,
+        verdict_class: class.to_string(),
+        counts: words,
+    }
+}
+
+/// One row of the summary table.
+#[derive(Debug, Serialize)]
+pub struct SummaryRow {
+    pub id: String,
+    pub figure: String,
+    pub title: String,
+    pub link: String,
+    pub thumbnail: String,
+    pub verdict: String,
+    pub verdict_class: String,
+    pub counts: String,
+}
+
+/// The context of the index page.
+#[derive(Debug, Serialize)]
+pub struct IndexView {
+    pub title: String,
+    pub generated_by: String,
+    pub overall: String,
+    pub overall_class: String,
+    pub rows: Vec<SummaryRow>,
+    pub checks: Vec<CheckRow>,
+    pub assumptions: Vec<String>,
+}
+
+/// Builds the index view.
+pub fn index_view(results: &[ExperimentResult]) -> IndexView {
+    let all: Vec<CheckOutcome> = results
+        .iter()
+        .flat_map(|r| r.checks.iter().cloned())
+        .collect();
+    let (overall, class, words) = counts(&all);
+    let mut assumptions: Vec<String> = Vec::new();
+    for r in results {
+        for a in &r.assumptions {
+            if !assumptions.contains(a) {
+                assumptions.push(a.clone());
+            }
+        }
+    }
+    IndexView {
+        title: "shotdamp: replication of Araki et al. (1997)".into(),
+        generated_by: format!("shotdamp {}", env!("CARGO_PKG_VERSION")),
+        overall: format!("{overall}: {words}"),
+        overall_class: class.to_string(),
+        rows: results
+            .iter()
+            .map(|r| {
+                let (verdict, class, counts) = counts(&r.checks);
+                let id = &r.experiment.meta.id;
+                SummaryRow {
+                    id: id.clone(),
+                    figure: r.experiment.meta.figure.clone(),
+                    title: r.experiment.meta.title.clone(),
+                    link: format!("{id}/index.html"),
+                    thumbnail: r
+                        .figures
+                        .first()
+                        .map(|f| format!("{id}/{}.png", f.id))
+                        .unwrap_or_default(),
+                    verdict,
+                    verdict_class: class.to_string(),
+                    counts,
+                }
+            })
+            .collect(),
+        checks: results
+            .iter()
+            .flat_map(|r| {
+                r.checks
+                    .iter()
+                    .map(|c| CheckRow::new(&r.experiment.meta.id, c))
+            })
+            .collect(),
+        assumptions,
+    }
+}
+
+/// Renders a page from a serialisable view.
+pub fn render<T: Serialize>(tera: &Tera, template: &str, view: &T) -> Result<String> {
+    let ctx = Context::from_serialize(view).map_err(|e| Error::Render {
+        what: template.into(),
+        message: e.to_string(),
+    })?;
+    tera.render(template, &ctx).map_err(|e| Error::Render {
+        what: template.into(),
+        message: format!("{e:#}"),
+    })
+}

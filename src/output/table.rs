@@ -1,0 +1,172 @@
+//! Result tables: a plain column store built by the analyses, written through polars.
+
+use std::path::Path;
+
+use polars::prelude::*;
+
+use crate::error::{Error, Result};
+
+/// One column of a table.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColumnData {
+    F64(Vec<f64>),
+    I64(Vec<i64>),
+    Str(Vec<String>),
+}
+
+impl ColumnData {
+    fn len(&self) -> usize {
+        match self {
+            ColumnData::F64(v) => v.len(),
+            ColumnData::I64(v) => v.len(),
+            ColumnData::Str(v) => v.len(),
+        }
+    }
+}
+
+/// A named table of equal-length columns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// File stem of the table (`NAME.csv`, `NAME.parquet`).
+    pub name: String,
+    /// One sentence on what it holds, with units.
+    pub description: String,
+    pub columns: Vec<(String, ColumnData)>,
+}
+
+impl Table {
+    /// An empty table.
+    pub fn new(name: impl Into<String>, description: impl Into<String>) -> Table {
+        Table {
+            name: name.into(),
+            description: description.into(),
+            columns: Vec::new(),
+        }
+    }
+
+    /// Adds a column of floats.
+    pub fn f64(mut self, name: impl Into<String>, values: Vec<f64>) -> Table {
+        self.columns.push((name.into(), ColumnData::F64(values)));
+        self
+    }
+
+    /// Adds a column of integers.
+    pub fn i64(mut self, name: impl Into<String>, values: Vec<i64>) -> Table {
+        self.columns.push((name.into(), ColumnData::I64(values)));
+        self
+    }
+
+    /// Adds a column of strings.
+    pub fn str(mut self, name: impl Into<String>, values: Vec<String>) -> Table {
+        self.columns.push((name.into(), ColumnData::Str(values)));
+        self
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> usize {
+        self.columns.first().map(|c| c.1.len()).unwrap_or(0)
+    }
+
+    /// A column of floats by name.
+    pub fn column_f64(&self, name: &str) -> Option<&[f64]> {
+        self.columns.iter().find_map(|(n, c)| match c {
+            ColumnData::F64(v) if n == name => Some(v.as_slice()),
+            _ => None,
+        })
+    }
+
+    /// The polars frame of this table.
+    pub fn to_frame(&self) -> PolarsResult<DataFrame> {
+        let cols: Vec<Column> = self
+            .columns
+            .iter()
+            .map(|(name, data)| match data {
+                ColumnData::F64(v) => Column::new(name.as_str().into(), v.as_slice()),
+                ColumnData::I64(v) => Column::new(name.as_str().into(), v.as_slice()),
+                ColumnData::Str(v) => Column::new(name.as_str().into(), v.as_slice()),
+            })
+            .collect();
+        DataFrame::new(self.height(), cols)
+    }
+}
+
+/// CSV bytes of a table (floats in full precision).
+pub fn to_csv(table: &Table) -> Result<Vec<u8>> {
+    let mut df = table.to_frame().map_err(|e| table_err(&table.name, e))?;
+    let mut buf = Vec::new();
+    CsvWriter::new(&mut buf)
+        .include_header(true)
+        .finish(&mut df)
+        .map_err(|e| table_err(&table.name, e))?;
+    Ok(buf)
+}
+
+/// Parquet bytes of a table.
+pub fn to_parquet(table: &Table) -> Result<Vec<u8>> {
+    let mut df = table.to_frame().map_err(|e| table_err(&table.name, e))?;
+    let mut buf = Vec::new();
+    ParquetWriter::new(&mut buf)
+        .finish(&mut df)
+        .map_err(|e| table_err(&table.name, e))?;
+    Ok(buf)
+}
+
+fn table_err(name: &str, e: PolarsError) -> Error {
+    Error::Table {
+        path: format!("{name} (table)").into(),
+        message: e.to_string(),
+    }
+}
+
+/// Reads a CSV file with a header into a polars frame.
+pub fn read_csv(path: &Path) -> Result<DataFrame> {
+    CsvReadOptions::default()
+        .with_has_header(true)
+        .try_into_reader_with_file_path(Some(path.to_path_buf()))
+        .and_then(|r| r.finish())
+        .map_err(|e| Error::Table {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+}
+
+/// A numeric column of a frame as f64 values (integers are converted).
+pub fn frame_f64(df: &DataFrame, path: &Path, name: &str) -> Result<Vec<f64>> {
+    let err = |m: String| Error::Table {
+        path: path.to_path_buf(),
+        message: m,
+    };
+    let col = df
+        .column(name)
+        .map_err(|_| err(format!("no column \"{name}\"")))?;
+    let col = col
+        .cast(&DataType::Float64)
+        .map_err(|e| err(format!("column \"{name}\": {e}")))?;
+    let ca = col
+        .f64()
+        .map_err(|e| err(format!("column \"{name}\": {e}")))?;
+    ca.iter()
+        .map(|v| v.ok_or_else(|| err(format!("column \"{name}\" has an empty value"))))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_round_trip_keeps_full_precision() {
+        let t = Table::new("t", "test")
+            .f64("x", vec![0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI])
+            .i64("k", vec![1, 2, 3]);
+        let csv = to_csv(&t).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("t.csv");
+        std::fs::write(&p, csv).unwrap();
+        let df = read_csv(&p).unwrap();
+        let x = frame_f64(&df, &p, "x").unwrap();
+        assert_eq!(x, vec![0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI]);
+        assert_eq!(frame_f64(&df, &p, "k").unwrap(), vec![1.0, 2.0, 3.0]);
+        assert!(!to_parquet(&t).unwrap().is_empty());
+    }
+}

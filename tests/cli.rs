@@ -1,0 +1,259 @@
+//! The binary end to end: bad input gives a clear message and exit code 2; a valid set
+//! gives a report whose links all resolve.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn shotdamp() -> Command {
+    let mut c = Command::cargo_bin("shotdamp").expect("binary");
+    c.current_dir(repo());
+    c
+}
+
+/// A copy of the Fig. 4(b) file with one replacement, in a temporary folder that also
+/// holds the shared structure file.
+fn variant(from: &str, to: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let shared = dir.path().join("shared");
+    std::fs::create_dir_all(&shared).unwrap();
+    std::fs::copy(
+        repo().join("experiments/shared/paper_structure.toml"),
+        shared.join("paper_structure.toml"),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(repo().join("experiments/fig04b_no_damper.toml")).unwrap();
+    assert!(text.contains(from), "fixture text {from:?} not found");
+    let path = dir.path().join("x.toml");
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    (dir, path)
+}
+
+fn fails_with(from: &str, to: &str, expected: &[&str]) {
+    let (_dir, path) = variant(from, to);
+    let out = shotdamp().arg("modal").arg(&path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(stderr.contains("x.toml"), "names the file: {stderr}");
+    for e in expected {
+        assert!(stderr.contains(e), "expected {e:?} in: {stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn toml_syntax_error_shows_line_and_column() {
+    fails_with(
+        "kind = \"linear_frf\"",
+        "kind = \"linear_frf",
+        &["TOML syntax error", "line"],
+    );
+}
+
+#[test]
+fn unknown_key_is_named() {
+    fails_with(
+        "kind = \"linear_frf\"",
+        "kind = \"linear_frf\"\nfrequency = 3",
+        &["analysis", "unknown field `frequency`"],
+    );
+}
+
+#[test]
+fn negative_mass() {
+    fails_with(
+        "[analysis]",
+        "[structure]\nmasses_kg = [0.74, 0.71, -0.64]\n\n[analysis]",
+        &["structure.masses_kg[2] = -0.64", "positive"],
+    );
+}
+
+#[test]
+fn zero_mass() {
+    fails_with(
+        "[analysis]",
+        "[structure]\nmasses_kg = [0.0, 0.71, 0.64]\n\n[analysis]",
+        &["structure.masses_kg[0] = 0", "positive"],
+    );
+}
+
+#[test]
+fn zero_stiffness() {
+    fails_with(
+        "[analysis]",
+        "[structure]\nchain_stiffness_n_per_m = [24.3e3, 0.0, 19.8e3]\n\n[analysis]",
+        &["chain_stiffness_n_per_m[1] = 0", "positive"],
+    );
+}
+
+#[test]
+fn reversed_frequency_range() {
+    fails_with(
+        "start = 2.0, stop = 60.0",
+        "start = 60.0, stop = 2.0",
+        &["analysis.freq_hz.stop = 2", "greater than start"],
+    );
+}
+
+#[test]
+fn damper_on_missing_mass() {
+    fails_with(
+        "dampers = []",
+        "dampers = [{ mass = 4, mass_ratio = 0.1, clearance_mm = \"inf\" }]",
+        &["cases[0].dampers[0].mass = 4", "1 to 3"],
+    );
+}
+
+#[test]
+fn negative_clearance() {
+    fails_with(
+        "dampers = []",
+        "dampers = [{ mass = 1, mass_ratio = 0.1, clearance_mm = -1.0 }]",
+        &["cases[0].dampers[0].clearance_mm = -1", ">= 0"],
+    );
+}
+
+#[test]
+fn missing_reference_file() {
+    fails_with(
+        "reference = \"paper-text.toml#omega_1\"",
+        "reference = \"nowhere.toml#omega_1\"",
+        &["checks[1].reference", "no such reference file"],
+    );
+}
+
+#[test]
+fn unknown_reference_id() {
+    fails_with(
+        "reference = \"paper-text.toml#omega_1\"",
+        "reference = \"paper-text.toml#omega_9\"",
+        &["no quantity with id \"omega_9\""],
+    );
+}
+
+#[test]
+fn missing_experiment_file_is_an_io_error() {
+    let out = shotdamp()
+        .args(["modal", "experiments/does-not-exist.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("does-not-exist.toml"));
+}
+
+#[test]
+fn modal_prints_the_frequencies() {
+    let out = shotdamp()
+        .args(["modal", "experiments/fig04b_no_damper.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for w in ["81.91", "218.51", "312.04"] {
+        assert!(stdout.contains(w), "{w} in {stdout}");
+    }
+}
+
+/// Every `href` and `src` of a page points at a file that exists.
+fn assert_links_resolve(page: &Path) {
+    let html = std::fs::read_to_string(page).unwrap();
+    let base = page.parent().unwrap();
+    let mut n = 0;
+    for attr in ["href=\"", "src=\""] {
+        for part in html.split(attr).skip(1) {
+            let target = part.split('"').next().unwrap();
+            if target.starts_with("http") || target.starts_with('#') {
+                continue;
+            }
+            let path = base.join(target);
+            assert!(
+                path.is_file(),
+                "{}: link {target} -> {} missing",
+                page.display(),
+                path.display()
+            );
+            n += 1;
+            if target.ends_with(".html") && target != "../index.html" && !target.starts_with("..") {
+                assert_links_resolve(&path);
+            }
+        }
+    }
+    assert!(n > 0, "{} has no links", page.display());
+}
+
+#[test]
+fn report_of_linear_experiment_links_only_existing_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps = dir.path().join("experiments");
+    std::fs::create_dir_all(exps.join("shared")).unwrap();
+    std::fs::copy(
+        repo().join("experiments/shared/paper_structure.toml"),
+        exps.join("shared/paper_structure.toml"),
+    )
+    .unwrap();
+    std::fs::copy(
+        repo().join("experiments/fig04b_no_damper.toml"),
+        exps.join("fig04b_no_damper.toml"),
+    )
+    .unwrap();
+    let out_dir = dir.path().join("report");
+    let out = shotdamp()
+        .arg("--experiments")
+        .arg(&exps)
+        .arg("report")
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_links_resolve(&out_dir.join("index.html"));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out_dir.join("checks.json")).unwrap()).unwrap();
+    let checks = json["checks"].as_array().unwrap();
+    assert!(checks
+        .iter()
+        .any(|c| c["name"] == "omega_2" && c["status"] == "known_deviation"));
+    assert!(checks
+        .iter()
+        .any(|c| c["name"] == "omega_1" && c["status"] == "pass"));
+    // No staging folder is left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn failed_run_leaves_previous_report_intact() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("report");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    std::fs::write(out_dir.join("index.html"), "previous").unwrap();
+    let (_d, bad) = variant("[analysis]", "[excitation]\nforce_n = -2.6\n\n[analysis]");
+    let exps = bad.parent().unwrap().to_path_buf();
+    let out = shotdamp()
+        .arg("--experiments")
+        .arg(&exps)
+        .arg("report")
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("excitation.force_n = -2.6"));
+    assert_eq!(
+        std::fs::read_to_string(out_dir.join("index.html")).unwrap(),
+        "previous"
+    );
+}
