@@ -13,5 +13,6 @@ pub mod error;
 pub mod experiment;
 pub mod model;
 pub mod output;
+pub mod sim;
 
 pub use error::{Error, Result};

@@ -1,0 +1,378 @@
+//! The event-driven simulator: closed-form segments, certified event location, plastic (or
+//! restitution) impacts, and contact resolution after every event (MODEL.md section 2).
+
+use nalgebra::DVector;
+
+use crate::model::GRAVITY;
+
+use super::roots::{excluded, first_root, fresh_window, TIME_TOL};
+use super::segment::{Point, Segment, Taylor, Watch};
+use super::system::Dynamics;
+
+/// Where a bed is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Bed {
+    /// Resting on the container bottom.
+    Bottom,
+    /// Pressed against the container top.
+    Top,
+    /// In flight since `t0`, from position `y0` with velocity `u0`.
+    Free { t0: f64, y0: f64, u0: f64 },
+}
+
+impl Bed {
+    /// True when the bed moves with its host.
+    pub fn attached(&self) -> bool {
+        !matches!(self, Bed::Free { .. })
+    }
+
+    /// Position and velocity of a free bed at `t`.
+    pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
+        let tau = t - t0;
+        (y0 + u0 * tau - 0.5 * GRAVITY * tau * tau, u0 - GRAVITY * tau)
+    }
+}
+
+/// The full state: time, primary masses, beds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    pub t: f64,
+    pub x: DVector<f64>,
+    pub v: DVector<f64>,
+    pub beds: Vec<Bed>,
+}
+
+impl State {
+    /// The configuration mask: bit j set when bed j is attached.
+    pub fn mask(&self) -> usize {
+        self.beds.iter().enumerate().filter(|(_, b)| b.attached()).fold(0, |m, (j, _)| m | (1 << j))
+    }
+
+    /// At rest in static equilibrium with every bed on its bottom (MODEL.md section 3).
+    pub fn at_rest(d: &Dynamics) -> State {
+        let n = d.system.dof();
+        let all = (1usize << d.system.dampers.len()) - 1;
+        let x = d.configs[all].offset.clone();
+        State { t: 0.0, x, v: DVector::zeros(n), beds: vec![Bed::Bottom; d.system.dampers.len()] }
+    }
+
+    /// Bed position and velocity (attached beds move with their host).
+    pub fn bed_motion(&self, d: &Dynamics, j: usize) -> (f64, f64) {
+        let dm = &d.system.dampers[j];
+        match self.beds[j] {
+            Bed::Bottom => (self.x[dm.host], self.v[dm.host]),
+            Bed::Top => (self.x[dm.host] + dm.clearance, self.v[dm.host]),
+            Bed::Free { t0, y0, u0 } => Bed::flight(t0, y0, u0, self.t),
+        }
+    }
+}
+
+/// What happened at an event.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EventKind {
+    /// The bed left the bottom (`top = false`) or the top.
+    LiftOff { top: bool },
+    /// The bed hit the bottom or the top with this relative speed (m/s) and stayed attached
+    /// (`attached`) or separated at once.
+    Impact { top: bool, speed: f64, attached: bool },
+}
+
+/// One event of one bed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Event {
+    pub t: f64,
+    pub bed: usize,
+    pub kind: EventKind,
+    /// Kinetic energy lost in the event, J.
+    pub loss: f64,
+}
+
+/// Why a run stopped early.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Stop {
+    /// More events than allowed in one call: chatter (or a Zeno sequence with restitution).
+    Chatter { t: f64, events: usize },
+}
+
+/// Receives the motion as it is computed.
+pub trait Observer {
+    /// A smooth segment of the motion, valid on `[t_a, t_b]`.
+    fn segment(&mut self, _d: &Dynamics, _seg: &Segment, _beds: &[Bed], _t_a: f64, _t_b: f64) {}
+    /// An event, after it has been applied to `after`.
+    fn event(&mut self, _ev: &Event, _after: &State) {}
+}
+
+/// An observer that ignores everything.
+pub struct Quiet;
+impl Observer for Quiet {}
+
+/// Tunables of the event search.
+#[derive(Debug, Clone, Copy)]
+pub struct Settings {
+    /// Search step as a fraction of the shortest period.
+    pub step_fraction: f64,
+    /// Most events in one `advance` call before it stops with [`Stop::Chatter`].
+    pub max_events: usize,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings { step_fraction: 0.125, max_events: 2000 }
+    }
+}
+
+/// Tolerance on a contact acceleration that counts as zero, m/s^2.
+const ACCEL_TOL: f64 = 1e-8;
+/// Value and slope of a watched function that count as zero at a segment's start (a contact
+/// just made or just broken), in its units.
+fn fresh_tol(w: &Watch, omega: f64) -> (f64, f64) {
+    match w {
+        Watch::Contact { .. } => (ACCEL_TOL, ACCEL_TOL * omega),
+        _ => (1e-15, 1e-12),
+    }
+}
+
+/// The simulator for one system at one forcing frequency.
+pub struct Engine<'a> {
+    pub d: &'a Dynamics,
+    pub settings: Settings,
+}
+
+impl<'a> Engine<'a> {
+    pub fn new(d: &'a Dynamics) -> Engine<'a> {
+        Engine { d, settings: Settings::default() }
+    }
+
+    /// The functions to watch in the state's configuration.
+    fn watches(&self, s: &State) -> Vec<Watch> {
+        let mut w = Vec::new();
+        for (j, bed) in s.beds.iter().enumerate() {
+            let dm = &self.d.system.dampers[j];
+            let host = dm.host;
+            match *bed {
+                // A bed in a container without clearance cannot move relative to it.
+                Bed::Bottom | Bed::Top if dm.clearance == 0.0 => {}
+                Bed::Bottom => w.push(Watch::Contact { bed: j, host, sigma: 1.0 }),
+                Bed::Top => w.push(Watch::Contact { bed: j, host, sigma: -1.0 }),
+                Bed::Free { t0, y0, u0 } => {
+                    w.push(Watch::GapBottom { bed: j, host, y0, u0, tf: t0 });
+                    if dm.clearance.is_finite() {
+                        w.push(Watch::GapTop { bed: j, host, d: dm.clearance, y0, u0, tf: t0 });
+                    }
+                }
+            }
+        }
+        w
+    }
+
+    /// Advances `s` to `t_end`, applying every event on the way.
+    pub fn advance(&self, s: &mut State, t_end: f64, obs: &mut impl Observer) -> Result<(), Stop> {
+        let mut events = 0;
+        while s.t < t_end {
+            let seg = Segment::start(self.d, s.mask(), s.t, &s.x, &s.v);
+            let watches = self.watches(s);
+            match self.next_event(&seg, &watches, s.t, t_end) {
+                None => {
+                    obs.segment(self.d, &seg, &s.beds, s.t, t_end);
+                    let pt = seg.point(self.d, t_end);
+                    let (x, v) = seg.state(self.d, &pt);
+                    s.t = t_end;
+                    s.x = x;
+                    s.v = v;
+                }
+                Some((te, hits)) => {
+                    obs.segment(self.d, &seg, &s.beds, s.t, te);
+                    let pt = seg.point(self.d, te);
+                    let (x, v) = seg.state(self.d, &pt);
+                    s.t = te;
+                    s.x = x;
+                    s.v = v;
+                    for ev in self.apply(s, &hits) {
+                        obs.event(&ev, s);
+                    }
+                    events += 1;
+                    if events > self.settings.max_events {
+                        return Err(Stop::Chatter { t: s.t, events });
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The earliest event in `(t_a, t_b]` and the watches that fire there.
+    fn next_event(&self, seg: &Segment, watches: &[Watch], t_a: f64, t_b: f64) -> Option<(f64, Vec<Watch>)> {
+        if watches.is_empty() {
+            return None;
+        }
+        let d = self.d;
+        let step = d.min_period * self.settings.step_fraction;
+        let eval = |w: &Watch, t: f64| w.taylor(seg, d, &seg.point(d, t));
+        // Where each watch's search starts: just past a fresh zero, or at t_a.
+        let mut starts = Vec::with_capacity(watches.len());
+        let pt = seg.point(d, t_a);
+        for w in watches {
+            let ta = w.taylor(seg, d, &pt);
+            let (tol0, tol1) = fresh_tol(w, d.omega);
+            if ta.h[0] <= tol0 {
+                match fresh_window(&ta, TIME_TOL, tol1, step.min(t_b - t_a)) {
+                    Some(win) => starts.push(t_a + win),
+                    None => return Some((t_a, vec![*w])),
+                }
+            } else {
+                starts.push(t_a);
+            }
+        }
+        let mut best: Option<(f64, Vec<Watch>)> = None;
+        let mut a = t_a;
+        while a < t_b {
+            let b = (a + step).min(t_b);
+            let pt = seg.point(d, a);
+            for (w, &start) in watches.iter().zip(&starts) {
+                let lo = a.max(start);
+                if lo >= b {
+                    continue;
+                }
+                let ta = if lo == a { w.taylor(seg, d, &pt) } else { eval(w, lo) };
+                if excluded(&ta, b - lo) {
+                    continue;
+                }
+                if let Some(r) = first_root(&mut |t| eval(w, t), lo, ta, b) {
+                    match &mut best {
+                        Some((t, ws)) if (r - *t).abs() <= 10.0 * TIME_TOL => ws.push(*w),
+                        Some((t, _)) if r > *t => {}
+                        _ => best = Some((r, vec![*w])),
+                    }
+                }
+            }
+            if best.is_some() {
+                return best;
+            }
+            a = b;
+        }
+        None
+    }
+
+    /// Applies impacts and releases at `s.t` and settles the contacts. Returns the events.
+    fn apply(&self, s: &mut State, hits: &[Watch]) -> Vec<Event> {
+        let d = self.d;
+        let sys = &d.system;
+        let mut events = Vec::new();
+        // Contact candidates: every attached bed plus beds that just landed plastically.
+        let mut side: Vec<Option<bool>> = s.beds.iter().map(|b| match b {
+            Bed::Bottom => Some(false),
+            Bed::Top => Some(true),
+            Bed::Free { .. } => None,
+        }).collect();
+        let mut hit_beds: Vec<(usize, bool)> = hits
+            .iter()
+            .filter_map(|w| match *w {
+                Watch::GapBottom { bed, .. } => Some((bed, false)),
+                Watch::GapTop { bed, .. } => Some((bed, true)),
+                Watch::Contact { .. } => None,
+            })
+            .collect();
+        hit_beds.sort_by_key(|h| h.0);
+        let mut impact_speed = vec![0.0; s.beds.len()];
+        for &(j, top) in &hit_beds {
+            let Bed::Free { t0, y0, u0 } = s.beds[j] else { continue };
+            let dm = sys.dampers[j];
+            let p = dm.host;
+            let (_, u) = Bed::flight(t0, y0, u0, s.t);
+            // The host's effective mass includes beds already resting on it.
+            let m_host = sys.structure.masses[p]
+                + (0..s.beds.len()).filter(|&k| k != j && side[k].is_some() && sys.dampers[k].host == p).map(|k| sys.dampers[k].mass).sum::<f64>();
+            let vp = s.v[p];
+            let rel = u - vp;
+            let ke_before = 0.5 * m_host * vp * vp + 0.5 * dm.mass * u * u;
+            let total = m_host + dm.mass;
+            impact_speed[j] = rel.abs();
+            if sys.restitution > 0.0 && rel.abs() >= sys.stick_speed {
+                let e = sys.restitution;
+                let vp2 = vp + dm.mass * (1.0 + e) * rel / total;
+                let u2 = u - m_host * (1.0 + e) * rel / total;
+                s.v[p] = vp2;
+                let loss = ke_before - 0.5 * m_host * vp2 * vp2 - 0.5 * dm.mass * u2 * u2;
+                let y_contact = if top { s.x[p] + dm.clearance } else { s.x[p] };
+                s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: u2 };
+                events.push(Event { t: s.t, bed: j, kind: EventKind::Impact { top, speed: rel.abs(), attached: false }, loss });
+            } else {
+                let v2 = (m_host * vp + dm.mass * u) / total;
+                s.v[p] = v2;
+                let loss = ke_before - 0.5 * total * v2 * v2;
+                side[j] = Some(top);
+                events.push(Event { t: s.t, bed: j, kind: EventKind::Impact { top, speed: rel.abs(), attached: true }, loss });
+            }
+        }
+        // Settle: the largest set of candidates whose contact forces are consistent.
+        let candidates: Vec<usize> = (0..s.beds.len()).filter(|&j| side[j].is_some() && sys.dampers[j].clearance != 0.0).collect();
+        let locked: usize = (0..s.beds.len()).filter(|&j| side[j].is_some() && sys.dampers[j].clearance == 0.0).fold(0, |m, j| m | (1 << j));
+        let attached = self.settle(s, &candidates, &side, locked);
+        for &j in &candidates {
+            let top = side[j].unwrap_or(false);
+            let p = sys.dampers[j].host;
+            if attached & (1 << j) != 0 {
+                s.beds[j] = if top { Bed::Top } else { Bed::Bottom };
+            } else {
+                let y0 = if top { s.x[p] + sys.dampers[j].clearance } else { s.x[p] };
+                let was_attached = s.beds[j].attached();
+                s.beds[j] = Bed::Free { t0: s.t, y0, u0: s.v[p] };
+                if was_attached {
+                    events.push(Event { t: s.t, bed: j, kind: EventKind::LiftOff { top }, loss: 0.0 });
+                } else if let Some(ev) = events.iter_mut().find(|e| e.bed == j) {
+                    ev.kind = EventKind::Impact { top, speed: impact_speed[j], attached: false };
+                }
+            }
+        }
+        events
+    }
+
+    /// The attached mask after an event: among candidate subsets, largest first (ties by bed
+    /// index), the first in which every attached bed is pressed on (contact force >= 0) and
+    /// every detached candidate moves away (relative acceleration >= 0); signs near zero are
+    /// decided by the next derivative.
+    fn settle(&self, s: &State, candidates: &[usize], side: &[Option<bool>], locked: usize) -> usize {
+        let d = self.d;
+        let m = candidates.len();
+        let mut subsets: Vec<usize> = (0..(1usize << m)).collect();
+        subsets.sort_by_key(|&bits| (std::cmp::Reverse(bits.count_ones()), bits));
+        let mask_of = |bits: usize| candidates.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, &j)| acc | (1 << j));
+        for &bits in &subsets {
+            let mask = mask_of(bits);
+            let (a, jerk) = d.accelerations(mask, s.t, &s.x, &s.v);
+            let ok = candidates.iter().enumerate().all(|(i, &j)| {
+                let p = d.system.dampers[j].host;
+                let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };
+                let n = sigma * (a[p] + GRAVITY);
+                let dn = sigma * jerk[p];
+                let sign = if n.abs() > ACCEL_TOL { n.signum() } else if dn.abs() > ACCEL_TOL * d.omega { dn.signum() } else { 0.0 };
+                if bits & (1 << i) != 0 {
+                    sign >= 0.0
+                } else {
+                    sign <= 0.0
+                }
+            });
+            if ok {
+                return mask;
+            }
+        }
+        // No consistent set (not expected): release every candidate with a negative force.
+        let all = mask_of((1 << m) - 1);
+        let (a, _) = d.accelerations(all, s.t, &s.x, &s.v);
+        candidates.iter().fold(locked, |acc, &j| {
+            let p = d.system.dampers[j].host;
+            let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };
+            if sigma * (a[p] + GRAVITY) >= 0.0 {
+                acc | (1 << j)
+            } else {
+                acc
+            }
+        })
+    }
+}
+
+/// The Taylor data of a watch at one time (for tests and diagnostics).
+pub fn watch_at(d: &Dynamics, seg: &Segment, w: &Watch, t: f64) -> Taylor {
+    let pt: Point = seg.point(d, t);
+    w.taylor(seg, d, &pt)
+}

@@ -1,0 +1,16 @@
+//! The exact event-driven simulator of the structure with N shot dampers (MODEL.md
+//! sections 2 and 3). Between events the motion is a closed form (one eigendecomposition
+//! per configuration, computed once); events are located by a certified search; solvers
+//! return data and a stop reason and do no I/O.
+
+pub mod eigen;
+pub mod engine;
+pub mod observe;
+pub mod roots;
+pub mod segment;
+pub mod steady;
+pub mod system;
+
+pub use engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};
+pub use steady::{steady_state, Steady, SteadyOptions};
+pub use system::{Dynamics, SetupError, System};

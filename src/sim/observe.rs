@@ -1,0 +1,241 @@
+//! Observers that measure the motion exactly as the simulator computes it: extrema of the
+//! displacements, event counts, and the energy balance.
+
+use nalgebra::DVector;
+
+use crate::model::GRAVITY;
+
+use super::engine::{Bed, Event, EventKind, Observer, State};
+use super::segment::Segment;
+use super::system::Dynamics;
+
+/// Extrema of every displacement (and bed states) over the observed time, found from the
+/// roots of the velocities in closed form, plus event counts.
+#[derive(Debug, Clone)]
+pub struct Extrema {
+    pub min: Vec<f64>,
+    pub max: Vec<f64>,
+    /// Per bed: bottom impacts, top impacts, lift-offs.
+    pub bottom_impacts: Vec<usize>,
+    pub top_impacts: Vec<usize>,
+    pub liftoffs: Vec<usize>,
+    /// Highest flight of each bed above its container bottom, m.
+    pub max_flight: Vec<f64>,
+}
+
+impl Extrema {
+    pub fn new(n: usize, beds: usize) -> Extrema {
+        Extrema {
+            min: vec![f64::INFINITY; n],
+            max: vec![f64::NEG_INFINITY; n],
+            bottom_impacts: vec![0; beds],
+            top_impacts: vec![0; beds],
+            liftoffs: vec![0; beds],
+            max_flight: vec![0.0; beds],
+        }
+    }
+
+    /// Half the peak-to-peak displacement of each mass.
+    pub fn amplitudes(&self) -> Vec<f64> {
+        self.min.iter().zip(&self.max).map(|(lo, hi)| 0.5 * (hi - lo)).collect()
+    }
+
+    fn take(&mut self, i: usize, x: f64) {
+        self.min[i] = self.min[i].min(x);
+        self.max[i] = self.max[i].max(x);
+    }
+}
+
+/// Roots of `f` on `[a, b]` sampled at `m` intervals and refined by Newton with bisection;
+/// `f` returns value and derivative.
+fn roots_of(f: &impl Fn(f64) -> (f64, f64), a: f64, b: f64, m: usize) -> Vec<f64> {
+    let mut out = Vec::new();
+    let h = (b - a) / m as f64;
+    let mut ta = a;
+    let mut fa = f(a).0;
+    for k in 1..=m {
+        let tb = if k == m { b } else { a + h * k as f64 };
+        let fb = f(tb).0;
+        if fa == 0.0 {
+            out.push(ta);
+        } else if fa * fb < 0.0 {
+            let (mut lo, mut hi, mut flo) = (ta, tb, fa);
+            let mut t = 0.5 * (lo + hi);
+            for _ in 0..60 {
+                let (v, dv) = f(t);
+                if v == 0.0 {
+                    break;
+                }
+                if (v < 0.0) == (flo < 0.0) {
+                    lo = t;
+                    flo = v;
+                } else {
+                    hi = t;
+                }
+                let newton = if dv != 0.0 { t - v / dv } else { f64::NAN };
+                t = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
+                if hi - lo < 1e-15 * (1.0 + t.abs()) {
+                    break;
+                }
+            }
+            out.push(t);
+        }
+        ta = tb;
+        fa = fb;
+    }
+    out
+}
+
+impl Observer for Extrema {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        if t_b <= t_a {
+            return;
+        }
+        let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
+        for i in 0..d.system.dof() {
+            let x = |t: f64| seg.deriv(d, &seg.point(d, t), i, 0);
+            self.take(i, x(t_a));
+            self.take(i, x(t_b));
+            let v = |t: f64| {
+                let pt = seg.point(d, t);
+                (seg.deriv(d, &pt, i, 1), seg.deriv(d, &pt, i, 2))
+            };
+            for r in roots_of(&v, t_a, t_b, m) {
+                self.take(i, x(r));
+            }
+        }
+        // Highest flight: the apex of y - x_p, at a root of the relative velocity.
+        for (j, bed) in beds.iter().enumerate() {
+            if let Bed::Free { t0, y0, u0 } = *bed {
+                let p = d.system.dampers[j].host;
+                let gap = |t: f64| {
+                    let pt = seg.point(d, t);
+                    let (y, u) = Bed::flight(t0, y0, u0, t);
+                    (y - seg.deriv(d, &pt, p, 0), u - seg.deriv(d, &pt, p, 1))
+                };
+                let rel = |t: f64| {
+                    let pt = seg.point(d, t);
+                    let (_, u) = Bed::flight(t0, y0, u0, t);
+                    (u - seg.deriv(d, &pt, p, 1), -GRAVITY - seg.deriv(d, &pt, p, 2))
+                };
+                let mut best = gap(t_a).0.max(gap(t_b).0);
+                for r in roots_of(&rel, t_a, t_b, m) {
+                    best = best.max(gap(r).0);
+                }
+                self.max_flight[j] = self.max_flight[j].max(best);
+            }
+        }
+    }
+
+    fn event(&mut self, ev: &Event, _after: &State) {
+        match ev.kind {
+            EventKind::Impact { top: false, .. } => self.bottom_impacts[ev.bed] += 1,
+            EventKind::Impact { top: true, .. } => self.top_impacts[ev.bed] += 1,
+            EventKind::LiftOff { .. } => self.liftoffs[ev.bed] += 1,
+        }
+    }
+}
+
+/// Energy terms over the observed time: work of the force, viscous loss, impact loss.
+#[derive(Debug, Clone, Default)]
+pub struct Energy {
+    pub work: f64,
+    pub viscous: f64,
+    pub impact: f64,
+}
+
+/// 8-point Gauss-Legendre nodes and weights on [-1, 1].
+const GL_NODES: [f64; 8] = [
+    -0.960_289_856_497_536_3,
+    -0.796_666_477_413_626_7,
+    -0.525_532_409_916_329,
+    -0.183_434_642_495_649_8,
+    0.183_434_642_495_649_8,
+    0.525_532_409_916_329,
+    0.796_666_477_413_626_7,
+    0.960_289_856_497_536_3,
+];
+const GL_WEIGHTS: [f64; 8] = [
+    0.101_228_536_290_376_26,
+    0.222_381_034_453_374_47,
+    0.313_706_645_877_887_3,
+    0.362_683_783_378_362,
+    0.362_683_783_378_362,
+    0.313_706_645_877_887_3,
+    0.222_381_034_453_374_47,
+    0.101_228_536_290_376_26,
+];
+
+impl Observer for Energy {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, _beds: &[Bed], t_a: f64, t_b: f64) {
+        if t_b <= t_a {
+            return;
+        }
+        let pieces = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(1);
+        let h = (t_b - t_a) / pieces as f64;
+        let k = d.system.driven;
+        for piece in 0..pieces {
+            let a = t_a + h * piece as f64;
+            for (node, w) in GL_NODES.iter().zip(GL_WEIGHTS) {
+                let t = a + 0.5 * h * (node + 1.0);
+                let pt = seg.point(d, t);
+                let (_, v) = seg.state(d, &pt);
+                let (f, _) = d.force(t);
+                self.work += 0.5 * h * w * f * v[k];
+                self.viscous += 0.5 * h * w * (v.transpose() * &d.c * &v)[(0, 0)];
+            }
+        }
+    }
+
+    fn event(&mut self, ev: &Event, _after: &State) {
+        self.impact += ev.loss;
+    }
+}
+
+/// Stored energy: kinetic (masses and beds), elastic, and the beds' gravitational energy.
+pub fn stored_energy(d: &Dynamics, s: &State) -> f64 {
+    let m0 = &d.system.structure.masses;
+    let kinetic: f64 = s.v.iter().zip(m0).map(|(v, m)| 0.5 * m * v * v).sum();
+    let elastic = 0.5 * (s.x.transpose() * &d.k * &s.x)[(0, 0)];
+    let beds: f64 = (0..s.beds.len())
+        .map(|j| {
+            let (y, u) = s.bed_motion(d, j);
+            let m = d.system.dampers[j].mass;
+            0.5 * m * u * u + m * GRAVITY * y
+        })
+        .sum();
+    kinetic + elastic + beds
+}
+
+/// Both observers at once.
+pub struct Both<'a, A: Observer, B: Observer>(pub &'a mut A, pub &'a mut B);
+
+impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        self.0.segment(d, seg, beds, t_a, t_b);
+        self.1.segment(d, seg, beds, t_a, t_b);
+    }
+    fn event(&mut self, ev: &Event, after: &State) {
+        self.0.event(ev, after);
+        self.1.event(ev, after);
+    }
+}
+
+/// A state as a flat vector for distances: displacements, velocities / omega, and for each
+/// bed its height above the bottom and relative velocity / omega.
+pub fn flat(d: &Dynamics, s: &State) -> DVector<f64> {
+    let n = d.system.dof();
+    let nb = s.beds.len();
+    let mut z = DVector::zeros(2 * n + 2 * nb);
+    for i in 0..n {
+        z[i] = s.x[i];
+        z[n + i] = s.v[i] / d.omega;
+    }
+    for j in 0..nb {
+        let p = d.system.dampers[j].host;
+        let (y, u) = s.bed_motion(d, j);
+        z[2 * n + j] = y - s.x[p];
+        z[2 * n + nb + j] = (u - s.v[p]) / d.omega;
+    }
+    z
+}

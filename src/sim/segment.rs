@@ -1,0 +1,134 @@
+//! One smooth piece of motion between events, in closed form, and the event functions
+//! evaluated on it with their first three derivatives and a bound on the fourth.
+
+use nalgebra::DVector;
+use num_complex::Complex64;
+
+use crate::model::GRAVITY;
+
+use super::system::{Dynamics, ORDERS};
+
+/// The homogeneous part's coefficients from a start state: `c = V^-1 (z0 - z_p(t0))`.
+#[derive(Debug, Clone)]
+pub struct Segment {
+    pub t0: f64,
+    pub mask: usize,
+    pub c: Vec<Complex64>,
+}
+
+/// `c_k e^{lambda_k (t - t0)}` and the forcing phase at one time: everything an evaluation
+/// at that time shares.
+#[derive(Debug, Clone)]
+pub struct Point {
+    pub t: f64,
+    pub e: Vec<Complex64>,
+    pub e_abs: Vec<f64>,
+    pub sin: f64,
+    pub cos: f64,
+}
+
+impl Segment {
+    /// Starts a segment in configuration `mask` at `t0` from displacements `x0`, velocities `v0`.
+    pub fn start(d: &Dynamics, mask: usize, t0: f64, x0: &DVector<f64>, v0: &DVector<f64>) -> Segment {
+        let n = x0.len();
+        let (xp, vp) = d.particular(mask, t0);
+        let mut z = DVector::<Complex64>::zeros(2 * n);
+        for i in 0..n {
+            z[i] = Complex64::new(x0[i] - xp[i], 0.0);
+            z[n + i] = Complex64::new(v0[i] - vp[i], 0.0);
+        }
+        let c = &d.configs[mask].inverse * z;
+        Segment { t0, mask, c: c.iter().copied().collect() }
+    }
+
+    /// The shared quantities at time `t`.
+    pub fn point(&self, d: &Dynamics, t: f64) -> Point {
+        let cfg = &d.configs[self.mask];
+        let s = t - self.t0;
+        let e: Vec<Complex64> = self.c.iter().zip(&cfg.lambda).map(|(c, l)| c * (l * s).exp()).collect();
+        let e_abs = e.iter().map(|z| z.norm()).collect();
+        let (sin, cos) = (d.omega * t).sin_cos();
+        Point { t, e, e_abs, sin, cos }
+    }
+
+    /// Derivative `order` of the displacement of mass `p`.
+    pub fn deriv(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
+        let cfg = &d.configs[self.mask];
+        let hom: f64 = cfg.vl[p][order].iter().zip(&pt.e).map(|(a, b)| (a * b).re).sum();
+        let (pp, qq) = (cfg.p[p], cfg.q[p]);
+        let w = d.omega.powi(order as i32);
+        let forced = match order % 4 {
+            0 => pp * pt.cos + qq * pt.sin,
+            1 => -pp * pt.sin + qq * pt.cos,
+            2 => -(pp * pt.cos + qq * pt.sin),
+            _ => pp * pt.sin - qq * pt.cos,
+        } * w;
+        hom + forced + if order == 0 { cfg.offset[p] } else { 0.0 }
+    }
+
+    /// A bound on `|x_p^(order)|` from this point on (the homogeneous terms decay).
+    pub fn bound(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
+        let cfg = &d.configs[self.mask];
+        let hom: f64 = cfg.vl_abs[p][order].iter().zip(&pt.e_abs).map(|(a, b)| a * b).sum();
+        hom + d.omega.powi(order as i32) * cfg.p[p].hypot(cfg.q[p])
+    }
+
+    /// Displacements and velocities of all masses at a point.
+    pub fn state(&self, d: &Dynamics, pt: &Point) -> (DVector<f64>, DVector<f64>) {
+        let n = d.system.dof();
+        (DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 0)), DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 1)))
+    }
+}
+
+/// What an event function measures. Each is >= 0 while nothing happens.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Watch {
+    /// Contact force per unit bed mass, `sigma (xddot_p + g)` (sigma +1 bottom, -1 top).
+    Contact { bed: usize, host: usize, sigma: f64 },
+    /// Gap above the container bottom, `y - x_p`, of a free bed.
+    GapBottom { bed: usize, host: usize, y0: f64, u0: f64, tf: f64 },
+    /// Gap below the container top, `x_p + d - y`, of a free bed.
+    GapTop { bed: usize, host: usize, d: f64, y0: f64, u0: f64, tf: f64 },
+}
+
+/// A function value with three derivatives at a point, and a bound on the fourth derivative
+/// valid from that point on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Taylor {
+    pub h: [f64; 4],
+    pub bound4: f64,
+}
+
+impl Watch {
+    /// The bed this function watches.
+    pub fn bed(&self) -> usize {
+        match *self {
+            Watch::Contact { bed, .. } | Watch::GapBottom { bed, .. } | Watch::GapTop { bed, .. } => bed,
+        }
+    }
+
+    /// Value, derivatives and bound at a point of a segment.
+    pub fn taylor(&self, seg: &Segment, d: &Dynamics, pt: &Point) -> Taylor {
+        debug_assert!(ORDERS >= 7);
+        match *self {
+            Watch::Contact { host, sigma, .. } => {
+                let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i + 2));
+                Taylor { h: [sigma * (x[0] + GRAVITY), sigma * x[1], sigma * x[2], sigma * x[3]], bound4: seg.bound(d, pt, host, 6) }
+            }
+            Watch::GapBottom { host, y0, u0, tf, .. } => {
+                let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i));
+                let tau = pt.t - tf;
+                let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
+                let u = u0 - GRAVITY * tau;
+                Taylor { h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]], bound4: seg.bound(d, pt, host, 4) }
+            }
+            Watch::GapTop { host, d: clearance, y0, u0, tf, .. } => {
+                let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i));
+                let tau = pt.t - tf;
+                let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
+                let u = u0 - GRAVITY * tau;
+                Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4: seg.bound(d, pt, host, 4) }
+            }
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! The structure with its dampers and forcing, and the closed-form dynamics of each of the
+//! 2^N configurations (MODEL.md section 2).
+
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+
+use crate::model::{Damper, Structure, GRAVITY};
+
+use super::eigen;
+
+/// Highest derivative order of a host displacement the event functions need (contact
+/// forces are second derivatives; their certified bounds need four more).
+pub const ORDERS: usize = 7;
+
+/// What the simulator integrates: the structure, its dampers, the force.
+#[derive(Debug, Clone)]
+pub struct System {
+    pub structure: Structure,
+    pub dampers: Vec<Damper>,
+    /// 0-based driven mass.
+    pub driven: usize,
+    /// Force amplitude `F` of `F sin(omega t)`, N (0 for free motion).
+    pub force: f64,
+    /// Coefficient of restitution (0 = plastic, the paper's assumption).
+    pub restitution: f64,
+    /// Relative impact speed below which a bed sticks when `restitution > 0`, m/s.
+    pub stick_speed: f64,
+}
+
+impl System {
+    /// A system with plastic impacts.
+    pub fn plastic(structure: Structure, dampers: Vec<Damper>, driven: usize, force: f64) -> System {
+        System { structure, dampers, driven, force, restitution: 0.0, stick_speed: 0.0 }
+    }
+
+    /// Number of primary masses.
+    pub fn dof(&self) -> usize {
+        self.structure.dof()
+    }
+
+    /// Mass matrix with the dampers of `mask` attached.
+    pub fn mass_matrix(&self, mask: usize) -> DMatrix<f64> {
+        let added: Vec<(usize, f64)> = self
+            .dampers
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| mask & (1 << j) != 0)
+            .map(|(_, d)| (d.host, d.mass))
+            .collect();
+        self.structure.mass_matrix_with(&added)
+    }
+
+    /// Constant load of `mask`: the weights of the attached beds, `-sum m_dj g e_pj`.
+    pub fn weight_load(&self, mask: usize) -> DVector<f64> {
+        let mut w = DVector::zeros(self.dof());
+        for (j, d) in self.dampers.iter().enumerate() {
+            if mask & (1 << j) != 0 {
+                w[d.host] -= d.mass * GRAVITY;
+            }
+        }
+        w
+    }
+}
+
+/// Why dynamics could not be set up.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SetupError {
+    /// A configuration's state matrix has no complete set of eigenvectors.
+    Defective { mask: usize },
+    /// The dynamic stiffness is singular at the forcing frequency (undamped resonance).
+    Singular { mask: usize },
+}
+
+impl std::fmt::Display for SetupError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SetupError::Defective { mask } => write!(f, "configuration {mask:#b}: state matrix is defective"),
+            SetupError::Singular { mask } => write!(f, "configuration {mask:#b}: dynamic stiffness is singular at the forcing frequency"),
+        }
+    }
+}
+
+/// Closed-form dynamics of one configuration at one forcing frequency:
+/// `x(t) = Re sum_k V_k c_k e^{lambda_k (t - t0)} + P cos(omega t) + Q sin(omega t) + s`.
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub mask: usize,
+    /// Eigenvalues of the first-order state matrix.
+    pub lambda: Vec<Complex64>,
+    /// `vl[p][m][k] = V[p, k] lambda_k^m`: displacement rows of the eigenvectors times powers.
+    pub vl: Vec<[Vec<Complex64>; ORDERS]>,
+    /// `|vl|`, for derivative bounds.
+    pub vl_abs: Vec<[Vec<f64>; ORDERS]>,
+    /// `V^-1`.
+    pub inverse: DMatrix<Complex64>,
+    /// Forced response coefficients.
+    pub p: DVector<f64>,
+    pub q: DVector<f64>,
+    /// Static offset under the attached beds' weights.
+    pub offset: DVector<f64>,
+    /// `M^-1`, for accelerations at events.
+    pub mass_inv: DMatrix<f64>,
+    /// Largest `|Im lambda|`.
+    pub max_rate: f64,
+    /// Largest eigen-residual (diagnostics).
+    pub residual: f64,
+}
+
+/// All configurations of a system at one forcing frequency.
+#[derive(Debug, Clone)]
+pub struct Dynamics {
+    pub system: System,
+    /// Forcing frequency, rad/s (any positive value for free motion).
+    pub omega: f64,
+    pub configs: Vec<Config>,
+    /// Stiffness and damping (shared by all configurations).
+    pub k: DMatrix<f64>,
+    pub c: DMatrix<f64>,
+    /// Shortest natural or forcing period over all configurations, s.
+    pub min_period: f64,
+}
+
+impl Dynamics {
+    /// Decomposes all 2^N configurations once.
+    pub fn new(system: &System, omega: f64) -> Result<Dynamics, SetupError> {
+        let n = system.dof();
+        let k = system.structure.stiffness.clone();
+        let c = system.structure.damping.clone();
+        let k_inv = k.clone().try_inverse().ok_or(SetupError::Singular { mask: 0 })?;
+        let mut configs = Vec::with_capacity(1 << system.dampers.len());
+        for mask in 0..(1usize << system.dampers.len()) {
+            let m = system.mass_matrix(mask);
+            let m_inv = m.clone().try_inverse().ok_or(SetupError::Singular { mask })?;
+            let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+            let mk = -&m_inv * &k;
+            let mc = -&m_inv * &c;
+            for i in 0..n {
+                a[(i, n + i)] = 1.0;
+                for j in 0..n {
+                    a[(n + i, j)] = mk[(i, j)];
+                    a[(n + i, n + j)] = mc[(i, j)];
+                }
+            }
+            let eig = eigen::decompose(&a).ok_or(SetupError::Defective { mask })?;
+            let vl: Vec<[Vec<Complex64>; ORDERS]> = (0..n)
+                .map(|p| {
+                    std::array::from_fn(|order| {
+                        (0..2 * n).map(|kk| eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32)).collect()
+                    })
+                })
+                .collect();
+            let vl_abs = vl.iter().map(|rows| std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect())).collect();
+            // Forced response: (K - omega^2 M + i omega C) X = F e_k; x_p = Im(X e^{i omega t}).
+            let (p, q) = if system.force != 0.0 {
+                let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)]));
+                let mut rhs = DVector::<Complex64>::zeros(n);
+                rhs[system.driven] = Complex64::new(system.force, 0.0);
+                let x = z.lu().solve(&rhs).ok_or(SetupError::Singular { mask })?;
+                (x.map(|v| v.im), x.map(|v| v.re))
+            } else {
+                (DVector::zeros(n), DVector::zeros(n))
+            };
+            let offset = &k_inv * system.weight_load(mask);
+            let max_rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+            configs.push(Config {
+                mask,
+                lambda: eig.values,
+                vl,
+                vl_abs,
+                inverse: eig.inverse,
+                p,
+                q,
+                offset,
+                mass_inv: m_inv,
+                max_rate,
+                residual: eig.residual,
+            });
+        }
+        let max_rate = configs.iter().map(|c| c.max_rate).fold(omega, f64::max);
+        Ok(Dynamics { system: system.clone(), omega, configs, k, c, min_period: 2.0 * std::f64::consts::PI / max_rate })
+    }
+
+    /// The forced (particular) displacement and velocity of `mask` at time `t`.
+    pub fn particular(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
+        let cfg = &self.configs[mask];
+        let (s, c) = (self.omega * t).sin_cos();
+        let x = &cfg.p * c + &cfg.q * s + &cfg.offset;
+        let v = (&cfg.q * c - &cfg.p * s) * self.omega;
+        (x, v)
+    }
+
+    /// The force vector at `t` and its time derivative.
+    pub fn force(&self, t: f64) -> (f64, f64) {
+        let (s, c) = (self.omega * t).sin_cos();
+        (self.system.force * s, self.system.force * self.omega * c)
+    }
+
+    /// Accelerations and jerks of all masses in configuration `mask` at state `(x, v)`, time `t`.
+    pub fn accelerations(&self, mask: usize, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
+        let cfg = &self.configs[mask];
+        let (f, fdot) = self.force(t);
+        let mut rhs = self.system.weight_load(mask) - &self.c * v - &self.k * x;
+        rhs[self.system.driven] += f;
+        let a = &cfg.mass_inv * rhs;
+        let mut rhs_dot = -&self.c * &a - &self.k * v;
+        rhs_dot[self.system.driven] += fdot;
+        let j = &cfg.mass_inv * rhs_dot;
+        (a, j)
+    }
+}
