@@ -37,7 +37,9 @@ pub fn decompose(a: &DMatrix<f64>) -> Option<Eigen> {
             b[(i, i)] -= shift;
         }
         let lu = b.lu();
-        let mut v = nalgebra::DVector::<Complex64>::from_fn(n, |i, _| Complex64::new(1.0 + 0.1 * i as f64, 0.3 - 0.05 * i as f64));
+        let mut v = nalgebra::DVector::<Complex64>::from_fn(n, |i, _| {
+            Complex64::new(1.0 + 0.1 * i as f64, 0.3 - 0.05 * i as f64)
+        });
         for _ in 0..3 {
             v = lu.solve(&v)?;
             let norm = v.norm();
@@ -52,13 +54,22 @@ pub fn decompose(a: &DMatrix<f64>) -> Option<Eigen> {
         let r = (&av - &v * *lambda).norm() / norm_a;
         residual = residual.max(r);
         // Phase: largest element real and positive (reproducible vectors).
-        let (imax, _) = v.iter().enumerate().fold((0, 0.0), |acc, (i, c)| if c.norm() > acc.1 { (i, c.norm()) } else { acc });
+        let (imax, _) =
+            v.iter().enumerate().fold(
+                (0, 0.0),
+                |acc, (i, c)| if c.norm() > acc.1 { (i, c.norm()) } else { acc },
+            );
         let phase = v[imax] / v[imax].norm();
         v /= phase;
         vectors.set_column(k, &v);
     }
     let inverse = vectors.clone().try_inverse()?;
-    Some(Eigen { values, vectors, inverse, residual })
+    Some(Eigen {
+        values,
+        vectors,
+        inverse,
+        residual,
+    })
 }
 
 #[cfg(test)]
@@ -69,7 +80,13 @@ mod tests {
     fn damped_state_matrix_reconstructs() {
         // A damped 3-mass chain in first-order form, non-proportional damping.
         let m = [0.814, 0.71, 0.704];
-        let k = DMatrix::from_row_slice(3, 3, &[46100.0, -21800.0, 0.0, -21800.0, 41600.0, -19800.0, 0.0, -19800.0, 19800.0]);
+        let k = DMatrix::from_row_slice(
+            3,
+            3,
+            &[
+                46100.0, -21800.0, 0.0, -21800.0, 41600.0, -19800.0, 0.0, -19800.0, 19800.0,
+            ],
+        );
         let c = DMatrix::from_row_slice(3, 3, &[3.0, -1.0, 0.0, -1.0, 2.5, -0.7, 0.0, -0.7, 0.9]);
         let mut a = DMatrix::<f64>::zeros(6, 6);
         for i in 0..3 {

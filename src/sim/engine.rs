@@ -29,7 +29,10 @@ impl Bed {
     /// Position and velocity of a free bed at `t`.
     pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
         let tau = t - t0;
-        (y0 + u0 * tau - 0.5 * GRAVITY * tau * tau, u0 - GRAVITY * tau)
+        (
+            y0 + u0 * tau - 0.5 * GRAVITY * tau * tau,
+            u0 - GRAVITY * tau,
+        )
     }
 }
 
@@ -45,7 +48,11 @@ pub struct State {
 impl State {
     /// The configuration mask: bit j set when bed j is attached.
     pub fn mask(&self) -> usize {
-        self.beds.iter().enumerate().filter(|(_, b)| b.attached()).fold(0, |m, (j, _)| m | (1 << j))
+        self.beds
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.attached())
+            .fold(0, |m, (j, _)| m | (1 << j))
     }
 
     /// At rest in static equilibrium with every bed on its bottom (MODEL.md section 3).
@@ -53,7 +60,12 @@ impl State {
         let n = d.system.dof();
         let all = (1usize << d.system.dampers.len()) - 1;
         let x = d.configs[all].offset.clone();
-        State { t: 0.0, x, v: DVector::zeros(n), beds: vec![Bed::Bottom; d.system.dampers.len()] }
+        State {
+            t: 0.0,
+            x,
+            v: DVector::zeros(n),
+            beds: vec![Bed::Bottom; d.system.dampers.len()],
+        }
     }
 
     /// Bed position and velocity (attached beds move with their host).
@@ -74,7 +86,11 @@ pub enum EventKind {
     LiftOff { top: bool },
     /// The bed hit the bottom or the top with this relative speed (m/s) and stayed attached
     /// (`attached`) or separated at once.
-    Impact { top: bool, speed: f64, attached: bool },
+    Impact {
+        top: bool,
+        speed: f64,
+        attached: bool,
+    },
 }
 
 /// One event of one bed.
@@ -117,7 +133,10 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { step_fraction: 0.125, max_events: 2000 }
+        Settings {
+            step_fraction: 0.125,
+            max_events: 2000,
+        }
     }
 }
 
@@ -140,7 +159,10 @@ pub struct Engine<'a> {
 
 impl<'a> Engine<'a> {
     pub fn new(d: &'a Dynamics) -> Engine<'a> {
-        Engine { d, settings: Settings::default() }
+        Engine {
+            d,
+            settings: Settings::default(),
+        }
     }
 
     /// The functions to watch in the state's configuration.
@@ -152,12 +174,33 @@ impl<'a> Engine<'a> {
             match *bed {
                 // A bed in a container without clearance cannot move relative to it.
                 Bed::Bottom | Bed::Top if dm.clearance == 0.0 => {}
-                Bed::Bottom => w.push(Watch::Contact { bed: j, host, sigma: 1.0 }),
-                Bed::Top => w.push(Watch::Contact { bed: j, host, sigma: -1.0 }),
+                Bed::Bottom => w.push(Watch::Contact {
+                    bed: j,
+                    host,
+                    sigma: 1.0,
+                }),
+                Bed::Top => w.push(Watch::Contact {
+                    bed: j,
+                    host,
+                    sigma: -1.0,
+                }),
                 Bed::Free { t0, y0, u0 } => {
-                    w.push(Watch::GapBottom { bed: j, host, y0, u0, tf: t0 });
+                    w.push(Watch::GapBottom {
+                        bed: j,
+                        host,
+                        y0,
+                        u0,
+                        tf: t0,
+                    });
                     if dm.clearance.is_finite() {
-                        w.push(Watch::GapTop { bed: j, host, d: dm.clearance, y0, u0, tf: t0 });
+                        w.push(Watch::GapTop {
+                            bed: j,
+                            host,
+                            d: dm.clearance,
+                            y0,
+                            u0,
+                            tf: t0,
+                        });
                     }
                 }
             }
@@ -201,7 +244,13 @@ impl<'a> Engine<'a> {
     }
 
     /// The earliest event in `(t_a, t_b]` and the watches that fire there.
-    fn next_event(&self, seg: &Segment, watches: &[Watch], t_a: f64, t_b: f64) -> Option<(f64, Vec<Watch>)> {
+    fn next_event(
+        &self,
+        seg: &Segment,
+        watches: &[Watch],
+        t_a: f64,
+        t_b: f64,
+    ) -> Option<(f64, Vec<Watch>)> {
         if watches.is_empty() {
             return None;
         }
@@ -233,7 +282,11 @@ impl<'a> Engine<'a> {
                 if lo >= b {
                     continue;
                 }
-                let ta = if lo == a { w.taylor(seg, d, &pt) } else { eval(w, lo) };
+                let ta = if lo == a {
+                    w.taylor(seg, d, &pt)
+                } else {
+                    eval(w, lo)
+                };
                 if excluded(&ta, b - lo) {
                     continue;
                 }
@@ -259,11 +312,15 @@ impl<'a> Engine<'a> {
         let sys = &d.system;
         let mut events = Vec::new();
         // Contact candidates: every attached bed plus beds that just landed plastically.
-        let mut side: Vec<Option<bool>> = s.beds.iter().map(|b| match b {
-            Bed::Bottom => Some(false),
-            Bed::Top => Some(true),
-            Bed::Free { .. } => None,
-        }).collect();
+        let mut side: Vec<Option<bool>> = s
+            .beds
+            .iter()
+            .map(|b| match b {
+                Bed::Bottom => Some(false),
+                Bed::Top => Some(true),
+                Bed::Free { .. } => None,
+            })
+            .collect();
         let mut hit_beds: Vec<(usize, bool)> = hits
             .iter()
             .filter_map(|w| match *w {
@@ -275,13 +332,18 @@ impl<'a> Engine<'a> {
         hit_beds.sort_by_key(|h| h.0);
         let mut impact_speed = vec![0.0; s.beds.len()];
         for &(j, top) in &hit_beds {
-            let Bed::Free { t0, y0, u0 } = s.beds[j] else { continue };
+            let Bed::Free { t0, y0, u0 } = s.beds[j] else {
+                continue;
+            };
             let dm = sys.dampers[j];
             let p = dm.host;
             let (_, u) = Bed::flight(t0, y0, u0, s.t);
             // The host's effective mass includes beds already resting on it.
             let m_host = sys.structure.masses[p]
-                + (0..s.beds.len()).filter(|&k| k != j && side[k].is_some() && sys.dampers[k].host == p).map(|k| sys.dampers[k].mass).sum::<f64>();
+                + (0..s.beds.len())
+                    .filter(|&k| k != j && side[k].is_some() && sys.dampers[k].host == p)
+                    .map(|k| sys.dampers[k].mass)
+                    .sum::<f64>();
             let vp = s.v[p];
             let rel = u - vp;
             let ke_before = 0.5 * m_host * vp * vp + 0.5 * dm.mass * u * u;
@@ -294,19 +356,45 @@ impl<'a> Engine<'a> {
                 s.v[p] = vp2;
                 let loss = ke_before - 0.5 * m_host * vp2 * vp2 - 0.5 * dm.mass * u2 * u2;
                 let y_contact = if top { s.x[p] + dm.clearance } else { s.x[p] };
-                s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: u2 };
-                events.push(Event { t: s.t, bed: j, kind: EventKind::Impact { top, speed: rel.abs(), attached: false }, loss });
+                s.beds[j] = Bed::Free {
+                    t0: s.t,
+                    y0: y_contact,
+                    u0: u2,
+                };
+                events.push(Event {
+                    t: s.t,
+                    bed: j,
+                    kind: EventKind::Impact {
+                        top,
+                        speed: rel.abs(),
+                        attached: false,
+                    },
+                    loss,
+                });
             } else {
                 let v2 = (m_host * vp + dm.mass * u) / total;
                 s.v[p] = v2;
                 let loss = ke_before - 0.5 * total * v2 * v2;
                 side[j] = Some(top);
-                events.push(Event { t: s.t, bed: j, kind: EventKind::Impact { top, speed: rel.abs(), attached: true }, loss });
+                events.push(Event {
+                    t: s.t,
+                    bed: j,
+                    kind: EventKind::Impact {
+                        top,
+                        speed: rel.abs(),
+                        attached: true,
+                    },
+                    loss,
+                });
             }
         }
         // Settle: the largest set of candidates whose contact forces are consistent.
-        let candidates: Vec<usize> = (0..s.beds.len()).filter(|&j| side[j].is_some() && sys.dampers[j].clearance != 0.0).collect();
-        let locked: usize = (0..s.beds.len()).filter(|&j| side[j].is_some() && sys.dampers[j].clearance == 0.0).fold(0, |m, j| m | (1 << j));
+        let candidates: Vec<usize> = (0..s.beds.len())
+            .filter(|&j| side[j].is_some() && sys.dampers[j].clearance != 0.0)
+            .collect();
+        let locked: usize = (0..s.beds.len())
+            .filter(|&j| side[j].is_some() && sys.dampers[j].clearance == 0.0)
+            .fold(0, |m, j| m | (1 << j));
         let attached = self.settle(s, &candidates, &side, locked);
         for &j in &candidates {
             let top = side[j].unwrap_or(false);
@@ -314,13 +402,30 @@ impl<'a> Engine<'a> {
             if attached & (1 << j) != 0 {
                 s.beds[j] = if top { Bed::Top } else { Bed::Bottom };
             } else {
-                let y0 = if top { s.x[p] + sys.dampers[j].clearance } else { s.x[p] };
+                let y0 = if top {
+                    s.x[p] + sys.dampers[j].clearance
+                } else {
+                    s.x[p]
+                };
                 let was_attached = s.beds[j].attached();
-                s.beds[j] = Bed::Free { t0: s.t, y0, u0: s.v[p] };
+                s.beds[j] = Bed::Free {
+                    t0: s.t,
+                    y0,
+                    u0: s.v[p],
+                };
                 if was_attached {
-                    events.push(Event { t: s.t, bed: j, kind: EventKind::LiftOff { top }, loss: 0.0 });
+                    events.push(Event {
+                        t: s.t,
+                        bed: j,
+                        kind: EventKind::LiftOff { top },
+                        loss: 0.0,
+                    });
                 } else if let Some(ev) = events.iter_mut().find(|e| e.bed == j) {
-                    ev.kind = EventKind::Impact { top, speed: impact_speed[j], attached: false };
+                    ev.kind = EventKind::Impact {
+                        top,
+                        speed: impact_speed[j],
+                        attached: false,
+                    };
                 }
             }
         }
@@ -331,12 +436,24 @@ impl<'a> Engine<'a> {
     /// index), the first in which every attached bed is pressed on (contact force >= 0) and
     /// every detached candidate moves away (relative acceleration >= 0); signs near zero are
     /// decided by the next derivative.
-    fn settle(&self, s: &State, candidates: &[usize], side: &[Option<bool>], locked: usize) -> usize {
+    fn settle(
+        &self,
+        s: &State,
+        candidates: &[usize],
+        side: &[Option<bool>],
+        locked: usize,
+    ) -> usize {
         let d = self.d;
         let m = candidates.len();
         let mut subsets: Vec<usize> = (0..(1usize << m)).collect();
         subsets.sort_by_key(|&bits| (std::cmp::Reverse(bits.count_ones()), bits));
-        let mask_of = |bits: usize| candidates.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, &j)| acc | (1 << j));
+        let mask_of = |bits: usize| {
+            candidates
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| bits & (1 << i) != 0)
+                .fold(locked, |acc, (_, &j)| acc | (1 << j))
+        };
         for &bits in &subsets {
             let mask = mask_of(bits);
             let (a, jerk) = d.accelerations(mask, s.t, &s.x, &s.v);
@@ -345,7 +462,13 @@ impl<'a> Engine<'a> {
                 let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };
                 let n = sigma * (a[p] + GRAVITY);
                 let dn = sigma * jerk[p];
-                let sign = if n.abs() > ACCEL_TOL { n.signum() } else if dn.abs() > ACCEL_TOL * d.omega { dn.signum() } else { 0.0 };
+                let sign = if n.abs() > ACCEL_TOL {
+                    n.signum()
+                } else if dn.abs() > ACCEL_TOL * d.omega {
+                    dn.signum()
+                } else {
+                    0.0
+                };
                 if bits & (1 << i) != 0 {
                     sign >= 0.0
                 } else {

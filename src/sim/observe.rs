@@ -37,7 +37,11 @@ impl Extrema {
 
     /// Half the peak-to-peak displacement of each mass.
     pub fn amplitudes(&self) -> Vec<f64> {
-        self.min.iter().zip(&self.max).map(|(lo, hi)| 0.5 * (hi - lo)).collect()
+        self.min
+            .iter()
+            .zip(&self.max)
+            .map(|(lo, hi)| 0.5 * (hi - lo))
+            .collect()
     }
 
     fn take(&mut self, i: usize, x: f64) {
@@ -73,7 +77,11 @@ fn roots_of(f: &impl Fn(f64) -> (f64, f64), a: f64, b: f64, m: usize) -> Vec<f64
                     hi = t;
                 }
                 let newton = if dv != 0.0 { t - v / dv } else { f64::NAN };
-                t = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
+                t = if newton > lo && newton < hi {
+                    newton
+                } else {
+                    0.5 * (lo + hi)
+                };
                 if hi - lo < 1e-15 * (1.0 + t.abs()) {
                     break;
                 }
@@ -116,7 +124,10 @@ impl Observer for Extrema {
                 let rel = |t: f64| {
                     let pt = seg.point(d, t);
                     let (_, u) = Bed::flight(t0, y0, u0, t);
-                    (u - seg.deriv(d, &pt, p, 1), -GRAVITY - seg.deriv(d, &pt, p, 2))
+                    (
+                        u - seg.deriv(d, &pt, p, 1),
+                        -GRAVITY - seg.deriv(d, &pt, p, 2),
+                    )
                 };
                 let mut best = gap(t_a).0.max(gap(t_b).0);
                 for r in roots_of(&rel, t_a, t_b, m) {

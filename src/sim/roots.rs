@@ -73,7 +73,13 @@ pub fn first_root(eval: &mut impl FnMut(f64) -> Taylor, a: f64, ta: Taylor, b: f
     search(eval, a, ta, b, 0)
 }
 
-fn search(eval: &mut impl FnMut(f64) -> Taylor, a: f64, ta: Taylor, b: f64, depth: u32) -> Option<f64> {
+fn search(
+    eval: &mut impl FnMut(f64) -> Taylor,
+    a: f64,
+    ta: Taylor,
+    b: f64,
+    depth: u32,
+) -> Option<f64> {
     if ta.h[0] <= 0.0 {
         return Some(a);
     }
@@ -141,7 +147,8 @@ pub fn fresh_window(t: &Taylor, noise: f64, slope_noise: f64, max: f64) -> Optio
         return None;
     }
     let h1 = t.h[1].max(0.0);
-    let lower = |tau: f64| tau * (h1 + tau * (t.h[2] / 2.0 + tau * (t.h[3] / 6.0 - t.bound4 * tau / 24.0)));
+    let lower =
+        |tau: f64| tau * (h1 + tau * (t.h[2] / 2.0 + tau * (t.h[3] / 6.0 - t.bound4 * tau / 24.0)));
     if lower(noise) <= 0.0 {
         return None;
     }
@@ -165,7 +172,10 @@ mod tests {
     fn cosine(w: f64, shift: f64) -> impl FnMut(f64) -> Taylor {
         move |t: f64| {
             let (s, c) = (w * t).sin_cos();
-            Taylor { h: [c + shift, -w * s, -w * w * c, w * w * w * s], bound4: w.powi(4) }
+            Taylor {
+                h: [c + shift, -w * s, -w * w * c, w * w * w * s],
+                bound4: w.powi(4),
+            }
         }
     }
 
@@ -205,11 +215,17 @@ mod tests {
     #[test]
     fn fresh_window_skips_a_double_zero() {
         // h = tau^3 near zero: positive after any noise window.
-        let t = Taylor { h: [0.0, 0.0, 0.0, 6.0], bound4: 24.0 };
+        let t = Taylor {
+            h: [0.0, 0.0, 0.0, 6.0],
+            bound4: 24.0,
+        };
         let w = fresh_window(&t, 1e-12, 1e-12, 0.5).unwrap();
         assert!(w > 0.1, "{w}");
         // h = -tau^2: never positive.
-        let t = Taylor { h: [0.0, 0.0, -2.0, 0.0], bound4: 0.0 };
+        let t = Taylor {
+            h: [0.0, 0.0, -2.0, 0.0],
+            bound4: 0.0,
+        };
         assert_eq!(fresh_window(&t, 1e-12, 1e-12, 0.5), None);
     }
 }

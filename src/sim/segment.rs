@@ -29,7 +29,13 @@ pub struct Point {
 
 impl Segment {
     /// Starts a segment in configuration `mask` at `t0` from displacements `x0`, velocities `v0`.
-    pub fn start(d: &Dynamics, mask: usize, t0: f64, x0: &DVector<f64>, v0: &DVector<f64>) -> Segment {
+    pub fn start(
+        d: &Dynamics,
+        mask: usize,
+        t0: f64,
+        x0: &DVector<f64>,
+        v0: &DVector<f64>,
+    ) -> Segment {
         let n = x0.len();
         let (xp, vp) = d.particular(mask, t0);
         let mut z = DVector::<Complex64>::zeros(2 * n);
@@ -38,23 +44,42 @@ impl Segment {
             z[n + i] = Complex64::new(v0[i] - vp[i], 0.0);
         }
         let c = &d.configs[mask].inverse * z;
-        Segment { t0, mask, c: c.iter().copied().collect() }
+        Segment {
+            t0,
+            mask,
+            c: c.iter().copied().collect(),
+        }
     }
 
     /// The shared quantities at time `t`.
     pub fn point(&self, d: &Dynamics, t: f64) -> Point {
         let cfg = &d.configs[self.mask];
         let s = t - self.t0;
-        let e: Vec<Complex64> = self.c.iter().zip(&cfg.lambda).map(|(c, l)| c * (l * s).exp()).collect();
+        let e: Vec<Complex64> = self
+            .c
+            .iter()
+            .zip(&cfg.lambda)
+            .map(|(c, l)| c * (l * s).exp())
+            .collect();
         let e_abs = e.iter().map(|z| z.norm()).collect();
         let (sin, cos) = (d.omega * t).sin_cos();
-        Point { t, e, e_abs, sin, cos }
+        Point {
+            t,
+            e,
+            e_abs,
+            sin,
+            cos,
+        }
     }
 
     /// Derivative `order` of the displacement of mass `p`.
     pub fn deriv(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
-        let hom: f64 = cfg.vl[p][order].iter().zip(&pt.e).map(|(a, b)| (a * b).re).sum();
+        let hom: f64 = cfg.vl[p][order]
+            .iter()
+            .zip(&pt.e)
+            .map(|(a, b)| (a * b).re)
+            .sum();
         let (pp, qq) = (cfg.p[p], cfg.q[p]);
         let w = d.omega.powi(order as i32);
         let forced = match order % 4 {
@@ -69,14 +94,21 @@ impl Segment {
     /// A bound on `|x_p^(order)|` from this point on (the homogeneous terms decay).
     pub fn bound(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
-        let hom: f64 = cfg.vl_abs[p][order].iter().zip(&pt.e_abs).map(|(a, b)| a * b).sum();
+        let hom: f64 = cfg.vl_abs[p][order]
+            .iter()
+            .zip(&pt.e_abs)
+            .map(|(a, b)| a * b)
+            .sum();
         hom + d.omega.powi(order as i32) * cfg.p[p].hypot(cfg.q[p])
     }
 
     /// Displacements and velocities of all masses at a point.
     pub fn state(&self, d: &Dynamics, pt: &Point) -> (DVector<f64>, DVector<f64>) {
         let n = d.system.dof();
-        (DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 0)), DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 1)))
+        (
+            DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 0)),
+            DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 1)),
+        )
     }
 }
 
@@ -86,9 +118,22 @@ pub enum Watch {
     /// Contact force per unit bed mass, `sigma (xddot_p + g)` (sigma +1 bottom, -1 top).
     Contact { bed: usize, host: usize, sigma: f64 },
     /// Gap above the container bottom, `y - x_p`, of a free bed.
-    GapBottom { bed: usize, host: usize, y0: f64, u0: f64, tf: f64 },
+    GapBottom {
+        bed: usize,
+        host: usize,
+        y0: f64,
+        u0: f64,
+        tf: f64,
+    },
     /// Gap below the container top, `x_p + d - y`, of a free bed.
-    GapTop { bed: usize, host: usize, d: f64, y0: f64, u0: f64, tf: f64 },
+    GapTop {
+        bed: usize,
+        host: usize,
+        d: f64,
+        y0: f64,
+        u0: f64,
+        tf: f64,
+    },
 }
 
 /// A function value with three derivatives at a point, and a bound on the fourth derivative
@@ -103,7 +148,9 @@ impl Watch {
     /// The bed this function watches.
     pub fn bed(&self) -> usize {
         match *self {
-            Watch::Contact { bed, .. } | Watch::GapBottom { bed, .. } | Watch::GapTop { bed, .. } => bed,
+            Watch::Contact { bed, .. }
+            | Watch::GapBottom { bed, .. }
+            | Watch::GapTop { bed, .. } => bed,
         }
     }
 
@@ -113,21 +160,44 @@ impl Watch {
         match *self {
             Watch::Contact { host, sigma, .. } => {
                 let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i + 2));
-                Taylor { h: [sigma * (x[0] + GRAVITY), sigma * x[1], sigma * x[2], sigma * x[3]], bound4: seg.bound(d, pt, host, 6) }
+                Taylor {
+                    h: [
+                        sigma * (x[0] + GRAVITY),
+                        sigma * x[1],
+                        sigma * x[2],
+                        sigma * x[3],
+                    ],
+                    bound4: seg.bound(d, pt, host, 6),
+                }
             }
-            Watch::GapBottom { host, y0, u0, tf, .. } => {
+            Watch::GapBottom {
+                host, y0, u0, tf, ..
+            } => {
                 let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i));
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
-                Taylor { h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]], bound4: seg.bound(d, pt, host, 4) }
+                Taylor {
+                    h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]],
+                    bound4: seg.bound(d, pt, host, 4),
+                }
             }
-            Watch::GapTop { host, d: clearance, y0, u0, tf, .. } => {
+            Watch::GapTop {
+                host,
+                d: clearance,
+                y0,
+                u0,
+                tf,
+                ..
+            } => {
                 let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i));
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
-                Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4: seg.bound(d, pt, host, 4) }
+                Taylor {
+                    h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]],
+                    bound4: seg.bound(d, pt, host, 4),
+                }
             }
         }
     }

@@ -29,8 +29,20 @@ pub struct System {
 
 impl System {
     /// A system with plastic impacts.
-    pub fn plastic(structure: Structure, dampers: Vec<Damper>, driven: usize, force: f64) -> System {
-        System { structure, dampers, driven, force, restitution: 0.0, stick_speed: 0.0 }
+    pub fn plastic(
+        structure: Structure,
+        dampers: Vec<Damper>,
+        driven: usize,
+        force: f64,
+    ) -> System {
+        System {
+            structure,
+            dampers,
+            driven,
+            force,
+            restitution: 0.0,
+            stick_speed: 0.0,
+        }
     }
 
     /// Number of primary masses.
@@ -74,8 +86,13 @@ pub enum SetupError {
 impl std::fmt::Display for SetupError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            SetupError::Defective { mask } => write!(f, "configuration {mask:#b}: state matrix is defective"),
-            SetupError::Singular { mask } => write!(f, "configuration {mask:#b}: dynamic stiffness is singular at the forcing frequency"),
+            SetupError::Defective { mask } => {
+                write!(f, "configuration {mask:#b}: state matrix is defective")
+            }
+            SetupError::Singular { mask } => write!(
+                f,
+                "configuration {mask:#b}: dynamic stiffness is singular at the forcing frequency"
+            ),
         }
     }
 }
@@ -126,11 +143,17 @@ impl Dynamics {
         let n = system.dof();
         let k = system.structure.stiffness.clone();
         let c = system.structure.damping.clone();
-        let k_inv = k.clone().try_inverse().ok_or(SetupError::Singular { mask: 0 })?;
+        let k_inv = k
+            .clone()
+            .try_inverse()
+            .ok_or(SetupError::Singular { mask: 0 })?;
         let mut configs = Vec::with_capacity(1 << system.dampers.len());
         for mask in 0..(1usize << system.dampers.len()) {
             let m = system.mass_matrix(mask);
-            let m_inv = m.clone().try_inverse().ok_or(SetupError::Singular { mask })?;
+            let m_inv = m
+                .clone()
+                .try_inverse()
+                .ok_or(SetupError::Singular { mask })?;
             let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
             let mk = -&m_inv * &k;
             let mc = -&m_inv * &c;
@@ -145,14 +168,23 @@ impl Dynamics {
             let vl: Vec<[Vec<Complex64>; ORDERS]> = (0..n)
                 .map(|p| {
                     std::array::from_fn(|order| {
-                        (0..2 * n).map(|kk| eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32)).collect()
+                        (0..2 * n)
+                            .map(|kk| eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32))
+                            .collect()
                     })
                 })
                 .collect();
-            let vl_abs = vl.iter().map(|rows| std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect())).collect();
+            let vl_abs = vl
+                .iter()
+                .map(|rows| {
+                    std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect())
+                })
+                .collect();
             // Forced response: (K - omega^2 M + i omega C) X = F e_k; x_p = Im(X e^{i omega t}).
             let (p, q) = if system.force != 0.0 {
-                let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)]));
+                let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
+                    Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)])
+                });
                 let mut rhs = DVector::<Complex64>::zeros(n);
                 rhs[system.driven] = Complex64::new(system.force, 0.0);
                 let x = z.lu().solve(&rhs).ok_or(SetupError::Singular { mask })?;
@@ -177,7 +209,14 @@ impl Dynamics {
             });
         }
         let max_rate = configs.iter().map(|c| c.max_rate).fold(omega, f64::max);
-        Ok(Dynamics { system: system.clone(), omega, configs, k, c, min_period: 2.0 * std::f64::consts::PI / max_rate })
+        Ok(Dynamics {
+            system: system.clone(),
+            omega,
+            configs,
+            k,
+            c,
+            min_period: 2.0 * std::f64::consts::PI / max_rate,
+        })
     }
 
     /// The forced (particular) displacement and velocity of `mask` at time `t`.
@@ -196,7 +235,13 @@ impl Dynamics {
     }
 
     /// Accelerations and jerks of all masses in configuration `mask` at state `(x, v)`, time `t`.
-    pub fn accelerations(&self, mask: usize, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
+    pub fn accelerations(
+        &self,
+        mask: usize,
+        t: f64,
+        x: &DVector<f64>,
+        v: &DVector<f64>,
+    ) -> (DVector<f64>, DVector<f64>) {
         let cfg = &self.configs[mask];
         let (f, fdot) = self.force(t);
         let mut rhs = self.system.weight_load(mask) - &self.c * v - &self.k * x;
