@@ -50,5 +50,9 @@ fn main() {
         r.energy,
         r.energy.unwrap().relative_residual()
     );
-    println!("stop {:?}", r.stop);
+    println!(
+        "stop {:?} evals {}",
+        r.stop,
+        shotdamp::sim::segment::EVALS.load(std::sync::atomic::Ordering::Relaxed)
+    );
 }

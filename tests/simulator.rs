@@ -1,4 +1,5 @@
 //! The simulator against independent physics: linear limits, the energy balance, the
+#![allow(clippy::needless_range_loop)]
 //! plastic bouncing ball, a second integrator, grazes and chatter.
 
 use std::f64::consts::PI;

@@ -142,12 +142,12 @@ impl Default for Settings {
 
 /// Tolerance on a contact acceleration that counts as zero, m/s^2.
 const ACCEL_TOL: f64 = 1e-8;
-/// Value and slope of a watched function that count as zero at a segment's start (a contact
-/// just made or just broken), in its units.
-fn fresh_tol(w: &Watch, omega: f64) -> (f64, f64) {
+/// Value, slope and curvature of a watched function that count as zero at a segment's
+/// start (a contact just made or just broken), in its units.
+fn fresh_tol(w: &Watch, omega: f64) -> [f64; 3] {
     match w {
-        Watch::Contact { .. } => (ACCEL_TOL, ACCEL_TOL * omega),
-        _ => (1e-15, 1e-12),
+        Watch::Contact { .. } => [ACCEL_TOL, ACCEL_TOL * omega, ACCEL_TOL * omega * omega],
+        _ => [1e-15, 1e-12, ACCEL_TOL],
     }
 }
 
@@ -262,9 +262,9 @@ impl<'a> Engine<'a> {
         let pt = seg.point(d, t_a);
         for w in watches {
             let ta = w.taylor(seg, d, &pt);
-            let (tol0, tol1) = fresh_tol(w, d.omega);
-            if ta.h[0] <= tol0 {
-                match fresh_window(&ta, TIME_TOL, tol1, step.min(t_b - t_a)) {
+            let tol = fresh_tol(w, d.omega);
+            if ta.h[0] <= tol[0] {
+                match fresh_window(&ta, TIME_TOL, tol, step.min(t_b - t_a)) {
                     Some(win) => starts.push(t_a + win),
                     None => return Some((t_a, vec![*w])),
                 }

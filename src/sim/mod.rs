@@ -9,6 +9,7 @@ pub mod observe;
 pub mod roots;
 pub mod segment;
 pub mod steady;
+pub mod sweep;
 pub mod system;
 
 pub use engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};

@@ -99,8 +99,32 @@ impl Observer for Extrema {
         if t_b <= t_a {
             return;
         }
+        let n = d.system.dof();
         let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
-        for i in 0..d.system.dof() {
+        // One evaluation per sample time serves every mass; velocity sign changes are then
+        // refined one by one.
+        let times: Vec<f64> = (0..=m)
+            .map(|k| {
+                if k == m {
+                    t_b
+                } else {
+                    t_a + (t_b - t_a) * k as f64 / m as f64
+                }
+            })
+            .collect();
+        let samples: Vec<[f64; 4]> = times
+            .iter()
+            .map(|&t| {
+                let pt = seg.point(d, t);
+                let mut row = [0.0; 4];
+                for (i, r) in row.iter_mut().enumerate().take(n.min(4)) {
+                    *r = seg.deriv(d, &pt, i, 1);
+                }
+                row
+            })
+            .collect();
+        #[allow(clippy::needless_range_loop)]
+        for i in 0..n {
             let x = |t: f64| seg.deriv(d, &seg.point(d, t), i, 0);
             self.take(i, x(t_a));
             self.take(i, x(t_b));
@@ -108,8 +132,17 @@ impl Observer for Extrema {
                 let pt = seg.point(d, t);
                 (seg.deriv(d, &pt, i, 1), seg.deriv(d, &pt, i, 2))
             };
-            for r in roots_of(&v, t_a, t_b, m) {
-                self.take(i, x(r));
+            for w in 0..m {
+                let (va, vb) = if i < 4 {
+                    (samples[w][i], samples[w + 1][i])
+                } else {
+                    (v(times[w]).0, v(times[w + 1]).0)
+                };
+                if va * vb < 0.0 || vb == 0.0 {
+                    for r in roots_of(&v, times[w], times[w + 1], 1) {
+                        self.take(i, x(r));
+                    }
+                }
             }
         }
         // Highest flight: the apex of y - x_p, at a root of the relative velocity.

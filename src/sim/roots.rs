@@ -1,154 +1,174 @@
 //! Certified search for the first time an event function reaches zero.
 //!
-//! On `[a, a + L]` a function `h` obeys `h(a + tau) >= c(tau) - B tau^4 / 24`, where `c` is
-//! its cubic Taylor polynomial at `a` and `B` bounds `|h''''|` there (the event functions are
-//! sums of decaying exponentials, sinusoids and parabolas, so `B` comes in closed form). If
-//! the minimum of `c` over the interval exceeds `B L^4 / 24`, the interval holds no root:
-//! it is *excluded*. Otherwise it is bisected, left half first, until either every piece is
-//! excluded or a piece shorter than the time tolerance remains: that is the first root,
-//! grazes (touching zero without crossing) included. Where a sign change is bracketed and
-//! `h` is proven monotone, a safeguarded Newton iteration finishes the job.
+//! From a time `a` a function `h` obeys `h(a + tau) >= L(tau) = c(tau) - B tau^4 / 24`,
+//! where `c` is its cubic Taylor polynomial at `a` and `B` bounds the fourth derivative of
+//! `h` from `a` on (the event functions are sums of decaying exponentials, sinusoids and
+//! parabolas, so `B` comes in closed form). `h` therefore has no root before the first root
+//! of the quartic `L`, which is found exactly from the monotone pieces of `L`. The search
+//! advances to that root and repeats: it approaches the first root of `h` from the left,
+//! quickly near a simple root and near a graze (touching zero without crossing) alike, and
+//! can never step over a root. When the advance falls below the time tolerance, the event
+//! is there.
 
 use super::segment::Taylor;
 
-/// Width below which a piece that cannot be excluded is taken as the event, s.
+/// Advance below which the search takes the event as found, s.
 pub const TIME_TOL: f64 = 1e-13;
 
-/// Minimum of `c(tau) = h0 + h1 tau + h2 tau^2/2 + h3 tau^3/6` over `[0, l]`.
-fn cubic_min(h: &[f64; 4], l: f64) -> f64 {
-    let c = |t: f64| h[0] + t * (h[1] + t * (h[2] / 2.0 + t * h[3] / 6.0));
-    let mut m = c(0.0).min(c(l));
-    // c'(tau) = h1 + h2 tau + h3 tau^2 / 2.
-    for r in quadratic_roots(h[3] / 2.0, h[2], h[1]) {
-        if r > 0.0 && r < l {
-            m = m.min(c(r));
-        }
-    }
-    m
+/// Most advances in one window before the event is taken as found (a safeguard against a
+/// pathological bound; never reached in the tests).
+const MAX_ADVANCES: usize = 400;
+
+/// `L(tau) = h0 + h1 tau + h2 tau^2/2 + h3 tau^3/6 - B tau^4/24` and its derivative.
+fn lower(t: &Taylor, tau: f64) -> (f64, f64) {
+    let h = &t.h;
+    let b = t.bound4;
+    let v = h[0] + tau * (h[1] + tau * (h[2] / 2.0 + tau * (h[3] / 6.0 - b * tau / 24.0)));
+    let dv = h[1] + tau * (h[2] + tau * (h[3] / 2.0 - b * tau / 6.0));
+    (v, dv)
 }
 
-/// Maximum of `c'(tau)` over `[0, l]`.
-fn slope_max(h: &[f64; 4], l: f64) -> f64 {
-    let d = |t: f64| h[1] + t * (h[2] + t * h[3] / 2.0);
-    let mut m = d(0.0).max(d(l));
-    if h[3] != 0.0 {
-        let r = -h[2] / h[3];
-        if r > 0.0 && r < l {
-            m = m.max(d(r));
-        }
-    }
-    m
-}
-
-/// Real roots of `a x^2 + b x + c`.
-fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
+/// Real roots of `a x^2 + b x + c` (at most two; unused slots are NaN).
+fn quadratic_roots(a: f64, b: f64, c: f64) -> [f64; 2] {
     if a == 0.0 {
-        return if b != 0.0 { vec![-c / b] } else { Vec::new() };
+        return [if b != 0.0 { -c / b } else { f64::NAN }, f64::NAN];
     }
     let disc = b * b - 4.0 * a * c;
     if disc < 0.0 {
-        return Vec::new();
+        return [f64::NAN; 2];
     }
     let s = disc.sqrt();
-    let q = -0.5 * (b + b.signum() * s);
-    let mut r = vec![q / a];
-    if q != 0.0 {
-        r.push(c / q);
+    let q = -0.5 * (b + if b >= 0.0 { s } else { -s });
+    [q / a, if q != 0.0 { c / q } else { f64::NAN }]
+}
+
+/// The root of a function that changes sign on `[lo, hi]`, by Newton steps kept inside the
+/// bracket (bisection otherwise), to a relative precision of 1e-12 of the bracket.
+fn solve(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
+    let lo_positive = f(lo).0 > 0.0;
+    let tol = 1e-12 * (hi - lo).abs();
+    let mut x = 0.5 * (lo + hi);
+    for _ in 0..100 {
+        let (v, dv) = f(x);
+        if v == 0.0 {
+            return x;
+        }
+        if (v > 0.0) == lo_positive {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let newton = x - v / dv;
+        let inside = (newton - lo) * (newton - hi) < 0.0;
+        let next = if dv != 0.0 && inside {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - x).abs() <= tol {
+            return next;
+        }
+        x = next;
     }
-    r
+    x
 }
 
-/// True when `h` certainly has no root in `(a, a + l]`.
-pub fn excluded(t: &Taylor, l: f64) -> bool {
-    cubic_min(&t.h, l) > t.bound4 * l.powi(4) / 24.0
+/// `L''(tau) = h2 + h3 tau - B tau^2 / 2` and its derivative.
+fn lower_second(t: &Taylor, tau: f64) -> (f64, f64) {
+    (
+        t.h[2] + tau * (t.h[3] - t.bound4 * tau / 2.0),
+        t.h[3] - t.bound4 * tau,
+    )
 }
 
-/// True when `h` is certainly strictly decreasing on `[a, a + l]`.
-fn decreasing(t: &Taylor, l: f64) -> bool {
-    slope_max(&t.h, l) + t.bound4 * l.powi(3) / 6.0 < 0.0
+/// The first root of `L` in `(0, len]`, if any: `L''` has at most two roots, which split the
+/// interval into pieces where `L'` is monotone; the roots of `L'` on those pieces split it
+/// into pieces where `L` is monotone, and the first of those on which `L` reaches zero
+/// holds its first root.
+pub fn lower_root(t: &Taylor, len: f64) -> Option<f64> {
+    if t.h[0] <= 0.0 {
+        return Some(0.0);
+    }
+    // Quick exclusion: the value outweighs the largest possible change over the interval.
+    let h = &t.h;
+    let change = len
+        * (h[1].abs()
+            + len * (h[2].abs() / 2.0 + len * (h[3].abs() / 6.0 + t.bound4 * len / 24.0)));
+    if h[0] > change {
+        return None;
+    }
+    let mut knots = [0.0, len, len, len];
+    let mut nk = 1;
+    let mut r2 = quadratic_roots(-t.bound4 / 2.0, t.h[3], t.h[2]);
+    r2.sort_by(f64::total_cmp);
+    for r in r2 {
+        if r > 0.0 && r < len {
+            knots[nk] = r;
+            nk += 1;
+        }
+    }
+    knots[nk] = len;
+    let slope = |x: f64| (lower(t, x).1, lower_second(t, x).0);
+    let value = |x: f64| lower(t, x);
+    let mut a = 0.0;
+    for w in 0..nk {
+        let (k0, k1) = (knots[w], knots[w + 1]);
+        // Split [k0, k1] at the root of L' if it changes sign there.
+        let (d0, d1) = (lower(t, k0).1, lower(t, k1).1);
+        let mid = if d0 * d1 < 0.0 {
+            Some(solve(slope, k0, k1))
+        } else {
+            None
+        };
+        for b in mid.into_iter().chain(std::iter::once(k1)) {
+            if lower(t, b).0 <= 0.0 {
+                return Some(solve(value, a, b));
+            }
+            a = b;
+        }
+    }
+    None
+}
+
+/// True when `h` certainly has no root in `(a, a + len]`.
+pub fn excluded(t: &Taylor, len: f64) -> bool {
+    lower_root(t, len).is_none()
 }
 
 /// First root of `h` in `(a, b]`, given its Taylor data at `a` and an evaluator.
 pub fn first_root(eval: &mut impl FnMut(f64) -> Taylor, a: f64, ta: Taylor, b: f64) -> Option<f64> {
-    search(eval, a, ta, b, 0)
-}
-
-fn search(
-    eval: &mut impl FnMut(f64) -> Taylor,
-    a: f64,
-    ta: Taylor,
-    b: f64,
-    depth: u32,
-) -> Option<f64> {
-    if ta.h[0] <= 0.0 {
-        return Some(a);
-    }
-    let l = b - a;
-    if excluded(&ta, l) {
-        return None;
-    }
-    if l <= TIME_TOL || depth > 80 {
-        return Some(a);
-    }
-    let tb = eval(b);
-    if tb.h[0] <= 0.0 && decreasing(&ta, l) {
-        return Some(refine(eval, a, ta, b));
-    }
-    let mid = a + 0.5 * l;
-    if let Some(r) = search(eval, a, ta, mid, depth + 1) {
-        return Some(r);
-    }
-    let tm = eval(mid);
-    search(eval, mid, tm, b, depth + 1)
-}
-
-/// The single root of a decreasing `h` with `h(a) > 0 >= h(b)`, to [`TIME_TOL`].
-fn refine(eval: &mut impl FnMut(f64) -> Taylor, mut a: f64, ta: Taylor, mut b: f64) -> f64 {
     let mut t = a;
-    let mut h = ta.h[0];
-    let mut dh = ta.h[1];
-    for _ in 0..100 {
-        // Newton from the current point; bisect when it leaves the bracket.
-        let mut next = if dh < 0.0 { t - h / dh } else { 0.5 * (a + b) };
-        if !(next > a && next < b) {
-            next = 0.5 * (a + b);
+    let mut ta = ta;
+    for _ in 0..MAX_ADVANCES {
+        let tau = lower_root(&ta, b - t)?;
+        if tau <= TIME_TOL {
+            return Some(t + tau);
         }
-        let tn = eval(next);
-        if tn.h[0] > 0.0 {
-            a = next;
-        } else {
-            b = next;
-        }
-        t = next;
-        h = tn.h[0];
-        dh = tn.h[1];
-        if b - a <= TIME_TOL || h == 0.0 {
-            break;
-        }
-        // Newton's step size tells the distance to the root near convergence.
-        if dh != 0.0 && (h / dh).abs() < 0.25 * TIME_TOL {
-            let root = t - h / dh;
-            if root >= a && root <= b {
-                return root;
-            }
-        }
+        t += tau;
+        ta = eval(t);
     }
-    b
+    Some(t)
 }
 
 /// After an event a function can start at zero (a bed that just lifted off sits on the
-/// bottom with zero relative velocity). Returns how far past the start it is certainly
-/// positive, ignoring the first `noise` seconds, or `None` when it does not become positive
-/// (then the event is immediate).
-pub fn fresh_window(t: &Taylor, noise: f64, slope_noise: f64, max: f64) -> Option<f64> {
-    // Lower bound with the start value taken as zero and a slope at noise level as zero:
-    // `L(tau) = h1+ tau + h2 tau^2/2 + h3 tau^3/6 - B tau^4/24`.
-    if t.h[1] < -slope_noise {
+/// bottom with zero relative velocity and zero relative acceleration). Returns how far past
+/// the start it is certainly positive, ignoring the first `noise` seconds, or `None` when it
+/// does not become positive (then the event is immediate). `tol` gives, for the value, the
+/// slope and the curvature, what counts as zero: those are rounding residues of the event
+/// just resolved.
+pub fn fresh_window(t: &Taylor, noise: f64, tol: [f64; 3], max: f64) -> Option<f64> {
+    if t.h[1] < -tol[1] || t.h[2] < -tol[2] && t.h[1] <= tol[1] {
         return None;
     }
     let h1 = t.h[1].max(0.0);
+    let h2 = if t.h[2].abs() <= tol[2] {
+        t.h[2].max(0.0)
+    } else {
+        t.h[2]
+    };
+    // L(tau) = h1 tau + h2 tau^2/2 + h3 tau^3/6 - B tau^4/24, the value taken as zero.
     let lower =
-        |tau: f64| tau * (h1 + tau * (t.h[2] / 2.0 + tau * (t.h[3] / 6.0 - t.bound4 * tau / 24.0)));
+        |tau: f64| tau * (h1 + tau * (h2 / 2.0 + tau * (t.h[3] / 6.0 - t.bound4 * tau / 24.0)));
     if lower(noise) <= 0.0 {
         return None;
     }
@@ -188,12 +208,13 @@ mod tests {
     }
 
     #[test]
-    fn finds_a_graze() {
-        // cos(t) + 1 touches zero at t = pi without crossing.
-        let mut f = cosine(1.0, 1.0);
+    fn finds_a_near_graze() {
+        // cos(t) + 1 - 1e-14 dips below zero for about 3e-7 around pi; a touch at exactly
+        // zero cannot be told from rounding noise of 1 + cos(t) (1e-16).
+        let mut f = cosine(1.0, 1.0 - 1e-14);
         let t0 = f(0.0);
         let r = first_root(&mut f, 0.0, t0, 5.0).unwrap();
-        assert!((r - std::f64::consts::PI).abs() < 1e-3, "{r}");
+        assert!((r - std::f64::consts::PI).abs() < 2e-7, "{r}");
     }
 
     #[test]
@@ -219,13 +240,13 @@ mod tests {
             h: [0.0, 0.0, 0.0, 6.0],
             bound4: 24.0,
         };
-        let w = fresh_window(&t, 1e-12, 1e-12, 0.5).unwrap();
+        let w = fresh_window(&t, 1e-12, [1e-15, 1e-12, 1e-12], 0.5).unwrap();
         assert!(w > 0.1, "{w}");
         // h = -tau^2: never positive.
         let t = Taylor {
             h: [0.0, 0.0, -2.0, 0.0],
             bound4: 0.0,
         };
-        assert_eq!(fresh_window(&t, 1e-12, 1e-12, 0.5), None);
+        assert_eq!(fresh_window(&t, 1e-12, [1e-15, 1e-12, 1e-12], 0.5), None);
     }
 }

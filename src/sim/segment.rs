@@ -6,23 +6,26 @@ use num_complex::Complex64;
 
 use crate::model::GRAVITY;
 
-use super::system::{Dynamics, ORDERS};
+use super::system::{Dynamics, MAX_TERMS};
 
 /// The homogeneous part's coefficients from a start state: `c = V^-1 (z0 - z_p(t0))`.
 #[derive(Debug, Clone)]
 pub struct Segment {
     pub t0: f64,
     pub mask: usize,
-    pub c: Vec<Complex64>,
+    /// Number of representative terms.
+    pub len: usize,
+    pub c: [Complex64; MAX_TERMS],
+    pub c_abs: [f64; MAX_TERMS],
 }
 
-/// `c_k e^{lambda_k (t - t0)}` and the forcing phase at one time: everything an evaluation
+/// `c_r e^{lambda_r (t - t0)}` and the forcing phase at one time: everything an evaluation
 /// at that time shares.
 #[derive(Debug, Clone)]
 pub struct Point {
     pub t: f64,
-    pub e: Vec<Complex64>,
-    pub e_abs: Vec<f64>,
+    pub e: [Complex64; MAX_TERMS],
+    pub e_abs: [f64; MAX_TERMS],
     pub sin: f64,
     pub cos: f64,
 }
@@ -37,31 +40,43 @@ impl Segment {
         v0: &DVector<f64>,
     ) -> Segment {
         let n = x0.len();
+        let cfg = &d.configs[mask];
         let (xp, vp) = d.particular(mask, t0);
-        let mut z = DVector::<Complex64>::zeros(2 * n);
+        let mut z = [0.0; MAX_TERMS];
         for i in 0..n {
-            z[i] = Complex64::new(x0[i] - xp[i], 0.0);
-            z[n + i] = Complex64::new(v0[i] - vp[i], 0.0);
+            z[i] = x0[i] - xp[i];
+            z[n + i] = v0[i] - vp[i];
         }
-        let c = &d.configs[mask].inverse * z;
+        let len = cfg.lambda.len();
+        let mut c = [Complex64::new(0.0, 0.0); MAX_TERMS];
+        let mut c_abs = [0.0; MAX_TERMS];
+        for r in 0..len {
+            c[r] = (0..2 * n).map(|j| cfg.inverse[(r, j)] * z[j]).sum();
+            c_abs[r] = c[r].norm();
+        }
         Segment {
             t0,
             mask,
-            c: c.iter().copied().collect(),
+            len,
+            c,
+            c_abs,
         }
     }
 
     /// The shared quantities at time `t`.
     pub fn point(&self, d: &Dynamics, t: f64) -> Point {
+        EVALS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let cfg = &d.configs[self.mask];
         let s = t - self.t0;
-        let e: Vec<Complex64> = self
-            .c
-            .iter()
-            .zip(&cfg.lambda)
-            .map(|(c, l)| c * (l * s).exp())
-            .collect();
-        let e_abs = e.iter().map(|z| z.norm()).collect();
+        let mut e = [Complex64::new(0.0, 0.0); MAX_TERMS];
+        let mut e_abs = [0.0; MAX_TERMS];
+        for r in 0..self.len {
+            let l = cfg.lambda[r];
+            let decay = (l.re * s).exp();
+            let (si, co) = (l.im * s).sin_cos();
+            e[r] = self.c[r] * Complex64::new(decay * co, decay * si);
+            e_abs[r] = self.c_abs[r] * decay;
+        }
         let (sin, cos) = (d.omega * t).sin_cos();
         Point {
             t,
@@ -75,13 +90,14 @@ impl Segment {
     /// Derivative `order` of the displacement of mass `p`.
     pub fn deriv(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
-        let hom: f64 = cfg.vl[p][order]
+        let row = &cfg.vl[p][order];
+        let hom: f64 = row[..self.len]
             .iter()
-            .zip(&pt.e)
-            .map(|(a, b)| (a * b).re)
+            .zip(&pt.e[..self.len])
+            .map(|(a, e)| a.re * e.re - a.im * e.im)
             .sum();
         let (pp, qq) = (cfg.p[p], cfg.q[p]);
-        let w = d.omega.powi(order as i32);
+        let w = d.omega_pow[order];
         let forced = match order % 4 {
             0 => pp * pt.cos + qq * pt.sin,
             1 => -pp * pt.sin + qq * pt.cos,
@@ -94,12 +110,36 @@ impl Segment {
     /// A bound on `|x_p^(order)|` from this point on (the homogeneous terms decay).
     pub fn bound(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
-        let hom: f64 = cfg.vl_abs[p][order]
+        let row = &cfg.vl_abs[p][order];
+        let hom: f64 = row[..self.len]
             .iter()
-            .zip(&pt.e_abs)
-            .map(|(a, b)| a * b)
+            .zip(&pt.e_abs[..self.len])
+            .map(|(a, e)| a * e)
             .sum();
-        hom + d.omega.powi(order as i32) * cfg.p[p].hypot(cfg.q[p])
+        hom + d.omega_pow[order] * cfg.amp[p]
+    }
+
+    /// Four successive derivatives of the displacement of mass `p` from `order` on.
+    pub fn derivs4(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> [f64; 4] {
+        let cfg = &d.configs[self.mask];
+        let mut out = [0.0; 4];
+        for (i, o) in out.iter_mut().enumerate() {
+            let row = &cfg.vl[p][order + i];
+            let hom: f64 = row[..self.len]
+                .iter()
+                .zip(&pt.e[..self.len])
+                .map(|(a, e)| a.re * e.re - a.im * e.im)
+                .sum();
+            let (pp, qq) = (cfg.p[p], cfg.q[p]);
+            let forced = match (order + i) % 4 {
+                0 => pp * pt.cos + qq * pt.sin,
+                1 => -pp * pt.sin + qq * pt.cos,
+                2 => -(pp * pt.cos + qq * pt.sin),
+                _ => pp * pt.sin - qq * pt.cos,
+            } * d.omega_pow[order + i];
+            *o = hom + forced + if order + i == 0 { cfg.offset[p] } else { 0.0 };
+        }
+        out
     }
 
     /// Displacements and velocities of all masses at a point.
@@ -156,10 +196,9 @@ impl Watch {
 
     /// Value, derivatives and bound at a point of a segment.
     pub fn taylor(&self, seg: &Segment, d: &Dynamics, pt: &Point) -> Taylor {
-        debug_assert!(ORDERS >= 7);
         match *self {
             Watch::Contact { host, sigma, .. } => {
-                let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i + 2));
+                let x = seg.derivs4(d, pt, host, 2);
                 Taylor {
                     h: [
                         sigma * (x[0] + GRAVITY),
@@ -173,7 +212,7 @@ impl Watch {
             Watch::GapBottom {
                 host, y0, u0, tf, ..
             } => {
-                let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i));
+                let x = seg.derivs4(d, pt, host, 0);
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
@@ -190,7 +229,7 @@ impl Watch {
                 tf,
                 ..
             } => {
-                let x: [f64; 4] = std::array::from_fn(|i| seg.deriv(d, pt, host, i));
+                let x = seg.derivs4(d, pt, host, 0);
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
@@ -202,3 +241,6 @@ impl Watch {
         }
     }
 }
+
+/// Evaluation counter (profiling aid).
+pub static EVALS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);

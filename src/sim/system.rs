@@ -8,6 +8,9 @@ use crate::model::{Damper, Structure, GRAVITY};
 
 use super::eigen;
 
+/// Most terms a closed form may have (conjugate pairs count once): up to 8 masses.
+pub const MAX_TERMS: usize = 16;
+
 /// Highest derivative order of a host displacement the event functions need (contact
 /// forces are second derivatives; their certified bounds need four more).
 pub const ORDERS: usize = 7;
@@ -81,6 +84,8 @@ pub enum SetupError {
     Defective { mask: usize },
     /// The dynamic stiffness is singular at the forcing frequency (undamped resonance).
     Singular { mask: usize },
+    /// More masses than the closed form supports.
+    TooLarge { masses: usize },
 }
 
 impl std::fmt::Display for SetupError {
@@ -93,23 +98,33 @@ impl std::fmt::Display for SetupError {
                 f,
                 "configuration {mask:#b}: dynamic stiffness is singular at the forcing frequency"
             ),
+            SetupError::TooLarge { masses } => {
+                write!(
+                    f,
+                    "{masses} masses: the simulator supports at most {}",
+                    MAX_TERMS / 2
+                )
+            }
         }
     }
 }
 
 /// Closed-form dynamics of one configuration at one forcing frequency:
-/// `x(t) = Re sum_k V_k c_k e^{lambda_k (t - t0)} + P cos(omega t) + Q sin(omega t) + s`.
+/// `x(t) = sum_r w_r Re(V_r c_r e^{lambda_r (t - t0)}) + P cos(omega t) + Q sin(omega t) + s`,
+/// summed over one eigenvalue of each conjugate pair (weight 2) and the real ones (weight 1).
 #[derive(Debug, Clone)]
 pub struct Config {
     pub mask: usize,
-    /// Eigenvalues of the first-order state matrix.
+    /// Representative eigenvalues of the first-order state matrix.
     pub lambda: Vec<Complex64>,
-    /// `vl[p][m][k] = V[p, k] lambda_k^m`: displacement rows of the eigenvectors times powers.
+    /// `vl[p][m][r] = w_r V[p, r] lambda_r^m`: displacement rows of the eigenvectors.
     pub vl: Vec<[Vec<Complex64>; ORDERS]>,
     /// `|vl|`, for derivative bounds.
     pub vl_abs: Vec<[Vec<f64>; ORDERS]>,
-    /// `V^-1`.
+    /// The rows of `V^-1` of the representatives.
     pub inverse: DMatrix<Complex64>,
+    /// `sqrt(P^2 + Q^2)` per mass.
+    pub amp: DVector<f64>,
     /// Forced response coefficients.
     pub p: DVector<f64>,
     pub q: DVector<f64>,
@@ -135,12 +150,17 @@ pub struct Dynamics {
     pub c: DMatrix<f64>,
     /// Shortest natural or forcing period over all configurations, s.
     pub min_period: f64,
+    /// `omega^m` for the derivative orders.
+    pub omega_pow: [f64; ORDERS],
 }
 
 impl Dynamics {
     /// Decomposes all 2^N configurations once.
     pub fn new(system: &System, omega: f64) -> Result<Dynamics, SetupError> {
         let n = system.dof();
+        if 2 * n > MAX_TERMS {
+            return Err(SetupError::TooLarge { masses: n });
+        }
         let k = system.structure.stiffness.clone();
         let c = system.structure.damping.clone();
         let k_inv = k
@@ -165,15 +185,20 @@ impl Dynamics {
                 }
             }
             let eig = eigen::decompose(&a).ok_or(SetupError::Defective { mask })?;
+            let reps = &eig.representatives;
             let vl: Vec<[Vec<Complex64>; ORDERS]> = (0..n)
                 .map(|p| {
                     std::array::from_fn(|order| {
-                        (0..2 * n)
-                            .map(|kk| eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32))
+                        reps.iter()
+                            .map(|&(kk, w)| {
+                                eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32) * w
+                            })
                             .collect()
                     })
                 })
                 .collect();
+            let inverse = DMatrix::from_fn(reps.len(), 2 * n, |r, j| eig.inverse[(reps[r].0, j)]);
+            let lambda: Vec<Complex64> = reps.iter().map(|&(kk, _)| eig.values[kk]).collect();
             let vl_abs = vl
                 .iter()
                 .map(|rows| {
@@ -194,12 +219,14 @@ impl Dynamics {
             };
             let offset = &k_inv * system.weight_load(mask);
             let max_rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+            let amp = DVector::from_fn(n, |i, _| p[i].hypot(q[i]));
             configs.push(Config {
                 mask,
-                lambda: eig.values,
+                lambda,
                 vl,
                 vl_abs,
-                inverse: eig.inverse,
+                inverse,
+                amp,
                 p,
                 q,
                 offset,
@@ -216,6 +243,7 @@ impl Dynamics {
             k,
             c,
             min_period: 2.0 * std::f64::consts::PI / max_rate,
+            omega_pow: std::array::from_fn(|m| omega.powi(m as i32)),
         })
     }
 

@@ -1,0 +1,101 @@
+//! Frequency sweeps: independent points from rest (in parallel, bit-identical for any
+//! number of threads), or continuation upward or downward from point to point.
+
+use std::f64::consts::PI;
+
+use rayon::prelude::*;
+
+use super::engine::{Bed, State};
+use super::steady::{steady_state, Steady, SteadyOptions};
+use super::system::{Dynamics, SetupError, System};
+
+/// Direction of a continuation sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    Up,
+    Down,
+}
+
+/// One point of a sweep.
+#[derive(Debug, Clone)]
+pub struct SweepPoint {
+    pub freq_hz: f64,
+    pub result: Result<Steady, SetupError>,
+}
+
+/// Every frequency from rest, independently. Results are in the order of `freqs_hz`; each
+/// point's computation depends on nothing else, so the bytes do not depend on threads.
+pub fn from_rest(
+    sys: &System,
+    freqs_hz: &[f64],
+    opts: &SteadyOptions,
+    tick: &(dyn Fn() + Sync),
+) -> Vec<SweepPoint> {
+    freqs_hz
+        .par_iter()
+        .map(|&f| {
+            let result = Dynamics::new(sys, 2.0 * PI * f)
+                .map(|d| steady_state(&d, State::at_rest(&d), opts));
+            tick();
+            SweepPoint { freq_hz: f, result }
+        })
+        .collect()
+}
+
+/// The state at the end of a steady record, moved to `t = 0` (the forcing phase is zero at
+/// both, since records end on a whole period).
+pub fn restart(s: &State) -> State {
+    let shift = s.t;
+    let beds = s
+        .beds
+        .iter()
+        .map(|b| match *b {
+            Bed::Free { t0, y0, u0 } => Bed::Free {
+                t0: t0 - shift,
+                y0,
+                u0,
+            },
+            other => other,
+        })
+        .collect();
+    State {
+        t: 0.0,
+        x: s.x.clone(),
+        v: s.v.clone(),
+        beds,
+    }
+}
+
+/// Continuation: the first point from rest, each next one from the previous final state.
+/// `freqs_hz` is taken in ascending order for `Up` and descending for `Down`; the result is
+/// in the order computed.
+pub fn continued(
+    sys: &System,
+    freqs_hz: &[f64],
+    dir: Direction,
+    opts: &SteadyOptions,
+    tick: &(dyn Fn() + Sync),
+) -> Vec<SweepPoint> {
+    let mut order: Vec<f64> = freqs_hz.to_vec();
+    order.sort_by(f64::total_cmp);
+    if dir == Direction::Down {
+        order.reverse();
+    }
+    let mut prev: Option<State> = None;
+    let mut out = Vec::with_capacity(order.len());
+    for f in order {
+        let result = Dynamics::new(sys, 2.0 * PI * f).map(|d| {
+            let start = prev
+                .as_ref()
+                .map(restart)
+                .unwrap_or_else(|| State::at_rest(&d));
+            steady_state(&d, start, opts)
+        });
+        if let Ok(r) = &result {
+            prev = Some(r.final_state.clone());
+        }
+        tick();
+        out.push(SweepPoint { freq_hz: f, result });
+    }
+    out
+}
