@@ -7,21 +7,8 @@ impl Observer for Log {
     }
 }
 fn main() {
-    let s = Structure::chain(
-        &[0.74, 0.71, 0.64],
-        &[24.3e3, 21.8e3, 19.8e3],
-        Damping::ModalRatios(vec![0.01; 3]),
-    );
-    let sys = System::plastic(
-        s,
-        vec![Damper {
-            host: 0,
-            mass: 0.074,
-            clearance: f64::INFINITY,
-        }],
-        0,
-        2.6,
-    );
+    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    let sys = System::plastic(s, vec![Damper { host: 0, mass: 0.074, clearance: f64::INFINITY }], 0, 2.6);
     let w = 2.0 * std::f64::consts::PI * 34.0;
     let d = Dynamics::new(&sys, w).unwrap();
     let mut st = State::at_rest(&d);

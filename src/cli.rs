@@ -10,10 +10,10 @@ use anyhow::Context as _;
 use clap::{Parser, Subcommand};
 use rayon::prelude::*;
 
-use crate::analysis::{self, ExperimentResult};
+use crate::analysis::{self, ExperimentResult, Progress, Tick};
 use crate::checks::reference::ReferenceStore;
 use crate::checks::Status;
-use crate::experiment::{self, Experiment};
+use crate::experiment::{self, Experiment, Exports};
 use crate::model::modal::modal_summary;
 use crate::output::ReportWriter;
 
@@ -92,13 +92,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         Command::List => {
             for path in experiment::discover(&cli.experiments)? {
                 let exp = experiment::load(&path, &cli.reference)?;
-                println!(
-                    "{:<28} {:<12} {:<12} {}",
-                    exp.meta.id,
-                    exp.meta.figure,
-                    exp.analysis.kind(),
-                    exp.meta.title
-                );
+                println!("{:<28} {:<12} {:<12} {}", exp.meta.id, exp.meta.figure, exp.analysis.kind(), exp.meta.title);
             }
             Ok(true)
         }
@@ -107,34 +101,16 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             print_modal(&exp, case.as_deref())?;
             Ok(true)
         }
-        Command::Run {
-            files,
-            out,
-            jobs,
-            templates,
-        } => {
-            let exps = files
-                .iter()
-                .map(|f| experiment::load(f, &cli.reference))
-                .collect::<crate::Result<Vec<_>>>()?;
+        Command::Run { files, out, jobs, templates } => {
+            let exps = files.iter().map(|f| experiment::load(f, &cli.reference)).collect::<crate::Result<Vec<_>>>()?;
             run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref())
         }
-        Command::Report {
-            out,
-            jobs,
-            templates,
-        } => {
+        Command::Report { out, jobs, templates } => {
             let files = experiment::discover(&cli.experiments)?;
             if files.is_empty() {
-                anyhow::bail!(
-                    "{}: no experiment files (*.toml) found",
-                    cli.experiments.display()
-                );
+                anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
             }
-            let exps = files
-                .iter()
-                .map(|f| experiment::load(f, &cli.reference))
-                .collect::<crate::Result<Vec<_>>>()?;
+            let exps = files.iter().map(|f| experiment::load(f, &cli.reference)).collect::<crate::Result<Vec<_>>>()?;
             run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref())
         }
     }
@@ -156,19 +132,12 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
     };
     let modes = modal_summary(&exp.structure, &[]);
     let n = modes.len();
-    println!(
-        "{} ({}): modes of the bare structure",
-        exp.meta.id,
-        exp.path.display()
-    );
+    println!("{} ({}): modes of the bare structure", exp.meta.id, exp.path.display());
     print!("{:>4} {:>12} {:>10}", "mode", "omega rad/s", "f Hz");
     for r in 0..n {
         print!(" {:>9}", format!("phi_m{}", r + 1));
     }
-    println!(
-        " {:>10} {:>12} {:>11} {:>8}",
-        "M_i kg", "K_i N/m", "C_i N s/m", "zeta_i"
-    );
+    println!(" {:>10} {:>12} {:>11} {:>8}", "M_i kg", "K_i N/m", "C_i N s/m", "zeta_i");
     for m in &modes {
         print!("{:>4} {:>12.3} {:>10.4}", m.number, m.omega, m.freq_hz);
         for v in &m.shape {
@@ -181,10 +150,7 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
     }
     for c in cases {
         let with = modal_summary(&exp.structure, &c.dampers);
-        let mus: Vec<String> = with
-            .iter()
-            .map(|m| format!("mu_{} = {:.5}", m.number, m.mass_ratio))
-            .collect();
+        let mus: Vec<String> = with.iter().map(|m| format!("mu_{} = {:.5}", m.number, m.mass_ratio)).collect();
         println!("case {} ({}): {}", c.id, c.label, mus.join(", "));
     }
     Ok(())
@@ -194,20 +160,37 @@ fn pool(jobs: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(j) = jobs {
         if j == 0 {
-            return Err(crate::Error::invalid(
-                "--jobs",
-                "jobs",
-                0,
-                "give at least 1 worker thread",
-            )
-            .into());
+            return Err(crate::Error::invalid("--jobs", "jobs", 0, "give at least 1 worker thread").into());
         }
         b = b.num_threads(j);
     }
     Ok(b.build()?)
 }
 
-/// Runs experiments in parallel, writes the report, prints a summary.
+/// Progress bars on a terminal (one per experiment), nothing otherwise.
+struct Bars {
+    multi: Option<indicatif::MultiProgress>,
+}
+
+impl Progress for Bars {
+    fn start(&self, id: &str, total: u64) -> Box<Tick> {
+        let Some(multi) = &self.multi else { return Box::new(|| {}) };
+        if total == 0 {
+            return Box::new(|| {});
+        }
+        let bar = multi.add(indicatif::ProgressBar::new(total));
+        if let Ok(style) =
+            indicatif::ProgressStyle::with_template("{prefix:>28} [{bar:30}] {pos}/{len} points, {elapsed}")
+        {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_prefix(id.to_string());
+        Box::new(move || bar.inc(1))
+    }
+}
+
+/// Runs experiments in waves (those that use another's exports after it), each wave in
+/// parallel; writes the report; prints a summary.
 fn run_and_write(
     exps: &[Experiment],
     reference: &Path,
@@ -215,37 +198,64 @@ fn run_and_write(
     jobs: Option<usize>,
     templates: Option<&Path>,
 ) -> anyhow::Result<bool> {
+    let waves = experiment::waves(exps)?;
     let refs = ReferenceStore::load(reference, exps)?;
     let writer = ReportWriter::create(out, templates)?;
     let pool = pool(jobs)?;
     let tty = std::io::stderr().is_terminal();
-    let results: crate::Result<Vec<ExperimentResult>> = pool.install(|| {
-        exps.par_iter()
-            .map(|exp| {
-                let started = std::time::Instant::now();
-                let r = analysis::run(exp, &refs)?;
-                writer.write_experiment(&r, &exp.path.display().to_string())?;
-                let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
-                let mark = if n_fail > 0 { "FAIL" } else { "ok" };
-                if tty || std::env::var_os("CI").is_some() {
-                    eprintln!(
-                        "{mark:>4} {:<28} {} checks, {n_fail} failed ({:.2} s)",
-                        exp.meta.id,
-                        r.checks.len(),
-                        started.elapsed().as_secs_f64()
-                    );
+    let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };
+    let log = tty || std::env::var_os("CI").is_some();
+    let mut exports = Exports::new();
+    let mut slots: Vec<Option<ExperimentResult>> = vec![None; exps.len()];
+    for wave in waves {
+        let outcome: crate::Result<Vec<(usize, ExperimentResult)>> = wave
+            .iter()
+            .map(|&i| exps[i].resolve(&exports).map(|e| (i, e)))
+            .collect::<crate::Result<Vec<_>>>()
+            .and_then(|resolved| {
+                pool.install(|| {
+                    resolved
+                        .par_iter()
+                        .map(|(i, exp)| {
+                            let started = std::time::Instant::now();
+                            let tick = bars.start(&exp.meta.id, analysis::work(exp, &refs));
+                            let r = analysis::run(exp, &refs, &*tick)?;
+                            writer.write_experiment(&r, &exp.path.display().to_string())?;
+                            let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
+                            if log {
+                                let mark = if n_fail > 0 { "FAIL" } else { "ok" };
+                                let msg = format!(
+                                    "{mark:>4} {:<28} {} checks, {n_fail} failed ({:.2} s)",
+                                    exp.meta.id,
+                                    r.checks.len(),
+                                    started.elapsed().as_secs_f64()
+                                );
+                                match &bars.multi {
+                                    Some(m) => {
+                                        let _ = m.println(msg);
+                                    }
+                                    None => eprintln!("{msg}"),
+                                }
+                            }
+                            Ok((*i, r))
+                        })
+                        .collect()
+                })
+            });
+        match outcome {
+            Ok(done) => {
+                for (i, r) in done {
+                    exports.insert(r.experiment.meta.id.clone(), r.exports.clone());
+                    slots[i] = Some(r);
                 }
-                Ok(r)
-            })
-            .collect()
-    });
-    let results = match results {
-        Ok(r) => r,
-        Err(e) => {
-            writer.abandon();
-            return Err(e.into());
+            }
+            Err(e) => {
+                writer.abandon();
+                return Err(e.into());
+            }
         }
-    };
+    }
+    let results: Vec<ExperimentResult> = slots.into_iter().flatten().collect();
     let dest = writer.finish(&results)?;
     let failed: Vec<String> = results
         .iter()
@@ -258,10 +268,7 @@ fn run_and_write(
                     crate::checks::fmt_num(c.computed),
                     crate::checks::fmt_num(c.expected),
                     c.tolerance,
-                    c.detail
-                        .as_ref()
-                        .map(|d| format!("; {d}"))
-                        .unwrap_or_default()
+                    c.detail.as_ref().map(|d| format!("; {d}")).unwrap_or_default()
                 )
             })
         })

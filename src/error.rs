@@ -10,12 +10,7 @@ use thiserror::Error;
 pub enum Error {
     /// A value in an input file is not allowed.
     #[error("{file}: {key} = {value}: {message}")]
-    Invalid {
-        file: String,
-        key: String,
-        value: String,
-        message: String,
-    },
+    Invalid { file: String, key: String, value: String, message: String },
     /// An input file is not valid TOML or does not have the expected shape.
     #[error("{file}: {message}")]
     Parse { file: String, message: String },
@@ -52,10 +47,7 @@ impl Error {
 
     /// An I/O error on `path`.
     pub fn io(path: impl AsRef<Path>, source: std::io::Error) -> Error {
-        Error::Io {
-            path: path.as_ref().to_path_buf(),
-            source,
-        }
+        Error::Io { path: path.as_ref().to_path_buf(), source }
     }
 
     /// True for errors caused by the user's input (exit code 2 at the edge, like I/O).

@@ -21,11 +21,7 @@ fn variant(from: &str, to: &str) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().expect("tempdir");
     let shared = dir.path().join("shared");
     std::fs::create_dir_all(&shared).unwrap();
-    std::fs::copy(
-        repo().join("experiments/shared/paper_structure.toml"),
-        shared.join("paper_structure.toml"),
-    )
-    .unwrap();
+    std::fs::copy(repo().join("experiments/shared/paper_structure.toml"), shared.join("paper_structure.toml")).unwrap();
     let text = std::fs::read_to_string(repo().join("experiments/fig04b_no_damper.toml")).unwrap();
     assert!(text.contains(from), "fixture text {from:?} not found");
     let path = dir.path().join("x.toml");
@@ -47,11 +43,7 @@ fn fails_with(from: &str, to: &str, expected: &[&str]) {
 
 #[test]
 fn toml_syntax_error_shows_line_and_column() {
-    fails_with(
-        "kind = \"linear_frf\"",
-        "kind = \"linear_frf",
-        &["TOML syntax error", "line"],
-    );
+    fails_with("kind = \"linear_frf\"", "kind = \"linear_frf", &["TOML syntax error", "line"]);
 }
 
 #[test]
@@ -137,20 +129,14 @@ fn unknown_reference_id() {
 
 #[test]
 fn missing_experiment_file_is_an_io_error() {
-    let out = shotdamp()
-        .args(["modal", "experiments/does-not-exist.toml"])
-        .output()
-        .unwrap();
+    let out = shotdamp().args(["modal", "experiments/does-not-exist.toml"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("does-not-exist.toml"));
 }
 
 #[test]
 fn modal_prints_the_frequencies() {
-    let out = shotdamp()
-        .args(["modal", "experiments/fig04b_no_damper.toml"])
-        .output()
-        .unwrap();
+    let out = shotdamp().args(["modal", "experiments/fig04b_no_damper.toml"]).output().unwrap();
     assert_eq!(out.status.code(), Some(0));
     let stdout = String::from_utf8_lossy(&out.stdout);
     for w in ["81.91", "218.51", "312.04"] {
@@ -170,12 +156,7 @@ fn assert_links_resolve(page: &Path) {
                 continue;
             }
             let path = base.join(target);
-            assert!(
-                path.is_file(),
-                "{}: link {target} -> {} missing",
-                page.display(),
-                path.display()
-            );
+            assert!(path.is_file(), "{}: link {target} -> {} missing", page.display(), path.display());
             n += 1;
             if target.ends_with(".html") && target != "../index.html" && !target.starts_with("..") {
                 assert_links_resolve(&path);
@@ -190,41 +171,17 @@ fn report_of_linear_experiment_links_only_existing_files() {
     let dir = tempfile::tempdir().unwrap();
     let exps = dir.path().join("experiments");
     std::fs::create_dir_all(exps.join("shared")).unwrap();
-    std::fs::copy(
-        repo().join("experiments/shared/paper_structure.toml"),
-        exps.join("shared/paper_structure.toml"),
-    )
-    .unwrap();
-    std::fs::copy(
-        repo().join("experiments/fig04b_no_damper.toml"),
-        exps.join("fig04b_no_damper.toml"),
-    )
-    .unwrap();
-    let out_dir = dir.path().join("report");
-    let out = shotdamp()
-        .arg("--experiments")
-        .arg(&exps)
-        .arg("report")
-        .arg("--out")
-        .arg(&out_dir)
-        .output()
+    std::fs::copy(repo().join("experiments/shared/paper_structure.toml"), exps.join("shared/paper_structure.toml"))
         .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    std::fs::copy(repo().join("experiments/fig04b_no_damper.toml"), exps.join("fig04b_no_damper.toml")).unwrap();
+    let out_dir = dir.path().join("report");
+    let out = shotdamp().arg("--experiments").arg(&exps).arg("report").arg("--out").arg(&out_dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     assert_links_resolve(&out_dir.join("index.html"));
-    let json: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out_dir.join("checks.json")).unwrap()).unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out_dir.join("checks.json")).unwrap()).unwrap();
     let checks = json["checks"].as_array().unwrap();
-    assert!(checks
-        .iter()
-        .any(|c| c["name"] == "omega_2" && c["status"] == "known_deviation"));
-    assert!(checks
-        .iter()
-        .any(|c| c["name"] == "omega_1" && c["status"] == "pass"));
+    assert!(checks.iter().any(|c| c["name"] == "omega_2" && c["status"] == "known_deviation"));
+    assert!(checks.iter().any(|c| c["name"] == "omega_1" && c["status"] == "pass"));
     // No staging folder is left behind.
     let leftovers: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
@@ -242,18 +199,8 @@ fn failed_run_leaves_previous_report_intact() {
     std::fs::write(out_dir.join("index.html"), "previous").unwrap();
     let (_d, bad) = variant("[analysis]", "[excitation]\nforce_n = -2.6\n\n[analysis]");
     let exps = bad.parent().unwrap().to_path_buf();
-    let out = shotdamp()
-        .arg("--experiments")
-        .arg(&exps)
-        .arg("report")
-        .arg("--out")
-        .arg(&out_dir)
-        .output()
-        .unwrap();
+    let out = shotdamp().arg("--experiments").arg(&exps).arg("report").arg("--out").arg(&out_dir).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("excitation.force_n = -2.6"));
-    assert_eq!(
-        std::fs::read_to_string(out_dir.join("index.html")).unwrap(),
-        "previous"
-    );
+    assert_eq!(std::fs::read_to_string(out_dir.join("index.html")).unwrap(), "previous");
 }

@@ -1,35 +1,23 @@
 //! The simulator against independent physics: linear limits, the energy balance, the
-#![allow(clippy::needless_range_loop)]
 //! plastic bouncing ball, a second integrator, grazes and chatter.
 
+#![allow(clippy::needless_range_loop)]
 use std::f64::consts::PI;
 
 use nalgebra::DVector;
 use shotdamp::model::frf::compliance_curve;
 use shotdamp::model::{Damper, Damping, Structure, GRAVITY};
 use shotdamp::sim::{
-    steady_state, Bed, Dynamics, Engine, Event, EventKind, Observer, State, SteadyOptions, Stop,
-    System,
+    steady_state, Bed, Dynamics, Engine, Event, EventKind, Observer, State, SteadyOptions, Stop, System,
 };
 
 fn paper() -> Structure {
-    Structure::chain(
-        &[0.74, 0.71, 0.64],
-        &[24.3e3, 21.8e3, 19.8e3],
-        Damping::ModalRatios(vec![0.01; 3]),
-    )
+    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
 }
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];
-    hosts
-        .iter()
-        .map(|&h| Damper {
-            host: h,
-            mass: 0.1 * m[h],
-            clearance,
-        })
-        .collect()
+    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance }).collect()
 }
 
 fn steady(sys: &System, f_hz: f64, opts: &SteadyOptions) -> shotdamp::sim::Steady {
@@ -40,21 +28,14 @@ fn steady(sys: &System, f_hz: f64, opts: &SteadyOptions) -> shotdamp::sim::Stead
 #[test]
 fn zero_clearance_reproduces_the_stuck_frf() {
     let sys = System::plastic(paper(), dampers(&[0, 1, 2], 0.0), 0, 2.6);
-    let stuck = sys
-        .structure
-        .mass_matrix_with(&[(0, 0.074), (1, 0.071), (2, 0.064)]);
+    let stuck = sys.structure.mass_matrix_with(&[(0, 0.074), (1, 0.071), (2, 0.064)]);
     for f in [10.0, 30.0, 49.0] {
         let r = steady(&sys, f, &SteadyOptions::default());
         assert!(r.converged && r.period == 1);
         let lin = &compliance_curve(&sys.structure, &stuck, 0, &[2.0 * PI * f])[0];
         for i in 0..3 {
             let c = r.amplitude[i] / 2.6;
-            assert!(
-                (c - lin[i]).abs() < 1e-6 * lin[i],
-                "{f} Hz m{}: {c} vs {}",
-                i + 1,
-                lin[i]
-            );
+            assert!((c - lin[i]).abs() < 1e-6 * lin[i], "{f} Hz m{}: {c} vs {}", i + 1, lin[i]);
         }
     }
 }
@@ -69,30 +50,17 @@ fn vanishing_bed_mass_reproduces_the_bare_frf() {
     for f in [10.0, 30.0, 49.0] {
         let r = steady(&sys, f, &SteadyOptions::default());
         assert!(r.converged, "{f} Hz");
-        let lin = &compliance_curve(
-            &sys.structure,
-            &sys.structure.mass_matrix(),
-            0,
-            &[2.0 * PI * f],
-        )[0];
+        let lin = &compliance_curve(&sys.structure, &sys.structure.mass_matrix(), 0, &[2.0 * PI * f])[0];
         for i in 0..3 {
             let c = r.amplitude[i] / 2.6;
-            assert!(
-                (c - lin[i]).abs() < 1e-6 * lin[i],
-                "{f} Hz m{}: {c} vs {}",
-                i + 1,
-                lin[i]
-            );
+            assert!((c - lin[i]).abs() < 1e-6 * lin[i], "{f} Hz m{}: {c} vs {}", i + 1, lin[i]);
         }
     }
 }
 
 #[test]
 fn energy_balances_over_steady_periods() {
-    let opts = SteadyOptions {
-        energy: true,
-        ..SteadyOptions::default()
-    };
+    let opts = SteadyOptions { energy: true, ..SteadyOptions::default() };
     for (hosts, clearance, f) in [
         (vec![0, 1, 2], f64::INFINITY, 49.5),
         (vec![1], 0.5e-3, 48.8),
@@ -103,11 +71,7 @@ fn energy_balances_over_steady_periods() {
         let r = steady(&sys, f, &opts);
         let e = r.energy.unwrap();
         assert!(e.impact > 0.0, "impacts dissipate at {f} Hz");
-        assert!(
-            e.relative_residual() < 1e-9,
-            "{f} Hz: {e:?} residual {}",
-            e.relative_residual()
-        );
+        assert!(e.relative_residual() < 1e-9, "{f} Hz: {e:?} residual {}", e.relative_residual());
     }
 }
 
@@ -127,73 +91,32 @@ fn bouncing_ball(gamma: f64) -> (Dynamics, State, f64) {
     let h = shotdamp::model::frf::receptance(&host, &host.mass_matrix(), 0, omega).unwrap()[0];
     let amplitude = gamma * GRAVITY / (omega * omega);
     let force = amplitude / h.norm();
-    let sys = System::plastic(
-        host,
-        vec![Damper {
-            host: 0,
-            mass: 1e-9,
-            clearance: f64::INFINITY,
-        }],
-        0,
-        force,
-    );
+    let sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: f64::INFINITY }], 0, force);
     let d = Dynamics::new(&sys, omega).unwrap();
     // Start on the forced motion, bed resting: no transient.
     let (x, v) = d.particular(1, 0.0);
-    let s = State {
-        t: 0.0,
-        x,
-        v,
-        beds: vec![Bed::Bottom],
-    };
+    let s = State { t: 0.0, x, v, beds: vec![Bed::Bottom] };
     // Host displacement = A sin(omega t + arg X).
     (d, s, h.arg())
 }
 
 #[test]
 fn plastic_bouncing_ball_flight_durations() {
-    for (gamma, flight) in [
-        (1.2, 2.402305),
-        (1.5, 3.566217),
-        (2.0, 4.658851),
-        (2.5, 5.386636),
-        (3.0, 5.967608),
-    ] {
+    for (gamma, flight) in [(1.2, 2.402305), (1.5, 3.566217), (2.0, 4.658851), (2.5, 5.386636), (3.0, 5.967608)] {
         let (d, mut s, phi) = bouncing_ball(gamma);
         let mut log = Log::default();
         let period = 2.0 * PI / d.omega;
-        Engine::new(&d)
-            .advance(&mut s, 6.0 * period, &mut log)
-            .unwrap();
-        let lifts: Vec<f64> = log
-            .0
-            .iter()
-            .filter(|e| matches!(e.kind, EventKind::LiftOff { .. }))
-            .map(|e| e.t)
-            .collect();
-        let lands: Vec<f64> = log
-            .0
-            .iter()
-            .filter(|e| matches!(e.kind, EventKind::Impact { .. }))
-            .map(|e| e.t)
-            .collect();
-        assert!(
-            lifts.len() >= 4 && lands.len() >= 4,
-            "Gamma {gamma}: {log:?}",
-            log = log.0
-        );
+        Engine::new(&d).advance(&mut s, 6.0 * period, &mut log).unwrap();
+        let lifts: Vec<f64> =
+            log.0.iter().filter(|e| matches!(e.kind, EventKind::LiftOff { .. })).map(|e| e.t).collect();
+        let lands: Vec<f64> =
+            log.0.iter().filter(|e| matches!(e.kind, EventKind::Impact { .. })).map(|e| e.t).collect();
+        assert!(lifts.len() >= 4 && lands.len() >= 4, "Gamma {gamma}: {log:?}", log = log.0);
         for (l, i) in lifts.iter().zip(&lands).skip(1) {
             let phase = (d.omega * l + phi).rem_euclid(2.0 * PI);
-            assert!(
-                (phase.sin() - 1.0 / gamma).abs() < 1e-8,
-                "Gamma {gamma}: lift-off at sin = {}",
-                phase.sin()
-            );
+            assert!((phase.sin() - 1.0 / gamma).abs() < 1e-8, "Gamma {gamma}: lift-off at sin = {}", phase.sin());
             let dur = d.omega * (i - l);
-            assert!(
-                (dur - flight).abs() < 1e-4,
-                "Gamma {gamma}: flight {dur} rad vs {flight}"
-            );
+            assert!((dur - flight).abs() < 1e-4, "Gamma {gamma}: flight {dur} rad vs {flight}");
         }
     }
 }
@@ -271,18 +194,10 @@ mod rk {
             for (j, d) in self.sys.dampers.iter().enumerate() {
                 let p = d.host;
                 match s.free[j] {
-                    None => g.push(if s.top[j] {
-                        -(a[p] + GRAVITY)
-                    } else {
-                        a[p] + GRAVITY
-                    }),
+                    None => g.push(if s.top[j] { -(a[p] + GRAVITY) } else { a[p] + GRAVITY }),
                     Some((y, _)) => {
                         g.push(y - s.x[p]);
-                        g.push(if d.clearance.is_finite() {
-                            s.x[p] + d.clearance - y
-                        } else {
-                            1.0
-                        });
+                        g.push(if d.clearance.is_finite() { s.x[p] + d.clearance - y } else { 1.0 });
                     }
                 }
             }
@@ -295,9 +210,7 @@ mod rk {
                 let p = d.host;
                 if let Some((y, u)) = s.free[j] {
                     let at_bottom = y - s.x[p] <= 1e-12 && u - s.v[p] <= 0.0;
-                    let at_top = d.clearance.is_finite()
-                        && s.x[p] + d.clearance - y <= 1e-12
-                        && u - s.v[p] >= 0.0;
+                    let at_top = d.clearance.is_finite() && s.x[p] + d.clearance - y <= 1e-12 && u - s.v[p] >= 0.0;
                     if at_bottom || at_top {
                         let m = self.sys.structure.masses[p];
                         s.v[p] = (m * s.v[p] + d.mass * u) / (m + d.mass);
@@ -314,26 +227,13 @@ mod rk {
                     .iter()
                     .enumerate()
                     .filter(|(j, _)| s.free[*j].is_none())
-                    .map(|(j, d)| {
-                        (
-                            j,
-                            if s.top[j] {
-                                -(a[d.host] + GRAVITY)
-                            } else {
-                                a[d.host] + GRAVITY
-                            },
-                        )
-                    })
+                    .map(|(j, d)| (j, if s.top[j] { -(a[d.host] + GRAVITY) } else { a[d.host] + GRAVITY }))
                     .filter(|(_, n)| *n < -1e-9)
                     .min_by(|a, b| a.1.total_cmp(&b.1));
                 match worst {
                     Some((j, _)) => {
                         let d = &self.sys.dampers[j];
-                        let y = if s.top[j] {
-                            s.x[d.host] + d.clearance
-                        } else {
-                            s.x[d.host]
-                        };
+                        let y = if s.top[j] { s.x[d.host] + d.clearance } else { s.x[d.host] };
                         s.free[j] = Some((y, s.v[d.host]));
                     }
                     None => break,
@@ -384,11 +284,7 @@ fn runge_kutta_agrees_with_the_closed_form() {
         let t_end = 0.25;
         let mut log = Log::default();
         Engine::new(&d).advance(&mut s, t_end, &mut log).unwrap();
-        assert!(
-            log.0.len() > 4,
-            "{f} Hz: the beds must move ({} events)",
-            log.0.len()
-        );
+        assert!(log.0.len() > 4, "{f} Hz: the beds must move ({} events)", log.0.len());
         let rk = rk::Rk { sys: &sys, omega };
         let s0 = State::at_rest(&d);
         let start = rk::St {
@@ -402,10 +298,7 @@ fn runge_kutta_agrees_with_the_closed_form() {
         let scale = s.x.amax().max(1e-6);
         let dx = (&s.x - &end.x).amax() / scale;
         let dv = (&s.v - &end.v).amax() / (scale * omega);
-        assert!(
-            dx < 1e-6 && dv < 1e-6,
-            "{f} Hz, hosts {hosts:?}, d {clearance}: dx {dx:e} dv {dv:e}"
-        );
+        assert!(dx < 1e-6 && dv < 1e-6, "{f} Hz, hosts {hosts:?}, d {clearance}: dx {dx:e} dv {dv:e}");
     }
 }
 
@@ -430,16 +323,8 @@ fn a_graze_of_the_top_is_found() {
         let mut s = r.final_state.clone();
         let mut log = Log::default();
         Engine::new(&d).advance(&mut s, t_end, &mut log).unwrap();
-        let tops = log
-            .0
-            .iter()
-            .filter(|e| matches!(e.kind, EventKind::Impact { top: true, .. }))
-            .count();
-        assert_eq!(
-            tops > 0,
-            expect_top,
-            "clearance {factor} x apex: {tops} top impacts"
-        );
+        let tops = log.0.iter().filter(|e| matches!(e.kind, EventKind::Impact { top: true, .. })).count();
+        assert_eq!(tops > 0, expect_top, "clearance {factor} x apex: {tops} top impacts");
     }
 }
 
@@ -459,13 +344,6 @@ fn chatter_stops_with_a_flag() {
     sys.stick_speed = 1e-3;
     let d = Dynamics::new(&sys, d0.omega).unwrap();
     let (x, v) = d.particular(1, 0.0);
-    let mut s = State {
-        t: 0.0,
-        x,
-        v,
-        beds: vec![Bed::Bottom],
-    };
-    Engine::new(&d)
-        .advance(&mut s, 50.0 * 2.0 * PI / d.omega, &mut shotdamp::sim::Quiet)
-        .unwrap();
+    let mut s = State { t: 0.0, x, v, beds: vec![Bed::Bottom] };
+    Engine::new(&d).advance(&mut s, 50.0 * 2.0 * PI / d.omega, &mut shotdamp::sim::Quiet).unwrap();
 }

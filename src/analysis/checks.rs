@@ -1,19 +1,25 @@
 //! Evaluates an experiment's checks against pre-loaded references.
 
-use crate::checks::reference::{Quantity, ReferenceStore, ValueFile};
-use crate::checks::{compare_scalar, CheckOutcome, Status, Subject};
+use crate::checks::reference::{Curve as RefCurve, Quantity, ReferenceStore, ValueFile};
+use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Status, Subject};
+
+use super::curves::{Curve, Curves};
 use crate::experiment::{CheckKind, CheckSpec, Experiment};
 use crate::model::modal::ModeSummary;
 
 /// Every check of `exp`, in file order. A reference that is missing (the loader validates
 /// them, so only a programming error gets here) yields a failed check that says so.
-pub fn evaluate(
-    exp: &Experiment,
-    modes: &[ModeSummary],
-    refs: &ReferenceStore,
-) -> Vec<CheckOutcome> {
+pub fn evaluate(exp: &Experiment, modes: &[ModeSummary], curves: &Curves, refs: &ReferenceStore) -> Vec<CheckOutcome> {
     let mut out = Vec::new();
     for spec in &exp.checks {
+        if let CheckKind::Curve { curve, columns, fraction, rel_tol_all } = &spec.kind {
+            out.push(match (refs.curve(&spec.reference_file), curves.get(curve)) {
+                (Some(r), Some(c)) => curve_check(exp, spec, r, c, columns, *fraction, *rel_tol_all),
+                (None, _) => missing(spec, "reference curve not loaded"),
+                (_, None) => missing(spec, &format!("no computed curve \"{curve}\"")),
+            });
+            continue;
+        }
         let Some(file) = refs.values(&spec.reference_file) else {
             out.push(missing(spec, "reference file not loaded"));
             continue;
@@ -29,13 +35,7 @@ pub fn evaluate(
                         file.provenance(q),
                     );
                     let expected = q.value.unwrap_or(f64::NAN);
-                    out.push(compare_scalar(
-                        subject,
-                        modes[*mode].omega,
-                        expected,
-                        spec.tolerance,
-                        known,
-                    ));
+                    out.push(compare_scalar(subject, modes[*mode].omega, expected, spec.tolerance, known));
                 }
                 None => out.push(missing(spec, "no such quantity")),
             },
@@ -45,11 +45,7 @@ pub fn evaluate(
                         for (r, (&c, &e)) in modes[*mode].shape.iter().zip(values).enumerate() {
                             let subject = Subject::new(
                                 format!("phi_{}[{}]", mode + 1, r + 1),
-                                format!(
-                                    "mode {} shape at m_{} (largest element = 1)",
-                                    mode + 1,
-                                    r + 1
-                                ),
+                                format!("mode {} shape at m_{} (largest element = 1)", mode + 1, r + 1),
                                 q.unit.clone(),
                                 file.provenance(q),
                             );
@@ -60,6 +56,10 @@ pub fn evaluate(
                 }
             }
             CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
+            CheckKind::PeakRatio { case, over_case, mass, upper_id } => {
+                out.push(peak_ratio(spec, file, curves, case, over_case, *mass, upper_id));
+            }
+            CheckKind::Curve { .. } => {}
         }
     }
     out
@@ -77,17 +77,9 @@ fn parameters(exp: &Experiment, file: &ValueFile, spec: &CheckSpec) -> Vec<Check
         pairs.push((format!("m_{}", i + 1), format!("mass m_{} (kg)", i + 1), m));
     }
     for (i, k) in chain_springs(&s.stiffness).into_iter().enumerate() {
-        pairs.push((
-            format!("k_{}", i + 1),
-            format!("chain stiffness k_{} (N/m)", i + 1),
-            k,
-        ));
+        pairs.push((format!("k_{}", i + 1), format!("chain stiffness k_{} (N/m)", i + 1), k));
     }
-    pairs.push((
-        "F".into(),
-        "force amplitude (N)".into(),
-        exp.excitation.force,
-    ));
+    pairs.push(("F".into(), "force amplitude (N)".into(), exp.excitation.force));
     pairs
         .into_iter()
         .filter_map(|(id, what, computed)| {
@@ -111,11 +103,7 @@ fn parameters(exp: &Experiment, file: &ValueFile, spec: &CheckSpec) -> Vec<Check
 
 fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
     CheckOutcome {
-        name: format!(
-            "{}#{}",
-            spec.reference_file,
-            spec.reference_id.clone().unwrap_or_default()
-        ),
+        name: format!("{}#{}", spec.reference_file, spec.reference_id.clone().unwrap_or_default()),
         description: format!("reference missing: {why}"),
         computed: f64::NAN,
         expected: f64::NAN,
@@ -139,4 +127,144 @@ fn chain_springs(k: &nalgebra::DMatrix<f64>) -> Vec<f64> {
     }
     springs[0] = k[(0, 0)] - if n > 1 { springs[1] } else { 0.0 };
     springs
+}
+
+/// A computed curve against a reference curve at the reference's own frequencies. Points are
+/// compared where both mark the motion settled and period-1 (a reference without those
+/// columns is linear: every point counts).
+fn curve_check(
+    exp: &Experiment,
+    spec: &CheckSpec,
+    r: &RefCurve,
+    c: &Curve,
+    prefix: &str,
+    fraction: f64,
+    rel_all: f64,
+) -> CheckOutcome {
+    let n = exp.structure.dof();
+    let freq = r.column("freq_hz").unwrap_or(&[]);
+    let conv = r.column("converged");
+    let per = r.column("period");
+    let mut diffs: Vec<(f64, f64, usize, f64, f64)> = Vec::new(); // (rel, f, mass, ours, theirs)
+    let (mut missing_points, mut disagree) = (0, 0);
+    for (k, &f) in freq.iter().enumerate() {
+        let ref_regular = conv.is_none_or(|v| v[k] == 1.0) && per.is_none_or(|v| v[k] == 1.0);
+        let Some(i) = c.index_of(f) else {
+            missing_points += 1;
+            continue;
+        };
+        if !(ref_regular && c.regular(i)) {
+            if ref_regular != c.regular(i) {
+                disagree += 1;
+            }
+            continue;
+        }
+        for m in 0..n {
+            if let Some(col) = r.column(&format!("{prefix}c{}", m + 1)) {
+                let (ours, theirs) = (c.compliance[i][m], col[k]);
+                diffs.push(((ours - theirs).abs() / theirs.abs(), f, m, ours, theirs));
+            }
+        }
+    }
+    let total = diffs.len();
+    let within = diffs.iter().filter(|d| d.0 <= spec.tolerance.rel).count();
+    let worst = diffs.iter().copied().max_by(|a, b| a.0.total_cmp(&b.0));
+    let achieved = if total > 0 { within as f64 / total as f64 } else { 0.0 };
+    let ok = total > 0 && missing_points == 0 && achieved >= fraction && worst.is_none_or(|w| w.0 <= rel_all);
+    let mut detail = format!(
+        "{within} of {total} values (mass x frequency) within {} ({:.1} %, {:.0} % required)",
+        fmt_num(spec.tolerance.rel),
+        100.0 * achieved,
+        100.0 * fraction
+    );
+    if let Some((d, f, m, ours, theirs)) = worst {
+        detail += &format!(
+            "; worst at {} Hz, m{}: {} vs {} m/N ({:.2e} relative)",
+            fmt_num(f),
+            m + 1,
+            fmt_num(ours),
+            fmt_num(theirs),
+            d
+        );
+    }
+    if disagree > 0 {
+        detail += &format!("; {disagree} points settled and period-1 on one side only (not compared)");
+    }
+    if missing_points > 0 {
+        detail += &format!("; {missing_points} reference frequencies not computed");
+    }
+    CheckOutcome {
+        name: format!("{} vs {}", c.id, spec.reference_file),
+        description: format!("compliance of curve {} ({}) at the reference's frequencies", c.id, c.label),
+        computed: worst.map(|w| w.0).unwrap_or(f64::NAN),
+        expected: 0.0,
+        unit: "(largest relative difference)".into(),
+        abs_diff: worst.map(|w| (w.3 - w.4).abs()).unwrap_or(f64::NAN),
+        rel_diff: worst.map(|w| w.0).unwrap_or(f64::NAN),
+        tolerance: format!(
+            "{} at {:.0} % of values, {} at all",
+            fmt_num(spec.tolerance.rel),
+            100.0 * fraction,
+            fmt_num(rel_all)
+        ),
+        status: status(ok, spec.known_deviation.is_some()),
+        provenance: format!("independent solver: {} (reference/independent-solver/PROVENANCE.md)", spec.reference_file),
+        reason: spec.known_deviation.clone(),
+        detail: Some(detail),
+    }
+}
+
+/// The ratio of two cases' peak compliances against a range from the reference.
+fn peak_ratio(
+    spec: &CheckSpec,
+    file: &ValueFile,
+    curves: &Curves,
+    case: &str,
+    over: &str,
+    mass: usize,
+    upper_id: &str,
+) -> CheckOutcome {
+    let (Some(lo), Some(hi)) = (quantity(file, spec), file.get(upper_id)) else {
+        return missing(spec, "range bounds not found");
+    };
+    let (Some(a), Some(b)) = (curves.get(case).and_then(|c| c.peak(mass)), curves.get(over).and_then(|c| c.peak(mass)))
+    else {
+        return missing(spec, "curves not computed");
+    };
+    let (lo_v, hi_v) = (lo.value.unwrap_or(f64::NAN), hi.value.unwrap_or(f64::NAN));
+    let ratio = a.1 / b.1;
+    let slack = spec.tolerance.rel;
+    let within = ratio >= lo_v * (1.0 - slack) && ratio <= hi_v * (1.0 + slack);
+    let mid = 0.5 * (lo_v + hi_v);
+    CheckOutcome {
+        name: format!("peak ratio {case} / {over}, m{}", mass + 1),
+        description: format!(
+            "peak compliance of m{} with case {case} ({} m/N at {} Hz) over case {over} ({} m/N at {} Hz)",
+            mass + 1,
+            fmt_num(a.1),
+            fmt_num(a.0),
+            fmt_num(b.1),
+            fmt_num(b.0)
+        ),
+        computed: ratio,
+        expected: mid,
+        unit: String::new(),
+        abs_diff: (ratio - mid).abs(),
+        rel_diff: (ratio - mid).abs() / mid,
+        tolerance: format!(
+            "within [{}, {}]{}",
+            fmt_num(lo_v),
+            fmt_num(hi_v),
+            if slack > 0.0 { format!(" +/- {:.1} %", 100.0 * slack) } else { String::new() }
+        ),
+        status: status(within, spec.known_deviation.is_some()),
+        provenance: file.provenance(lo),
+        reason: spec.known_deviation.clone(),
+        detail: Some(format!(
+            "paper: reduction by a factor 1/{} to 1/{}; computed 1/{:.2}",
+            fmt_num(lo_v),
+            fmt_num(hi_v),
+            ratio
+        )),
+    }
 }

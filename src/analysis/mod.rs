@@ -2,7 +2,14 @@
 //! Nothing here reads or writes files; references arrive pre-loaded.
 
 mod checks;
+mod clearance;
+pub mod curves;
+mod figures;
 mod linear;
+mod sweep;
+mod waveform;
+
+use std::collections::BTreeMap;
 
 use crate::checks::reference::ReferenceStore;
 use crate::checks::{fmt_num, CheckOutcome};
@@ -26,6 +33,48 @@ pub struct ExperimentResult {
     pub tables: Vec<Table>,
     pub figures: Vec<Figure>,
     pub checks: Vec<CheckOutcome>,
+    /// Values other experiments may use (`"@ID.KEY"`).
+    pub exports: BTreeMap<String, f64>,
+}
+
+/// Counts one finished unit of work (a simulated point).
+pub type Tick = dyn Fn() + Sync;
+
+/// Receives progress: one counter per experiment.
+pub trait Progress: Sync {
+    /// A counter for an experiment that will run `total` simulated points.
+    fn start(&self, id: &str, total: u64) -> Box<Tick>;
+}
+
+/// No progress display.
+pub struct NoProgress;
+
+impl Progress for NoProgress {
+    fn start(&self, _id: &str, _total: u64) -> Box<Tick> {
+        Box::new(|| {})
+    }
+}
+
+/// Simulated points an experiment will run (for progress bars).
+pub fn work(exp: &Experiment, refs: &ReferenceStore) -> u64 {
+    match &exp.analysis {
+        Analysis::Modal | Analysis::LinearFrf { .. } => 0,
+        Analysis::Sweep { freq_hz, start, .. } => sweep::work(exp, freq_hz, *start, refs),
+        Analysis::ClearanceStudy { freq_hz, clearances_mm, points, objective_mass, objective_case, steady } => {
+            clearance::work(
+                exp,
+                &clearance::Study {
+                    freq_hz,
+                    clearances_mm: clearances_mm.as_deref(),
+                    points: *points,
+                    objective_mass: *objective_mass,
+                    objective_case,
+                    steady,
+                },
+            )
+        }
+        Analysis::Waveform { frequencies, .. } => waveform::work(exp, frequencies),
+    }
 }
 
 impl ExperimentResult {
@@ -35,21 +84,52 @@ impl ExperimentResult {
     }
 }
 
-/// Runs one experiment.
-pub fn run(exp: &Experiment, refs: &ReferenceStore) -> Result<ExperimentResult> {
+/// Runs one experiment (its exported inputs already resolved).
+pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<ExperimentResult> {
     let modes = modal_summary(&exp.structure, &[]);
     let mut tables = vec![linear::modal_table(exp, &modes)];
     let mut figures = Vec::new();
+    let mut curves = curves::Curves::new();
+    let mut exports = BTreeMap::new();
     match &exp.analysis {
         Analysis::Modal => {}
         Analysis::LinearFrf { freq_hz } => {
-            let (table, figs) = linear::frf(exp, &modes, freq_hz);
+            let (table, figs, cs) = linear::frf(exp, &modes, freq_hz, &|id| sweep::check_frequencies(exp, refs, id));
             tables.push(table);
             figures.extend(figs);
+            curves.extend(cs.into_iter().map(|c| (c.id.clone(), c)));
+        }
+        Analysis::Sweep { freq_hz, start, steady } => {
+            let out = sweep::run(exp, &modes, refs, freq_hz, *start, steady, tick);
+            tables.extend(out.tables);
+            figures.extend(out.figures);
+            curves.extend(out.curves.into_iter().map(|c| (c.id.clone(), c)));
+            exports = out.exports;
+        }
+        Analysis::ClearanceStudy { freq_hz, clearances_mm, points, objective_mass, objective_case, steady } => {
+            let study = clearance::Study {
+                freq_hz,
+                clearances_mm: clearances_mm.as_deref(),
+                points: *points,
+                objective_mass: *objective_mass,
+                objective_case,
+                steady,
+            };
+            let out = clearance::run(exp, refs, &study, tick);
+            tables.extend(out.tables);
+            figures.extend(out.figures);
+            curves.extend(out.curves.into_iter().map(|c| (c.id.clone(), c)));
+            exports = out.exports;
+        }
+        Analysis::Waveform { frequencies, labels, periods, steady } => {
+            let (t, f) = waveform::run(exp, frequencies, labels, *periods, steady, tick);
+            tables.extend(t);
+            figures.extend(f);
         }
     }
-    let checks = checks::evaluate(exp, &modes, refs);
+    let checks = checks::evaluate(exp, &modes, &curves, refs);
     Ok(ExperimentResult {
+        exports,
         parameters: parameters(exp),
         assumptions: assumptions(exp),
         experiment: exp.clone(),
@@ -72,12 +152,7 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
         (
             "stiffness K (N/m), rows".to_string(),
             (0..s.dof())
-                .map(|i| {
-                    format!(
-                        "[{}]",
-                        list(&s.stiffness.row(i).iter().copied().collect::<Vec<_>>())
-                    )
-                })
+                .map(|i| format!("[{}]", list(&s.stiffness.row(i).iter().copied().collect::<Vec<_>>())))
                 .collect::<Vec<_>>()
                 .join(" "),
         ),
@@ -85,20 +160,14 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
             "damping".to_string(),
             match &s.damping_spec {
                 Damping::ModalRatios(z) => format!("modal ratios zeta = [{}]", list(z)),
-                Damping::Rayleigh { alpha, beta } => format!(
-                    "Rayleigh alpha = {} 1/s, beta = {} s",
-                    fmt_num(*alpha),
-                    fmt_num(*beta)
-                ),
+                Damping::Rayleigh { alpha, beta } => {
+                    format!("Rayleigh alpha = {} 1/s, beta = {} s", fmt_num(*alpha), fmt_num(*beta))
+                }
             },
         ),
         (
             "excitation".to_string(),
-            format!(
-                "F = {} N sin(omega t) on m_{}",
-                fmt_num(exp.excitation.force),
-                exp.excitation.mass + 1
-            ),
+            format!("F = {} N sin(omega t) on m_{}", fmt_num(exp.excitation.force), exp.excitation.mass + 1),
         ),
         ("analysis".to_string(), exp.analysis.kind().to_string()),
     ];
@@ -106,12 +175,7 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
         if let (Some(a), Some(b)) = (freq_hz.first(), freq_hz.last()) {
             p.push((
                 "frequency grid (Hz)".into(),
-                format!(
-                    "{} to {}, {} points",
-                    fmt_num(*a),
-                    fmt_num(*b),
-                    freq_hz.len()
-                ),
+                format!("{} to {}, {} points", fmt_num(*a), fmt_num(*b), freq_hz.len()),
             ));
         }
     }
@@ -146,15 +210,10 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
 pub fn assumptions(exp: &Experiment) -> Vec<String> {
     let mut a = Vec::new();
     let damping = match &exp.structure.damping_spec {
-        Damping::ModalRatios(z) => format!(
-            "Damping of the bare structure: modal damping ratios [{}]",
-            list(z)
-        ),
-        Damping::Rayleigh { alpha, beta } => format!(
-            "Damping of the bare structure: Rayleigh alpha = {}, beta = {}",
-            fmt_num(*alpha),
-            fmt_num(*beta)
-        ),
+        Damping::ModalRatios(z) => format!("Damping of the bare structure: modal damping ratios [{}]", list(z)),
+        Damping::Rayleigh { alpha, beta } => {
+            format!("Damping of the bare structure: Rayleigh alpha = {}, beta = {}", fmt_num(*alpha), fmt_num(*beta))
+        }
     };
     a.push(match &exp.damping_assumption {
         Some(why) => format!("{damping} ({why})."),

@@ -105,12 +105,7 @@ impl Subject {
         unit: impl Into<String>,
         provenance: impl Into<String>,
     ) -> Subject {
-        Subject {
-            name: name.into(),
-            description: description.into(),
-            unit: unit.into(),
-            provenance: provenance.into(),
-        }
+        Subject { name: name.into(), description: description.into(), unit: unit.into(), provenance: provenance.into() }
     }
 }
 
@@ -123,11 +118,7 @@ pub fn compare_scalar(
     known_deviation: Option<&str>,
 ) -> CheckOutcome {
     let abs_diff = (computed - expected).abs();
-    let rel_diff = if expected != 0.0 {
-        abs_diff / expected.abs()
-    } else {
-        f64::INFINITY
-    };
+    let rel_diff = if expected != 0.0 { abs_diff / expected.abs() } else { f64::INFINITY };
     let within = abs_diff <= tolerance.abs + tolerance.rel * expected.abs();
     CheckOutcome {
         name: subject.name,
@@ -161,30 +152,15 @@ mod tests {
 
     #[test]
     fn scalar_statuses() {
-        let tol = Tolerance {
-            rel: 0.005,
-            abs: 0.0,
-        };
+        let tol = Tolerance { rel: 0.005, abs: 0.0 };
         let pass = compare_scalar(Subject::new("w", "", "rad/s", ""), 81.91, 81.9, tol, None);
         assert_eq!(pass.status, Status::Pass);
         let fail = compare_scalar(Subject::new("w", "", "rad/s", ""), 218.5, 243.9, tol, None);
         assert_eq!(fail.status, Status::Fail);
         assert!((fail.rel_diff - 25.4 / 243.9).abs() < 1e-12);
-        let known = compare_scalar(
-            Subject::new("w", "", "rad/s", ""),
-            218.5,
-            243.9,
-            tol,
-            Some("measured"),
-        );
+        let known = compare_scalar(Subject::new("w", "", "rad/s", ""), 218.5, 243.9, tol, Some("measured"));
         assert_eq!(known.status, Status::KnownDeviation);
-        let revisit = compare_scalar(
-            Subject::new("w", "", "rad/s", ""),
-            243.9,
-            243.9,
-            tol,
-            Some("measured"),
-        );
+        let revisit = compare_scalar(Subject::new("w", "", "rad/s", ""), 243.9, 243.9, tol, Some("measured"));
         assert_eq!(revisit.status, Status::KnownDeviationPasses);
     }
 }

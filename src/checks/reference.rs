@@ -61,10 +61,48 @@ impl ValueFile {
 
     /// A human-readable provenance line for a quantity.
     pub fn provenance(&self, q: &Quantity) -> String {
-        format!(
-            "{}: {}, section {} (\"{}\")",
-            self.meta.provenance, self.meta.source, q.section, q.quote
-        )
+        format!("{}: {}, section {} (\"{}\")", self.meta.provenance, self.meta.source, q.section, q.quote)
+    }
+}
+
+/// A reference curve file (CSV): every numeric column as f64, by name.
+#[derive(Debug, Clone)]
+pub struct Curve {
+    pub path: String,
+    pub columns: std::collections::BTreeMap<String, Vec<f64>>,
+}
+
+impl Curve {
+    /// Reads a CSV file with a header; numeric columns are kept, text columns dropped.
+    pub fn load(path: &Path) -> Result<Curve> {
+        use polars::prelude::*;
+        let err = |m: String| Error::Table { path: path.to_path_buf(), message: m };
+        let df = CsvReadOptions::default()
+            .with_has_header(true)
+            .try_into_reader_with_file_path(Some(path.to_path_buf()))
+            .and_then(|r| r.finish())
+            .map_err(|e| err(e.to_string()))?;
+        let mut columns = std::collections::BTreeMap::new();
+        for col in df.columns() {
+            if !col.dtype().is_primitive_numeric() {
+                continue;
+            }
+            let name = col.name().to_string();
+            let cast = col.cast(&DataType::Float64).map_err(|e| err(format!("column \"{name}\": {e}")))?;
+            let values = cast
+                .f64()
+                .map_err(|e| err(format!("column \"{name}\": {e}")))?
+                .iter()
+                .map(|v| v.ok_or_else(|| err(format!("column \"{name}\" has an empty value"))))
+                .collect::<Result<Vec<f64>>>()?;
+            columns.insert(name, values);
+        }
+        Ok(Curve { path: path.display().to_string(), columns })
+    }
+
+    /// A column by name.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns.get(name).map(Vec::as_slice)
     }
 }
 
@@ -72,22 +110,21 @@ impl ValueFile {
 #[derive(Debug, Clone, Default)]
 pub struct ReferenceStore {
     values: std::collections::BTreeMap<String, ValueFile>,
+    curves: std::collections::BTreeMap<String, Curve>,
 }
 
 impl ReferenceStore {
     /// Loads every value file the experiments' checks name, from `dir`.
-    pub fn load(
-        dir: &Path,
-        experiments: &[crate::experiment::Experiment],
-    ) -> Result<ReferenceStore> {
+    pub fn load(dir: &Path, experiments: &[crate::experiment::Experiment]) -> Result<ReferenceStore> {
         let mut store = ReferenceStore::default();
         for exp in experiments {
             for check in &exp.checks {
                 let file = &check.reference_file;
                 if file.ends_with(".toml") && !store.values.contains_key(file) {
-                    store
-                        .values
-                        .insert(file.clone(), ValueFile::load(&dir.join(file))?);
+                    store.values.insert(file.clone(), ValueFile::load(&dir.join(file))?);
+                }
+                if file.ends_with(".csv") && !store.curves.contains_key(file) {
+                    store.curves.insert(file.clone(), Curve::load(&dir.join(file))?);
                 }
             }
         }
@@ -97,6 +134,11 @@ impl ReferenceStore {
     /// A loaded value file.
     pub fn values(&self, file: &str) -> Option<&ValueFile> {
         self.values.get(file)
+    }
+
+    /// A loaded curve file.
+    pub fn curve(&self, file: &str) -> Option<&Curve> {
+        self.curves.get(file)
     }
 
     /// Adds a value file (for tests and tools).

@@ -75,8 +75,8 @@ fn read_merged_depth(path: &Path, depth: usize) -> Result<toml::Table> {
 /// name their path.
 pub fn read_raw(path: &Path) -> Result<RawExperiment> {
     let table = read_merged(path)?;
-    let raw: RawExperiment = serde_path_to_error::deserialize(table).map_err(
-        |e: serde_path_to_error::Error<toml::de::Error>| {
+    let raw: RawExperiment =
+        serde_path_to_error::deserialize(table).map_err(|e: serde_path_to_error::Error<toml::de::Error>| {
             let key = e.path().to_string();
             let inner = e.into_inner();
             Error::Parse {
@@ -87,8 +87,7 @@ pub fn read_raw(path: &Path) -> Result<RawExperiment> {
                     format!("{key}: {}", inner.message())
                 },
             }
-        },
-    )?;
+        })?;
     Ok(raw)
 }
 

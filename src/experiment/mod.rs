@@ -1,7 +1,9 @@
 //! Experiment files: one TOML file per paper figure, loaded in two stages
 //! (raw serde structs, then validated typed values).
 
+mod analysis;
 mod load;
+mod outputs;
 pub mod raw;
 mod validate;
 
@@ -9,7 +11,9 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::model::{Damper, Structure};
+use crate::sim::SteadyOptions;
 
+pub use analysis::round_hz;
 pub use load::{parse_table, read_merged};
 pub use validate::validate;
 
@@ -34,12 +38,55 @@ pub struct Excitation {
     pub force: f64,
 }
 
+/// A value another experiment exports: `"@EXPERIMENT.KEY"` in a file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ExportRef {
+    pub experiment: String,
+    pub key: String,
+}
+
+impl std::fmt::Display for ExportRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "@{}.{}", self.experiment, self.key)
+    }
+}
+
+/// A number given in the file or exported by another experiment.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Number {
+    Value(f64),
+    Export(ExportRef),
+}
+
+/// How a damper's clearance is given.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Clearance {
+    /// A number (m; infinite: no top).
+    Fixed,
+    /// Scanned by a clearance study.
+    Scan,
+    /// Exported by another experiment, in mm.
+    Export(ExportRef),
+}
+
 /// One curve family of a figure: a set of dampers.
 #[derive(Debug, Clone)]
 pub struct Case {
     pub id: String,
     pub label: String,
+    /// The dampers; a clearance that is scanned or exported is infinite until resolved.
     pub dampers: Vec<Damper>,
+    /// How each damper's clearance is given.
+    pub clearances: Vec<Clearance>,
+}
+
+/// How the points of a sweep start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Start {
+    /// Every point from rest, independently (in parallel).
+    Rest,
+    /// From rest at the ends, then each point from the previous one, upward and downward.
+    Continuation,
 }
 
 /// What to compute.
@@ -50,6 +97,22 @@ pub enum Analysis {
     /// Exact linear compliance of the bare structure and of each case with its damper
     /// masses rigidly added, on a grid in Hz.
     LinearFrf { freq_hz: Vec<f64> },
+    /// Steady-state compliance by simulation on a grid in Hz.
+    Sweep { freq_hz: Vec<f64>, start: Start, steady: SteadyOptions },
+    /// Peak compliance against clearance, from near 0 to where the beds stop reaching the top.
+    ClearanceStudy {
+        freq_hz: Vec<f64>,
+        /// Clearances to scan, mm (`None`: `points` up to the limit found).
+        clearances_mm: Option<Vec<f64>>,
+        points: usize,
+        /// 0-based mass whose peak compliance is compared.
+        objective_mass: usize,
+        /// The case whose peak decides the best clearance.
+        objective_case: String,
+        steady: SteadyOptions,
+    },
+    /// Time histories at a few frequencies.
+    Waveform { frequencies: Vec<Number>, labels: Vec<String>, periods: usize, steady: SteadyOptions },
 }
 
 impl Analysis {
@@ -58,6 +121,9 @@ impl Analysis {
         match self {
             Analysis::Modal => "modal",
             Analysis::LinearFrf { .. } => "linear_frf",
+            Analysis::Sweep { .. } => "sweep",
+            Analysis::ClearanceStudy { .. } => "clearance_study",
+            Analysis::Waveform { .. } => "waveform",
         }
     }
 }
@@ -81,13 +147,33 @@ pub struct PlotSpec {
     pub cases: Vec<String>,
     pub y_scale: Scale,
     pub mark_natural_frequencies: bool,
+    /// Marked frequencies: label and offset from the resonance peak of `marks_relative_to`.
+    pub marks: Vec<(String, f64)>,
+    pub marks_relative_to: Option<String>,
+    /// Linear curves drawn beside.
+    pub linear: Vec<Linear>,
+}
+
+/// A linear reference curve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Linear {
+    /// The structure without dampers.
+    Bare,
+    /// The damper masses rigidly added (per case).
+    Stuck,
 }
 
 /// The kinds of plot an experiment can ask for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PlotKind {
-    /// Compliance against frequency.
+    /// Compliance against frequency, all masses in one panel.
     Compliance,
+    /// Compliance against frequency, one panel per mass.
+    CompliancePanels,
+    /// Peak compliance against clearance.
+    ClearanceScan,
+    /// Time histories of masses and beds against forcing phase.
+    Waveform,
 }
 
 /// The kinds of check an experiment can ask for.
@@ -99,6 +185,14 @@ pub enum CheckKind {
     ModeShape { mode: usize },
     /// The structure's masses, stiffnesses and the force against the paper's values.
     PaperParameters,
+    /// A case's compliance curves against a reference curve file, at the reference's own
+    /// frequencies: `rel_tol` at `fraction` of the comparable points, `rel_tol_all` at all.
+    /// `curve` names the computed curve: the case id, `CASE:up` / `CASE:down` for
+    /// continuation, `CASE@0.2mm` for a scanned clearance.
+    Curve { curve: String, columns: String, fraction: f64, rel_tol_all: f64 },
+    /// The ratio of two cases' peak compliances of a mass within a reference range
+    /// (`reference` is the lower bound, `range_to` the id of the upper one).
+    PeakRatio { case: String, over_case: String, mass: usize, upper_id: String },
 }
 
 /// A tolerance: pass when `|computed - expected| <= abs + rel |expected|`.
@@ -135,6 +229,128 @@ pub struct Experiment {
     pub cases: Vec<Case>,
     pub plots: Vec<PlotSpec>,
     pub checks: Vec<CheckSpec>,
+}
+
+impl Experiment {
+    /// Ids of the experiments whose exports this one uses.
+    pub fn dependencies(&self) -> Vec<String> {
+        let mut ids: Vec<String> = Vec::new();
+        let mut add = |r: &ExportRef| {
+            if !ids.contains(&r.experiment) {
+                ids.push(r.experiment.clone());
+            }
+        };
+        for case in &self.cases {
+            for c in &case.clearances {
+                if let Clearance::Export(r) = c {
+                    add(r);
+                }
+            }
+        }
+        if let Analysis::Waveform { frequencies, .. } = &self.analysis {
+            for f in frequencies {
+                if let Number::Export(r) = f {
+                    add(r);
+                }
+            }
+        }
+        ids
+    }
+
+    /// This experiment with every exported value filled in from `exports` (experiment id ->
+    /// key -> value).
+    pub fn resolve(&self, exports: &Exports) -> Result<Experiment> {
+        let lookup = |r: &ExportRef, key: String| -> Result<f64> {
+            exports.get(&r.experiment).and_then(|e| e.get(&r.key)).copied().ok_or_else(|| {
+                let known: Vec<&String> = exports.get(&r.experiment).map(|e| e.keys().collect()).unwrap_or_default();
+                Error::invalid(
+                    &self.path,
+                    key,
+                    r,
+                    format!("experiment \"{}\" exports no such value (it exports {known:?})", r.experiment),
+                )
+            })
+        };
+        let mut out = self.clone();
+        for (ci, case) in out.cases.iter_mut().enumerate() {
+            for (di, (d, c)) in case.dampers.iter_mut().zip(case.clearances.iter_mut()).enumerate() {
+                if let Clearance::Export(r) = c {
+                    let mm = lookup(r, format!("cases[{ci}].dampers[{di}].clearance_mm"))?;
+                    d.clearance = mm * 1e-3;
+                    *c = Clearance::Fixed;
+                }
+            }
+        }
+        if let Analysis::Waveform { frequencies, .. } = &mut out.analysis {
+            for (i, f) in frequencies.iter_mut().enumerate() {
+                if let Number::Export(r) = f {
+                    *f = Number::Value(lookup(r, format!("analysis.frequencies_hz[{i}]"))?);
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// The key of a scanned clearance's curve, e.g. `triple@0.2mm`.
+pub fn clearance_key(case: &str, mm: f64) -> String {
+    format!("{case}@{}mm", crate::checks::fmt_num(mm))
+}
+
+/// Values experiments export, by experiment id and key.
+pub type Exports = std::collections::BTreeMap<String, std::collections::BTreeMap<String, f64>>;
+
+/// Groups experiments into waves: each wave depends only on earlier ones. Fails on an
+/// unknown experiment id or a cycle.
+pub fn waves(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
+    let ids: Vec<&str> = exps.iter().map(|e| e.meta.id.as_str()).collect();
+    for (i, e) in exps.iter().enumerate() {
+        if let Some(j) = ids.iter().position(|id| *id == e.meta.id).filter(|&j| j != i) {
+            return Err(Error::invalid(
+                &e.path,
+                "experiment.id",
+                format!("\"{}\"", e.meta.id),
+                format!("the same id as {}", exps[j].path.display()),
+            ));
+        }
+        for dep in e.dependencies() {
+            if !ids.contains(&dep.as_str()) {
+                return Err(Error::invalid(
+                    &e.path,
+                    "(export reference)",
+                    format!("@{dep}"),
+                    format!("no experiment has id \"{dep}\"; the ids are {ids:?}"),
+                ));
+            }
+        }
+    }
+    let mut done: Vec<bool> = vec![false; exps.len()];
+    let mut out = Vec::new();
+    while done.iter().any(|d| !d) {
+        let wave: Vec<usize> = (0..exps.len())
+            .filter(|&i| {
+                !done[i]
+                    && exps[i]
+                        .dependencies()
+                        .iter()
+                        .all(|dep| ids.iter().position(|id| id == dep).is_some_and(|j| done[j]))
+            })
+            .collect();
+        if wave.is_empty() {
+            let stuck = (0..exps.len()).find(|&i| !done[i]).unwrap_or(0);
+            return Err(Error::invalid(
+                &exps[stuck].path,
+                "(export reference)",
+                format!("{:?}", exps[stuck].dependencies()),
+                "experiments depend on each other in a cycle",
+            ));
+        }
+        for &i in &wave {
+            done[i] = true;
+        }
+        out.push(wave);
+    }
+    Ok(out)
 }
 
 /// Loads and validates one experiment file; references are looked up in `reference_dir`.

@@ -83,6 +83,49 @@ pub struct RawAnalysis {
     pub kind: String,
     #[serde(default)]
     pub freq_hz: Option<RawGrid>,
+    /// Sweeps: "rest" (independent points) or "continuation" (upward and downward).
+    #[serde(default)]
+    pub start: Option<String>,
+    /// Steady-state settings overriding the defaults.
+    #[serde(default)]
+    pub steady: Option<RawSteady>,
+    /// Clearance study: clearances to scan (mm); default: `clearance_points` up to the
+    /// highest flight of the beds without top.
+    #[serde(default)]
+    pub clearances_mm: Option<Vec<f64>>,
+    #[serde(default)]
+    pub clearance_points: Option<i64>,
+    /// Clearance study: the mass whose peak compliance is minimised (1-based).
+    #[serde(default)]
+    pub objective_mass: Option<i64>,
+    /// Clearance study: the case whose peak decides the best clearance.
+    #[serde(default)]
+    pub objective_case: Option<String>,
+    /// Waveforms: forcing frequencies (Hz, or "@EXPERIMENT.KEY").
+    #[serde(default)]
+    pub frequencies_hz: Option<Vec<toml::Value>>,
+    /// Waveforms: labels of the frequencies (e.g. "a", "b", "c").
+    #[serde(default)]
+    pub labels: Option<Vec<String>>,
+    /// Waveforms: steady periods to record and draw.
+    #[serde(default)]
+    pub periods: Option<i64>,
+}
+
+/// Steady-state settings (MODEL.md section 3).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSteady {
+    #[serde(default)]
+    pub tol: Option<f64>,
+    #[serde(default)]
+    pub consecutive: Option<i64>,
+    #[serde(default)]
+    pub min_periods: Option<i64>,
+    #[serde(default)]
+    pub max_periods: Option<i64>,
+    #[serde(default)]
+    pub record_periods: Option<i64>,
 }
 
 /// A frequency grid: `start`, `stop` and either `points` or `step`.
@@ -117,7 +160,8 @@ pub struct RawDamper {
     /// `m_d` in kg (alternative to `mass_ratio`).
     #[serde(default)]
     pub mass_kg: Option<f64>,
-    /// A number of millimetres, or the string "inf".
+    /// A number of millimetres, "inf", "scan" (clearance studies), or "@EXPERIMENT.KEY"
+    /// (a value another experiment exports).
     pub clearance_mm: toml::Value,
 }
 
@@ -138,6 +182,22 @@ pub struct RawPlot {
     pub y_scale: Option<String>,
     #[serde(default)]
     pub mark_natural_frequencies: Option<bool>,
+    /// Frequencies to mark, relative to the resonance peak of `marks_relative_to`.
+    #[serde(default)]
+    pub marks: Option<Vec<RawMark>>,
+    #[serde(default)]
+    pub marks_relative_to: Option<String>,
+    /// Linear curves drawn beside: "bare" and/or "stuck".
+    #[serde(default)]
+    pub linear: Option<Vec<String>>,
+}
+
+/// A marked frequency, `offset_hz` from a resonance peak.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMark {
+    pub label: String,
+    pub offset_hz: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -156,4 +216,31 @@ pub struct RawCheck {
     /// deviation, and a pass as a known deviation that now passes.
     #[serde(default)]
     pub known_deviation: Option<String>,
+    /// Curve and ratio checks: the case computed.
+    #[serde(default)]
+    pub case: Option<String>,
+    /// Ratio checks: the case in the denominator.
+    #[serde(default)]
+    pub over_case: Option<String>,
+    /// Ratio checks: the mass (1-based).
+    #[serde(default)]
+    pub mass: Option<i64>,
+    /// Curve checks: `rel_tol` must hold at this fraction of the points ...
+    #[serde(default)]
+    pub fraction: Option<f64>,
+    /// ... and `rel_tol_all` at every point.
+    #[serde(default)]
+    pub rel_tol_all: Option<f64>,
+    /// Curve checks: the column prefix of the reference's curves (default: none).
+    #[serde(default)]
+    pub columns: Option<String>,
+    /// Curve checks of a continuation sweep: "up" or "down".
+    #[serde(default)]
+    pub direction: Option<String>,
+    /// Curve checks of a clearance study: which scanned clearance (mm).
+    #[serde(default)]
+    pub clearance_mm: Option<f64>,
+    /// Ratio checks: the id of the upper bound (`reference` names the lower one).
+    #[serde(default)]
+    pub range_to: Option<String>,
 }

@@ -5,23 +5,17 @@ use std::path::Path;
 
 use nalgebra::DMatrix;
 
-use crate::checks::reference::ValueFile;
 use crate::error::{Error, Result};
 use crate::model::{Damper, Damping, Structure};
 
-use super::raw::{RawAnalysis, RawCase, RawCheck, RawExperiment, RawGrid, RawPlot, RawStructure};
-use super::{
-    Analysis, Case, CheckKind, CheckSpec, Excitation, Experiment, Meta, PlotKind, PlotSpec, Scale,
-    Tolerance,
-};
-
-/// Most grid points a frequency axis may have.
-const MAX_GRID_POINTS: usize = 100_000;
+use super::analysis::{analysis, export_ref};
+use super::outputs::{check, plot};
+use super::raw::{RawCase, RawExperiment, RawStructure};
+use super::{Analysis, Case, Clearance, Excitation, Experiment, Meta};
 
 /// Validates a raw experiment read from `path`.
 pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result<Experiment> {
-    let bad =
-        |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
 
     let m = raw.experiment;
     if !is_identifier(&m.id) {
@@ -47,31 +41,37 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let e = raw.excitation;
     let driven = mass_index(path, "excitation.mass", e.mass, n)?;
     if !(e.force_n.is_finite() && e.force_n > 0.0) {
-        return Err(bad(
-            "excitation.force_n",
-            &e.force_n,
-            "the force amplitude must be positive and finite (N)",
-        ));
+        return Err(bad("excitation.force_n", &e.force_n, "the force amplitude must be positive and finite (N)"));
     }
-    let excitation = Excitation {
-        mass: driven,
-        force: e.force_n,
-    };
+    let excitation = Excitation { mass: driven, force: e.force_n };
 
-    let analysis = analysis(path, raw.analysis)?;
     let cases = cases(path, raw.cases, &structure)?;
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
+    let analysis = analysis(path, raw.analysis, n, &case_ids)?;
+    let scanning = matches!(analysis, Analysis::ClearanceStudy { .. });
+    for (ci, case) in cases.iter().enumerate() {
+        for (di, c) in case.clearances.iter().enumerate() {
+            if (*c == Clearance::Scan) != scanning {
+                return Err(Error::invalid(
+                    path,
+                    format!("cases[{ci}].dampers[{di}].clearance_mm"),
+                    if scanning { "(not \"scan\")" } else { "\"scan\"" },
+                    "a clearance study scans every damper's clearance (clearance_mm = \"scan\"); other analyses take a number, \"inf\" or \"@EXPERIMENT.KEY\"",
+                ));
+            }
+        }
+    }
     let plots = raw
         .plots
         .into_iter()
         .enumerate()
-        .map(|(i, p)| plot(path, i, p, n, &case_ids))
+        .map(|(i, p)| plot(path, i, p, n, &case_ids, &analysis))
         .collect::<Result<Vec<_>>>()?;
     let checks = raw
         .checks
         .into_iter()
         .enumerate()
-        .map(|(i, c)| check(path, i, c, n, reference_dir))
+        .map(|(i, c)| check(path, i, c, n, &case_ids, &analysis, reference_dir))
         .collect::<Result<Vec<_>>>()?;
 
     Ok(Experiment {
@@ -88,13 +88,13 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     })
 }
 
-fn is_identifier(s: &str) -> bool {
-    !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+/// Letters, digits, '_' and '-'.
+pub fn is_identifier(s: &str) -> bool {
+    !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
-fn mass_index(path: &Path, key: &str, value: i64, n: usize) -> Result<usize> {
+/// A 1-based mass number to a 0-based index.
+pub fn mass_index(path: &Path, key: &str, value: i64, n: usize) -> Result<usize> {
     if value < 1 || value as usize > n {
         return Err(Error::invalid(
             path,
@@ -108,12 +108,7 @@ fn mass_index(path: &Path, key: &str, value: i64, n: usize) -> Result<usize> {
 
 fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<()> {
     if values.is_empty() {
-        return Err(Error::invalid(
-            path,
-            key,
-            "[]",
-            format!("give at least one {what}"),
-        ));
+        return Err(Error::invalid(path, key, "[]", format!("give at least one {what}")));
     }
     for (i, v) in values.iter().enumerate() {
         if !(v.is_finite() && *v > 0.0) {
@@ -199,11 +194,7 @@ fn structure(path: &Path, s: RawStructure) -> Result<(Structure, Option<String>,
             ))
         }
     };
-    Ok((
-        Structure::from_matrices(&s.masses_kg, k, damping),
-        s.source,
-        d.assumption,
-    ))
+    Ok((Structure::from_matrices(&s.masses_kg, k, damping), s.source, d.assumption))
 }
 
 fn stiffness_matrix(path: &Path, rows: &[Vec<f64>], n: usize) -> Result<DMatrix<f64>> {
@@ -231,105 +222,9 @@ fn stiffness_matrix(path: &Path, rows: &[Vec<f64>], n: usize) -> Result<DMatrix<
         }
     }
     if k.clone().cholesky().is_none() {
-        return Err(Error::invalid(
-            path,
-            key,
-            "(matrix)",
-            "the stiffness matrix must be positive definite",
-        ));
+        return Err(Error::invalid(path, key, "(matrix)", "the stiffness matrix must be positive definite"));
     }
     Ok(k)
-}
-
-/// A frequency grid in Hz, validated.
-pub fn grid(path: &Path, key: &str, g: &RawGrid) -> Result<Vec<f64>> {
-    let bad = |k: &str, v: &dyn std::fmt::Display, msg: &str| {
-        Error::invalid(path, format!("{key}.{k}"), v, msg)
-    };
-    if !(g.start.is_finite() && g.start > 0.0) {
-        return Err(bad(
-            "start",
-            &g.start,
-            "frequencies must be positive and finite (Hz)",
-        ));
-    }
-    if !(g.stop.is_finite() && g.stop > g.start) {
-        return Err(bad(
-            "stop",
-            &g.stop,
-            &format!("stop must be greater than start = {}", g.start),
-        ));
-    }
-    let points = match (g.points, g.step) {
-        (Some(p), None) => {
-            if p < 2 || p as usize > MAX_GRID_POINTS {
-                return Err(bad(
-                    "points",
-                    &p,
-                    &format!("give 2 to {MAX_GRID_POINTS} points"),
-                ));
-            }
-            p as usize
-        }
-        (None, Some(s)) => {
-            let span = g.stop - g.start;
-            if !(s.is_finite() && s > 0.0 && span / s < MAX_GRID_POINTS as f64) {
-                return Err(bad(
-                    "step",
-                    &s,
-                    &format!("the step must be positive and give at most {MAX_GRID_POINTS} points"),
-                ));
-            }
-            // Round so that 8..60 step 0.1 includes 60 despite floating point.
-            (span / s + 1e-9).floor() as usize + 1
-        }
-        _ => {
-            return Err(Error::invalid(
-                path,
-                key,
-                "(grid)",
-                "give exactly one of points and step",
-            ));
-        }
-    };
-    Ok(match g.step {
-        Some(s) => (0..points)
-            .map(|i| round_hz(g.start + s * i as f64))
-            .collect(),
-        None => (0..points)
-            .map(|i| g.start + (g.stop - g.start) * i as f64 / (points - 1) as f64)
-            .collect(),
-    })
-}
-
-/// Grid values from a step are rounded to 1e-9 Hz so that they print as written.
-fn round_hz(f: f64) -> f64 {
-    (f * 1e9).round() / 1e9
-}
-
-fn analysis(path: &Path, a: RawAnalysis) -> Result<Analysis> {
-    match a.kind.as_str() {
-        "modal" => Ok(Analysis::Modal),
-        "linear_frf" => {
-            let Some(g) = &a.freq_hz else {
-                return Err(Error::invalid(
-                    path,
-                    "analysis.freq_hz",
-                    "(missing)",
-                    "linear_frf needs a grid: freq_hz = { start, stop, points | step }",
-                ));
-            };
-            Ok(Analysis::LinearFrf {
-                freq_hz: grid(path, "analysis.freq_hz", g)?,
-            })
-        }
-        other => Err(Error::invalid(
-            path,
-            "analysis.kind",
-            format!("\"{other}\""),
-            "allowed kinds: \"modal\", \"linear_frf\"",
-        )),
-    }
 }
 
 fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
@@ -353,29 +248,20 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
             ));
         }
         let mut dampers = Vec::with_capacity(c.dampers.len());
+        let mut clearances = Vec::with_capacity(c.dampers.len());
         for (di, d) in c.dampers.into_iter().enumerate() {
             let key = |k: &str| format!("cases[{ci}].dampers[{di}].{k}");
             let host = mass_index(path, &key("mass"), d.mass, n)?;
             let mass = match (d.mass_ratio, d.mass_kg) {
                 (Some(r), None) => {
                     if !(r.is_finite() && r > 0.0) {
-                        return Err(Error::invalid(
-                            path,
-                            key("mass_ratio"),
-                            r,
-                            "a mass ratio must be positive",
-                        ));
+                        return Err(Error::invalid(path, key("mass_ratio"), r, "a mass ratio must be positive"));
                     }
                     r * s.masses[host]
                 }
                 (None, Some(m)) => {
                     if !(m.is_finite() && m > 0.0) {
-                        return Err(Error::invalid(
-                            path,
-                            key("mass_kg"),
-                            m,
-                            "a damper mass must be positive",
-                        ));
+                        return Err(Error::invalid(path, key("mass_kg"), m, "a damper mass must be positive"));
                     }
                     m
                 }
@@ -388,216 +274,32 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
                     ))
                 }
             };
-            let clearance = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
-            dampers.push(Damper {
-                host,
-                mass,
-                clearance,
-            });
+            let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
+            dampers.push(Damper { host, mass, clearance });
+            clearances.push(spec);
         }
-        out.push(Case {
-            id: c.id,
-            label: c.label,
-            dampers,
-        });
+        out.push(Case { id: c.id, label: c.label, dampers, clearances });
     }
     Ok(out)
 }
 
-/// A clearance in mm (number or "inf") to metres.
-fn clearance(path: &Path, key: &str, v: &toml::Value) -> Result<f64> {
+/// A clearance in mm (a number, "inf", "scan" or "@EXPERIMENT.KEY") to metres; scanned and
+/// exported clearances are infinite until resolved.
+fn clearance(path: &Path, key: &str, v: &toml::Value) -> Result<(f64, Clearance)> {
+    let allowed = "a clearance is a number of millimetres >= 0, \"inf\" for no top, \"scan\" in a clearance study, or \"@EXPERIMENT.KEY\"";
     let mm = match v {
         toml::Value::Float(f) => *f,
         toml::Value::Integer(i) => *i as f64,
         toml::Value::String(s) if s == "inf" => f64::INFINITY,
-        other => {
-            return Err(Error::invalid(
-                path,
-                key,
-                other,
-                "a clearance is a number of millimetres >= 0, or \"inf\" for no top",
-            ))
-        }
+        toml::Value::String(s) if s == "scan" => return Ok((f64::INFINITY, Clearance::Scan)),
+        toml::Value::String(s) => match export_ref(s) {
+            Some(r) => return Ok((f64::INFINITY, Clearance::Export(r))),
+            None => return Err(Error::invalid(path, key, v, allowed)),
+        },
+        other => return Err(Error::invalid(path, key, other, allowed)),
     };
     if mm.is_nan() || mm < 0.0 {
-        return Err(Error::invalid(
-            path,
-            key,
-            mm,
-            "a clearance must be >= 0 mm (or \"inf\")",
-        ));
+        return Err(Error::invalid(path, key, mm, "a clearance must be >= 0 mm (or \"inf\")"));
     }
-    Ok(mm * 1e-3)
-}
-
-fn plot(path: &Path, i: usize, p: RawPlot, n: usize, case_ids: &[String]) -> Result<PlotSpec> {
-    let key = |k: &str| format!("plots[{i}].{k}");
-    if !is_identifier(&p.id) {
-        return Err(Error::invalid(
-            path,
-            key("id"),
-            format!("\"{}\"", p.id),
-            "use letters, digits, '_' and '-' only (it names the image file)",
-        ));
-    }
-    let kind = match p.kind.as_str() {
-        "compliance" => PlotKind::Compliance,
-        other => {
-            return Err(Error::invalid(
-                path,
-                key("kind"),
-                format!("\"{other}\""),
-                "allowed kinds: \"compliance\"",
-            ))
-        }
-    };
-    let masses = match p.masses {
-        Some(ms) => ms
-            .iter()
-            .enumerate()
-            .map(|(j, &m)| mass_index(path, &format!("plots[{i}].masses[{j}]"), m, n))
-            .collect::<Result<Vec<_>>>()?,
-        None => (0..n).collect(),
-    };
-    let cases = match p.cases {
-        Some(cs) => {
-            for (j, c) in cs.iter().enumerate() {
-                if !case_ids.contains(c) {
-                    return Err(Error::invalid(
-                        path,
-                        format!("plots[{i}].cases[{j}]"),
-                        format!("\"{c}\""),
-                        format!("no such case; the cases are {case_ids:?}"),
-                    ));
-                }
-            }
-            cs
-        }
-        None => case_ids.to_vec(),
-    };
-    let y_scale = match p.y_scale.as_deref() {
-        None | Some("log") => Scale::Log,
-        Some("linear") => Scale::Linear,
-        Some(other) => {
-            return Err(Error::invalid(
-                path,
-                key("y_scale"),
-                format!("\"{other}\""),
-                "allowed: \"log\", \"linear\"",
-            ))
-        }
-    };
-    Ok(PlotSpec {
-        id: p.id,
-        kind,
-        title: p.title,
-        masses,
-        cases,
-        y_scale,
-        mark_natural_frequencies: p.mark_natural_frequencies.unwrap_or(false),
-    })
-}
-
-fn check(path: &Path, i: usize, c: RawCheck, n: usize, reference_dir: &Path) -> Result<CheckSpec> {
-    let key = |k: &str| format!("checks[{i}].{k}");
-    let mode = |m: Option<i64>| -> Result<usize> {
-        let Some(m) = m else {
-            return Err(Error::invalid(
-                path,
-                key("mode"),
-                "(missing)",
-                format!("this check needs mode = 1..{n}"),
-            ));
-        };
-        if m < 1 || m as usize > n {
-            return Err(Error::invalid(
-                path,
-                key("mode"),
-                m,
-                format!("modes are numbered 1 to {n}"),
-            ));
-        }
-        Ok(m as usize - 1)
-    };
-    let kind = match c.kind.as_str() {
-        "natural_frequency" => CheckKind::NaturalFrequency {
-            mode: mode(c.mode)?,
-        },
-        "mode_shape" => CheckKind::ModeShape {
-            mode: mode(c.mode)?,
-        },
-        "paper_parameters" => CheckKind::PaperParameters,
-        other => {
-            return Err(Error::invalid(
-                path,
-                key("kind"),
-                format!("\"{other}\""),
-                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\"",
-            ))
-        }
-    };
-    for (k, v) in [("rel_tol", c.rel_tol), ("abs_tol", c.abs_tol)] {
-        if let Some(v) = v {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::invalid(
-                    path,
-                    key(k),
-                    v,
-                    "a tolerance must be >= 0 and finite",
-                ));
-            }
-        }
-    }
-    if c.rel_tol.is_none() && c.abs_tol.is_none() {
-        return Err(Error::invalid(
-            path,
-            key("rel_tol"),
-            "(missing)",
-            "a check needs a tolerance: rel_tol and/or abs_tol",
-        ));
-    }
-    let tolerance = Tolerance {
-        rel: c.rel_tol.unwrap_or(0.0),
-        abs: c.abs_tol.unwrap_or(0.0),
-    };
-    let (file, id) = match c.reference.split_once('#') {
-        Some((f, id)) => (f.to_string(), Some(id.to_string())),
-        None => (c.reference.clone(), None),
-    };
-    let ref_path = reference_dir.join(&file);
-    if !ref_path.is_file() {
-        return Err(Error::invalid(
-            path,
-            key("reference"),
-            format!("\"{}\"", c.reference),
-            format!("no such reference file: {}", ref_path.display()),
-        ));
-    }
-    let needs_id = !matches!(kind, CheckKind::PaperParameters);
-    if needs_id {
-        let Some(id) = &id else {
-            return Err(Error::invalid(
-                path,
-                key("reference"),
-                format!("\"{}\"", c.reference),
-                "name the value: FILE#ID",
-            ));
-        };
-        let values = ValueFile::load(&ref_path)?;
-        if values.get(id).is_none() {
-            return Err(Error::invalid(
-                path,
-                key("reference"),
-                format!("\"{}\"", c.reference),
-                format!("{} has no quantity with id \"{id}\"", ref_path.display()),
-            ));
-        }
-    }
-    Ok(CheckSpec {
-        kind,
-        reference_file: file,
-        reference_id: id,
-        tolerance,
-        known_deviation: c.known_deviation,
-    })
+    Ok((mm * 1e-3, Clearance::Fixed))
 }

@@ -10,18 +10,10 @@ use super::structure::Structure;
 /// `mass` is the mass matrix to use: `M0` for the bare structure, `M_all` for the
 /// "stuck" structure with damper masses rigidly added. Returns `None` only when the
 /// dynamic stiffness is singular (undamped structure exactly at resonance).
-pub fn receptance(
-    structure: &Structure,
-    mass: &DMatrix<f64>,
-    driven: usize,
-    omega: f64,
-) -> Option<DVector<Complex64>> {
+pub fn receptance(structure: &Structure, mass: &DMatrix<f64>, driven: usize, omega: f64) -> Option<DVector<Complex64>> {
     let n = structure.dof();
     let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
-        Complex64::new(
-            structure.stiffness[(i, j)] - omega * omega * mass[(i, j)],
-            omega * structure.damping[(i, j)],
-        )
+        Complex64::new(structure.stiffness[(i, j)] - omega * omega * mass[(i, j)], omega * structure.damping[(i, j)])
     });
     let mut rhs = DVector::<Complex64>::zeros(n);
     rhs[driven] = Complex64::new(1.0, 0.0);
@@ -30,12 +22,7 @@ pub fn receptance(
 
 /// Compliance magnitudes `|x_r / F|` (m/N) of every mass at each frequency (rad/s).
 /// Rows follow `omegas`; a singular point gives infinities.
-pub fn compliance_curve(
-    structure: &Structure,
-    mass: &DMatrix<f64>,
-    driven: usize,
-    omegas: &[f64],
-) -> Vec<Vec<f64>> {
+pub fn compliance_curve(structure: &Structure, mass: &DMatrix<f64>, driven: usize, omegas: &[f64]) -> Vec<Vec<f64>> {
     omegas
         .iter()
         .map(|&w| match receptance(structure, mass, driven, w) {
@@ -52,11 +39,7 @@ mod tests {
     use crate::model::structure::{Damping, Structure};
 
     fn paper() -> Structure {
-        Structure::chain(
-            &[0.74, 0.71, 0.64],
-            &[24.3e3, 21.8e3, 19.8e3],
-            Damping::ModalRatios(vec![0.01; 3]),
-        )
+        Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
     }
 
     #[test]
@@ -67,11 +50,7 @@ mod tests {
             let h = receptance(&s, &s.mass_matrix(), driven, 1e-9).unwrap();
             for r in 0..3 {
                 let st = k_inv[(r, driven)];
-                assert!(
-                    (h[r].re - st).abs() < 1e-12 * st.abs(),
-                    "{} vs {st}",
-                    h[r].re
-                );
+                assert!((h[r].re - st).abs() < 1e-12 * st.abs(), "{} vs {st}", h[r].re);
                 assert!(h[r].im.abs() < 1e-9 * st.abs());
             }
         }
@@ -90,29 +69,14 @@ mod tests {
             let q: Complex64 = (0..3).map(|r| h[r] * phi[r] * m[(r, r)]).sum();
             let expected = phi[0] / (2.0 * 0.01 * wn * wn);
             assert!(q.re.abs() < 1e-9 * expected.abs(), "mode {i}: {q}");
-            assert!(
-                (q.im + expected).abs() < 1e-9 * expected.abs(),
-                "mode {i}: {q} vs {expected}"
-            );
+            assert!((q.im + expected).abs() < 1e-9 * expected.abs(), "mode {i}: {q} vs {expected}");
             // The physical peak of the mass that moves most lies within 0.1 % of omega_n
             // (neighbouring modes shift it slightly).
-            let grid: Vec<f64> = (0..=4000)
-                .map(|j| wn * (0.98 + 0.04 * j as f64 / 4000.0))
-                .collect();
+            let grid: Vec<f64> = (0..=4000).map(|j| wn * (0.98 + 0.04 * j as f64 / 4000.0)).collect();
             let curve = compliance_curve(&s, &m, 0, &grid);
-            let col = (0..3)
-                .max_by(|&a, &b| phi[a].abs().total_cmp(&phi[b].abs()))
-                .unwrap();
-            let (ipk, _) = curve
-                .iter()
-                .enumerate()
-                .max_by(|a, b| a.1[col].total_cmp(&b.1[col]))
-                .unwrap();
-            assert!(
-                (grid[ipk] - wn).abs() / wn < 1e-3,
-                "peak {} vs omega_n {wn}",
-                grid[ipk]
-            );
+            let col = (0..3).max_by(|&a, &b| phi[a].abs().total_cmp(&phi[b].abs())).unwrap();
+            let (ipk, _) = curve.iter().enumerate().max_by(|a, b| a.1[col].total_cmp(&b.1[col])).unwrap();
+            assert!((grid[ipk] - wn).abs() / wn < 1e-3, "peak {} vs omega_n {wn}", grid[ipk]);
         }
     }
 

@@ -24,10 +24,7 @@ pub fn symmetric_modes(m: &DMatrix<f64>, k: &DMatrix<f64>) -> Modes {
         Some(c) => c.l(),
         None => DMatrix::from_diagonal(&m.diagonal().map(|v| v.abs().sqrt())),
     };
-    let l_inv = l
-        .clone()
-        .try_inverse()
-        .unwrap_or_else(|| DMatrix::identity(n, n));
+    let l_inv = l.clone().try_inverse().unwrap_or_else(|| DMatrix::identity(n, n));
     let a = &l_inv * k * l_inv.transpose();
     let a = (&a + a.transpose()) * 0.5;
     let eig = SymmetricEigen::new(a);
@@ -41,10 +38,7 @@ pub fn symmetric_modes(m: &DMatrix<f64>, k: &DMatrix<f64>) -> Modes {
         let v = l_inv.transpose() * u;
         phi.set_column(col, &v);
     }
-    Modes {
-        omegas,
-        mass_normalised: phi,
-    }
+    Modes { omegas, mass_normalised: phi }
 }
 
 /// One mode with the numbers the paper's equivalent SDOF analysis needs.
@@ -80,24 +74,23 @@ pub fn modal_summary(structure: &Structure, dampers: &[Damper]) -> Vec<ModeSumma
     (0..n)
         .map(|i| {
             let col = modes.mass_normalised.column(i);
-            let (imax, _) = col.iter().enumerate().fold((0, 0.0_f64), |acc, (j, v)| {
-                if v.abs() > acc.1 {
-                    (j, v.abs())
-                } else {
-                    acc
-                }
-            });
+            let (imax, _) = col.iter().enumerate().fold(
+                (0, 0.0_f64),
+                |acc, (j, v)| {
+                    if v.abs() > acc.1 {
+                        (j, v.abs())
+                    } else {
+                        acc
+                    }
+                },
+            );
             let scale = col[imax];
             let shape: DVector<f64> = col / scale;
             let modal_mass = (shape.transpose() * &m0 * &shape)[(0, 0)];
             let modal_stiffness = (shape.transpose() * &structure.stiffness * &shape)[(0, 0)];
             let modal_damping = (shape.transpose() * &structure.damping * &shape)[(0, 0)];
             let omega = modes.omegas[i];
-            let mass_ratio = dampers
-                .iter()
-                .map(|d| shape[d.host].abs() * d.mass)
-                .sum::<f64>()
-                / modal_mass;
+            let mass_ratio = dampers.iter().map(|d| shape[d.host].abs() * d.mass).sum::<f64>() / modal_mass;
             ModeSummary {
                 number: i + 1,
                 omega,
@@ -120,11 +113,7 @@ mod tests {
     use crate::model::structure::Damping;
 
     fn paper() -> Structure {
-        Structure::chain(
-            &[0.74, 0.71, 0.64],
-            &[24.3e3, 21.8e3, 19.8e3],
-            Damping::ModalRatios(vec![0.01; 3]),
-        )
+        Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
     }
 
     #[test]
@@ -136,10 +125,7 @@ mod tests {
             let phi = modes.mass_normalised.column(i);
             let w2 = modes.omegas[i].powi(2);
             let r = (&s.stiffness * phi - &m * phi * w2).norm();
-            assert!(
-                r < 1e-9 * (&s.stiffness * phi).norm(),
-                "mode {i}: residual {r}"
-            );
+            assert!(r < 1e-9 * (&s.stiffness * phi).norm(), "mode {i}: residual {r}");
             let mm = (phi.transpose() * &m * phi)[(0, 0)];
             assert!((mm - 1.0).abs() < 1e-12);
         }
@@ -153,11 +139,7 @@ mod tests {
             // 4 significant digits.
             assert!((m.omega - e).abs() / e < 5e-5 * 2.0, "{} vs {e}", m.omega);
         }
-        let shapes = [
-            [0.415, 0.783, 1.0],
-            [1.0, 0.494, -0.909],
-            [-0.840, 1.0, -0.466],
-        ];
+        let shapes = [[0.415, 0.783, 1.0], [1.0, 0.494, -0.909], [-0.840, 1.0, -0.466]];
         for (m, s) in modes.iter().zip(shapes) {
             for (a, b) in m.shape.iter().zip(s) {
                 assert!((a - b).abs() < 6e-4, "{a} vs {b}");
@@ -165,20 +147,14 @@ mod tests {
         }
         for m in &modes {
             assert!((m.damping_ratio - 0.01).abs() < 1e-12);
-            assert!(
-                (m.modal_stiffness / m.modal_mass - m.omega.powi(2)).abs() < 1e-6 * m.omega.powi(2)
-            );
+            assert!((m.modal_stiffness / m.modal_mass - m.omega.powi(2)).abs() < 1e-6 * m.omega.powi(2));
         }
     }
 
     #[test]
     fn mass_ratio_follows_eq13() {
         let s = paper();
-        let dampers = [Damper {
-            host: 1,
-            mass: 0.071,
-            clearance: f64::INFINITY,
-        }];
+        let dampers = [Damper { host: 1, mass: 0.071, clearance: f64::INFINITY }];
         let modes = modal_summary(&s, &dampers);
         for m in &modes {
             let expected = m.shape[1].abs() * 0.071 / m.modal_mass;

@@ -57,12 +57,7 @@ impl Structure {
                 &m0 * phi * diag * phi.transpose() * &m0
             }
         };
-        Structure {
-            masses: masses.to_vec(),
-            stiffness,
-            damping: c,
-            damping_spec: damping,
-        }
+        Structure { masses: masses.to_vec(), stiffness, damping: c, damping_spec: damping }
     }
 
     /// Number of primary masses.
@@ -124,8 +119,7 @@ mod tests {
     #[test]
     fn chain_matrix_matches_hand_assembly() {
         let k = chain_stiffness(&[1.0, 2.0, 3.0]);
-        let expected =
-            DMatrix::from_row_slice(3, 3, &[3.0, -2.0, 0.0, -2.0, 5.0, -3.0, 0.0, -3.0, 3.0]);
+        let expected = DMatrix::from_row_slice(3, 3, &[3.0, -2.0, 0.0, -2.0, 5.0, -3.0, 0.0, -3.0, 3.0]);
         assert_eq!(k, expected);
     }
 
@@ -141,10 +135,7 @@ mod tests {
             let phi = modes.mass_normalised.column(i);
             let ci = (phi.transpose() * &s.damping * phi)[(0, 0)];
             let zeta = ci / (2.0 * modes.omegas[i]);
-            assert!(
-                (zeta - [0.01, 0.02, 0.03][i]).abs() < 1e-12,
-                "mode {i}: {zeta}"
-            );
+            assert!((zeta - [0.01, 0.02, 0.03][i]).abs() < 1e-12, "mode {i}: {zeta}");
         }
     }
 }

@@ -36,15 +36,7 @@ pub struct Series {
 impl Series {
     /// A solid line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, color: usize) -> Series {
-        Series {
-            label: label.into(),
-            x,
-            y,
-            color,
-            dash: Dash::Solid,
-            line: true,
-            marker: Marker::None,
-        }
+        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: true, marker: Marker::None }
     }
 
     /// The same series with another dash.
@@ -54,22 +46,8 @@ impl Series {
     }
 
     /// Points only.
-    pub fn points(
-        label: impl Into<String>,
-        x: Vec<f64>,
-        y: Vec<f64>,
-        color: usize,
-        marker: Marker,
-    ) -> Series {
-        Series {
-            label: label.into(),
-            x,
-            y,
-            color,
-            dash: Dash::Solid,
-            line: false,
-            marker,
-        }
+    pub fn points(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, color: usize, marker: Marker) -> Series {
+        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: false, marker }
     }
 }
 

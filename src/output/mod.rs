@@ -32,10 +32,7 @@ fn mkdir(path: &Path) -> Result<()> {
 
 /// The staging or backup sibling of `out`.
 fn sibling(out: &Path, tag: &str) -> PathBuf {
-    let name = out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "reports".into());
+    let name = out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "reports".into());
     out.with_file_name(format!(".{name}.{tag}-{}", std::process::id()))
 }
 
@@ -46,9 +43,7 @@ impl ReportWriter {
         let out = if out.is_absolute() {
             out.to_path_buf()
         } else {
-            std::env::current_dir()
-                .map_err(|e| Error::io(".", e))?
-                .join(out)
+            std::env::current_dir().map_err(|e| Error::io(".", e))?.join(out)
         };
         if let Some(parent) = out.parent() {
             mkdir(parent)?;
@@ -74,17 +69,11 @@ impl ReportWriter {
         mkdir(&data)?;
         for t in &r.tables {
             write(&data.join(format!("{}.csv", t.name)), &table::to_csv(t)?)?;
-            write(
-                &data.join(format!("{}.parquet", t.name)),
-                &table::to_parquet(t)?,
-            )?;
+            write(&data.join(format!("{}.parquet", t.name)), &table::to_parquet(t)?)?;
         }
         for f in &r.figures {
             plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
-            write(
-                &dir.join(format!("{}.svg", f.id)),
-                plot::to_svg(f)?.as_bytes(),
-            )?;
+            write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
         }
         let view = report::experiment_view(r, source_file);
         let html = report::render(&self.tera, "experiment.html", &view)?;
@@ -93,10 +82,7 @@ impl ReportWriter {
 
     /// Writes the index, the stylesheet and `checks.json`, then moves the report into place.
     pub fn finish(self, results: &[ExperimentResult]) -> Result<PathBuf> {
-        write(
-            &self.staging.join("style.css"),
-            report::STYLE_CSS.as_bytes(),
-        )?;
+        write(&self.staging.join("style.css"), report::STYLE_CSS.as_bytes())?;
         let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
         write(&self.staging.join("index.html"), index.as_bytes())?;
         write(&self.staging.join("checks.json"), &checks_json(results)?)?;
@@ -153,8 +139,5 @@ pub fn checks_json(results: &[ExperimentResult]) -> Result<Vec<u8>> {
             })
             .collect(),
     };
-    serde_json::to_vec_pretty(&file).map_err(|e| Error::Render {
-        what: "checks.json".into(),
-        message: e.to_string(),
-    })
+    serde_json::to_vec_pretty(&file).map_err(|e| Error::Render { what: "checks.json".into(), message: e.to_string() })
 }

@@ -36,10 +36,8 @@ static FONT: Once = Once::new();
 fn register_font() -> Result<()> {
     let mut result = Ok(());
     FONT.call_once(|| {
-        let fonts: [(FontStyle, &'static [u8]); 2] = [
-            (FontStyle::Normal, dejavu::sans::regular()),
-            (FontStyle::Bold, dejavu::sans::bold()),
-        ];
+        let fonts: [(FontStyle, &'static [u8]); 2] =
+            [(FontStyle::Normal, dejavu::sans::regular()), (FontStyle::Bold, dejavu::sans::bold())];
         for (style, bytes) in fonts {
             if plotters::style::register_font("sans-serif", style, bytes).is_err() {
                 result = Err(Error::Render {
@@ -57,10 +55,7 @@ fn color(i: usize) -> RGBColor {
 }
 
 fn render_err(what: &str, e: impl std::fmt::Display) -> Error {
-    Error::Render {
-        what: what.to_string(),
-        message: e.to_string(),
-    }
+    Error::Render { what: what.to_string(), message: e.to_string() }
 }
 
 /// Height of the whole figure, pixels.
@@ -86,10 +81,7 @@ pub fn to_svg(fig: &Figure) -> Result<String> {
     Ok(buf)
 }
 
-fn draw<DB: DrawingBackend>(
-    fig: &Figure,
-    root: DrawingArea<DB, plotters::coord::Shift>,
-) -> Result<()> {
+fn draw<DB: DrawingBackend>(fig: &Figure, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<()> {
     let what = format!("figure {}", fig.id);
     root.fill(&WHITE).map_err(|e| render_err(&what, e))?;
     let areas = root.split_evenly((fig.panels.len().max(1), 1));
@@ -105,22 +97,14 @@ fn y_extent(panel: &Panel) -> (f64, f64) {
     let mut hi = f64::NEG_INFINITY;
     for s in &panel.series {
         for (&x, &y) in s.x.iter().zip(&s.y) {
-            if y.is_finite()
-                && x >= panel.x_range.0
-                && x <= panel.x_range.1
-                && (!panel.y_log || y > 0.0)
-            {
+            if y.is_finite() && x >= panel.x_range.0 && x <= panel.x_range.1 && (!panel.y_log || y > 0.0) {
                 lo = lo.min(y);
                 hi = hi.max(y);
             }
         }
     }
     if !lo.is_finite() {
-        return if panel.y_log {
-            (1e-6, 1e-3)
-        } else {
-            (0.0, 1.0)
-        };
+        return if panel.y_log { (1e-6, 1e-3) } else { (0.0, 1.0) };
     }
     if panel.y_log {
         (lo / 1.5, hi * 1.5)
@@ -144,15 +128,17 @@ fn draw_panel<DB: DrawingBackend>(
         .x_label_area_size(48)
         .y_label_area_size(96);
     if panel.y_log {
-        let chart = builder
-            .build_cartesian_2d(x, (y0..y1).log_scale())
-            .map_err(|e| render_err(what, e))?;
+        let chart = builder.build_cartesian_2d(x, (y0..y1).log_scale()).map_err(|e| render_err(what, e))?;
         fill(chart, panel, what, |v| format!("{v:.0e}"))
     } else {
-        let chart = builder
-            .build_cartesian_2d(x, y0..y1)
-            .map_err(|e| render_err(what, e))?;
-        fill(chart, panel, what, |v| format!("{v:.3}"))
+        let chart = builder.build_cartesian_2d(x, y0..y1).map_err(|e| render_err(what, e))?;
+        // Small or large values read better in scientific notation.
+        let big = y0.abs().max(y1.abs());
+        if big < 1e-2 || big >= 1e5 {
+            fill(chart, panel, what, |v| if *v == 0.0 { "0".into() } else { format!("{v:.1e}") })
+        } else {
+            fill(chart, panel, what, |v| format!("{:.3}", if v.abs() < 1e-12 * big { 0.0 } else { *v }))
+        }
     }
 }
 
@@ -179,20 +165,33 @@ where
         .map_err(|e| render_err(what, e))?;
 
     let y_range: Range<f64> = chart.y_range();
-    for v in &panel.vlines {
-        let style = ShapeStyle {
-            color: RGBColor(110, 110, 110).to_rgba(),
-            filled: false,
-            stroke_width: 1,
-        };
+    // Labels of neighbouring lines are staggered downwards so that they do not overlap.
+    let at = |frac: f64| {
+        if panel.y_log {
+            (y_range.start.ln() + (y_range.end.ln() - y_range.start.ln()) * frac).exp()
+        } else {
+            y_range.start + (y_range.end - y_range.start) * frac
+        }
+    };
+    let mut order: Vec<usize> = (0..panel.vlines.len()).collect();
+    order.sort_by(|&a, &b| panel.vlines[a].x.total_cmp(&panel.vlines[b].x));
+    let span = panel.x_range.1 - panel.x_range.0;
+    let mut level = vec![0usize; panel.vlines.len()];
+    for w in 1..order.len() {
+        let (prev, cur) = (order[w - 1], order[w]);
+        // Closer than ~20 % of the width to the previous label: one step lower.
+        if panel.vlines[cur].x - panel.vlines[prev].x < 0.2 * span {
+            level[cur] = (level[prev] + 1) % 4;
+        }
+    }
+    for (k, v) in panel.vlines.iter().enumerate() {
+        let style = ShapeStyle { color: RGBColor(110, 110, 110).to_rgba(), filled: false, stroke_width: 1 };
         let pts = vec![(v.x, y_range.start), (v.x, y_range.end)];
-        chart
-            .draw_series(DashedLineSeries::new(pts, 6, 6, style))
-            .map_err(|e| render_err(what, e))?;
+        chart.draw_series(DashedLineSeries::new(pts, 6, 6, style)).map_err(|e| render_err(what, e))?;
         chart
             .draw_series(std::iter::once(Text::new(
                 v.label.clone(),
-                (v.x, y_range.end),
+                (v.x, at(1.0 - 0.05 * level[k] as f64)),
                 ("sans-serif", 14).into_font().color(&RGBColor(80, 80, 80)),
             )))
             .map_err(|e| render_err(what, e))?;
@@ -226,16 +225,13 @@ where
 {
     let c = color(s.color);
     // Thicker strokes draw each segment as a polygon and look ragged on dense curves.
-    let style = ShapeStyle {
-        color: c.to_rgba(),
-        filled: false,
-        stroke_width: 1,
-    };
+    let style = ShapeStyle { color: c.to_rgba(), filled: false, stroke_width: 1 };
     // Split at non-finite (or non-positive on log axes) values so that gaps stay gaps.
     let ok = |y: f64| y.is_finite() && (!panel.y_log || y > 0.0);
     let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
     for (&x, &y) in s.x.iter().zip(&s.y) {
-        if ok(y) && x.is_finite() {
+        let inside = x >= panel.x_range.0 - 1e-9 && x <= panel.x_range.1 + 1e-9;
+        if ok(y) && x.is_finite() && inside {
             if let Some(run) = runs.last_mut() {
                 run.push((x, y));
             }
@@ -251,21 +247,15 @@ where
                 Dash::Solid => chart.draw_series(LineSeries::new(run.clone(), style)),
                 Dash::Dashed => chart.draw_series(DashedLineSeries::new(run.clone(), 10, 6, style)),
                 Dash::Dotted => chart.draw_series(DashedLineSeries::new(run.clone(), 2, 5, style)),
-                Dash::DashDot => {
-                    chart.draw_series(DashedLineSeries::new(run.clone(), 14, 4, style))
-                }
+                Dash::DashDot => chart.draw_series(DashedLineSeries::new(run.clone(), 14, 4, style)),
             }
             .map_err(|e| render_err(what, e))?;
             if want_label {
                 labelled = true;
                 let segs = dash_segments(s.dash);
-                let legend_style = ShapeStyle {
-                    stroke_width: 2,
-                    ..style
-                };
+                let legend_style = ShapeStyle { stroke_width: 2, ..style };
                 anno.label(s.label.clone()).legend(move |(x, y)| {
-                    let seg =
-                        |(a, b): (i32, i32)| PathElement::new(vec![(a, 0), (b, 0)], legend_style);
+                    let seg = |(a, b): (i32, i32)| PathElement::new(vec![(a, 0), (b, 0)], legend_style);
                     EmptyElement::at((x, y)) + seg(segs[0]) + seg(segs[1]) + seg(segs[2])
                 });
             }
@@ -273,15 +263,10 @@ where
         let want_label = !labelled && !s.label.is_empty();
         let anno = match s.marker {
             Marker::None => None,
-            Marker::Circle => {
-                Some(chart.draw_series(run.iter().map(|&p| Circle::new(p, 4, style))))
-            }
+            Marker::Circle => Some(chart.draw_series(run.iter().map(|&p| Circle::new(p, 4, style)))),
             Marker::Cross => Some(chart.draw_series(run.iter().map(|&p| Cross::new(p, 4, style)))),
             Marker::Square => Some(
-                chart.draw_series(
-                    run.iter()
-                        .map(|&p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], style)),
-                ),
+                chart.draw_series(run.iter().map(|&p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], style))),
             ),
         };
         if let Some(anno) = anno {

@@ -14,10 +14,7 @@ use crate::error::{read_to_string, Error, Result};
 const TEMPLATES: [(&str, &str); 3] = [
     ("base.html", include_str!("../../templates/base.html")),
     ("index.html", include_str!("../../templates/index.html")),
-    (
-        "experiment.html",
-        include_str!("../../templates/experiment.html"),
-    ),
+    ("experiment.html", include_str!("../../templates/experiment.html")),
 ];
 
 /// The report's stylesheet.
@@ -32,10 +29,7 @@ pub fn templates(dir: Option<&Path>) -> Result<Tera> {
             None => default.to_string(),
         };
         tera.add_raw_template(name, &text)
-            .map_err(|e| Error::Render {
-                what: format!("template {name}"),
-                message: e.to_string(),
-            })?;
+            .map_err(|e| Error::Render { what: format!("template {name}"), message: e.to_string() })?;
     }
     Ok(tera)
 }
@@ -133,12 +127,8 @@ pub struct ExperimentView {
 /// Counts of statuses, in words.
 fn counts(checks: &[CheckOutcome]) -> (String, &'static str, String) {
     let n = |s: Status| checks.iter().filter(|c| c.status == s).count();
-    let (pass, fail, known, revisit) = (
-        n(Status::Pass),
-        n(Status::Fail),
-        n(Status::KnownDeviation),
-        n(Status::KnownDeviationPasses),
-    );
+    let (pass, fail, known, revisit) =
+        (n(Status::Pass), n(Status::Fail), n(Status::KnownDeviation), n(Status::KnownDeviationPasses));
     let words = format!("{pass} pass, {fail} fail, {known} known deviation, {revisit} to revisit");
     let (verdict, class) = if checks.is_empty() {
         ("no checks".to_string(), "none")
@@ -159,21 +149,12 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str) -> ExperimentVie
     let n = r.modes.len();
     let mut mode_header = vec!["mode".to_string(), "omega (rad/s)".into(), "f (Hz)".into()];
     mode_header.extend((0..n).map(|i| format!("phibar m{}", i + 1)));
-    mode_header.extend([
-        "M_i (kg)".to_string(),
-        "K_i (N/m)".into(),
-        "C_i (N s/m)".into(),
-        "zeta_i".into(),
-    ]);
+    mode_header.extend(["M_i (kg)".to_string(), "K_i (N/m)".into(), "C_i (N s/m)".into(), "zeta_i".into()]);
     let modes = r
         .modes
         .iter()
         .map(|m| {
-            let mut row = vec![
-                m.number.to_string(),
-                format!("{:.2}", m.omega),
-                format!("{:.3}", m.freq_hz),
-            ];
+            let mut row = vec![m.number.to_string(), format!("{:.2}", m.omega), format!("{:.3}", m.freq_hz)];
             row.extend(m.shape.iter().map(|v| format!("{v:.3}")));
             row.extend([
                 format!("{:.4}", m.modal_mass),
@@ -251,10 +232,7 @@ pub struct IndexView {
 
 /// Builds the index view.
 pub fn index_view(results: &[ExperimentResult]) -> IndexView {
-    let all: Vec<CheckOutcome> = results
-        .iter()
-        .flat_map(|r| r.checks.iter().cloned())
-        .collect();
+    let all: Vec<CheckOutcome> = results.iter().flat_map(|r| r.checks.iter().cloned()).collect();
     let (overall, class, words) = counts(&all);
     let mut assumptions: Vec<String> = Vec::new();
     for r in results {
@@ -279,37 +257,21 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
                     figure: r.experiment.meta.figure.clone(),
                     title: r.experiment.meta.title.clone(),
                     link: format!("{id}/index.html"),
-                    thumbnail: r
-                        .figures
-                        .first()
-                        .map(|f| format!("{id}/{}.png", f.id))
-                        .unwrap_or_default(),
+                    thumbnail: r.figures.first().map(|f| format!("{id}/{}.png", f.id)).unwrap_or_default(),
                     verdict,
                     verdict_class: class.to_string(),
                     counts,
                 }
             })
             .collect(),
-        checks: results
-            .iter()
-            .flat_map(|r| {
-                r.checks
-                    .iter()
-                    .map(|c| CheckRow::new(&r.experiment.meta.id, c))
-            })
-            .collect(),
+        checks: results.iter().flat_map(|r| r.checks.iter().map(|c| CheckRow::new(&r.experiment.meta.id, c))).collect(),
         assumptions,
     }
 }
 
 /// Renders a page from a serialisable view.
 pub fn render<T: Serialize>(tera: &Tera, template: &str, view: &T) -> Result<String> {
-    let ctx = Context::from_serialize(view).map_err(|e| Error::Render {
-        what: template.into(),
-        message: e.to_string(),
-    })?;
-    tera.render(template, &ctx).map_err(|e| Error::Render {
-        what: template.into(),
-        message: format!("{e:#}"),
-    })
+    let ctx =
+        Context::from_serialize(view).map_err(|e| Error::Render { what: template.into(), message: e.to_string() })?;
+    tera.render(template, &ctx).map_err(|e| Error::Render { what: template.into(), message: format!("{e:#}") })
 }

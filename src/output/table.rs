@@ -1,7 +1,5 @@
 //! Result tables: a plain column store built by the analyses, written through polars.
 
-use std::path::Path;
-
 use polars::prelude::*;
 
 use crate::error::{Error, Result};
@@ -37,11 +35,7 @@ pub struct Table {
 impl Table {
     /// An empty table.
     pub fn new(name: impl Into<String>, description: impl Into<String>) -> Table {
-        Table {
-            name: name.into(),
-            description: description.into(),
-            columns: Vec::new(),
-        }
+        Table { name: name.into(), description: description.into(), columns: Vec::new() }
     }
 
     /// Adds a column of floats.
@@ -94,10 +88,7 @@ impl Table {
 pub fn to_csv(table: &Table) -> Result<Vec<u8>> {
     let mut df = table.to_frame().map_err(|e| table_err(&table.name, e))?;
     let mut buf = Vec::new();
-    CsvWriter::new(&mut buf)
-        .include_header(true)
-        .finish(&mut df)
-        .map_err(|e| table_err(&table.name, e))?;
+    CsvWriter::new(&mut buf).include_header(true).finish(&mut df).map_err(|e| table_err(&table.name, e))?;
     Ok(buf)
 }
 
@@ -105,49 +96,12 @@ pub fn to_csv(table: &Table) -> Result<Vec<u8>> {
 pub fn to_parquet(table: &Table) -> Result<Vec<u8>> {
     let mut df = table.to_frame().map_err(|e| table_err(&table.name, e))?;
     let mut buf = Vec::new();
-    ParquetWriter::new(&mut buf)
-        .finish(&mut df)
-        .map_err(|e| table_err(&table.name, e))?;
+    ParquetWriter::new(&mut buf).finish(&mut df).map_err(|e| table_err(&table.name, e))?;
     Ok(buf)
 }
 
 fn table_err(name: &str, e: PolarsError) -> Error {
-    Error::Table {
-        path: format!("{name} (table)").into(),
-        message: e.to_string(),
-    }
-}
-
-/// Reads a CSV file with a header into a polars frame.
-pub fn read_csv(path: &Path) -> Result<DataFrame> {
-    CsvReadOptions::default()
-        .with_has_header(true)
-        .try_into_reader_with_file_path(Some(path.to_path_buf()))
-        .and_then(|r| r.finish())
-        .map_err(|e| Error::Table {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })
-}
-
-/// A numeric column of a frame as f64 values (integers are converted).
-pub fn frame_f64(df: &DataFrame, path: &Path, name: &str) -> Result<Vec<f64>> {
-    let err = |m: String| Error::Table {
-        path: path.to_path_buf(),
-        message: m,
-    };
-    let col = df
-        .column(name)
-        .map_err(|_| err(format!("no column \"{name}\"")))?;
-    let col = col
-        .cast(&DataType::Float64)
-        .map_err(|e| err(format!("column \"{name}\": {e}")))?;
-    let ca = col
-        .f64()
-        .map_err(|e| err(format!("column \"{name}\": {e}")))?;
-    ca.iter()
-        .map(|v| v.ok_or_else(|| err(format!("column \"{name}\" has an empty value"))))
-        .collect()
+    Error::Table { path: format!("{name} (table)").into(), message: e.to_string() }
 }
 
 #[cfg(test)]
@@ -156,17 +110,15 @@ mod tests {
 
     #[test]
     fn csv_round_trip_keeps_full_precision() {
-        let t = Table::new("t", "test")
-            .f64("x", vec![0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI])
-            .i64("k", vec![1, 2, 3]);
+        let t =
+            Table::new("t", "test").f64("x", vec![0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI]).i64("k", vec![1, 2, 3]);
         let csv = to_csv(&t).unwrap();
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("t.csv");
         std::fs::write(&p, csv).unwrap();
-        let df = read_csv(&p).unwrap();
-        let x = frame_f64(&df, &p, "x").unwrap();
-        assert_eq!(x, vec![0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI]);
-        assert_eq!(frame_f64(&df, &p, "k").unwrap(), vec![1.0, 2.0, 3.0]);
+        let curve = crate::checks::reference::Curve::load(&p).unwrap();
+        assert_eq!(curve.column("x").unwrap(), &[0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI]);
+        assert_eq!(curve.column("k").unwrap(), &[1.0, 2.0, 3.0]);
         assert!(!to_parquet(&t).unwrap().is_empty());
     }
 }

@@ -22,11 +22,7 @@ pub struct Eigen {
 }
 
 /// One eigenpair by inverse iteration from a nearby shift, refined by a Rayleigh quotient.
-fn eigenpair(
-    ac: &DMatrix<Complex64>,
-    lambda: Complex64,
-    norm_a: f64,
-) -> Option<(Complex64, DVector<Complex64>, f64)> {
+fn eigenpair(ac: &DMatrix<Complex64>, lambda: Complex64, norm_a: f64) -> Option<(Complex64, DVector<Complex64>, f64)> {
     let n = ac.nrows();
     // A shift just off the eigenvalue keeps the LU factor non-singular while the solve
     // amplifies the eigenvector direction by ~1 / shift.
@@ -36,9 +32,7 @@ fn eigenpair(
         b[(i, i)] -= shift;
     }
     let lu = b.lu();
-    let mut v = DVector::<Complex64>::from_fn(n, |i, _| {
-        Complex64::new(1.0 + 0.1 * i as f64, 0.3 - 0.05 * i as f64)
-    });
+    let mut v = DVector::<Complex64>::from_fn(n, |i, _| Complex64::new(1.0 + 0.1 * i as f64, 0.3 - 0.05 * i as f64));
     for _ in 0..3 {
         v = lu.solve(&v)?;
         let norm = v.norm();
@@ -52,10 +46,7 @@ fn eigenpair(
     let r = (&av - &v * lambda).norm() / norm_a;
     // Phase: largest element real and positive (reproducible vectors).
     let (imax, _) =
-        v.iter().enumerate().fold(
-            (0, 0.0),
-            |acc, (i, c)| if c.norm() > acc.1 { (i, c.norm()) } else { acc },
-        );
+        v.iter().enumerate().fold((0, 0.0), |acc, (i, c)| if c.norm() > acc.1 { (i, c.norm()) } else { acc });
     let phase = v[imax] / v[imax].norm();
     v /= phase;
     Some((lambda, v, r))
@@ -100,13 +91,7 @@ pub fn decompose(a: &DMatrix<f64>) -> Option<Eigen> {
     }
     let vectors = DMatrix::from_columns(&columns);
     let inverse = vectors.clone().try_inverse()?;
-    Some(Eigen {
-        values,
-        vectors,
-        inverse,
-        residual,
-        representatives,
-    })
+    Some(Eigen { values, vectors, inverse, residual, representatives })
 }
 
 #[cfg(test)]
@@ -120,9 +105,7 @@ mod tests {
         let k = DMatrix::from_row_slice(
             3,
             3,
-            &[
-                46100.0, -21800.0, 0.0, -21800.0, 41600.0, -19800.0, 0.0, -19800.0, 19800.0,
-            ],
+            &[46100.0, -21800.0, 0.0, -21800.0, 41600.0, -19800.0, 0.0, -19800.0, 19800.0],
         );
         let c = DMatrix::from_row_slice(3, 3, &[3.0, -1.0, 0.0, -1.0, 2.5, -0.7, 0.0, -0.7, 0.9]);
         let mut a = DMatrix::<f64>::zeros(6, 6);

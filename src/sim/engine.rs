@@ -29,10 +29,7 @@ impl Bed {
     /// Position and velocity of a free bed at `t`.
     pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
         let tau = t - t0;
-        (
-            y0 + u0 * tau - 0.5 * GRAVITY * tau * tau,
-            u0 - GRAVITY * tau,
-        )
+        (y0 + u0 * tau - 0.5 * GRAVITY * tau * tau, u0 - GRAVITY * tau)
     }
 }
 
@@ -48,11 +45,7 @@ pub struct State {
 impl State {
     /// The configuration mask: bit j set when bed j is attached.
     pub fn mask(&self) -> usize {
-        self.beds
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.attached())
-            .fold(0, |m, (j, _)| m | (1 << j))
+        self.beds.iter().enumerate().filter(|(_, b)| b.attached()).fold(0, |m, (j, _)| m | (1 << j))
     }
 
     /// At rest in static equilibrium with every bed on its bottom (MODEL.md section 3).
@@ -60,12 +53,7 @@ impl State {
         let n = d.system.dof();
         let all = (1usize << d.system.dampers.len()) - 1;
         let x = d.configs[all].offset.clone();
-        State {
-            t: 0.0,
-            x,
-            v: DVector::zeros(n),
-            beds: vec![Bed::Bottom; d.system.dampers.len()],
-        }
+        State { t: 0.0, x, v: DVector::zeros(n), beds: vec![Bed::Bottom; d.system.dampers.len()] }
     }
 
     /// Bed position and velocity (attached beds move with their host).
@@ -86,11 +74,7 @@ pub enum EventKind {
     LiftOff { top: bool },
     /// The bed hit the bottom or the top with this relative speed (m/s) and stayed attached
     /// (`attached`) or separated at once.
-    Impact {
-        top: bool,
-        speed: f64,
-        attached: bool,
-    },
+    Impact { top: bool, speed: f64, attached: bool },
 }
 
 /// One event of one bed.
@@ -133,10 +117,7 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings {
-            step_fraction: 0.125,
-            max_events: 2000,
-        }
+        Settings { step_fraction: 0.125, max_events: 2000 }
     }
 }
 
@@ -159,10 +140,7 @@ pub struct Engine<'a> {
 
 impl<'a> Engine<'a> {
     pub fn new(d: &'a Dynamics) -> Engine<'a> {
-        Engine {
-            d,
-            settings: Settings::default(),
-        }
+        Engine { d, settings: Settings::default() }
     }
 
     /// The functions to watch in the state's configuration.
@@ -174,33 +152,12 @@ impl<'a> Engine<'a> {
             match *bed {
                 // A bed in a container without clearance cannot move relative to it.
                 Bed::Bottom | Bed::Top if dm.clearance == 0.0 => {}
-                Bed::Bottom => w.push(Watch::Contact {
-                    bed: j,
-                    host,
-                    sigma: 1.0,
-                }),
-                Bed::Top => w.push(Watch::Contact {
-                    bed: j,
-                    host,
-                    sigma: -1.0,
-                }),
+                Bed::Bottom => w.push(Watch::Contact { bed: j, host, sigma: 1.0 }),
+                Bed::Top => w.push(Watch::Contact { bed: j, host, sigma: -1.0 }),
                 Bed::Free { t0, y0, u0 } => {
-                    w.push(Watch::GapBottom {
-                        bed: j,
-                        host,
-                        y0,
-                        u0,
-                        tf: t0,
-                    });
+                    w.push(Watch::GapBottom { bed: j, host, y0, u0, tf: t0 });
                     if dm.clearance.is_finite() {
-                        w.push(Watch::GapTop {
-                            bed: j,
-                            host,
-                            d: dm.clearance,
-                            y0,
-                            u0,
-                            tf: t0,
-                        });
+                        w.push(Watch::GapTop { bed: j, host, d: dm.clearance, y0, u0, tf: t0 });
                     }
                 }
             }
@@ -244,13 +201,7 @@ impl<'a> Engine<'a> {
     }
 
     /// The earliest event in `(t_a, t_b]` and the watches that fire there.
-    fn next_event(
-        &self,
-        seg: &Segment,
-        watches: &[Watch],
-        t_a: f64,
-        t_b: f64,
-    ) -> Option<(f64, Vec<Watch>)> {
+    fn next_event(&self, seg: &Segment, watches: &[Watch], t_a: f64, t_b: f64) -> Option<(f64, Vec<Watch>)> {
         if watches.is_empty() {
             return None;
         }
@@ -282,11 +233,7 @@ impl<'a> Engine<'a> {
                 if lo >= b {
                     continue;
                 }
-                let ta = if lo == a {
-                    w.taylor(seg, d, &pt)
-                } else {
-                    eval(w, lo)
-                };
+                let ta = if lo == a { w.taylor(seg, d, &pt) } else { eval(w, lo) };
                 if excluded(&ta, b - lo) {
                     continue;
                 }
@@ -356,19 +303,11 @@ impl<'a> Engine<'a> {
                 s.v[p] = vp2;
                 let loss = ke_before - 0.5 * m_host * vp2 * vp2 - 0.5 * dm.mass * u2 * u2;
                 let y_contact = if top { s.x[p] + dm.clearance } else { s.x[p] };
-                s.beds[j] = Bed::Free {
-                    t0: s.t,
-                    y0: y_contact,
-                    u0: u2,
-                };
+                s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: u2 };
                 events.push(Event {
                     t: s.t,
                     bed: j,
-                    kind: EventKind::Impact {
-                        top,
-                        speed: rel.abs(),
-                        attached: false,
-                    },
+                    kind: EventKind::Impact { top, speed: rel.abs(), attached: false },
                     loss,
                 });
             } else {
@@ -379,19 +318,14 @@ impl<'a> Engine<'a> {
                 events.push(Event {
                     t: s.t,
                     bed: j,
-                    kind: EventKind::Impact {
-                        top,
-                        speed: rel.abs(),
-                        attached: true,
-                    },
+                    kind: EventKind::Impact { top, speed: rel.abs(), attached: true },
                     loss,
                 });
             }
         }
         // Settle: the largest set of candidates whose contact forces are consistent.
-        let candidates: Vec<usize> = (0..s.beds.len())
-            .filter(|&j| side[j].is_some() && sys.dampers[j].clearance != 0.0)
-            .collect();
+        let candidates: Vec<usize> =
+            (0..s.beds.len()).filter(|&j| side[j].is_some() && sys.dampers[j].clearance != 0.0).collect();
         let locked: usize = (0..s.beds.len())
             .filter(|&j| side[j].is_some() && sys.dampers[j].clearance == 0.0)
             .fold(0, |m, j| m | (1 << j));
@@ -402,30 +336,13 @@ impl<'a> Engine<'a> {
             if attached & (1 << j) != 0 {
                 s.beds[j] = if top { Bed::Top } else { Bed::Bottom };
             } else {
-                let y0 = if top {
-                    s.x[p] + sys.dampers[j].clearance
-                } else {
-                    s.x[p]
-                };
+                let y0 = if top { s.x[p] + sys.dampers[j].clearance } else { s.x[p] };
                 let was_attached = s.beds[j].attached();
-                s.beds[j] = Bed::Free {
-                    t0: s.t,
-                    y0,
-                    u0: s.v[p],
-                };
+                s.beds[j] = Bed::Free { t0: s.t, y0, u0: s.v[p] };
                 if was_attached {
-                    events.push(Event {
-                        t: s.t,
-                        bed: j,
-                        kind: EventKind::LiftOff { top },
-                        loss: 0.0,
-                    });
+                    events.push(Event { t: s.t, bed: j, kind: EventKind::LiftOff { top }, loss: 0.0 });
                 } else if let Some(ev) = events.iter_mut().find(|e| e.bed == j) {
-                    ev.kind = EventKind::Impact {
-                        top,
-                        speed: impact_speed[j],
-                        attached: false,
-                    };
+                    ev.kind = EventKind::Impact { top, speed: impact_speed[j], attached: false };
                 }
             }
         }
@@ -436,13 +353,7 @@ impl<'a> Engine<'a> {
     /// index), the first in which every attached bed is pressed on (contact force >= 0) and
     /// every detached candidate moves away (relative acceleration >= 0); signs near zero are
     /// decided by the next derivative.
-    fn settle(
-        &self,
-        s: &State,
-        candidates: &[usize],
-        side: &[Option<bool>],
-        locked: usize,
-    ) -> usize {
+    fn settle(&self, s: &State, candidates: &[usize], side: &[Option<bool>], locked: usize) -> usize {
         let d = self.d;
         let m = candidates.len();
         let mut subsets: Vec<usize> = (0..(1usize << m)).collect();

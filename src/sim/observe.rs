@@ -37,11 +37,7 @@ impl Extrema {
 
     /// Half the peak-to-peak displacement of each mass.
     pub fn amplitudes(&self) -> Vec<f64> {
-        self.min
-            .iter()
-            .zip(&self.max)
-            .map(|(lo, hi)| 0.5 * (hi - lo))
-            .collect()
+        self.min.iter().zip(&self.max).map(|(lo, hi)| 0.5 * (hi - lo)).collect()
     }
 
     fn take(&mut self, i: usize, x: f64) {
@@ -77,11 +73,7 @@ fn roots_of(f: &impl Fn(f64) -> (f64, f64), a: f64, b: f64, m: usize) -> Vec<f64
                     hi = t;
                 }
                 let newton = if dv != 0.0 { t - v / dv } else { f64::NAN };
-                t = if newton > lo && newton < hi {
-                    newton
-                } else {
-                    0.5 * (lo + hi)
-                };
+                t = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
                 if hi - lo < 1e-15 * (1.0 + t.abs()) {
                     break;
                 }
@@ -103,15 +95,8 @@ impl Observer for Extrema {
         let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
         // One evaluation per sample time serves every mass; velocity sign changes are then
         // refined one by one.
-        let times: Vec<f64> = (0..=m)
-            .map(|k| {
-                if k == m {
-                    t_b
-                } else {
-                    t_a + (t_b - t_a) * k as f64 / m as f64
-                }
-            })
-            .collect();
+        let times: Vec<f64> =
+            (0..=m).map(|k| if k == m { t_b } else { t_a + (t_b - t_a) * k as f64 / m as f64 }).collect();
         let samples: Vec<[f64; 4]> = times
             .iter()
             .map(|&t| {
@@ -133,11 +118,8 @@ impl Observer for Extrema {
                 (seg.deriv(d, &pt, i, 1), seg.deriv(d, &pt, i, 2))
             };
             for w in 0..m {
-                let (va, vb) = if i < 4 {
-                    (samples[w][i], samples[w + 1][i])
-                } else {
-                    (v(times[w]).0, v(times[w + 1]).0)
-                };
+                let (va, vb) =
+                    if i < 4 { (samples[w][i], samples[w + 1][i]) } else { (v(times[w]).0, v(times[w + 1]).0) };
                 if va * vb < 0.0 || vb == 0.0 {
                     for r in roots_of(&v, times[w], times[w + 1], 1) {
                         self.take(i, x(r));
@@ -157,10 +139,7 @@ impl Observer for Extrema {
                 let rel = |t: f64| {
                     let pt = seg.point(d, t);
                     let (_, u) = Bed::flight(t0, y0, u0, t);
-                    (
-                        u - seg.deriv(d, &pt, p, 1),
-                        -GRAVITY - seg.deriv(d, &pt, p, 2),
-                    )
+                    (u - seg.deriv(d, &pt, p, 1), -GRAVITY - seg.deriv(d, &pt, p, 2))
                 };
                 let mut best = gap(t_a).0.max(gap(t_b).0);
                 for r in roots_of(&rel, t_a, t_b, m) {
@@ -282,4 +261,57 @@ pub fn flat(d: &Dynamics, s: &State) -> DVector<f64> {
         z[2 * n + nb + j] = (u - s.v[p]) / d.omega;
     }
     z
+}
+
+/// Time histories at given (sorted) times: displacement of every mass, position and state
+/// of every bed, and the events in between.
+#[derive(Debug, Clone, Default)]
+pub struct Sampler {
+    pub times: Vec<f64>,
+    next: usize,
+    /// Per sample, per mass.
+    pub x: Vec<Vec<f64>>,
+    /// Per sample, per bed: position.
+    pub y: Vec<Vec<f64>>,
+    /// Per sample, per bed: 'B' bottom, 'T' top, 'F' free.
+    pub state: Vec<Vec<char>>,
+    pub events: Vec<Event>,
+}
+
+impl Sampler {
+    pub fn new(times: Vec<f64>) -> Sampler {
+        Sampler { times, ..Sampler::default() }
+    }
+}
+
+impl Observer for Sampler {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        while self.next < self.times.len() && self.times[self.next] <= t_b {
+            let t = self.times[self.next];
+            if t >= t_a {
+                let pt = seg.point(d, t);
+                let (x, _) = seg.state(d, &pt);
+                let mut y = Vec::with_capacity(beds.len());
+                let mut st = Vec::with_capacity(beds.len());
+                for (j, b) in beds.iter().enumerate() {
+                    let dm = &d.system.dampers[j];
+                    let (pos, c) = match *b {
+                        Bed::Bottom => (x[dm.host], 'B'),
+                        Bed::Top => (x[dm.host] + dm.clearance, 'T'),
+                        Bed::Free { t0, y0, u0 } => (Bed::flight(t0, y0, u0, t).0, 'F'),
+                    };
+                    y.push(pos);
+                    st.push(c);
+                }
+                self.x.push(x.iter().copied().collect());
+                self.y.push(y);
+                self.state.push(st);
+            }
+            self.next += 1;
+        }
+    }
+
+    fn event(&mut self, ev: &Event, _after: &State) {
+        self.events.push(*ev);
+    }
 }

@@ -60,11 +60,7 @@ fn solve(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
         }
         let newton = x - v / dv;
         let inside = (newton - lo) * (newton - hi) < 0.0;
-        let next = if dv != 0.0 && inside {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
+        let next = if dv != 0.0 && inside { newton } else { 0.5 * (lo + hi) };
         if (next - x).abs() <= tol {
             return next;
         }
@@ -75,10 +71,7 @@ fn solve(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
 
 /// `L''(tau) = h2 + h3 tau - B tau^2 / 2` and its derivative.
 fn lower_second(t: &Taylor, tau: f64) -> (f64, f64) {
-    (
-        t.h[2] + tau * (t.h[3] - t.bound4 * tau / 2.0),
-        t.h[3] - t.bound4 * tau,
-    )
+    (t.h[2] + tau * (t.h[3] - t.bound4 * tau / 2.0), t.h[3] - t.bound4 * tau)
 }
 
 /// The first root of `L` in `(0, len]`, if any: `L''` has at most two roots, which split the
@@ -91,9 +84,7 @@ pub fn lower_root(t: &Taylor, len: f64) -> Option<f64> {
     }
     // Quick exclusion: the value outweighs the largest possible change over the interval.
     let h = &t.h;
-    let change = len
-        * (h[1].abs()
-            + len * (h[2].abs() / 2.0 + len * (h[3].abs() / 6.0 + t.bound4 * len / 24.0)));
+    let change = len * (h[1].abs() + len * (h[2].abs() / 2.0 + len * (h[3].abs() / 6.0 + t.bound4 * len / 24.0)));
     if h[0] > change {
         return None;
     }
@@ -115,11 +106,7 @@ pub fn lower_root(t: &Taylor, len: f64) -> Option<f64> {
         let (k0, k1) = (knots[w], knots[w + 1]);
         // Split [k0, k1] at the root of L' if it changes sign there.
         let (d0, d1) = (lower(t, k0).1, lower(t, k1).1);
-        let mid = if d0 * d1 < 0.0 {
-            Some(solve(slope, k0, k1))
-        } else {
-            None
-        };
+        let mid = if d0 * d1 < 0.0 { Some(solve(slope, k0, k1)) } else { None };
         for b in mid.into_iter().chain(std::iter::once(k1)) {
             if lower(t, b).0 <= 0.0 {
                 return Some(solve(value, a, b));
@@ -161,14 +148,9 @@ pub fn fresh_window(t: &Taylor, noise: f64, tol: [f64; 3], max: f64) -> Option<f
         return None;
     }
     let h1 = t.h[1].max(0.0);
-    let h2 = if t.h[2].abs() <= tol[2] {
-        t.h[2].max(0.0)
-    } else {
-        t.h[2]
-    };
+    let h2 = if t.h[2].abs() <= tol[2] { t.h[2].max(0.0) } else { t.h[2] };
     // L(tau) = h1 tau + h2 tau^2/2 + h3 tau^3/6 - B tau^4/24, the value taken as zero.
-    let lower =
-        |tau: f64| tau * (h1 + tau * (h2 / 2.0 + tau * (t.h[3] / 6.0 - t.bound4 * tau / 24.0)));
+    let lower = |tau: f64| tau * (h1 + tau * (h2 / 2.0 + tau * (t.h[3] / 6.0 - t.bound4 * tau / 24.0)));
     if lower(noise) <= 0.0 {
         return None;
     }
@@ -192,10 +174,7 @@ mod tests {
     fn cosine(w: f64, shift: f64) -> impl FnMut(f64) -> Taylor {
         move |t: f64| {
             let (s, c) = (w * t).sin_cos();
-            Taylor {
-                h: [c + shift, -w * s, -w * w * c, w * w * w * s],
-                bound4: w.powi(4),
-            }
+            Taylor { h: [c + shift, -w * s, -w * w * c, w * w * w * s], bound4: w.powi(4) }
         }
     }
 
@@ -236,17 +215,11 @@ mod tests {
     #[test]
     fn fresh_window_skips_a_double_zero() {
         // h = tau^3 near zero: positive after any noise window.
-        let t = Taylor {
-            h: [0.0, 0.0, 0.0, 6.0],
-            bound4: 24.0,
-        };
+        let t = Taylor { h: [0.0, 0.0, 0.0, 6.0], bound4: 24.0 };
         let w = fresh_window(&t, 1e-12, [1e-15, 1e-12, 1e-12], 0.5).unwrap();
         assert!(w > 0.1, "{w}");
         // h = -tau^2: never positive.
-        let t = Taylor {
-            h: [0.0, 0.0, -2.0, 0.0],
-            bound4: 0.0,
-        };
+        let t = Taylor { h: [0.0, 0.0, -2.0, 0.0], bound4: 0.0 };
         assert_eq!(fresh_window(&t, 1e-12, [1e-15, 1e-12, 1e-12], 0.5), None);
     }
 }

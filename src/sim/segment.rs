@@ -32,13 +32,7 @@ pub struct Point {
 
 impl Segment {
     /// Starts a segment in configuration `mask` at `t0` from displacements `x0`, velocities `v0`.
-    pub fn start(
-        d: &Dynamics,
-        mask: usize,
-        t0: f64,
-        x0: &DVector<f64>,
-        v0: &DVector<f64>,
-    ) -> Segment {
+    pub fn start(d: &Dynamics, mask: usize, t0: f64, x0: &DVector<f64>, v0: &DVector<f64>) -> Segment {
         let n = x0.len();
         let cfg = &d.configs[mask];
         let (xp, vp) = d.particular(mask, t0);
@@ -54,13 +48,7 @@ impl Segment {
             c[r] = (0..2 * n).map(|j| cfg.inverse[(r, j)] * z[j]).sum();
             c_abs[r] = c[r].norm();
         }
-        Segment {
-            t0,
-            mask,
-            len,
-            c,
-            c_abs,
-        }
+        Segment { t0, mask, len, c, c_abs }
     }
 
     /// The shared quantities at time `t`.
@@ -78,24 +66,14 @@ impl Segment {
             e_abs[r] = self.c_abs[r] * decay;
         }
         let (sin, cos) = (d.omega * t).sin_cos();
-        Point {
-            t,
-            e,
-            e_abs,
-            sin,
-            cos,
-        }
+        Point { t, e, e_abs, sin, cos }
     }
 
     /// Derivative `order` of the displacement of mass `p`.
     pub fn deriv(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
         let row = &cfg.vl[p][order];
-        let hom: f64 = row[..self.len]
-            .iter()
-            .zip(&pt.e[..self.len])
-            .map(|(a, e)| a.re * e.re - a.im * e.im)
-            .sum();
+        let hom: f64 = row[..self.len].iter().zip(&pt.e[..self.len]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
         let (pp, qq) = (cfg.p[p], cfg.q[p]);
         let w = d.omega_pow[order];
         let forced = match order % 4 {
@@ -111,11 +89,7 @@ impl Segment {
     pub fn bound(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
         let row = &cfg.vl_abs[p][order];
-        let hom: f64 = row[..self.len]
-            .iter()
-            .zip(&pt.e_abs[..self.len])
-            .map(|(a, e)| a * e)
-            .sum();
+        let hom: f64 = row[..self.len].iter().zip(&pt.e_abs[..self.len]).map(|(a, e)| a * e).sum();
         hom + d.omega_pow[order] * cfg.amp[p]
     }
 
@@ -125,11 +99,7 @@ impl Segment {
         let mut out = [0.0; 4];
         for (i, o) in out.iter_mut().enumerate() {
             let row = &cfg.vl[p][order + i];
-            let hom: f64 = row[..self.len]
-                .iter()
-                .zip(&pt.e[..self.len])
-                .map(|(a, e)| a.re * e.re - a.im * e.im)
-                .sum();
+            let hom: f64 = row[..self.len].iter().zip(&pt.e[..self.len]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
             let (pp, qq) = (cfg.p[p], cfg.q[p]);
             let forced = match (order + i) % 4 {
                 0 => pp * pt.cos + qq * pt.sin,
@@ -145,10 +115,7 @@ impl Segment {
     /// Displacements and velocities of all masses at a point.
     pub fn state(&self, d: &Dynamics, pt: &Point) -> (DVector<f64>, DVector<f64>) {
         let n = d.system.dof();
-        (
-            DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 0)),
-            DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 1)),
-        )
+        (DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 0)), DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 1)))
     }
 }
 
@@ -158,22 +125,9 @@ pub enum Watch {
     /// Contact force per unit bed mass, `sigma (xddot_p + g)` (sigma +1 bottom, -1 top).
     Contact { bed: usize, host: usize, sigma: f64 },
     /// Gap above the container bottom, `y - x_p`, of a free bed.
-    GapBottom {
-        bed: usize,
-        host: usize,
-        y0: f64,
-        u0: f64,
-        tf: f64,
-    },
+    GapBottom { bed: usize, host: usize, y0: f64, u0: f64, tf: f64 },
     /// Gap below the container top, `x_p + d - y`, of a free bed.
-    GapTop {
-        bed: usize,
-        host: usize,
-        d: f64,
-        y0: f64,
-        u0: f64,
-        tf: f64,
-    },
+    GapTop { bed: usize, host: usize, d: f64, y0: f64, u0: f64, tf: f64 },
 }
 
 /// A function value with three derivatives at a point, and a bound on the fourth derivative
@@ -188,9 +142,7 @@ impl Watch {
     /// The bed this function watches.
     pub fn bed(&self) -> usize {
         match *self {
-            Watch::Contact { bed, .. }
-            | Watch::GapBottom { bed, .. }
-            | Watch::GapTop { bed, .. } => bed,
+            Watch::Contact { bed, .. } | Watch::GapBottom { bed, .. } | Watch::GapTop { bed, .. } => bed,
         }
     }
 
@@ -200,43 +152,23 @@ impl Watch {
             Watch::Contact { host, sigma, .. } => {
                 let x = seg.derivs4(d, pt, host, 2);
                 Taylor {
-                    h: [
-                        sigma * (x[0] + GRAVITY),
-                        sigma * x[1],
-                        sigma * x[2],
-                        sigma * x[3],
-                    ],
+                    h: [sigma * (x[0] + GRAVITY), sigma * x[1], sigma * x[2], sigma * x[3]],
                     bound4: seg.bound(d, pt, host, 6),
                 }
             }
-            Watch::GapBottom {
-                host, y0, u0, tf, ..
-            } => {
+            Watch::GapBottom { host, y0, u0, tf, .. } => {
                 let x = seg.derivs4(d, pt, host, 0);
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
-                Taylor {
-                    h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]],
-                    bound4: seg.bound(d, pt, host, 4),
-                }
+                Taylor { h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]], bound4: seg.bound(d, pt, host, 4) }
             }
-            Watch::GapTop {
-                host,
-                d: clearance,
-                y0,
-                u0,
-                tf,
-                ..
-            } => {
+            Watch::GapTop { host, d: clearance, y0, u0, tf, .. } => {
                 let x = seg.derivs4(d, pt, host, 0);
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
-                Taylor {
-                    h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]],
-                    bound4: seg.bound(d, pt, host, 4),
-                }
+                Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4: seg.bound(d, pt, host, 4) }
             }
         }
     }

@@ -53,8 +53,7 @@ pub struct EnergyBalance {
 impl EnergyBalance {
     /// `|work - viscous - impact - stored_change| / |work|`.
     pub fn relative_residual(&self) -> f64 {
-        (self.work - self.viscous - self.impact - self.stored_change).abs()
-            / self.work.abs().max(f64::MIN_POSITIVE)
+        (self.work - self.viscous - self.impact - self.stored_change).abs() / self.work.abs().max(f64::MIN_POSITIVE)
     }
 }
 
@@ -90,15 +89,8 @@ pub struct Steady {
 const SUBHARMONIC_GAP: f64 = 1e3;
 
 /// Distance of two flat states relative to `scale`, or infinity when bed states differ.
-fn distance(
-    a: &(Vec<Bed>, nalgebra::DVector<f64>),
-    b: &(Vec<Bed>, nalgebra::DVector<f64>),
-    scale: f64,
-) -> f64 {
-    let same =
-        a.0.iter()
-            .zip(&b.0)
-            .all(|(x, y)| std::mem::discriminant(x) == std::mem::discriminant(y));
+fn distance(a: &(Vec<Bed>, nalgebra::DVector<f64>), b: &(Vec<Bed>, nalgebra::DVector<f64>), scale: f64) -> f64 {
+    let same = a.0.iter().zip(&b.0).all(|(x, y)| std::mem::discriminant(x) == std::mem::discriminant(y));
     if !same {
         return f64::INFINITY;
     }
@@ -118,8 +110,7 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     let all = (1usize << nb) - 1;
     let rest = &d.configs[all].offset;
     let keep = opts.max_subharmonic + opts.consecutive + 1;
-    let mut history: VecDeque<(Vec<Bed>, nalgebra::DVector<f64>)> =
-        VecDeque::with_capacity(keep + 1);
+    let mut history: VecDeque<(Vec<Bed>, nalgebra::DVector<f64>)> = VecDeque::with_capacity(keep + 1);
     let mut streak = vec![0usize; opts.max_subharmonic + 1];
     // A slowly decaying transient sampled once per period can nearly repeat after a few
     // periods (aliasing); a subharmonic is accepted only while the motion is clearly not
@@ -134,9 +125,7 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             break;
         }
         let z = flat(d, &s);
-        let scale = (0..n)
-            .map(|i| (s.x[i] - rest[i]).hypot(s.v[i] / d.omega))
-            .fold(1e-15, f64::max);
+        let scale = (0..n).map(|i| (s.x[i] - rest[i]).hypot(s.v[i] / d.omega)).fold(1e-15, f64::max);
         history.push_front((s.beds.clone(), z));
         history.truncate(keep);
         for (p, st) in streak.iter_mut().enumerate().skip(1) {
@@ -146,9 +135,7 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
                 *st = 0;
             }
         }
-        if history.len() > 1
-            && distance(&history[0], &history[1], scale) > SUBHARMONIC_GAP * opts.tol
-        {
+        if history.len() > 1 && distance(&history[0], &history[1], scale) > SUBHARMONIC_GAP * opts.tol {
             not_period_one += 1;
         } else {
             not_period_one = 0;
@@ -156,10 +143,8 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         simulated += 1;
         k += 1;
         if simulated >= opts.min_periods {
-            let settled = |p: usize| {
-                streak[p] >= opts.consecutive * p
-                    && (p == 1 || not_period_one >= opts.consecutive * p)
-            };
+            let settled =
+                |p: usize| streak[p] >= opts.consecutive * p && (p == 1 || not_period_one >= opts.consecutive * p);
             if let Some(p) = (1..=opts.max_subharmonic).find(|&p| settled(p)) {
                 found = p;
                 break;
@@ -183,11 +168,7 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             stop = Some(e);
         }
     }
-    let per = |v: &[usize]| {
-        v.iter()
-            .map(|&c| c as f64 / record as f64)
-            .collect::<Vec<_>>()
-    };
+    let per = |v: &[usize]| v.iter().map(|&c| c as f64 / record as f64).collect::<Vec<_>>();
     Steady {
         omega: d.omega,
         converged: converged && stop.is_none(),

@@ -25,17 +25,11 @@ pub struct SweepPoint {
 
 /// Every frequency from rest, independently. Results are in the order of `freqs_hz`; each
 /// point's computation depends on nothing else, so the bytes do not depend on threads.
-pub fn from_rest(
-    sys: &System,
-    freqs_hz: &[f64],
-    opts: &SteadyOptions,
-    tick: &(dyn Fn() + Sync),
-) -> Vec<SweepPoint> {
+pub fn from_rest(sys: &System, freqs_hz: &[f64], opts: &SteadyOptions, tick: &(dyn Fn() + Sync)) -> Vec<SweepPoint> {
     freqs_hz
         .par_iter()
         .map(|&f| {
-            let result = Dynamics::new(sys, 2.0 * PI * f)
-                .map(|d| steady_state(&d, State::at_rest(&d), opts));
+            let result = Dynamics::new(sys, 2.0 * PI * f).map(|d| steady_state(&d, State::at_rest(&d), opts));
             tick();
             SweepPoint { freq_hz: f, result }
         })
@@ -50,20 +44,11 @@ pub fn restart(s: &State) -> State {
         .beds
         .iter()
         .map(|b| match *b {
-            Bed::Free { t0, y0, u0 } => Bed::Free {
-                t0: t0 - shift,
-                y0,
-                u0,
-            },
+            Bed::Free { t0, y0, u0 } => Bed::Free { t0: t0 - shift, y0, u0 },
             other => other,
         })
         .collect();
-    State {
-        t: 0.0,
-        x: s.x.clone(),
-        v: s.v.clone(),
-        beds,
-    }
+    State { t: 0.0, x: s.x.clone(), v: s.v.clone(), beds }
 }
 
 /// Continuation: the first point from rest, each next one from the previous final state.
@@ -85,10 +70,7 @@ pub fn continued(
     let mut out = Vec::with_capacity(order.len());
     for f in order {
         let result = Dynamics::new(sys, 2.0 * PI * f).map(|d| {
-            let start = prev
-                .as_ref()
-                .map(restart)
-                .unwrap_or_else(|| State::at_rest(&d));
+            let start = prev.as_ref().map(restart).unwrap_or_else(|| State::at_rest(&d));
             steady_state(&d, start, opts)
         });
         if let Ok(r) = &result {

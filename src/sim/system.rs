@@ -32,20 +32,8 @@ pub struct System {
 
 impl System {
     /// A system with plastic impacts.
-    pub fn plastic(
-        structure: Structure,
-        dampers: Vec<Damper>,
-        driven: usize,
-        force: f64,
-    ) -> System {
-        System {
-            structure,
-            dampers,
-            driven,
-            force,
-            restitution: 0.0,
-            stick_speed: 0.0,
-        }
+    pub fn plastic(structure: Structure, dampers: Vec<Damper>, driven: usize, force: f64) -> System {
+        System { structure, dampers, driven, force, restitution: 0.0, stick_speed: 0.0 }
     }
 
     /// Number of primary masses.
@@ -94,16 +82,11 @@ impl std::fmt::Display for SetupError {
             SetupError::Defective { mask } => {
                 write!(f, "configuration {mask:#b}: state matrix is defective")
             }
-            SetupError::Singular { mask } => write!(
-                f,
-                "configuration {mask:#b}: dynamic stiffness is singular at the forcing frequency"
-            ),
+            SetupError::Singular { mask } => {
+                write!(f, "configuration {mask:#b}: dynamic stiffness is singular at the forcing frequency")
+            }
             SetupError::TooLarge { masses } => {
-                write!(
-                    f,
-                    "{masses} masses: the simulator supports at most {}",
-                    MAX_TERMS / 2
-                )
+                write!(f, "{masses} masses: the simulator supports at most {}", MAX_TERMS / 2)
             }
         }
     }
@@ -163,17 +146,11 @@ impl Dynamics {
         }
         let k = system.structure.stiffness.clone();
         let c = system.structure.damping.clone();
-        let k_inv = k
-            .clone()
-            .try_inverse()
-            .ok_or(SetupError::Singular { mask: 0 })?;
+        let k_inv = k.clone().try_inverse().ok_or(SetupError::Singular { mask: 0 })?;
         let mut configs = Vec::with_capacity(1 << system.dampers.len());
         for mask in 0..(1usize << system.dampers.len()) {
             let m = system.mass_matrix(mask);
-            let m_inv = m
-                .clone()
-                .try_inverse()
-                .ok_or(SetupError::Singular { mask })?;
+            let m_inv = m.clone().try_inverse().ok_or(SetupError::Singular { mask })?;
             let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
             let mk = -&m_inv * &k;
             let mc = -&m_inv * &c;
@@ -190,9 +167,7 @@ impl Dynamics {
                 .map(|p| {
                     std::array::from_fn(|order| {
                         reps.iter()
-                            .map(|&(kk, w)| {
-                                eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32) * w
-                            })
+                            .map(|&(kk, w)| eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32) * w)
                             .collect()
                     })
                 })
@@ -201,9 +176,7 @@ impl Dynamics {
             let lambda: Vec<Complex64> = reps.iter().map(|&(kk, _)| eig.values[kk]).collect();
             let vl_abs = vl
                 .iter()
-                .map(|rows| {
-                    std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect())
-                })
+                .map(|rows| std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect()))
                 .collect();
             // Forced response: (K - omega^2 M + i omega C) X = F e_k; x_p = Im(X e^{i omega t}).
             let (p, q) = if system.force != 0.0 {

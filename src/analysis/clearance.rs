@@ -1,0 +1,198 @@
+//! Clearance studies: for each case, the highest flight of its beds without a top (the
+//! clearance beyond which no bed reaches the top, so the damper behaves as d = inf), then the
+//! peak compliance of a mass against clearance, and the clearance that minimises it.
+
+use std::collections::BTreeMap;
+
+use crate::checks::fmt_num;
+use crate::checks::reference::ReferenceStore;
+use crate::experiment::{clearance_key, Case, Experiment, PlotKind};
+use crate::output::figure::{Dash, Figure, Marker, Panel, Series, VLine};
+use crate::output::table::Table;
+use crate::sim::sweep;
+use crate::sim::SteadyOptions;
+
+use super::curves::{self, Curve};
+use super::sweep::check_frequencies;
+use super::Tick;
+
+/// What a clearance study produced.
+pub struct StudyOutput {
+    pub tables: Vec<Table>,
+    pub figures: Vec<Figure>,
+    pub curves: Vec<Curve>,
+    pub exports: BTreeMap<String, f64>,
+}
+
+/// The settings of a study.
+pub struct Study<'a> {
+    pub freq_hz: &'a [f64],
+    pub clearances_mm: Option<&'a [f64]>,
+    pub points: usize,
+    pub objective_mass: usize,
+    pub objective_case: &'a str,
+    pub steady: &'a SteadyOptions,
+}
+
+/// Simulated points a study will run when its clearances are listed (for progress).
+pub fn work(exp: &Experiment, study: &Study) -> u64 {
+    let cases = exp.cases.iter().filter(|c| !c.dampers.is_empty()).count();
+    let clearances = study.clearances_mm.map(|c| c.len()).unwrap_or(study.points);
+    (cases * (clearances + 1) * study.freq_hz.len()) as u64
+}
+
+fn with_clearance(case: &Case, d: f64) -> Case {
+    let mut c = case.clone();
+    for dm in &mut c.dampers {
+        dm.clearance = d;
+    }
+    c
+}
+
+/// Runs a clearance study.
+pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) -> StudyOutput {
+    let n = exp.structure.dof();
+    let m = study.objective_mass;
+    let force = exp.excitation.force;
+    let cases: Vec<&Case> = exp.cases.iter().filter(|c| !c.dampers.is_empty()).collect();
+    // Beds without a top: how high they fly decides the useful clearances.
+    let unbounded: Vec<Curve> = cases
+        .iter()
+        .map(|case| {
+            let sys = curves::system(exp, &with_clearance(case, f64::INFINITY));
+            let pts = sweep::from_rest(&sys, study.freq_hz, study.steady, tick);
+            curves::from_sweep(
+                &format!("{}@inf", case.id),
+                &format!("{}, d = inf", case.label),
+                pts,
+                force,
+                case.dampers.len(),
+                n,
+            )
+        })
+        .collect();
+    let limits_mm: Vec<f64> = unbounded.iter().map(|c| 1e3 * c.highest_flight()).collect();
+    let max_limit = limits_mm.iter().copied().fold(0.0, f64::max);
+    let clearances: Vec<f64> = match study.clearances_mm {
+        Some(list) => list.to_vec(),
+        None => (1..=study.points)
+            .map(|k| crate::experiment::round_hz(max_limit * 1.2 * k as f64 / study.points as f64))
+            .collect(),
+    };
+    let mut scanned: Vec<Curve> = Vec::new();
+    for case in &cases {
+        for &mm in &clearances {
+            let key = clearance_key(&case.id, mm);
+            let grid = curves::union_grid(study.freq_hz, &check_frequencies(exp, refs, &key));
+            let sys = curves::system(exp, &with_clearance(case, mm * 1e-3));
+            let pts = sweep::from_rest(&sys, &grid, study.steady, tick);
+            scanned.push(curves::from_sweep(
+                &key,
+                &format!("{}, d = {} mm", case.label, fmt_num(mm)),
+                pts,
+                force,
+                case.dampers.len(),
+                n,
+            ));
+        }
+    }
+    // Peak compliance of the objective mass per case and clearance.
+    let mut rows: Vec<(String, f64, f64, f64, f64)> = Vec::new(); // case, d mm, peak, f, top impacts at peak
+    for c in &scanned {
+        let (case, mm) =
+            c.id.split_once('@')
+                .map(|(a, b)| (a.to_string(), b.trim_end_matches("mm").parse::<f64>().unwrap_or(f64::NAN)))
+                .unwrap_or_default();
+        if let Some((f, v)) = c.peak(m) {
+            let i = c.index_of(f).unwrap_or(0);
+            let tops: f64 = c.top_impacts.get(i).map(|t| t.iter().sum()).unwrap_or(0.0);
+            rows.push((case, mm, v, f, tops));
+        }
+    }
+    let mut exports = BTreeMap::new();
+    for (case, lim) in cases.iter().zip(&limits_mm) {
+        exports.insert(format!("limit_mm_{}", case.id), *lim);
+    }
+    for u in &unbounded {
+        if let Some((f, v)) = u.peak(m) {
+            exports.insert(format!("peak_{}_m{}", u.id, m + 1), v);
+            exports.insert(format!("peak_hz_{}_m{}", u.id, m + 1), f);
+        }
+    }
+    let best = rows.iter().filter(|r| r.0 == study.objective_case).min_by(|a, b| a.2.total_cmp(&b.2)).cloned();
+    if let Some(b) = &best {
+        exports.insert("best_clearance_mm".into(), b.1);
+        exports.insert("best_peak".into(), b.2);
+    }
+    let table = Table::new(
+        "clearance_scan",
+        "Peak compliance (m/N) of the objective mass over the band per case and clearance (mm), its frequency (Hz), and the top impacts per period of all beds there",
+    )
+    .str("case", rows.iter().map(|r| r.0.clone()).collect())
+    .f64("clearance_mm", rows.iter().map(|r| r.1).collect())
+    .f64(format!("peak_c{}", m + 1), rows.iter().map(|r| r.2).collect())
+    .f64("peak_freq_hz", rows.iter().map(|r| r.3).collect())
+    .f64("top_impacts_per_period_at_peak", rows.iter().map(|r| r.4).collect());
+    let limits = Table::new("flight_limits", "Highest flight of the beds of each case above their bottoms over the band with no top (mm): larger clearances are never reached")
+        .str("case", cases.iter().map(|c| c.id.clone()).collect())
+        .f64("limit_mm", limits_mm.clone());
+    let all: Vec<&Curve> = unbounded.iter().chain(scanned.iter()).collect();
+    let beds = cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
+    let curves_table = curves::table(
+        "compliance",
+        "Steady-state compliance (m/N) of every scanned curve (CASE@d), as in sweeps",
+        &all,
+        n,
+        beds,
+    );
+
+    let figures = exp
+        .plots
+        .iter()
+        .filter(|p| p.kind == PlotKind::ClearanceScan)
+        .map(|p| {
+            let mut series = Vec::new();
+            let mut vlines = Vec::new();
+            for (ci, case) in cases.iter().enumerate() {
+                let pts: Vec<&(String, f64, f64, f64, f64)> = rows.iter().filter(|r| r.0 == case.id).collect();
+                let mut s = Series::line(case.label.clone(), pts.iter().map(|r| r.1).collect(), pts.iter().map(|r| r.2).collect(), ci);
+                s.marker = Marker::Circle;
+                series.push(s);
+                if let Some((_, v)) = unbounded[ci].peak(m) {
+                    let xs = vec![clearances.iter().copied().fold(f64::INFINITY, f64::min), clearances.iter().copied().fold(0.0, f64::max)];
+                    series.push(Series::line(format!("{}, d = inf", case.label), xs, vec![v, v], ci).dashed(Dash::Dashed));
+                }
+                vlines.push(VLine { x: limits_mm[ci], label: format!(" {} top unreachable beyond {:.3} mm", case.id, limits_mm[ci]) });
+            }
+            if let Some(b) = &best {
+                vlines.push(VLine { x: b.1, label: format!(" best for {}: {} mm", study.objective_case, fmt_num(b.1)) });
+            }
+            let hi = clearances.iter().copied().fold(0.0, f64::max);
+            let lo = clearances.iter().copied().fold(f64::INFINITY, f64::min);
+            let title = p.title.clone().unwrap_or_else(|| format!("{}: peak compliance against clearance", exp.meta.figure));
+            Figure {
+                id: p.id.clone(),
+                title: title.clone(),
+                caption: format!(
+                    "Peak compliance of m{} over {}-{} Hz against the clearance of every damper of a case; dashed: the same case with no top (d = inf); vertical lines: the highest flight without top (larger clearances behave as d = inf) and the best clearance.",
+                    m + 1,
+                    fmt_num(study.freq_hz[0]),
+                    fmt_num(study.freq_hz[study.freq_hz.len() - 1])
+                ),
+                panels: vec![Panel {
+                    title,
+                    x_label: "clearance d (mm)".into(),
+                    y_label: format!("peak compliance of m{} (m/N)", m + 1),
+                    // Clearances far beyond every flight add nothing to see: they are in the table.
+                    x_range: (0.0, hi.min(1.3 * max_limit.max(lo)).max(lo * 1.1)),
+                    y_log: false,
+                    series,
+                    vlines,
+                }],
+            }
+        })
+        .collect();
+    let mut curves_out = unbounded;
+    curves_out.extend(scanned);
+    StudyOutput { tables: vec![table, limits, curves_table], figures, curves: curves_out, exports }
+}

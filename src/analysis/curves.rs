@@ -1,0 +1,167 @@
+//! Steady-state compliance curves: what sweeps produce, what checks and plots consume.
+
+use std::collections::BTreeMap;
+
+use crate::experiment::{Case, Experiment};
+use crate::model::frf::compliance_curve;
+use crate::model::structure::added_masses;
+use crate::output::table::Table;
+use crate::sim::sweep::SweepPoint;
+use crate::sim::{Stop, System};
+
+/// Compliance of every mass at each frequency of one case (or one direction or clearance of
+/// it), with how each point ended.
+#[derive(Debug, Clone, Default)]
+pub struct Curve {
+    /// Key, e.g. "D", "single:up", "triple@0.2mm".
+    pub id: String,
+    pub label: String,
+    pub freq_hz: Vec<f64>,
+    /// Per point, per mass, m/N.
+    pub compliance: Vec<Vec<f64>>,
+    pub converged: Vec<bool>,
+    /// Per point: 1 period-1, k a subharmonic, 0 none found.
+    pub period: Vec<usize>,
+    /// Per point, per bed, per forcing period.
+    pub bottom_impacts: Vec<Vec<f64>>,
+    pub top_impacts: Vec<Vec<f64>>,
+    /// Per point, per bed: highest flight above the bottom, m.
+    pub max_flight: Vec<Vec<f64>>,
+    /// Per point: periods simulated before recording.
+    pub transient: Vec<usize>,
+    /// Per point: why it stopped early, if it did.
+    pub stop: Vec<String>,
+}
+
+/// Curves by id.
+pub type Curves = BTreeMap<String, Curve>;
+
+impl Curve {
+    /// The index of the point at `f` (within 1e-9 Hz).
+    pub fn index_of(&self, f: f64) -> Option<usize> {
+        self.freq_hz.iter().position(|x| (x - f).abs() < 1e-9)
+    }
+
+    /// True when the point is settled and period-1.
+    pub fn regular(&self, i: usize) -> bool {
+        self.converged[i] && self.period[i] == 1
+    }
+
+    /// Frequency and value of the highest compliance of `mass` (settled points if any).
+    pub fn peak(&self, mass: usize) -> Option<(f64, f64)> {
+        let settled: Vec<usize> = (0..self.freq_hz.len()).filter(|&i| self.converged[i]).collect();
+        let pool: Vec<usize> = if settled.is_empty() { (0..self.freq_hz.len()).collect() } else { settled };
+        pool.into_iter()
+            .map(|i| (self.freq_hz[i], self.compliance[i][mass]))
+            .filter(|(_, c)| c.is_finite())
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Highest flight of any bed over the curve, m.
+    pub fn highest_flight(&self) -> f64 {
+        self.max_flight.iter().flatten().copied().fold(0.0, f64::max)
+    }
+}
+
+/// The curve of sweep points (sorted by frequency).
+pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64, beds: usize, n: usize) -> Curve {
+    points.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
+    let mut c = Curve { id: id.into(), label: label.into(), ..Curve::default() };
+    for p in points {
+        c.freq_hz.push(p.freq_hz);
+        match p.result {
+            Ok(s) => {
+                c.compliance.push(s.amplitude.iter().map(|a| a / force).collect());
+                c.converged.push(s.converged);
+                c.period.push(s.period);
+                c.bottom_impacts.push(s.bottom_impacts);
+                c.top_impacts.push(s.top_impacts);
+                c.max_flight.push(s.max_flight);
+                c.transient.push(s.transient_periods);
+                c.stop.push(match s.stop {
+                    Some(Stop::Chatter { t, events }) => format!("chatter: {events} events before t = {t:.4} s"),
+                    None => String::new(),
+                });
+            }
+            Err(e) => {
+                c.compliance.push(vec![f64::NAN; n]);
+                c.converged.push(false);
+                c.period.push(0);
+                c.bottom_impacts.push(vec![0.0; beds]);
+                c.top_impacts.push(vec![0.0; beds]);
+                c.max_flight.push(vec![0.0; beds]);
+                c.transient.push(0);
+                c.stop.push(e.to_string());
+            }
+        }
+    }
+    c
+}
+
+/// The exact linear curve of a case: bare without dampers, damper masses rigidly added
+/// ("stuck") otherwise. Every point is settled and period-1 by construction.
+pub fn linear(exp: &Experiment, case: &Case, id: &str, label: &str, freq_hz: &[f64], stuck: bool) -> Curve {
+    let added = if stuck { added_masses(&case.dampers) } else { Vec::new() };
+    let mass = exp.structure.mass_matrix_with(&added);
+    let omegas: Vec<f64> = freq_hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
+    let rows = compliance_curve(&exp.structure, &mass, exp.excitation.mass, &omegas);
+    let m = freq_hz.len();
+    Curve {
+        id: id.into(),
+        label: label.into(),
+        freq_hz: freq_hz.to_vec(),
+        compliance: rows,
+        converged: vec![true; m],
+        period: vec![1; m],
+        bottom_impacts: vec![Vec::new(); m],
+        top_impacts: vec![Vec::new(); m],
+        max_flight: vec![Vec::new(); m],
+        transient: vec![0; m],
+        stop: vec![String::new(); m],
+    }
+}
+
+/// The simulated system of a case.
+pub fn system(exp: &Experiment, case: &Case) -> System {
+    System::plastic(exp.structure.clone(), case.dampers.clone(), exp.excitation.mass, exp.excitation.force)
+}
+
+/// The sorted union of a grid and extra frequencies (duplicates within 1e-9 Hz dropped).
+pub fn union_grid(grid: &[f64], extra: &[f64]) -> Vec<f64> {
+    let mut all: Vec<f64> = grid.iter().chain(extra).copied().collect();
+    all.sort_by(f64::total_cmp);
+    all.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    all
+}
+
+/// All curves in one long table: one row per curve and frequency.
+pub fn table(name: &str, description: &str, curves: &[&Curve], n: usize, beds: usize) -> Table {
+    let rows: Vec<(&Curve, usize)> = curves.iter().flat_map(|c| (0..c.freq_hz.len()).map(move |i| (*c, i))).collect();
+    let mut t = Table::new(name, description)
+        .str("curve", rows.iter().map(|(c, _)| c.id.clone()).collect())
+        .f64("freq_hz", rows.iter().map(|(c, i)| c.freq_hz[*i]).collect());
+    for r in 0..n {
+        t = t.f64(format!("c{}", r + 1), rows.iter().map(|(c, i)| c.compliance[*i][r]).collect());
+    }
+    t = t
+        .i64("converged", rows.iter().map(|(c, i)| c.converged[*i] as i64).collect())
+        .i64("period", rows.iter().map(|(c, i)| c.period[*i] as i64).collect());
+    let get = |v: &Vec<Vec<f64>>, i: usize, j: usize| v[i].get(j).copied().unwrap_or(0.0);
+    for j in 0..beds {
+        t = t
+            .f64(
+                format!("impacts_per_period_d{}", j + 1),
+                rows.iter().map(|(c, i)| get(&c.bottom_impacts, *i, j)).collect(),
+            )
+            .f64(
+                format!("top_impacts_per_period_d{}", j + 1),
+                rows.iter().map(|(c, i)| get(&c.top_impacts, *i, j)).collect(),
+            )
+            .f64(
+                format!("max_flight_mm_d{}", j + 1),
+                rows.iter().map(|(c, i)| 1e3 * get(&c.max_flight, *i, j)).collect(),
+            );
+    }
+    t.i64("transient_periods", rows.iter().map(|(c, i)| c.transient[*i] as i64).collect())
+        .str("stop", rows.iter().map(|(c, i)| c.stop[*i].clone()).collect())
+}

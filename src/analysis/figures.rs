@@ -1,0 +1,105 @@
+//! Compliance figures from curves: one panel with every mass, or one panel per mass.
+//! Points that did not settle or are not period-1 are drawn as crosses, never hidden.
+
+use crate::experiment::{Experiment, PlotKind, PlotSpec, Scale};
+use crate::model::modal::ModeSummary;
+use crate::output::figure::{Dash, Figure, Marker, Panel, Series, VLine};
+
+use super::curves::Curve;
+
+/// Dash patterns in case order.
+const DASHES: [Dash; 4] = [Dash::Solid, Dash::Dashed, Dash::DashDot, Dash::Dotted];
+
+/// Linear reference curves for one plot: (curve, label) pairs drawn thin and dotted.
+pub struct Extras<'a> {
+    pub linear: Vec<&'a Curve>,
+    pub marks: Vec<VLine>,
+    /// The analysis grid's range (curves may hold extra points outside it for checks).
+    pub range: (f64, f64),
+}
+
+fn irregular_points(c: &Curve, mass: usize, color: usize, label: &str) -> Option<Series> {
+    let idx: Vec<usize> = (0..c.freq_hz.len()).filter(|&i| !c.regular(i)).collect();
+    if idx.is_empty() {
+        return None;
+    }
+    Some(Series::points(
+        label,
+        idx.iter().map(|&i| c.freq_hz[i]).collect(),
+        idx.iter().map(|&i| c.compliance[i][mass]).collect(),
+        color,
+        Marker::Cross,
+    ))
+}
+
+/// The figures of an experiment's compliance plots.
+pub fn compliance(
+    exp: &Experiment,
+    plots: &[&PlotSpec],
+    curves: &[&Curve],
+    extras: &Extras,
+    modes: &[ModeSummary],
+) -> Vec<Figure> {
+    plots
+        .iter()
+        .filter(|p| matches!(p.kind, PlotKind::Compliance | PlotKind::CompliancePanels))
+        .map(|p| {
+            let shown: Vec<&Curve> = curves.iter().copied().filter(|c| p.cases.iter().any(|id| c.id == *id || c.id.starts_with(&format!("{id}:")))).collect();
+            let (lo, hi) = extras.range;
+            let mut vlines: Vec<VLine> = if p.mark_natural_frequencies {
+                modes.iter().filter(|m| m.freq_hz >= lo && m.freq_hz <= hi).map(|m| VLine { x: m.freq_hz, label: format!(" f{} = {:.2} Hz", m.number, m.freq_hz) }).collect()
+            } else {
+                Vec::new()
+            };
+            vlines.extend(extras.marks.iter().cloned());
+            let title = p.title.clone().unwrap_or_else(|| format!("{}: {}", exp.meta.figure, exp.meta.title));
+            let panel = |masses: &[usize], panel_title: String, by_mass: bool| {
+                let mut series = Vec::new();
+                for (ci, c) in shown.iter().enumerate() {
+                    for &r in masses {
+                        let (color, dash) = if by_mass { (r, DASHES[ci % 4]) } else { (ci, Dash::Solid) };
+                        let label = match (by_mass, shown.len() > 1) {
+                            (true, true) => format!("m{} — {}", r + 1, c.label),
+                            (true, false) => format!("m{}", r + 1),
+                            (false, _) => c.label.clone(),
+                        };
+                        series.push(Series::line(label, c.freq_hz.clone(), c.compliance.iter().map(|row| row[r]).collect(), color).dashed(dash));
+                        let cross_label = if r == masses[0] && ci == 0 { "not settled or not period-1" } else { "" };
+                        series.extend(irregular_points(c, r, color, cross_label));
+                    }
+                }
+                for (li, l) in extras.linear.iter().enumerate() {
+                    for &r in masses {
+                        let color = if by_mass { r } else { 7 };
+                        let dash = if li == 0 { Dash::Dotted } else { Dash::DashDot };
+                        let label = if by_mass { format!("m{} — {}", r + 1, l.label) } else { l.label.clone() };
+                        series.push(Series::line(label, l.freq_hz.clone(), l.compliance.iter().map(|row| row[r]).collect(), color).dashed(dash));
+                    }
+                }
+                Panel {
+                    title: panel_title,
+                    x_label: "frequency (Hz)".into(),
+                    y_label: "compliance |x / F| (m/N)".into(),
+                    x_range: (lo, hi),
+                    y_log: p.y_scale == Scale::Log,
+                    series,
+                    vlines: vlines.clone(),
+                }
+            };
+            let panels = match p.kind {
+                PlotKind::CompliancePanels => p.masses.iter().map(|&r| panel(&[r], format!("{title}: m{}", r + 1), false)).collect(),
+                _ => vec![panel(&p.masses, title.clone(), true)],
+            };
+            Figure {
+                id: p.id.clone(),
+                title: title.clone(),
+                caption: format!(
+                    "Compliance amplitude (max - min)/2 / F with F = {} N on m{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).",
+                    exp.excitation.force,
+                    exp.excitation.mass + 1
+                ),
+                panels,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,189 @@
+//! Sweep analyses: steady-state compliance of every case by simulation (cases without
+//! dampers are linear, exactly), linear references beside, marks at chosen frequencies.
+
+use std::collections::BTreeMap;
+
+use crate::checks::fmt_num;
+use crate::checks::reference::ReferenceStore;
+use crate::experiment::{round_hz, CheckKind, Experiment, Linear, PlotSpec, Start};
+use crate::model::modal::ModeSummary;
+use crate::output::figure::{Figure, VLine};
+use crate::output::table::Table;
+use crate::sim::sweep::{self, Direction};
+use crate::sim::SteadyOptions;
+
+use super::curves::{self, union_grid, Curve};
+use super::figures::{self, Extras};
+use super::Tick;
+
+/// Frequencies the curve checks of `curve_id` need, from their reference files.
+pub fn check_frequencies(exp: &Experiment, refs: &ReferenceStore, curve_id: &str) -> Vec<f64> {
+    exp.checks
+        .iter()
+        .filter_map(|c| match &c.kind {
+            CheckKind::Curve { curve, .. } if curve == curve_id => refs.curve(&c.reference_file),
+            _ => None,
+        })
+        .flat_map(|r| r.column("freq_hz").unwrap_or(&[]).to_vec())
+        .collect()
+}
+
+/// Number of simulated points a sweep will run (for progress).
+pub fn work(exp: &Experiment, freq_hz: &[f64], start: Start, refs: &ReferenceStore) -> u64 {
+    exp.cases
+        .iter()
+        .filter(|c| !c.dampers.is_empty())
+        .map(|c| {
+            let extra = match start {
+                Start::Rest => check_frequencies(exp, refs, &c.id),
+                Start::Continuation => Vec::new(),
+            };
+            let n = union_grid(freq_hz, &extra).len() as u64;
+            if start == Start::Continuation {
+                2 * n
+            } else {
+                n
+            }
+        })
+        .sum()
+}
+
+/// What a sweep produced.
+pub struct SweepOutput {
+    pub tables: Vec<Table>,
+    pub figures: Vec<Figure>,
+    pub curves: Vec<Curve>,
+    pub exports: BTreeMap<String, f64>,
+}
+
+/// Runs a sweep analysis.
+pub fn run(
+    exp: &Experiment,
+    modes: &[ModeSummary],
+    refs: &ReferenceStore,
+    freq_hz: &[f64],
+    start: Start,
+    steady: &SteadyOptions,
+    tick: &Tick,
+) -> SweepOutput {
+    let n = exp.structure.dof();
+    let beds = exp.cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
+    let mut curves: Vec<Curve> = Vec::new();
+    for case in &exp.cases {
+        if case.dampers.is_empty() {
+            let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &case.id));
+            curves.push(curves::linear(exp, case, &case.id, &case.label, &grid, false));
+            continue;
+        }
+        let sys = curves::system(exp, case);
+        match start {
+            Start::Rest => {
+                let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &case.id));
+                let pts = sweep::from_rest(&sys, &grid, steady, tick);
+                curves.push(curves::from_sweep(
+                    &case.id,
+                    &case.label,
+                    pts,
+                    exp.excitation.force,
+                    case.dampers.len(),
+                    n,
+                ));
+            }
+            Start::Continuation => {
+                for (dir, word) in [(Direction::Up, "up"), (Direction::Down, "down")] {
+                    let pts = sweep::continued(&sys, freq_hz, dir, steady, tick);
+                    let id = format!("{}:{word}", case.id);
+                    let label = format!("{} (continued {word}ward)", case.label);
+                    curves.push(curves::from_sweep(&id, &label, pts, exp.excitation.force, case.dampers.len(), n));
+                }
+            }
+        }
+    }
+    let (marks, exports) = marks(exp, &curves);
+    let linear = linear_refs(exp, freq_hz);
+    let plots: Vec<&PlotSpec> = exp.plots.iter().collect();
+    let refs_c: Vec<&Curve> = curves.iter().collect();
+    let figures = figures::compliance(
+        exp,
+        &plots,
+        &refs_c,
+        &Extras { linear: linear.iter().collect(), marks, range: (freq_hz[0], freq_hz[freq_hz.len() - 1]) },
+        modes,
+    );
+    let mut tables = vec![curves::table(
+        "compliance",
+        "Steady-state compliance (max - min)/2 / F (m/N) of each mass (c1..cn) per curve and frequency, whether it settled, its period, impacts per forcing period on the bottom and top of each bed, the highest flight of each bed (mm), the transient periods simulated",
+        &refs_c,
+        n,
+        beds,
+    )];
+    if !linear.is_empty() {
+        let l: Vec<&Curve> = linear.iter().collect();
+        tables.push(curves::table(
+            "linear",
+            "Exact linear compliance (m/N) of the references drawn beside: bare structure, damper masses stuck",
+            &l,
+            n,
+            0,
+        ));
+    }
+    SweepOutput { tables, figures, curves, exports }
+}
+
+/// The linear curves the plots ask for, on a fine grid over the sweep's range.
+fn linear_refs(exp: &Experiment, freq_hz: &[f64]) -> Vec<Curve> {
+    let (lo, hi) = (freq_hz[0], freq_hz[freq_hz.len() - 1]);
+    let fine: Vec<f64> = (0..=2000).map(|i| lo + (hi - lo) * i as f64 / 2000.0).collect();
+    let wanted: Vec<Linear> = exp.plots.iter().flat_map(|p| p.linear.iter().copied()).collect();
+    let mut out = Vec::new();
+    if wanted.contains(&Linear::Bare) {
+        let bare =
+            exp.cases.iter().find(|c| c.dampers.is_empty()).cloned().unwrap_or_else(|| crate::experiment::Case {
+                id: "bare".into(),
+                label: "no damper".into(),
+                dampers: Vec::new(),
+                clearances: Vec::new(),
+            });
+        out.push(curves::linear(exp, &bare, "linear:bare", "no damper (linear)", &fine, false));
+    }
+    if wanted.contains(&Linear::Stuck) {
+        for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
+            out.push(curves::linear(
+                exp,
+                case,
+                &format!("linear:stuck:{}", case.id),
+                &format!("{}, masses stuck (linear)", case.label),
+                &fine,
+                true,
+            ));
+        }
+    }
+    out
+}
+
+/// Marked frequencies (offsets from a case's resonance peak) and the values exported:
+/// `peak_hz_CASE`, `peak_CASE_mR` (m/N) and `mark_LABEL_hz`.
+fn marks(exp: &Experiment, curves: &[Curve]) -> (Vec<VLine>, BTreeMap<String, f64>) {
+    let mut exports = BTreeMap::new();
+    for c in curves {
+        for m in 0..exp.structure.dof() {
+            if let Some((f, v)) = c.peak(m) {
+                exports.insert(format!("peak_{}_m{}", c.id, m + 1), v);
+                exports.insert(format!("peak_hz_{}_m{}", c.id, m + 1), f);
+            }
+        }
+    }
+    let mut lines = Vec::new();
+    for p in &exp.plots {
+        let Some(rel) = &p.marks_relative_to else { continue };
+        let Some(curve) = curves.iter().find(|c| &c.id == rel) else { continue };
+        let mass = p.masses.first().copied().unwrap_or(0);
+        let Some((peak, _)) = curve.peak(mass) else { continue };
+        for (label, off) in &p.marks {
+            let f = round_hz(peak + off);
+            exports.insert(format!("mark_{label}_hz"), f);
+            lines.push(VLine { x: f, label: format!(" {label}: {} Hz", fmt_num(f)) });
+        }
+    }
+    (lines, exports)
+}

@@ -1,0 +1,218 @@
+//! Waveforms (Fig. 6 style): the steady motion of hosts and beds against forcing phase, with
+//! contact visible where a bed's line runs on its host's, and the motion type of each bed.
+
+use std::f64::consts::PI;
+
+use crate::checks::fmt_num;
+use crate::experiment::{Experiment, Number, PlotKind};
+use crate::output::figure::{Dash, Figure, Panel, Series};
+use crate::output::table::Table;
+use crate::sim::observe::Sampler;
+use crate::sim::{steady_state, Dynamics, Engine, EventKind, State, SteadyOptions};
+
+use super::curves;
+use super::Tick;
+
+/// Samples drawn per forcing period.
+const SAMPLES_PER_PERIOD: usize = 360;
+
+/// One recorded frequency of one case.
+struct Record {
+    case: String,
+    label: String,
+    freq_hz: f64,
+    phase_deg: Vec<f64>,
+    sampler: Sampler,
+    types: Vec<String>,
+    settled: bool,
+}
+
+/// The motion type of bed `j` from the events of the record (paper section 2.2).
+fn motion_type(s: &Sampler, j: usize, periods: usize, finite: bool) -> String {
+    let (mut lift, mut bottom, mut top_stick, mut top_bounce) = (0, 0, 0, 0);
+    for e in s.events.iter().filter(|e| e.bed == j) {
+        match e.kind {
+            EventKind::LiftOff { top: false } => lift += 1,
+            EventKind::Impact { top: false, .. } => bottom += 1,
+            EventKind::Impact { top: true, attached: true, .. } => top_stick += 1,
+            EventKind::Impact { top: true, attached: false, .. } => top_bounce += 1,
+            EventKind::LiftOff { top: true } => {}
+        }
+    }
+    let per = |k: usize| fmt_num(k as f64 / periods as f64);
+    if lift == 0 && bottom == 0 && top_stick + top_bounce == 0 {
+        return "rests on the bottom (no flight)".into();
+    }
+    let kind = if top_stick > 0 {
+        "Type I (rests on the top)"
+    } else if top_bounce > 0 {
+        "Type II (hits the top, falls at once)"
+    } else if finite {
+        "Type III (never reaches the top)"
+    } else {
+        "Type III (no top)"
+    };
+    format!("{kind}; per period {} bottom and {} top impacts", per(bottom), per(top_stick + top_bounce))
+}
+
+/// Simulated points a waveform analysis runs (for progress).
+pub fn work(exp: &Experiment, frequencies: &[Number]) -> u64 {
+    (exp.cases.iter().filter(|c| !c.dampers.is_empty()).count() * frequencies.len()) as u64
+}
+
+/// Runs the waveform analysis. Frequencies are resolved values.
+pub fn run(
+    exp: &Experiment,
+    frequencies: &[Number],
+    labels: &[String],
+    periods: usize,
+    steady: &SteadyOptions,
+    tick: &Tick,
+) -> (Vec<Table>, Vec<Figure>) {
+    let freqs: Vec<f64> = frequencies.iter().map(|f| if let Number::Value(v) = f { *v } else { f64::NAN }).collect();
+    let mut records = Vec::new();
+    for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
+        let sys = curves::system(exp, case);
+        for (f, label) in freqs.iter().zip(labels) {
+            let omega = 2.0 * PI * f;
+            let Ok(d) = Dynamics::new(&sys, omega) else { continue };
+            let st = steady_state(&d, State::at_rest(&d), steady);
+            let mut s = st.final_state.clone();
+            let t0 = s.t;
+            let period = 2.0 * PI / omega;
+            let m = SAMPLES_PER_PERIOD * periods;
+            let times: Vec<f64> = (0..=m).map(|k| t0 + period * periods as f64 * k as f64 / m as f64).collect();
+            let mut sampler = Sampler::new(times.clone());
+            let _ = Engine::new(&d).advance(&mut s, t0 + period * periods as f64, &mut sampler);
+            let types = (0..case.dampers.len())
+                .map(|j| motion_type(&sampler, j, periods, case.dampers[j].clearance.is_finite()))
+                .collect();
+            records.push(Record {
+                case: case.id.clone(),
+                label: label.clone(),
+                freq_hz: *f,
+                phase_deg: times.iter().map(|t| (t - t0) * omega * 180.0 / PI).collect(),
+                sampler,
+                types,
+                settled: st.converged,
+            });
+            tick();
+        }
+    }
+    (tables(exp, &records), figures(exp, &records, periods))
+}
+
+fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
+    let n = exp.structure.dof();
+    let beds = exp.cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
+    let rows: Vec<(&Record, usize)> =
+        records.iter().flat_map(|r| (0..r.sampler.x.len()).map(move |i| (r, i))).collect();
+    let mut t = Table::new(
+        "waveforms",
+        "Steady motion per case and frequency: forcing phase (deg), displacement of each mass x1..xn (m), position y and state (B bottom, T top, F free) of each bed",
+    )
+    .str("case", rows.iter().map(|(r, _)| r.case.clone()).collect())
+    .str("label", rows.iter().map(|(r, _)| r.label.clone()).collect())
+    .f64("freq_hz", rows.iter().map(|(r, _)| r.freq_hz).collect())
+    .f64("phase_deg", rows.iter().map(|(r, i)| r.phase_deg[*i]).collect());
+    for k in 0..n {
+        t = t.f64(format!("x{}", k + 1), rows.iter().map(|(r, i)| r.sampler.x[*i][k]).collect());
+    }
+    for j in 0..beds {
+        t = t
+            .f64(
+                format!("y{}", j + 1),
+                rows.iter().map(|(r, i)| r.sampler.y[*i].get(j).copied().unwrap_or(f64::NAN)).collect(),
+            )
+            .str(
+                format!("state{}", j + 1),
+                rows.iter()
+                    .map(|(r, i)| r.sampler.state[*i].get(j).map(|c| c.to_string()).unwrap_or_default())
+                    .collect(),
+            );
+    }
+    let ev: Vec<(&Record, &crate::sim::Event)> =
+        records.iter().flat_map(|r| r.sampler.events.iter().map(move |e| (r, e))).collect();
+    let events = Table::new("events", "Every event of the drawn periods: time (s), bed (1-based), kind, relative speed (m/s) and kinetic energy lost (J)")
+        .str("case", ev.iter().map(|(r, _)| r.case.clone()).collect())
+        .str("label", ev.iter().map(|(r, _)| r.label.clone()).collect())
+        .f64("t", ev.iter().map(|(_, e)| e.t).collect())
+        .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect())
+        .str(
+            "kind",
+            ev.iter()
+                .map(|(_, e)| match e.kind {
+                    EventKind::LiftOff { top } => format!("lift-off from {}", if top { "top" } else { "bottom" }),
+                    EventKind::Impact { top, attached, .. } => {
+                        format!("impact on {}{}", if top { "top" } else { "bottom" }, if attached { ", stays" } else { ", separates" })
+                    }
+                })
+                .collect(),
+        )
+        .f64("speed", ev.iter().map(|(_, e)| if let EventKind::Impact { speed, .. } = e.kind { speed } else { 0.0 }).collect())
+        .f64("loss", ev.iter().map(|(_, e)| e.loss).collect());
+    vec![t, events]
+}
+
+fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> {
+    let mut out = Vec::new();
+    for p in exp.plots.iter().filter(|p| p.kind == PlotKind::Waveform) {
+        for case in exp.cases.iter().filter(|c| p.cases.contains(&c.id) && !c.dampers.is_empty()) {
+            let recs: Vec<&Record> = records.iter().filter(|r| r.case == case.id).collect();
+            let mut panels = Vec::new();
+            let mut type_lines = Vec::new();
+            for r in &recs {
+                let mut series = Vec::new();
+                for (j, dm) in case.dampers.iter().enumerate() {
+                    let host: Vec<f64> = r.sampler.x.iter().map(|x| 1e3 * x[dm.host]).collect();
+                    let bed: Vec<f64> = r.sampler.y.iter().map(|y| 1e3 * y[j]).collect();
+                    series.push(Series::line(format!("m{} (host)", dm.host + 1), r.phase_deg.clone(), host.clone(), j));
+                    series.push(
+                        Series::line(format!("bed on m{}", dm.host + 1), r.phase_deg.clone(), bed, j)
+                            .dashed(Dash::Dashed),
+                    );
+                    if dm.clearance.is_finite() {
+                        let top = host.iter().map(|h| h + 1e3 * dm.clearance).collect();
+                        series.push(
+                            Series::line(format!("top of container on m{}", dm.host + 1), r.phase_deg.clone(), top, j)
+                                .dashed(Dash::Dotted),
+                        );
+                    }
+                    type_lines.push(format!(
+                        "{} {} Hz, bed on m{}: {}",
+                        r.label,
+                        fmt_num(r.freq_hz),
+                        dm.host + 1,
+                        r.types[j]
+                    ));
+                }
+                panels.push(Panel {
+                    title: format!(
+                        "({}) {} Hz{}",
+                        r.label,
+                        fmt_num(r.freq_hz),
+                        if r.settled { "" } else { " (did not settle)" }
+                    ),
+                    x_label: "forcing phase omega t (deg)".into(),
+                    y_label: "displacement (mm)".into(),
+                    x_range: (0.0, 360.0 * periods as f64),
+                    y_log: false,
+                    series,
+                    vlines: Vec::new(),
+                });
+            }
+            let title = p.title.clone().unwrap_or_else(|| format!("{}: waveforms", exp.meta.figure));
+            out.push(Figure {
+                id: format!("{}_{}", p.id, case.id),
+                title: format!("{title}, {}", case.label),
+                caption: format!(
+                    "Steady motion over {periods} forcing periods (phase 0 at a multiple of the period, force F sin(omega t) on m{}). Solid: host mass; dashed: bed (on the host line while in contact); dotted: container top. Motion types: {}.",
+                    exp.excitation.mass + 1,
+                    type_lines.join("; ")
+                ),
+                panels,
+            });
+        }
+    }
+    out
+}
