@@ -151,6 +151,10 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
         .iter()
         .filter(|p| p.kind == PlotKind::ClearanceScan)
         .map(|p| {
+            let lo = clearances.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = clearances.iter().copied().fold(0.0, f64::max);
+            // Clearances far beyond every flight add nothing to see: they are in the table.
+            let x_hi = hi.min(1.3 * max_limit.max(lo)).max(lo * 1.1);
             let mut series = Vec::new();
             let mut vlines = Vec::new();
             for (ci, case) in cases.iter().enumerate() {
@@ -159,16 +163,13 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                 s.marker = Marker::Circle;
                 series.push(s);
                 if let Some((_, v)) = unbounded[ci].peak(m) {
-                    let xs = vec![clearances.iter().copied().fold(f64::INFINITY, f64::min), clearances.iter().copied().fold(0.0, f64::max)];
-                    series.push(Series::line(format!("{}, d = inf", case.label), xs, vec![v, v], ci).dashed(Dash::Dashed));
+                    series.push(Series::line(format!("{}, d = inf", case.label), vec![0.0, x_hi], vec![v, v], ci).dashed(Dash::Dashed));
                 }
-                vlines.push(VLine { x: limits_mm[ci], label: format!(" {} top unreachable beyond {:.3} mm", case.id, limits_mm[ci]) });
+                vlines.push(VLine { x: limits_mm[ci], label: format!(" {}: top out of reach > {:.3} mm", case.id, limits_mm[ci]) });
             }
             if let Some(b) = &best {
                 vlines.push(VLine { x: b.1, label: format!(" best for {}: {} mm", study.objective_case, fmt_num(b.1)) });
             }
-            let hi = clearances.iter().copied().fold(0.0, f64::max);
-            let lo = clearances.iter().copied().fold(f64::INFINITY, f64::min);
             let title = p.title.clone().unwrap_or_else(|| format!("{}: peak compliance against clearance", exp.meta.figure));
             Figure {
                 id: p.id.clone(),
@@ -183,8 +184,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                     title,
                     x_label: "clearance d (mm)".into(),
                     y_label: format!("peak compliance of m{} (m/N)", m + 1),
-                    // Clearances far beyond every flight add nothing to see: they are in the table.
-                    x_range: (0.0, hi.min(1.3 * max_limit.max(lo)).max(lo * 1.1)),
+                    x_range: (0.0, x_hi),
                     y_log: false,
                     series,
                     vlines,

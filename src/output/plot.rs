@@ -134,7 +134,7 @@ fn draw_panel<DB: DrawingBackend>(
         let chart = builder.build_cartesian_2d(x, y0..y1).map_err(|e| render_err(what, e))?;
         // Small or large values read better in scientific notation.
         let big = y0.abs().max(y1.abs());
-        if big < 1e-2 || big >= 1e5 {
+        if !(1e-2..1e5).contains(&big) {
             fill(chart, panel, what, |v| if *v == 0.0 { "0".into() } else { format!("{v:.1e}") })
         } else {
             fill(chart, panel, what, |v| format!("{:.3}", if v.abs() < 1e-12 * big { 0.0 } else { *v }))
