@@ -13,6 +13,7 @@ pub mod error;
 pub mod experiment;
 pub mod model;
 pub mod output;
+pub mod signal;
 pub mod sim;
 
 pub use error::{Error, Result};

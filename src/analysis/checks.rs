@@ -3,15 +3,48 @@
 use crate::checks::reference::{Curve as RefCurve, Quantity, ReferenceStore, ValueFile};
 use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Status, Subject};
 
+use std::collections::BTreeMap;
+
 use super::curves::{Curve, Curves};
+use super::decay_checks;
+use super::impulse::Decay;
 use crate::experiment::{CheckKind, CheckSpec, Experiment};
 use crate::model::modal::ModeSummary;
 
+/// What an experiment computed that checks compare.
+pub struct Computed<'a> {
+    pub curves: &'a Curves,
+    pub decays: &'a BTreeMap<String, Decay>,
+}
+
 /// Every check of `exp`, in file order. A reference that is missing (the loader validates
 /// them, so only a programming error gets here) yields a failed check that says so.
-pub fn evaluate(exp: &Experiment, modes: &[ModeSummary], curves: &Curves, refs: &ReferenceStore) -> Vec<CheckOutcome> {
+pub fn evaluate(
+    exp: &Experiment,
+    modes: &[ModeSummary],
+    computed: &Computed,
+    refs: &ReferenceStore,
+) -> Vec<CheckOutcome> {
+    let curves = computed.curves;
     let mut out = Vec::new();
     for spec in &exp.checks {
+        match &spec.kind {
+            CheckKind::ImpulseHistory { case, window } => {
+                out.push(match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
+                    (Some(r), Some(d)) => decay_checks::history(spec, r, d, *window),
+                    _ => missing(spec, "reference or impulse run missing"),
+                });
+                continue;
+            }
+            CheckKind::DecayTime { case, mass, levels } => {
+                match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
+                    (Some(r), Some(d)) => out.extend(decay_checks::decay_time(spec, r, d, *mass, levels)),
+                    _ => out.push(missing(spec, "reference or impulse run missing")),
+                }
+                continue;
+            }
+            _ => {}
+        }
         if let CheckKind::Curve { curve, columns, fraction, rel_tol_all } = &spec.kind {
             out.push(match (refs.curve(&spec.reference_file), curves.get(curve)) {
                 (Some(r), Some(c)) => curve_check(exp, spec, r, c, columns, *fraction, *rel_tol_all),
@@ -39,10 +72,12 @@ pub fn evaluate(exp: &Experiment, modes: &[ModeSummary], curves: &Curves, refs: 
                 }
                 None => out.push(missing(spec, "no such quantity")),
             },
-            CheckKind::ModeShape { mode } => {
+            CheckKind::ModeShape { mode, elements } => {
                 match quantity(file, spec).and_then(|q| q.values.as_ref().map(|v| (q, v))) {
                     Some((q, values)) => {
-                        for (r, (&c, &e)) in modes[*mode].shape.iter().zip(values).enumerate() {
+                        for (r, (&c, &e)) in
+                            modes[*mode].shape.iter().zip(values).enumerate().filter(|(r, _)| elements.contains(r))
+                        {
                             let subject = Subject::new(
                                 format!("phi_{}[{}]", mode + 1, r + 1),
                                 format!("mode {} shape at m_{} (largest element = 1)", mode + 1, r + 1),
@@ -59,13 +94,19 @@ pub fn evaluate(exp: &Experiment, modes: &[ModeSummary], curves: &Curves, refs: 
             CheckKind::PeakRatio { case, over_case, mass, upper_id } => {
                 out.push(peak_ratio(spec, file, curves, case, over_case, *mass, upper_id));
             }
-            CheckKind::Curve { .. } => {}
+            CheckKind::DecayRatio { case, over_case, mass, level } => {
+                match (quantity(file, spec), computed.decays.get(case), computed.decays.get(over_case)) {
+                    (Some(q), Some(a), Some(b)) => out.push(decay_checks::ratio(spec, file, q, a, b, *mass, *level)),
+                    _ => out.push(missing(spec, "bound or impulse runs missing")),
+                }
+            }
+            CheckKind::Curve { .. } | CheckKind::ImpulseHistory { .. } | CheckKind::DecayTime { .. } => {}
         }
     }
     out
 }
 
-fn quantity<'a>(file: &'a ValueFile, spec: &CheckSpec) -> Option<&'a Quantity> {
+pub(super) fn quantity<'a>(file: &'a ValueFile, spec: &CheckSpec) -> Option<&'a Quantity> {
     spec.reference_id.as_deref().and_then(|id| file.get(id))
 }
 
@@ -101,7 +142,7 @@ fn parameters(exp: &Experiment, file: &ValueFile, spec: &CheckSpec) -> Vec<Check
         .collect()
 }
 
-fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
+pub(super) fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
     CheckOutcome {
         name: format!("{}#{}", spec.reference_file, spec.reference_id.clone().unwrap_or_default()),
         description: format!("reference missing: {why}"),

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use crate::checks::fmt_num;
 use crate::checks::reference::ReferenceStore;
 use crate::experiment::{clearance_key, Case, Experiment, PlotKind};
-use crate::output::figure::{Dash, Figure, Marker, Panel, Series, VLine};
+use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::output::table::Table;
 use crate::sim::sweep;
 use crate::sim::SteadyOptions;
@@ -185,7 +185,10 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                     x_label: "clearance d (mm)".into(),
                     y_label: format!("peak compliance of m{} (m/N)", m + 1),
                     x_range: (0.0, x_hi),
+                    x_log: false,
                     y_log: false,
+                    y_range: None,
+                    legend: Corner::UpperRight,
                     series,
                     vlines,
                 }],

@@ -3,7 +3,7 @@
 
 use crate::experiment::{Experiment, PlotKind, PlotSpec, Scale};
 use crate::model::modal::ModeSummary;
-use crate::output::figure::{Dash, Figure, Marker, Panel, Series, VLine};
+use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 
 use super::curves::Curve;
 
@@ -45,7 +45,7 @@ pub fn compliance(
         .filter(|p| matches!(p.kind, PlotKind::Compliance | PlotKind::CompliancePanels))
         .map(|p| {
             let shown: Vec<&Curve> = curves.iter().copied().filter(|c| p.cases.iter().any(|id| c.id == *id || c.id.starts_with(&format!("{id}:")))).collect();
-            let (lo, hi) = extras.range;
+            let (lo, hi) = p.x_range.unwrap_or(extras.range);
             let mut vlines: Vec<VLine> = if p.mark_natural_frequencies {
                 modes.iter().filter(|m| m.freq_hz >= lo && m.freq_hz <= hi).map(|m| VLine { x: m.freq_hz, label: format!(" f{} = {:.2} Hz", m.number, m.freq_hz) }).collect()
             } else {
@@ -53,6 +53,7 @@ pub fn compliance(
             };
             vlines.extend(extras.marks.iter().cloned());
             let title = p.title.clone().unwrap_or_else(|| format!("{}: {}", exp.meta.figure, exp.meta.title));
+            let first_irregular = shown.iter().position(|c| (0..c.freq_hz.len()).any(|i| !c.regular(i)));
             let panel = |masses: &[usize], panel_title: String, by_mass: bool| {
                 let mut series = Vec::new();
                 for (ci, c) in shown.iter().enumerate() {
@@ -64,7 +65,8 @@ pub fn compliance(
                             (false, _) => c.label.clone(),
                         };
                         series.push(Series::line(label, c.freq_hz.clone(), c.compliance.iter().map(|row| row[r]).collect(), color).dashed(dash));
-                        let cross_label = if r == masses[0] && ci == 0 { "not settled or not period-1" } else { "" };
+                        let cross_label =
+                            if r == masses[0] && Some(ci) == first_irregular { "not settled or not period-1" } else { "" };
                         series.extend(irregular_points(c, r, color, cross_label));
                     }
                 }
@@ -81,7 +83,10 @@ pub fn compliance(
                     x_label: "frequency (Hz)".into(),
                     y_label: "compliance |x / F| (m/N)".into(),
                     x_range: (lo, hi),
+                    x_log: false,
                     y_log: p.y_scale == Scale::Log,
+                    y_range: None,
+                    legend: Corner::UpperRight,
                     series,
                     vlines: vlines.clone(),
                 }

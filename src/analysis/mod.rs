@@ -4,7 +4,9 @@
 mod checks;
 mod clearance;
 pub mod curves;
+mod decay_checks;
 mod figures;
+pub mod impulse;
 mod linear;
 mod sweep;
 mod waveform;
@@ -74,6 +76,7 @@ pub fn work(exp: &Experiment, refs: &ReferenceStore) -> u64 {
             )
         }
         Analysis::Waveform { frequencies, .. } => waveform::work(exp, frequencies),
+        Analysis::Impulse { .. } => exp.cases.len() as u64,
     }
 }
 
@@ -90,6 +93,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     let mut tables = vec![linear::modal_table(exp, &modes)];
     let mut figures = Vec::new();
     let mut curves = curves::Curves::new();
+    let mut decays = std::collections::BTreeMap::new();
     let mut exports = BTreeMap::new();
     match &exp.analysis {
         Analysis::Modal => {}
@@ -126,8 +130,14 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             tables.extend(t);
             figures.extend(f);
         }
+        Analysis::Impulse { options, spectrum_hz, levels } => {
+            let out = impulse::run(exp, &modes, options, spectrum_hz, levels, tick);
+            tables.extend(out.tables);
+            figures.extend(out.figures);
+            decays = out.decays;
+        }
     }
-    let checks = checks::evaluate(exp, &modes, &curves, refs);
+    let checks = checks::evaluate(exp, &modes, &checks::Computed { curves: &curves, decays: &decays }, refs);
     Ok(ExperimentResult {
         exports,
         parameters: parameters(exp),

@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 use crate::checks::fmt_num;
 use crate::experiment::{Experiment, Number, PlotKind};
-use crate::output::figure::{Dash, Figure, Panel, Series};
+use crate::output::figure::{Corner, Dash, Figure, Panel, Series};
 use crate::output::table::Table;
 use crate::sim::observe::Sampler;
 use crate::sim::{steady_state, Dynamics, Engine, EventKind, State, SteadyOptions};
@@ -53,6 +53,20 @@ fn motion_type(s: &Sampler, j: usize, periods: usize, finite: bool) -> String {
         "Type III (no top)"
     };
     format!("{kind}; per period {} bottom and {} top impacts", per(bottom), per(top_stick + top_bounce))
+}
+
+/// An event kind in words, for tables.
+pub fn event_words(kind: &EventKind) -> String {
+    match *kind {
+        EventKind::LiftOff { top } => format!("lift-off from {}", if top { "top" } else { "bottom" }),
+        EventKind::Impact { top, attached, .. } => {
+            format!(
+                "impact on {}{}",
+                if top { "top" } else { "bottom" },
+                if attached { ", stays" } else { ", separates" }
+            )
+        }
+    }
 }
 
 /// Simulated points a waveform analysis runs (for progress).
@@ -138,17 +152,7 @@ fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
         .str("label", ev.iter().map(|(r, _)| r.label.clone()).collect())
         .f64("t", ev.iter().map(|(_, e)| e.t).collect())
         .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect())
-        .str(
-            "kind",
-            ev.iter()
-                .map(|(_, e)| match e.kind {
-                    EventKind::LiftOff { top } => format!("lift-off from {}", if top { "top" } else { "bottom" }),
-                    EventKind::Impact { top, attached, .. } => {
-                        format!("impact on {}{}", if top { "top" } else { "bottom" }, if attached { ", stays" } else { ", separates" })
-                    }
-                })
-                .collect(),
-        )
+        .str("kind", ev.iter().map(|(_, e)| event_words(&e.kind)).collect())
         .f64("speed", ev.iter().map(|(_, e)| if let EventKind::Impact { speed, .. } = e.kind { speed } else { 0.0 }).collect())
         .f64("loss", ev.iter().map(|(_, e)| e.loss).collect());
     vec![t, events]
@@ -186,17 +190,34 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
                         r.types[j]
                     ));
                 }
+                let short: Vec<String> = case
+                    .dampers
+                    .iter()
+                    .zip(&r.types)
+                    .map(|(dm, t)| {
+                        let name = t.split(" (").next().unwrap_or(t).split(';').next().unwrap_or(t);
+                        if case.dampers.len() > 1 {
+                            format!("m{}: {name}", dm.host + 1)
+                        } else {
+                            name.to_string()
+                        }
+                    })
+                    .collect();
                 panels.push(Panel {
                     title: format!(
-                        "({}) {} Hz{}",
+                        "({}) {} Hz{}: {}",
                         r.label,
                         fmt_num(r.freq_hz),
-                        if r.settled { "" } else { " (did not settle)" }
+                        if r.settled { "" } else { " (did not settle)" },
+                        short.join(", ")
                     ),
                     x_label: "forcing phase omega t (deg)".into(),
                     y_label: "displacement (mm)".into(),
                     x_range: (0.0, 360.0 * periods as f64),
+                    x_log: false,
                     y_log: false,
+                    y_range: None,
+                    legend: Corner::UpperRight,
                     series,
                     vlines: Vec::new(),
                 });

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::sim::impulse::{ImpulseOptions, Kick};
 use crate::sim::SteadyOptions;
 
 use super::raw::{RawAnalysis, RawGrid, RawSteady};
@@ -12,7 +13,7 @@ use super::{Analysis, Number, Start};
 const MAX_GRID_POINTS: usize = 100_000;
 
 /// The analysis kinds, for messages.
-const KINDS: &str = "\"modal\", \"linear_frf\", \"sweep\", \"clearance_study\", \"waveform\"";
+const KINDS: &str = "\"modal\", \"linear_frf\", \"sweep\", \"clearance_study\", \"waveform\", \"impulse\"";
 
 /// A frequency grid in Hz, validated.
 pub fn grid(path: &Path, key: &str, g: &RawGrid) -> Result<Vec<f64>> {
@@ -128,24 +129,58 @@ fn number(path: &Path, key: &str, v: &toml::Value) -> Result<Number> {
 /// Validates `[analysis]`; `n` is the number of masses, `case_ids` the cases of the file.
 pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> Result<Analysis> {
     let steady = steady(path, a.steady.as_ref())?;
-    let unused = |key: &str, present: bool| -> Result<()> {
-        if present {
-            Err(Error::invalid(
+    // Keys of [analysis] that each kind reads; any other key given is an error.
+    let given: [(&str, bool); 17] = [
+        ("freq_hz", a.freq_hz.is_some()),
+        ("start", a.start.is_some()),
+        ("steady", a.steady.is_some()),
+        ("clearances_mm", a.clearances_mm.is_some()),
+        ("clearance_points", a.clearance_points.is_some()),
+        ("objective_mass", a.objective_mass.is_some()),
+        ("objective_case", a.objective_case.is_some()),
+        ("frequencies_hz", a.frequencies_hz.is_some()),
+        ("labels", a.labels.is_some()),
+        ("periods", a.periods.is_some()),
+        ("struck_mass", a.struck_mass.is_some()),
+        ("initial_velocity_m_s", a.initial_velocity_m_s.is_some()),
+        ("impulse_n_s", a.impulse_n_s.is_some()),
+        ("duration_s", a.duration_s.is_some()),
+        ("sample_rate_hz", a.sample_rate_hz.is_some()),
+        ("spectrum_hz", a.spectrum_hz.is_some()),
+        ("decay_levels", a.decay_levels.is_some()),
+    ];
+    let reads: &[&str] = match a.kind.as_str() {
+        "modal" => &[],
+        "linear_frf" => &["freq_hz"],
+        "sweep" => &["freq_hz", "start", "steady"],
+        "clearance_study" => {
+            &["freq_hz", "steady", "clearances_mm", "clearance_points", "objective_mass", "objective_case"]
+        }
+        "waveform" => &["frequencies_hz", "labels", "periods", "steady"],
+        "impulse" => &[
+            "struck_mass",
+            "initial_velocity_m_s",
+            "impulse_n_s",
+            "duration_s",
+            "sample_rate_hz",
+            "spectrum_hz",
+            "decay_levels",
+        ],
+        _ => &[],
+    };
+    if KINDS.contains(&format!("\"{}\"", a.kind)) {
+        if let Some((key, _)) = given.iter().find(|(k, present)| *present && !reads.contains(k)) {
+            return Err(Error::invalid(
                 path,
                 format!("analysis.{key}"),
                 "(given)",
-                format!("not used by analysis kind \"{}\"", a.kind),
-            ))
-        } else {
-            Ok(())
+                format!("not used by analysis kind \"{}\", which reads: {}", a.kind, reads.join(", ")),
+            ));
         }
-    };
+    }
     match a.kind.as_str() {
         "modal" => Ok(Analysis::Modal),
-        "linear_frf" => {
-            unused("steady", a.steady.is_some())?;
-            Ok(Analysis::LinearFrf { freq_hz: require_grid(path, &a)? })
-        }
+        "linear_frf" => Ok(Analysis::LinearFrf { freq_hz: require_grid(path, &a)? }),
         "sweep" => {
             let start = match a.start.as_deref() {
                 None | Some("rest") => Start::Rest,
@@ -255,6 +290,76 @@ pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> R
             let periods = positive_int(path, "analysis.periods", a.periods, 2, 100)?;
             Ok(Analysis::Waveform { frequencies, labels, periods, steady })
         }
+        "impulse" => impulse(path, &a, n),
         other => Err(Error::invalid(path, "analysis.kind", format!("\"{other}\""), format!("allowed kinds: {KINDS}"))),
     }
+}
+
+/// Validates an impulse analysis.
+fn impulse(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
+    let key = |k: &str| format!("analysis.{k}");
+    let mass = match a.struck_mass {
+        Some(m) => super::validate::mass_index(path, &key("struck_mass"), m, n)?,
+        None => {
+            return Err(Error::invalid(
+                path,
+                key("struck_mass"),
+                "(missing)",
+                format!("name the struck mass (1 to {n})"),
+            ))
+        }
+    };
+    let positive = |k: &str, v: f64, what: &str| -> Result<f64> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(Error::invalid(path, key(k), v, format!("{what} must be positive and finite")))
+        }
+    };
+    let kick = match (a.initial_velocity_m_s, a.impulse_n_s) {
+        (Some(v), None) => Kick::Velocity(positive("initial_velocity_m_s", v, "the initial velocity (m/s)")?),
+        (None, Some(i)) => Kick::Impulse(positive("impulse_n_s", i, "the impulse (N s)")?),
+        _ => {
+            return Err(Error::invalid(
+                path,
+                key("initial_velocity_m_s"),
+                "(missing or both)",
+                "give exactly one of initial_velocity_m_s and impulse_n_s",
+            ))
+        }
+    };
+    let duration = positive("duration_s", a.duration_s.unwrap_or(1.0), "the duration (s)")?;
+    let rate = positive("sample_rate_hz", a.sample_rate_hz.unwrap_or(10_000.0), "the sample rate (Hz)")?;
+    if duration * rate > 2e6 {
+        return Err(Error::invalid(
+            path,
+            key("sample_rate_hz"),
+            rate,
+            format!("duration_s x sample_rate_hz = {:.0} samples; at most 2e6", duration * rate),
+        ));
+    }
+    let spectrum_hz = match &a.spectrum_hz {
+        Some(g) => grid(path, "analysis.spectrum_hz", g)?,
+        None => (1..=800).map(|i| round_hz(0.1 * i as f64)).collect(),
+    };
+    if let Some(f) = spectrum_hz.iter().find(|f| **f > 0.5 * rate) {
+        return Err(Error::invalid(
+            path,
+            "analysis.spectrum_hz.stop",
+            f,
+            format!("the spectrum ends at the Nyquist frequency, sample_rate_hz / 2 = {}", 0.5 * rate),
+        ));
+    }
+    let levels = a.decay_levels.clone().unwrap_or_else(|| vec![0.5, 0.1, 0.01]);
+    for (i, l) in levels.iter().enumerate() {
+        if !(*l > 0.0 && *l < 1.0) {
+            return Err(Error::invalid(
+                path,
+                format!("analysis.decay_levels[{i}]"),
+                l,
+                "a fraction of the first peak in (0, 1)",
+            ));
+        }
+    }
+    Ok(Analysis::Impulse { options: ImpulseOptions { mass, kick, duration, dt: 1.0 / rate }, spectrum_hz, levels })
 }

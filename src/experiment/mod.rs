@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::model::{Damper, Structure};
+use crate::sim::impulse::ImpulseOptions;
 use crate::sim::SteadyOptions;
 
 pub use analysis::round_hz;
@@ -113,6 +114,14 @@ pub enum Analysis {
     },
     /// Time histories at a few frequencies.
     Waveform { frequencies: Vec<Number>, labels: Vec<String>, periods: usize, steady: SteadyOptions },
+    /// Free decay after an impulse: histories, envelopes, decay times, energy, spectrum.
+    Impulse {
+        options: ImpulseOptions,
+        /// Frequencies of the spectrum, Hz.
+        spectrum_hz: Vec<f64>,
+        /// Envelope levels whose decay times are measured (fractions of the first peak).
+        levels: Vec<f64>,
+    },
 }
 
 impl Analysis {
@@ -124,6 +133,7 @@ impl Analysis {
             Analysis::Sweep { .. } => "sweep",
             Analysis::ClearanceStudy { .. } => "clearance_study",
             Analysis::Waveform { .. } => "waveform",
+            Analysis::Impulse { .. } => "impulse",
         }
     }
 }
@@ -152,6 +162,8 @@ pub struct PlotSpec {
     pub marks_relative_to: Option<String>,
     /// Linear curves drawn beside.
     pub linear: Vec<Linear>,
+    /// The horizontal range drawn (`None`: the analysis's).
+    pub x_range: Option<(f64, f64)>,
 }
 
 /// A linear reference curve.
@@ -174,6 +186,14 @@ pub enum PlotKind {
     ClearanceScan,
     /// Time histories of masses and beds against forcing phase.
     Waveform,
+    /// Impulse response: acceleration of each mass against time, with its envelope.
+    Acceleration,
+    /// Impulse response: envelopes (log) with the decay levels, and the energy remaining.
+    Decay,
+    /// Impulse response: magnitude of the spectrum of each mass's acceleration.
+    Spectrum,
+    /// Impulse response: equivalent damping ratio of each mode against its amplitude.
+    Damping,
 }
 
 /// The kinds of check an experiment can ask for.
@@ -182,7 +202,9 @@ pub enum CheckKind {
     /// A natural frequency (rad/s) of the bare structure against a reference value.
     NaturalFrequency { mode: usize },
     /// Each element of a normalised mode shape against a reference vector.
-    ModeShape { mode: usize },
+    /// `elements` (0-based masses) limits the check to some of them, so that a known
+    /// deviation can name exactly the elements it is about.
+    ModeShape { mode: usize, elements: Vec<usize> },
     /// The structure's masses, stiffnesses and the force against the paper's values.
     PaperParameters,
     /// A case's compliance curves against a reference curve file, at the reference's own
@@ -193,6 +215,14 @@ pub enum CheckKind {
     /// The ratio of two cases' peak compliances of a mass within a reference range
     /// (`reference` is the lower bound, `range_to` the id of the upper one).
     PeakRatio { case: String, over_case: String, mass: usize, upper_id: String },
+    /// An impulse history (x, v, a of every mass) against a reference file over the first
+    /// `window` seconds: the largest difference relative to the column's largest value.
+    ImpulseHistory { case: String, window: f64 },
+    /// Envelope decay times of a mass's acceleration against those of a reference history,
+    /// the same estimator applied to both.
+    DecayTime { case: String, mass: usize, levels: Vec<f64> },
+    /// The decay time of `case` over that of `over_case` at most a reference value.
+    DecayRatio { case: String, over_case: String, mass: usize, level: f64 },
 }
 
 /// A tolerance: pass when `|computed - expected| <= abs + rel |expected|`.

@@ -20,6 +20,12 @@ fn plot_kinds(analysis: &Analysis) -> &'static [(&'static str, PlotKind)] {
             &[("clearance_scan", PlotKind::ClearanceScan), ("compliance_panels", PlotKind::CompliancePanels)]
         }
         Analysis::Waveform { .. } => &[("waveform", PlotKind::Waveform)],
+        Analysis::Impulse { .. } => &[
+            ("acceleration", PlotKind::Acceleration),
+            ("decay", PlotKind::Decay),
+            ("spectrum", PlotKind::Spectrum),
+            ("damping", PlotKind::Damping),
+        ],
     }
 }
 
@@ -35,6 +41,17 @@ fn case_list(path: &Path, key: &str, cs: &[String], case_ids: &[String]) -> Resu
         }
     }
     Ok(())
+}
+
+/// The case a check names.
+fn case_ref(path: &Path, key: String, v: &Option<String>, case_ids: &[String]) -> Result<String> {
+    match v {
+        Some(c) if case_ids.contains(c) => Ok(c.clone()),
+        Some(c) => {
+            Err(Error::invalid(path, key, format!("\"{c}\""), format!("no such case; the cases are {case_ids:?}")))
+        }
+        None => Err(Error::invalid(path, key, "(missing)", "this check needs the case it compares")),
+    }
 }
 
 /// Validates one plot.
@@ -121,7 +138,20 @@ pub fn plot(path: &Path, i: usize, p: RawPlot, n: usize, case_ids: &[String], an
             )),
         })
         .collect::<Result<Vec<_>>>()?;
+    let x_range = match p.x_range.as_deref() {
+        None => None,
+        Some(&[a, b]) if a.is_finite() && b.is_finite() && a < b => Some((a, b)),
+        Some(v) => {
+            return Err(Error::invalid(
+                path,
+                key("x_range"),
+                format!("{v:?}"),
+                "give [from, to] with from < to, both finite",
+            ))
+        }
+    };
     Ok(PlotSpec {
+        x_range,
         id: p.id,
         kind,
         title: p.title,
@@ -155,18 +185,7 @@ pub fn check(
         }
         Ok(m as usize - 1)
     };
-    let case = |field: &str, v: &Option<String>| -> Result<String> {
-        match v {
-            Some(c) if case_ids.contains(c) => Ok(c.clone()),
-            Some(c) => Err(Error::invalid(
-                path,
-                key(field),
-                format!("\"{c}\""),
-                format!("no such case; the cases are {case_ids:?}"),
-            )),
-            None => Err(Error::invalid(path, key(field), "(missing)", "this check needs the case it compares")),
-        }
-    };
+    let case = |field: &str, v: &Option<String>| case_ref(path, key(field), v, case_ids);
     for (k, v) in [("rel_tol", c.rel_tol), ("abs_tol", c.abs_tol), ("rel_tol_all", c.rel_tol_all)] {
         if let Some(v) = v {
             if !(v.is_finite() && v >= 0.0) {
@@ -177,7 +196,17 @@ pub fn check(
     let kind =
         match c.kind.as_str() {
             "natural_frequency" => CheckKind::NaturalFrequency { mode: mode(c.mode)? },
-            "mode_shape" => CheckKind::ModeShape { mode: mode(c.mode)? },
+            "mode_shape" => CheckKind::ModeShape {
+                mode: mode(c.mode)?,
+                elements: match &c.elements {
+                    Some(list) => list
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &m)| mass_index(path, &format!("checks[{i}].elements[{j}]"), m, n))
+                        .collect::<Result<Vec<_>>>()?,
+                    None => (0..n).collect(),
+                },
+            },
             "paper_parameters" => CheckKind::PaperParameters,
             "curve" => {
                 let fraction = c.fraction.unwrap_or(1.0);
@@ -250,11 +279,22 @@ pub fn check(
                     upper_id,
                 }
             }
+            "impulse_history" | "decay_time" | "decay_ratio" => {
+                let Analysis::Impulse { levels, .. } = analysis else {
+                    return Err(Error::invalid(
+                        path,
+                        key("kind"),
+                        format!("\"{}\"", c.kind),
+                        format!("only an impulse analysis has decay histories (this one is \"{}\")", analysis.kind()),
+                    ));
+                };
+                impulse_check(path, i, &c, n, case_ids, levels)?
+            }
             other => return Err(Error::invalid(
                 path,
                 key("kind"),
                 format!("\"{other}\""),
-                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"peak_ratio\"",
+                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"peak_ratio\", \"impulse_history\", \"decay_time\", \"decay_ratio\"",
             )),
         };
     if c.rel_tol.is_none() && c.abs_tol.is_none() {
@@ -306,7 +346,20 @@ pub fn check(
                 ))
             }
         },
-        CheckKind::Curve { .. } if !file.ends_with(".csv") => {
+        CheckKind::DecayRatio { .. } => match &id {
+            Some(id) => ids.push(id),
+            None => {
+                return Err(Error::invalid(
+                    path,
+                    key("reference"),
+                    format!("\"{}\"", c.reference),
+                    "name the upper bound of the ratio: FILE#ID",
+                ))
+            }
+        },
+        CheckKind::Curve { .. } | CheckKind::ImpulseHistory { .. } | CheckKind::DecayTime { .. }
+            if !file.ends_with(".csv") =>
+        {
             return Err(Error::invalid(
                 path,
                 key("reference"),
@@ -330,4 +383,51 @@ pub fn check(
         }
     }
     Ok(CheckSpec { kind, reference_file: file, reference_id: id, tolerance, known_deviation: c.known_deviation })
+}
+
+/// The checks of an impulse analysis: `impulse_history`, `decay_time`, `decay_ratio`.
+fn impulse_check(
+    path: &Path,
+    i: usize,
+    c: &RawCheck,
+    n: usize,
+    case_ids: &[String],
+    levels: &[f64],
+) -> Result<CheckKind> {
+    let key = |k: &str| format!("checks[{i}].{k}");
+    let case = |field: &str, v: &Option<String>| case_ref(path, key(field), v, case_ids);
+    let mass = || match c.mass {
+        Some(m) => mass_index(path, &key("mass"), m, n),
+        None => Err(Error::invalid(path, key("mass"), "(missing)", format!("name the mass (1 to {n})"))),
+    };
+    let level = |l: f64| -> Result<f64> {
+        if l > 0.0 && l < 1.0 {
+            Ok(l)
+        } else {
+            Err(Error::invalid(path, key("level"), l, "a fraction of the first envelope peak in (0, 1)"))
+        }
+    };
+    Ok(match c.kind.as_str() {
+        "impulse_history" => {
+            let window = c.window_s.unwrap_or(0.02);
+            if !(window.is_finite() && window > 0.0) {
+                return Err(Error::invalid(path, key("window_s"), window, "a positive window (s)"));
+            }
+            CheckKind::ImpulseHistory { case: case("case", &c.case)?, window }
+        }
+        "decay_time" => CheckKind::DecayTime {
+            case: case("case", &c.case)?,
+            mass: mass()?,
+            levels: match c.level {
+                Some(l) => vec![level(l)?],
+                None => levels.to_vec(),
+            },
+        },
+        _ => CheckKind::DecayRatio {
+            case: case("case", &c.case)?,
+            over_case: case("over_case", &c.over_case)?,
+            mass: mass()?,
+            level: level(c.level.unwrap_or(0.1))?,
+        },
+    })
 }

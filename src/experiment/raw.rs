@@ -110,6 +110,27 @@ pub struct RawAnalysis {
     /// Waveforms: steady periods to record and draw.
     #[serde(default)]
     pub periods: Option<i64>,
+    /// Impulse: the struck mass (1-based).
+    #[serde(default)]
+    pub struck_mass: Option<i64>,
+    /// Impulse: the initial velocity given to the struck mass and the beds on it, m/s ...
+    #[serde(default)]
+    pub initial_velocity_m_s: Option<f64>,
+    /// ... or the impulse, N s.
+    #[serde(default)]
+    pub impulse_n_s: Option<f64>,
+    /// Impulse: simulated time, s.
+    #[serde(default)]
+    pub duration_s: Option<f64>,
+    /// Impulse: samples per second.
+    #[serde(default)]
+    pub sample_rate_hz: Option<f64>,
+    /// Impulse: frequencies of the spectrum.
+    #[serde(default)]
+    pub spectrum_hz: Option<RawGrid>,
+    /// Impulse: fractions of the first envelope peak whose decay times are measured.
+    #[serde(default)]
+    pub decay_levels: Option<Vec<f64>>,
 }
 
 /// Steady-state settings (MODEL.md section 3).
@@ -190,6 +211,9 @@ pub struct RawPlot {
     /// Linear curves drawn beside: "bare" and/or "stuck".
     #[serde(default)]
     pub linear: Option<Vec<String>>,
+    /// The horizontal range drawn, [from, to] (default: the analysis's).
+    #[serde(default)]
+    pub x_range: Option<Vec<f64>>,
 }
 
 /// A marked frequency, `offset_hz` from a resonance peak.
@@ -243,4 +267,13 @@ pub struct RawCheck {
     /// Ratio checks: the id of the upper bound (`reference` names the lower one).
     #[serde(default)]
     pub range_to: Option<String>,
+    /// Impulse history checks: the compared window from t = 0, s.
+    #[serde(default)]
+    pub window_s: Option<f64>,
+    /// Mode shape checks: the elements compared (1-based masses; default all).
+    #[serde(default)]
+    pub elements: Option<Vec<i64>>,
+    /// Decay checks: the envelope level (fraction of the first peak).
+    #[serde(default)]
+    pub level: Option<f64>,
 }

@@ -17,6 +17,7 @@ pub enum Marker {
     Circle,
     Cross,
     Square,
+    Triangle,
 }
 
 /// One drawn series.
@@ -31,12 +32,14 @@ pub struct Series {
     /// Draw a line through the points.
     pub line: bool,
     pub marker: Marker,
+    /// Filled markers (hollow otherwise).
+    pub filled: bool,
 }
 
 impl Series {
     /// A solid line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, color: usize) -> Series {
-        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: true, marker: Marker::None }
+        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: true, marker: Marker::None, filled: false }
     }
 
     /// The same series with another dash.
@@ -45,9 +48,51 @@ impl Series {
         self
     }
 
+    /// A line through a dense signal, reduced to the smallest and largest value in each of
+    /// `bins` equal intervals of x (in the order they occur), so that the drawing is the same
+    /// at the figure's resolution while the files stay small.
+    pub fn dense(label: impl Into<String>, x: &[f64], y: &[f64], color: usize, bins: usize) -> Series {
+        let n = x.len().min(y.len());
+        if n <= 2 * bins || bins == 0 {
+            return Series::line(label, x[..n].to_vec(), y[..n].to_vec(), color);
+        }
+        let (x0, x1) = (x[0], x[n - 1]);
+        let width = (x1 - x0) / bins as f64;
+        let (mut xs, mut ys) = (Vec::with_capacity(2 * bins + 2), Vec::with_capacity(2 * bins + 2));
+        let mut i = 0;
+        while i < n {
+            let bin = (((x[i] - x0) / width) as usize).min(bins - 1);
+            let mut j = i;
+            let (mut lo, mut hi) = (i, i);
+            while j < n && (((x[j] - x0) / width) as usize).min(bins - 1) == bin {
+                if y[j] < y[lo] {
+                    lo = j;
+                }
+                if y[j] > y[hi] {
+                    hi = j;
+                }
+                j += 1;
+            }
+            for k in if lo <= hi { [lo, hi] } else { [hi, lo] } {
+                if xs.last() != Some(&x[k]) {
+                    xs.push(x[k]);
+                    ys.push(y[k]);
+                }
+            }
+            i = j;
+        }
+        Series::line(label, xs, ys, color)
+    }
+
+    /// The same series with filled markers.
+    pub fn filled(mut self) -> Series {
+        self.filled = true;
+        self
+    }
+
     /// Points only.
     pub fn points(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, color: usize, marker: Marker) -> Series {
-        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: false, marker }
+        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: false, marker, filled: false }
     }
 }
 
@@ -58,6 +103,16 @@ pub struct VLine {
     pub label: String,
 }
 
+/// A corner of a panel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Corner {
+    #[default]
+    UpperRight,
+    UpperLeft,
+    LowerRight,
+    LowerLeft,
+}
+
 /// One panel of a figure.
 #[derive(Debug, Clone)]
 pub struct Panel {
@@ -65,9 +120,50 @@ pub struct Panel {
     pub x_label: String,
     pub y_label: String,
     pub x_range: (f64, f64),
+    /// Logarithmic axes (values <= 0 are left out).
+    pub x_log: bool,
     pub y_log: bool,
+    /// Vertical range; `None`: from the data.
+    pub y_range: Option<(f64, f64)>,
+    /// Where the legend goes (keep it off the data that matters).
+    pub legend: Corner,
     pub series: Vec<Series>,
     pub vlines: Vec<VLine>,
+}
+
+impl Panel {
+    /// A panel with linear axes and no series yet.
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+        x_range: (f64, f64),
+    ) -> Panel {
+        Panel {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_range,
+            x_log: false,
+            y_log: false,
+            y_range: None,
+            legend: Corner::UpperRight,
+            series: Vec::new(),
+            vlines: Vec::new(),
+        }
+    }
+
+    /// The same panel with a logarithmic vertical axis.
+    pub fn log_y(mut self) -> Panel {
+        self.y_log = true;
+        self
+    }
+
+    /// The same panel with a logarithmic horizontal axis.
+    pub fn log_x(mut self) -> Panel {
+        self.x_log = true;
+        self
+    }
 }
 
 /// A figure: one or more panels stacked vertically.

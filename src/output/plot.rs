@@ -6,12 +6,11 @@ use std::path::Path;
 use std::sync::Once;
 
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 
-use super::figure::{Dash, Figure, Marker, Panel, Series};
+use super::figure::{Corner, Dash, Figure, Marker, Panel, Series};
 
 /// Width of a figure, pixels.
 pub const WIDTH: u32 = 1100;
@@ -93,6 +92,9 @@ fn draw<DB: DrawingBackend>(fig: &Figure, root: DrawingArea<DB, plotters::coord:
 
 /// Finite y values of all series (positive ones for log axes).
 fn y_extent(panel: &Panel) -> (f64, f64) {
+    if let Some(r) = panel.y_range {
+        return r;
+    }
     let mut lo = f64::INFINITY;
     let mut hi = f64::NEG_INFINITY;
     for s in &panel.series {
@@ -114,48 +116,73 @@ fn y_extent(panel: &Panel) -> (f64, f64) {
     }
 }
 
+/// Tick labels of a value axis: scientific notation for small or large values.
+fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> String> {
+    let big = lo.abs().max(hi.abs());
+    if log {
+        Box::new(|v: &f64| format!("{v:.0e}"))
+    } else if !(1e-2..1e5).contains(&big) {
+        Box::new(move |v: &f64| if v.abs() < 1e-9 * big { "0".into() } else { format!("{v:.1e}") })
+    } else {
+        Box::new(move |v: &f64| {
+            let v = if v.abs() < 1e-12 * big { 0.0 } else { *v };
+            let s = format!("{v:.4}");
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        })
+    }
+}
+
 fn draw_panel<DB: DrawingBackend>(
     panel: &Panel,
     area: &DrawingArea<DB, plotters::coord::Shift>,
     what: &str,
 ) -> Result<()> {
     let (y0, y1) = y_extent(panel);
-    let x = panel.x_range.0..panel.x_range.1;
+    let (x0, x1) = panel.x_range;
     let mut builder = ChartBuilder::on(area);
     builder
         .caption(&panel.title, ("sans-serif", 22).into_font())
         .margin(14)
         .x_label_area_size(48)
         .y_label_area_size(96);
-    if panel.y_log {
-        let chart = builder.build_cartesian_2d(x, (y0..y1).log_scale()).map_err(|e| render_err(what, e))?;
-        fill(chart, panel, what, |v| format!("{v:.0e}"))
-    } else {
-        let chart = builder.build_cartesian_2d(x, y0..y1).map_err(|e| render_err(what, e))?;
-        // Small or large values read better in scientific notation.
-        let big = y0.abs().max(y1.abs());
-        if !(1e-2..1e5).contains(&big) {
-            fill(chart, panel, what, |v| if *v == 0.0 { "0".into() } else { format!("{v:.1e}") })
-        } else {
-            fill(chart, panel, what, |v| format!("{:.3}", if v.abs() < 1e-12 * big { 0.0 } else { *v }))
+    let fx = tick_format(x0, x1, panel.x_log);
+    let fy = tick_format(y0, y1, panel.y_log);
+    let err = |e| render_err(what, e);
+    match (panel.x_log, panel.y_log) {
+        (false, false) => fill(builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?, panel, what, fx, fy),
+        (false, true) => {
+            fill(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(err)?, panel, what, fx, fy)
         }
+        (true, false) => {
+            fill(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1).map_err(err)?, panel, what, fx, fy)
+        }
+        (true, true) => fill(
+            builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()).map_err(err)?,
+            panel,
+            what,
+            fx,
+            fy,
+        ),
     }
 }
 
-fn fill<'a, DB, Y>(
-    mut chart: ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+fn fill<'a, DB, X, Y>(
+    mut chart: ChartContext<'a, DB, Cartesian2d<X, Y>>,
     panel: &Panel,
     what: &str,
+    x_fmt: impl Fn(&f64) -> String,
     y_fmt: impl Fn(&f64) -> String,
 ) -> Result<()>
 where
     DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     chart
         .configure_mesh()
         .x_desc(&panel.x_label)
         .y_desc(&panel.y_label)
+        .x_label_formatter(&x_fmt)
         .y_label_formatter(&y_fmt)
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
@@ -175,12 +202,13 @@ where
     };
     let mut order: Vec<usize> = (0..panel.vlines.len()).collect();
     order.sort_by(|&a, &b| panel.vlines[a].x.total_cmp(&panel.vlines[b].x));
-    let span = panel.x_range.1 - panel.x_range.0;
+    let pos = |x: f64| if panel.x_log { x.max(f64::MIN_POSITIVE).ln() } else { x };
+    let span = pos(panel.x_range.1) - pos(panel.x_range.0);
     let mut level = vec![0usize; panel.vlines.len()];
     for w in 1..order.len() {
         let (prev, cur) = (order[w - 1], order[w]);
         // Closer than ~20 % of the width to the previous label: one step lower.
-        if panel.vlines[cur].x - panel.vlines[prev].x < 0.2 * span {
+        if pos(panel.vlines[cur].x) - pos(panel.vlines[prev].x) < 0.2 * span {
             level[cur] = (level[prev] + 1) % 4;
         }
     }
@@ -203,7 +231,12 @@ where
     if panel.series.iter().any(|s| !s.label.is_empty()) {
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(match panel.legend {
+                Corner::UpperRight => SeriesLabelPosition::UpperRight,
+                Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
+                Corner::LowerRight => SeriesLabelPosition::LowerRight,
+                Corner::LowerLeft => SeriesLabelPosition::LowerLeft,
+            })
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .label_font(("sans-serif", 14))
@@ -213,14 +246,15 @@ where
     Ok(())
 }
 
-fn draw_series<'a, DB, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+fn draw_series<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     s: &Series,
     panel: &Panel,
     what: &str,
 ) -> Result<()>
 where
     DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     let c = color(s.color);
@@ -228,10 +262,11 @@ where
     let style = ShapeStyle { color: c.to_rgba(), filled: false, stroke_width: 1 };
     // Split at non-finite (or non-positive on log axes) values so that gaps stay gaps.
     let ok = |y: f64| y.is_finite() && (!panel.y_log || y > 0.0);
+    let ok_x = |x: f64| x.is_finite() && (!panel.x_log || x > 0.0);
     let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
     for (&x, &y) in s.x.iter().zip(&s.y) {
         let inside = x >= panel.x_range.0 - 1e-9 && x <= panel.x_range.1 + 1e-9;
-        if ok(y) && x.is_finite() && inside {
+        if ok(y) && ok_x(x) && inside {
             if let Some(run) = runs.last_mut() {
                 run.push((x, y));
             }
@@ -261,28 +296,52 @@ where
             }
         }
         let want_label = !labelled && !s.label.is_empty();
-        let anno = match s.marker {
-            Marker::None => None,
-            Marker::Circle => Some(chart.draw_series(run.iter().map(|&p| Circle::new(p, 4, style)))),
-            Marker::Cross => Some(chart.draw_series(run.iter().map(|&p| Cross::new(p, 4, style)))),
-            Marker::Square => Some(
-                chart.draw_series(run.iter().map(|&p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], style))),
-            ),
-        };
-        if let Some(anno) = anno {
-            let anno = anno.map_err(|e| render_err(what, e))?;
+        if s.marker != Marker::None {
+            let mstyle = if s.filled { style.filled() } else { style };
+            // Polygons always fill: hollow ones fill with nothing and draw their outline.
+            let fill_style: ShapeStyle = if s.filled { style.filled() } else { TRANSPARENT.into() };
+            let marker = s.marker;
+            let pts = run.iter().copied();
+            let anno = match marker {
+                Marker::Circle => chart.draw_series(pts.map(|p| Circle::new(p, 4, mstyle))),
+                Marker::Cross => chart.draw_series(pts.map(|p| Cross::new(p, 4, mstyle))),
+                Marker::Square => {
+                    chart.draw_series(pts.map(|p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], mstyle)))
+                }
+                Marker::Triangle | Marker::None => chart.draw_series(pts.map(|p| {
+                    EmptyElement::at(p)
+                        + Polygon::new(TRIANGLE.to_vec(), fill_style)
+                        + PathElement::new(TRIANGLE.to_vec(), style)
+                })),
+            }
+            .map_err(|e| render_err(what, e))?;
             if want_label {
                 labelled = true;
-                let marker = s.marker;
-                anno.label(s.label.clone()).legend(move |(x, y)| match marker {
-                    Marker::Cross => EmptyElement::at((x + 12, y)) + Cross::new((0, 0), 4, style),
-                    _ => EmptyElement::at((x + 12, y)) + Cross::new((0, 0), 0, style),
-                } + Circle::new((0, 0), if matches!(marker, Marker::Cross) { 0 } else { 4 }, style));
+                // One element type for every marker: the unused shapes have size zero.
+                let size = move |m: Marker| if m == marker { 1 } else { 0 };
+                anno.label(s.label.clone()).legend(move |(x, y)| {
+                    let sq = 4 * size(Marker::Square);
+                    EmptyElement::at((x + 12, y))
+                        + Circle::new((0, 0), 4 * size(Marker::Circle), mstyle)
+                        + Cross::new((0, 0), 4 * size(Marker::Cross), mstyle)
+                        + Polygon::new(
+                            TRIANGLE.map(|(a, b)| (a * size(Marker::Triangle), b * size(Marker::Triangle))).to_vec(),
+                            fill_style,
+                        )
+                        + PathElement::new(
+                            TRIANGLE.map(|(a, b)| (a * size(Marker::Triangle), b * size(Marker::Triangle))).to_vec(),
+                            style,
+                        )
+                        + Rectangle::new([(-sq, -sq), (sq, sq)], if sq > 0 { mstyle } else { TRANSPARENT.into() })
+                });
             }
         }
     }
     Ok(())
 }
+
+/// A triangle marker around a point, pixels (closed path).
+const TRIANGLE: [(i32, i32); 4] = [(0, -5), (5, 4), (-5, 4), (0, -5)];
 
 /// Segments of a legend swatch whose spacing shows the dash pattern.
 fn dash_segments(dash: Dash) -> [(i32, i32); 3] {

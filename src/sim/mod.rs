@@ -5,6 +5,7 @@
 
 pub mod eigen;
 pub mod engine;
+pub mod impulse;
 pub mod observe;
 pub mod roots;
 pub mod segment;

@@ -217,15 +217,23 @@ impl Observer for Energy {
 
 /// Stored energy: kinetic (masses and beds), elastic, and the beds' gravitational energy.
 pub fn stored_energy(d: &Dynamics, s: &State) -> f64 {
+    let (y, u): (Vec<f64>, Vec<f64>) = (0..s.beds.len()).map(|j| s.bed_motion(d, j)).unzip();
+    energy_of(d, s.x.as_slice(), s.v.as_slice(), &y, &u)
+}
+
+/// Stored energy from displacements `x`, velocities `v` of the masses and positions `y`,
+/// velocities `u` of the beds (in the frame of the bare structure's static equilibrium).
+pub fn energy_of(d: &Dynamics, x: &[f64], v: &[f64], y: &[f64], u: &[f64]) -> f64 {
     let m0 = &d.system.structure.masses;
-    let kinetic: f64 = s.v.iter().zip(m0).map(|(v, m)| 0.5 * m * v * v).sum();
-    let elastic = 0.5 * (s.x.transpose() * &d.k * &s.x)[(0, 0)];
-    let beds: f64 = (0..s.beds.len())
-        .map(|j| {
-            let (y, u) = s.bed_motion(d, j);
-            let m = d.system.dampers[j].mass;
-            0.5 * m * u * u + m * GRAVITY * y
-        })
+    let kinetic: f64 = v.iter().zip(m0).map(|(v, m)| 0.5 * m * v * v).sum();
+    let n = x.len();
+    let elastic: f64 = (0..n).map(|i| (0..n).map(|j| 0.5 * x[i] * d.k[(i, j)] * x[j]).sum::<f64>()).sum();
+    let beds: f64 = d
+        .system
+        .dampers
+        .iter()
+        .zip(y.iter().zip(u))
+        .map(|(dm, (y, u))| 0.5 * dm.mass * u * u + dm.mass * GRAVITY * y)
         .sum();
     kinetic + elastic + beds
 }
@@ -263,16 +271,20 @@ pub fn flat(d: &Dynamics, s: &State) -> DVector<f64> {
     z
 }
 
-/// Time histories at given (sorted) times: displacement of every mass, position and state
-/// of every bed, and the events in between.
+/// Time histories at given (sorted) times: displacement, velocity and acceleration of every
+/// mass (the acceleration of the configuration in force at that time, so it jumps at events),
+/// position, velocity and state of every bed, and the events in between.
 #[derive(Debug, Clone, Default)]
 pub struct Sampler {
     pub times: Vec<f64>,
     next: usize,
     /// Per sample, per mass.
     pub x: Vec<Vec<f64>>,
-    /// Per sample, per bed: position.
+    pub v: Vec<Vec<f64>>,
+    pub a: Vec<Vec<f64>>,
+    /// Per sample, per bed: position and velocity.
     pub y: Vec<Vec<f64>>,
+    pub u: Vec<Vec<f64>>,
     /// Per sample, per bed: 'B' bottom, 'T' top, 'F' free.
     pub state: Vec<Vec<char>>,
     pub events: Vec<Event>,
@@ -286,25 +298,35 @@ impl Sampler {
 
 impl Observer for Sampler {
     fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        let n = d.system.dof();
         while self.next < self.times.len() && self.times[self.next] <= t_b {
             let t = self.times[self.next];
             if t >= t_a {
                 let pt = seg.point(d, t);
-                let (x, _) = seg.state(d, &pt);
+                let (x, v) = seg.state(d, &pt);
+                let a: Vec<f64> = (0..n).map(|i| seg.deriv(d, &pt, i, 2)).collect();
                 let mut y = Vec::with_capacity(beds.len());
+                let mut u = Vec::with_capacity(beds.len());
                 let mut st = Vec::with_capacity(beds.len());
                 for (j, b) in beds.iter().enumerate() {
                     let dm = &d.system.dampers[j];
-                    let (pos, c) = match *b {
-                        Bed::Bottom => (x[dm.host], 'B'),
-                        Bed::Top => (x[dm.host] + dm.clearance, 'T'),
-                        Bed::Free { t0, y0, u0 } => (Bed::flight(t0, y0, u0, t).0, 'F'),
+                    let (pos, vel, c) = match *b {
+                        Bed::Bottom => (x[dm.host], v[dm.host], 'B'),
+                        Bed::Top => (x[dm.host] + dm.clearance, v[dm.host], 'T'),
+                        Bed::Free { t0, y0, u0 } => {
+                            let (pos, vel) = Bed::flight(t0, y0, u0, t);
+                            (pos, vel, 'F')
+                        }
                     };
                     y.push(pos);
+                    u.push(vel);
                     st.push(c);
                 }
                 self.x.push(x.iter().copied().collect());
+                self.v.push(v.iter().copied().collect());
+                self.a.push(a);
                 self.y.push(y);
+                self.u.push(u);
                 self.state.push(st);
             }
             self.next += 1;
