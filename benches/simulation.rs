@@ -35,10 +35,46 @@ fn fig08_sweep(c: &mut Criterion) {
     group.finish();
 }
 
+/// The Fig. 9 branch: the equivalent SDOF model of mode 3 with one damper on m2 (d = 0.5 mm),
+/// seeded at 49.66 Hz and continued both ways over 44-56 Hz.
+fn fig09_branch(c: &mut Criterion) {
+    use shotdamp::model::sdof::EquivalentSdof;
+    use shotdamp::sim::continuation::{continue_branch, ContinuationOptions};
+    use shotdamp::sim::periodic::{seed, NewtonOptions};
+    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    let e = EquivalentSdof::new(&s, &[Damper { host: 1, mass: 0.071, clearance: 0.5e-3 }], 2, 0, 2.6);
+    let sys = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
+    let family = |f: f64| Dynamics::new(&sys, 2.0 * PI * f);
+    let d = family(49.66).expect("dynamics");
+    let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
+    let (problem, u) = seed(&d, &st.final_state, 1, st.amplitude[0], d.omega, false).expect("seed");
+    let opts = ContinuationOptions {
+        p_min: 44.0,
+        p_max: 56.0,
+        p_scale: 1.0,
+        ds: 0.02,
+        ds_min: 1e-5,
+        // Steps of at most 0.05 Hz (the report uses 0.1); the point count is in the name.
+        ds_max: 0.05,
+        max_points: 600,
+        newton: NewtonOptions { tol: 1e-10, ..NewtonOptions::default() },
+    };
+    let run = || {
+        let down = continue_branch(&family, problem, 49.66, &u, false, &opts).expect("down");
+        let up = continue_branch(&family, problem, 49.66, &u, true, &opts).expect("up");
+        down.points.len() + up.points.len() - 1
+    };
+    let points = run();
+    let mut group = c.benchmark_group("continuation");
+    group.sample_size(10);
+    group.bench_function(format!("fig09 SDOF mode 3 branch 44-56 Hz ({points} points)"), |b| b.iter(run));
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = point, fig08_sweep
+    targets = point, fig08_sweep, fig09_branch
 }
 criterion_main!(benches);

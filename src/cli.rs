@@ -15,6 +15,7 @@ use crate::checks::reference::ReferenceStore;
 use crate::checks::Status;
 use crate::experiment::{self, Experiment, Exports};
 use crate::model::modal::modal_summary;
+use crate::model::sdof::EquivalentSdof;
 use crate::output::ReportWriter;
 
 /// Replicates Araki et al. (1997), "Impact damper with granular materials for multibody
@@ -149,9 +150,29 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
         );
     }
     for c in cases {
-        let with = modal_summary(&exp.structure, &c.dampers);
-        let mus: Vec<String> = with.iter().map(|m| format!("mu_{} = {:.5}", m.number, m.mass_ratio)).collect();
-        println!("case {} ({}): {}", c.id, c.label, mus.join(", "));
+        println!();
+        println!("case {} ({}): equivalent SDOF model of each mode (paper section 2.2, Eq. 12-13)", c.id, c.label);
+        println!(
+            "{:>4} {:>8} {:>10} {:>12} {:>11} {:>10} {:>9} {:>10} {:>8}",
+            "mode", "q at", "M_i kg", "K_i N/m", "C_i N s/m", "F_i N", "mu_i", "m_d,i kg", "d mm"
+        );
+        for i in 0..n {
+            let e = EquivalentSdof::new(&exp.structure, &c.dampers, i, exp.excitation.mass, exp.excitation.force);
+            let m = &e.mode;
+            let d = if e.clearance.is_finite() { format!("{:.3}", e.clearance * 1e3) } else { "inf".into() };
+            println!(
+                "{:>4} {:>8} {:>10.5} {:>12.2} {:>11.5} {:>10.4} {:>9.5} {:>10.5} {:>8}",
+                m.number,
+                format!("m{}", m.reference_mass + 1),
+                m.modal_mass,
+                m.modal_stiffness,
+                m.modal_damping,
+                e.force,
+                m.mass_ratio,
+                e.damper_mass,
+                d
+            );
+        }
     }
     Ok(())
 }

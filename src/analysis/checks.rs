@@ -8,6 +8,8 @@ use std::collections::BTreeMap;
 use super::curves::{Curve, Curves};
 use super::decay_checks;
 use super::impulse::Decay;
+use super::orbit_checks;
+use super::orbits::OrbitsResult;
 use crate::experiment::{CheckKind, CheckSpec, Experiment};
 use crate::model::modal::ModeSummary;
 
@@ -15,6 +17,7 @@ use crate::model::modal::ModeSummary;
 pub struct Computed<'a> {
     pub curves: &'a Curves,
     pub decays: &'a BTreeMap<String, Decay>,
+    pub orbits: Option<&'a OrbitsResult>,
 }
 
 /// Every check of `exp`, in file order. A reference that is missing (the loader validates
@@ -33,6 +36,13 @@ pub fn evaluate(
                 out.push(match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
                     (Some(r), Some(d)) => decay_checks::history(spec, r, d, *window),
                     _ => missing(spec, "reference or impulse run missing"),
+                });
+                continue;
+            }
+            CheckKind::OrbitVsSimulation => {
+                out.push(match computed.orbits {
+                    Some(r) => orbit_checks::orbit_vs_simulation(spec, r),
+                    None => missing(spec, "no periodic orbits computed"),
                 });
                 continue;
             }
@@ -100,7 +110,14 @@ pub fn evaluate(
                     _ => out.push(missing(spec, "bound or impulse runs missing")),
                 }
             }
-            CheckKind::Curve { .. } | CheckKind::ImpulseHistory { .. } | CheckKind::DecayTime { .. } => {}
+            CheckKind::SdofVsSimulation => match (quantity(file, spec), computed.orbits) {
+                (Some(q), Some(r)) => out.push(orbit_checks::sdof_vs_simulation(spec, file, q, r, modes)),
+                _ => out.push(missing(spec, "claim or periodic orbits missing")),
+            },
+            CheckKind::Curve { .. }
+            | CheckKind::ImpulseHistory { .. }
+            | CheckKind::DecayTime { .. }
+            | CheckKind::OrbitVsSimulation => {}
         }
     }
     out

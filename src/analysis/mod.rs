@@ -8,6 +8,9 @@ mod decay_checks;
 mod figures;
 pub mod impulse;
 mod linear;
+mod orbit_checks;
+mod orbit_figures;
+pub mod orbits;
 mod sweep;
 mod waveform;
 
@@ -77,6 +80,9 @@ pub fn work(exp: &Experiment, refs: &ReferenceStore) -> u64 {
         }
         Analysis::Waveform { frequencies, .. } => waveform::work(exp, frequencies),
         Analysis::Impulse { .. } => exp.cases.len() as u64,
+        Analysis::SdofPeriodic { freq_hz, clearances_mm, .. } => {
+            (clearances_mm.as_ref().map_or(0, |c| c.len()) + 2 + freq_hz.len()) as u64
+        }
     }
 }
 
@@ -94,6 +100,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     let mut figures = Vec::new();
     let mut curves = curves::Curves::new();
     let mut decays = std::collections::BTreeMap::new();
+    let mut orbits_result = None;
     let mut exports = BTreeMap::new();
     match &exp.analysis {
         Analysis::Modal => {}
@@ -136,8 +143,21 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             figures.extend(out.figures);
             decays = out.decays;
         }
+        Analysis::SdofPeriodic { mode, freq_hz, clearances_mm, steady } => {
+            if let Some(r) = orbits::run(exp, &modes, *mode, freq_hz, clearances_mm.as_deref(), steady, tick) {
+                tables.extend(orbit_figures::tables(exp, &modes, &r));
+                figures.extend(orbit_figures::figures(exp, &modes, &r, freq_hz));
+                exports = orbits::exports(&r, modes[*mode].reference_mass);
+                orbits_result = Some(r);
+            }
+        }
     }
-    let checks = checks::evaluate(exp, &modes, &checks::Computed { curves: &curves, decays: &decays }, refs);
+    let checks = checks::evaluate(
+        exp,
+        &modes,
+        &checks::Computed { curves: &curves, decays: &decays, orbits: orbits_result.as_ref() },
+        refs,
+    );
     Ok(ExperimentResult {
         exports,
         parameters: parameters(exp),

@@ -13,7 +13,8 @@ use super::{Analysis, Number, Start};
 const MAX_GRID_POINTS: usize = 100_000;
 
 /// The analysis kinds, for messages.
-const KINDS: &str = "\"modal\", \"linear_frf\", \"sweep\", \"clearance_study\", \"waveform\", \"impulse\"";
+const KINDS: &str =
+    "\"modal\", \"linear_frf\", \"sweep\", \"clearance_study\", \"waveform\", \"impulse\", \"sdof_periodic\"";
 
 /// A frequency grid in Hz, validated.
 pub fn grid(path: &Path, key: &str, g: &RawGrid) -> Result<Vec<f64>> {
@@ -130,7 +131,8 @@ fn number(path: &Path, key: &str, v: &toml::Value) -> Result<Number> {
 pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> Result<Analysis> {
     let steady = steady(path, a.steady.as_ref())?;
     // Keys of [analysis] that each kind reads; any other key given is an error.
-    let given: [(&str, bool); 17] = [
+    let given: [(&str, bool); 18] = [
+        ("mode", a.mode.is_some()),
         ("freq_hz", a.freq_hz.is_some()),
         ("start", a.start.is_some()),
         ("steady", a.steady.is_some()),
@@ -157,6 +159,7 @@ pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> R
             &["freq_hz", "steady", "clearances_mm", "clearance_points", "objective_mass", "objective_case"]
         }
         "waveform" => &["frequencies_hz", "labels", "periods", "steady"],
+        "sdof_periodic" => &["mode", "freq_hz", "clearances_mm", "steady"],
         "impulse" => &[
             "struck_mass",
             "initial_velocity_m_s",
@@ -197,22 +200,7 @@ pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> R
             Ok(Analysis::Sweep { freq_hz: require_grid(path, &a)?, start, steady })
         }
         "clearance_study" => {
-            let clearances_mm = match &a.clearances_mm {
-                Some(list) => {
-                    for (i, c) in list.iter().enumerate() {
-                        if !(c.is_finite() && *c > 0.0) {
-                            return Err(Error::invalid(
-                                path,
-                                format!("analysis.clearances_mm[{i}]"),
-                                c,
-                                "clearances must be positive and finite (mm)",
-                            ));
-                        }
-                    }
-                    Some(list.clone())
-                }
-                None => None,
-            };
+            let clearances_mm = clearance_list(path, a.clearances_mm.as_deref())?;
             let points = positive_int(path, "analysis.clearance_points", a.clearance_points, 12, 200)?;
             let objective_mass = match a.objective_mass {
                 Some(m) if m >= 1 && m as usize <= n => m as usize - 1,
@@ -291,6 +279,19 @@ pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> R
             Ok(Analysis::Waveform { frequencies, labels, periods, steady })
         }
         "impulse" => impulse(path, &a, n),
+        "sdof_periodic" => {
+            let mode = match a.mode {
+                Some(m) if m >= 1 && m as usize <= n => m as usize - 1,
+                Some(m) => {
+                    return Err(Error::invalid(path, "analysis.mode", m, format!("modes are numbered 1 to {n}")))
+                }
+                None => {
+                    return Err(Error::invalid(path, "analysis.mode", "(missing)", format!("name the mode (1 to {n})")))
+                }
+            };
+            let clearances_mm = clearance_list(path, a.clearances_mm.as_deref())?;
+            Ok(Analysis::SdofPeriodic { mode, freq_hz: require_grid(path, &a)?, clearances_mm, steady })
+        }
         other => Err(Error::invalid(path, "analysis.kind", format!("\"{other}\""), format!("allowed kinds: {KINDS}"))),
     }
 }
@@ -362,4 +363,23 @@ fn impulse(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
         }
     }
     Ok(Analysis::Impulse { options: ImpulseOptions { mass, kick, duration, dt: 1.0 / rate }, spectrum_hz, levels })
+}
+
+/// A list of positive clearances in mm.
+fn clearance_list(path: &Path, list: Option<&[f64]>) -> Result<Option<Vec<f64>>> {
+    let Some(list) = list else { return Ok(None) };
+    for (i, c) in list.iter().enumerate() {
+        if !(c.is_finite() && *c > 0.0) {
+            return Err(Error::invalid(
+                path,
+                format!("analysis.clearances_mm[{i}]"),
+                c,
+                "clearances must be positive and finite (mm)",
+            ));
+        }
+    }
+    if list.is_empty() {
+        return Err(Error::invalid(path, "analysis.clearances_mm", "[]", "give at least one clearance"));
+    }
+    Ok(Some(list.to_vec()))
 }

@@ -114,6 +114,16 @@ pub enum Analysis {
     },
     /// Time histories at a few frequencies.
     Waveform { frequencies: Vec<Number>, labels: Vec<String>, periods: usize, steady: SteadyOptions },
+    /// Periodic orbits of one mode's equivalent SDOF model and of the full structure with one
+    /// damper, continued in frequency, with stability; the MDOF simulation beside them.
+    SdofPeriodic {
+        /// 0-based mode.
+        mode: usize,
+        freq_hz: Vec<f64>,
+        /// Candidate clearances (mm) when the damper's clearance is "scan".
+        clearances_mm: Option<Vec<f64>>,
+        steady: SteadyOptions,
+    },
     /// Free decay after an impulse: histories, envelopes, decay times, energy, spectrum.
     Impulse {
         options: ImpulseOptions,
@@ -134,6 +144,7 @@ impl Analysis {
             Analysis::ClearanceStudy { .. } => "clearance_study",
             Analysis::Waveform { .. } => "waveform",
             Analysis::Impulse { .. } => "impulse",
+            Analysis::SdofPeriodic { .. } => "sdof_periodic",
         }
     }
 }
@@ -194,6 +205,11 @@ pub enum PlotKind {
     Spectrum,
     /// Impulse response: equivalent damping ratio of each mode against its amplitude.
     Damping,
+    /// Periodic orbits: compliance of SDOF and exact branches with the simulation, and the
+    /// phases of the SDOF solution below (the paper's right-hand axis).
+    Orbits,
+    /// Periodic orbits: peak compliance of the SDOF branch against the candidate clearances.
+    ClearanceChoice,
 }
 
 /// The kinds of check an experiment can ask for.
@@ -223,6 +239,12 @@ pub enum CheckKind {
     DecayTime { case: String, mass: usize, levels: Vec<f64> },
     /// The decay time of `case` over that of `over_case` at most a reference value.
     DecayRatio { case: String, over_case: String, mass: usize, level: f64 },
+    /// The exact periodic orbits of the full structure against the simulation of it, at the
+    /// simulated points that settled on a period-1 motion on a stable part of the branch.
+    OrbitVsSimulation,
+    /// The peak compliance of the SDOF solution against that of the simulation of the full
+    /// structure (the paper's "close agreement").
+    SdofVsSimulation,
 }
 
 /// A tolerance: pass when `|computed - expected| <= abs + rel |expected|`.

@@ -20,6 +20,9 @@ fn plot_kinds(analysis: &Analysis) -> &'static [(&'static str, PlotKind)] {
             &[("clearance_scan", PlotKind::ClearanceScan), ("compliance_panels", PlotKind::CompliancePanels)]
         }
         Analysis::Waveform { .. } => &[("waveform", PlotKind::Waveform)],
+        Analysis::SdofPeriodic { .. } => {
+            &[("orbits", PlotKind::Orbits), ("clearance_choice", PlotKind::ClearanceChoice)]
+        }
         Analysis::Impulse { .. } => &[
             ("acceleration", PlotKind::Acceleration),
             ("decay", PlotKind::Decay),
@@ -279,6 +282,21 @@ pub fn check(
                     upper_id,
                 }
             }
+            "orbit_vs_simulation" | "sdof_vs_simulation" => {
+                if !matches!(analysis, Analysis::SdofPeriodic { .. }) {
+                    return Err(Error::invalid(
+                        path,
+                        key("kind"),
+                        format!("\"{}\"", c.kind),
+                        format!("only an sdof_periodic analysis has periodic orbits (this one is \"{}\")", analysis.kind()),
+                    ));
+                }
+                if c.kind == "orbit_vs_simulation" {
+                    CheckKind::OrbitVsSimulation
+                } else {
+                    CheckKind::SdofVsSimulation
+                }
+            }
             "impulse_history" | "decay_time" | "decay_ratio" => {
                 let Analysis::Impulse { levels, .. } = analysis else {
                     return Err(Error::invalid(
@@ -294,7 +312,7 @@ pub fn check(
                 path,
                 key("kind"),
                 format!("\"{other}\""),
-                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"peak_ratio\", \"impulse_history\", \"decay_time\", \"decay_ratio\"",
+                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"peak_ratio\", \"impulse_history\", \"decay_time\", \"decay_ratio\", \"orbit_vs_simulation\", \"sdof_vs_simulation\"",
             )),
         };
     if c.rel_tol.is_none() && c.abs_tol.is_none() {
@@ -306,16 +324,44 @@ pub fn check(
         ));
     }
     let tolerance = Tolerance { rel: c.rel_tol.unwrap_or(0.0), abs: c.abs_tol.unwrap_or(0.0) };
-    let (file, id) = match c.reference.split_once('#') {
+    let reference = match (&kind, &c.reference) {
+        (CheckKind::OrbitVsSimulation, None) => {
+            return Ok(CheckSpec {
+                kind,
+                reference_file: String::new(),
+                reference_id: None,
+                tolerance,
+                known_deviation: c.known_deviation,
+            })
+        }
+        (CheckKind::OrbitVsSimulation, Some(r)) => {
+            return Err(Error::invalid(
+                path,
+                key("reference"),
+                format!("\"{r}\""),
+                "this check compares two computations of the same run: it takes no reference",
+            ))
+        }
+        (_, None) => {
+            return Err(Error::invalid(
+                path,
+                key("reference"),
+                "(missing)",
+                "name the reference: FILE or FILE#ID under reference/",
+            ))
+        }
+        (_, Some(r)) => r.clone(),
+    };
+    let (file, id) = match reference.split_once('#') {
         Some((f, id)) => (f.to_string(), Some(id.to_string())),
-        None => (c.reference.clone(), None),
+        None => (reference.clone(), None),
     };
     let ref_path = reference_dir.join(&file);
     if !ref_path.is_file() {
         return Err(Error::invalid(
             path,
             key("reference"),
-            format!("\"{}\"", c.reference),
+            format!("\"{reference}\""),
             format!("no such reference file: {}", ref_path.display()),
         ));
     }
@@ -327,7 +373,7 @@ pub fn check(
                 return Err(Error::invalid(
                     path,
                     key("reference"),
-                    format!("\"{}\"", c.reference),
+                    format!("\"{reference}\""),
                     "name the value: FILE#ID",
                 ))
             }
@@ -341,18 +387,18 @@ pub fn check(
                 return Err(Error::invalid(
                     path,
                     key("reference"),
-                    format!("\"{}\"", c.reference),
+                    format!("\"{reference}\""),
                     "name the lower bound: FILE#ID",
                 ))
             }
         },
-        CheckKind::DecayRatio { .. } => match &id {
+        CheckKind::DecayRatio { .. } | CheckKind::SdofVsSimulation => match &id {
             Some(id) => ids.push(id),
             None => {
                 return Err(Error::invalid(
                     path,
                     key("reference"),
-                    format!("\"{}\"", c.reference),
+                    format!("\"{reference}\""),
                     "name the upper bound of the ratio: FILE#ID",
                 ))
             }
@@ -363,7 +409,7 @@ pub fn check(
             return Err(Error::invalid(
                 path,
                 key("reference"),
-                format!("\"{}\"", c.reference),
+                format!("\"{reference}\""),
                 "a curve reference is a CSV file",
             ));
         }
@@ -376,7 +422,7 @@ pub fn check(
                 return Err(Error::invalid(
                     path,
                     key("reference"),
-                    format!("\"{}\"", c.reference),
+                    format!("\"{reference}\""),
                     format!("{} has no quantity with id \"{id}\"", ref_path.display()),
                 ));
             }

@@ -110,6 +110,9 @@ pub struct RawAnalysis {
     /// Waveforms: steady periods to record and draw.
     #[serde(default)]
     pub periods: Option<i64>,
+    /// SDOF periodic analysis: the mode (1-based).
+    #[serde(default)]
+    pub mode: Option<i64>,
     /// Impulse: the struck mass (1-based).
     #[serde(default)]
     pub struck_mass: Option<i64>,
@@ -229,7 +232,8 @@ pub struct RawMark {
 pub struct RawCheck {
     pub kind: String,
     /// `FILE#ID` for a value in `reference/FILE`, or `FILE` for a curve.
-    pub reference: String,
+    #[serde(default)]
+    pub reference: Option<String>,
     #[serde(default)]
     pub mode: Option<i64>,
     #[serde(default)]

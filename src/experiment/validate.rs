@@ -49,14 +49,28 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
     let analysis = analysis(path, raw.analysis, n, &case_ids)?;
     let scanning = matches!(analysis, Analysis::ClearanceStudy { .. });
+    let may_scan = matches!(analysis, Analysis::SdofPeriodic { clearances_mm: Some(_), .. });
     for (ci, case) in cases.iter().enumerate() {
         for (di, c) in case.clearances.iter().enumerate() {
-            if (*c == Clearance::Scan) != scanning {
+            let scan = *c == Clearance::Scan;
+            if (scan && !(scanning || may_scan)) || (!scan && scanning) {
                 return Err(Error::invalid(
                     path,
                     format!("cases[{ci}].dampers[{di}].clearance_mm"),
                     if scanning { "(not \"scan\")" } else { "\"scan\"" },
-                    "a clearance study scans every damper's clearance (clearance_mm = \"scan\"); other analyses take a number, \"inf\" or \"@EXPERIMENT.KEY\"",
+                    "a clearance study scans every damper's clearance (clearance_mm = \"scan\"), an sdof_periodic analysis with clearances_mm may; other analyses take a number, \"inf\" or \"@EXPERIMENT.KEY\"",
+                ));
+            }
+        }
+    }
+    if let Analysis::SdofPeriodic { .. } = analysis {
+        for (ci, case) in cases.iter().enumerate() {
+            if case.dampers.len() != 1 {
+                return Err(Error::invalid(
+                    path,
+                    format!("cases[{ci}].dampers"),
+                    format!("{} dampers", case.dampers.len()),
+                    "periodic orbits are computed for exactly one damper per case",
                 ));
             }
         }

@@ -2,6 +2,7 @@
 
 pub mod frf;
 pub mod modal;
+pub mod sdof;
 pub mod structure;
 
 pub use structure::{Damper, Damping, Structure, GRAVITY};

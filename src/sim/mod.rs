@@ -3,10 +3,12 @@
 //! per configuration, computed once); events are located by a certified search; solvers
 //! return data and a stop reason and do no I/O.
 
+pub mod continuation;
 pub mod eigen;
 pub mod engine;
 pub mod impulse;
 pub mod observe;
+pub mod periodic;
 pub mod roots;
 pub mod segment;
 pub mod steady;

@@ -1,0 +1,381 @@
+//! SDOF periodic analyses (Fig. 9): the equivalent SDOF model of a mode with one damper, its
+//! periodic orbits continued in frequency with their stability, the exact periodic orbits of
+//! the full structure with the same damper, the simulation of the full structure, and the
+//! clearance at which only Type II motion appears within the resonance.
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+use num_complex::Complex64;
+use rayon::prelude::*;
+
+use crate::experiment::{Case, Experiment};
+use crate::model::modal::ModeSummary;
+use crate::model::sdof::EquivalentSdof;
+use crate::model::Damper;
+use crate::sim::continuation::{continue_branch, BranchEnd, BranchPoint, ContinuationOptions, Special};
+use crate::sim::periodic::{seed, solve, summarize, NewtonOptions};
+use crate::sim::sweep::{self, SweepPoint};
+use crate::sim::{steady_state, Dynamics, State, SteadyOptions, System};
+
+use super::curves::{self, Curve};
+use super::Tick;
+
+/// One periodic orbit as drawn and tabled.
+#[derive(Debug, Clone)]
+pub struct OrbitPoint {
+    pub freq_hz: f64,
+    /// Compliance of each mass of the structure, m/N.
+    pub compliance: Vec<f64>,
+    pub phi: f64,
+    pub tau0: Option<f64>,
+    pub tau1: Option<f64>,
+    pub tau2: Option<f64>,
+    pub kind: String,
+    pub stable: bool,
+    /// The event sequence survived the difference steps of the Jacobian.
+    pub smooth: bool,
+    pub multipliers: Vec<Complex64>,
+}
+
+/// Continued branches of orbits of one system: one segment per seed (a segment ends where the
+/// return map has a kink it cannot cross, e.g. where an impact appears or vanishes).
+#[derive(Debug, Clone, Default)]
+pub struct OrbitBranch {
+    pub id: String,
+    pub label: String,
+    /// Each segment in branch order (increasing arclength), so folds show as turns.
+    pub segments: Vec<Vec<OrbitPoint>>,
+    pub special: Vec<Special>,
+    /// How each end of each segment ended.
+    pub ends: Vec<String>,
+}
+
+impl OrbitBranch {
+    /// Every point of every segment.
+    pub fn points(&self) -> impl Iterator<Item = &OrbitPoint> {
+        self.segments.iter().flatten()
+    }
+
+    /// Frequency and compliance of `mass` at the highest stable point.
+    pub fn peak(&self, mass: usize) -> Option<(f64, f64)> {
+        self.points().filter(|p| p.stable).map(|p| (p.freq_hz, p.compliance[mass])).max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Whether a frequency lies within the span of a segment.
+    fn covers(&self, f: f64) -> bool {
+        self.segments.iter().any(|seg| {
+            let lo = seg.iter().map(|p| p.freq_hz).fold(f64::INFINITY, f64::min);
+            let hi = seg.iter().map(|p| p.freq_hz).fold(f64::NEG_INFINITY, f64::max);
+            f >= lo - 1e-9 && f <= hi + 1e-9
+        })
+    }
+}
+
+/// "Within the resonance": where the compliance is at least this fraction of its peak (the
+/// half-power band).
+pub const RESONANCE: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// Most segments per branch, and most seed frequencies simulated to find them.
+const MAX_SEGMENTS: usize = 4;
+const MAX_SEEDS: usize = 16;
+
+/// The clearance study of the SDOF model: one row per candidate.
+#[derive(Debug, Clone)]
+pub struct ClearanceRow {
+    pub clearance_mm: f64,
+    pub peak: Option<(f64, f64)>,
+    /// Motion types of the stable orbits within the resonance (compliance >= peak / sqrt 2).
+    pub kinds: Vec<String>,
+    pub only_type_ii: bool,
+}
+
+/// An exact orbit solved at a simulated point, against the simulation there.
+#[derive(Debug, Clone)]
+pub struct OrbitCheckPoint {
+    pub freq_hz: f64,
+    /// Largest relative difference of the compliances (NaN when no orbit was found).
+    pub rel_diff: f64,
+    pub stable: bool,
+    pub note: String,
+}
+
+/// Everything an SDOF periodic analysis computed.
+#[derive(Debug, Clone)]
+pub struct OrbitsResult {
+    pub mode: usize,
+    /// Force amplitude of the structure, N.
+    pub force: f64,
+    pub case: Case,
+    pub sdof_model: EquivalentSdof,
+    pub clearance_rows: Vec<ClearanceRow>,
+    /// How the clearance was chosen, in words.
+    pub clearance_note: String,
+    pub sdof: OrbitBranch,
+    pub exact: OrbitBranch,
+    pub simulation: Curve,
+    pub checked: Vec<OrbitCheckPoint>,
+}
+
+/// The continuation settings over a band, in Hz.
+fn options(freq_hz: &[f64]) -> ContinuationOptions {
+    let (lo, hi) = (freq_hz[0], freq_hz[freq_hz.len() - 1]);
+    ContinuationOptions {
+        p_min: lo,
+        p_max: hi,
+        p_scale: 1.0,
+        ds: 0.02,
+        ds_min: 1e-5,
+        ds_max: 0.1,
+        max_points: 600,
+        // 1e-10 of the amplitude: near a grazing impact the map's derivatives grow large and
+        // rounding keeps the residual near 1e-10.
+        newton: NewtonOptions { tol: 1e-10, ..NewtonOptions::default() },
+    }
+}
+
+/// The SDOF system of a mode with a damper set.
+pub fn sdof_system(exp: &Experiment, dampers: &[Damper], mode: usize) -> (EquivalentSdof, System) {
+    let e = EquivalentSdof::new(&exp.structure, dampers, mode, exp.excitation.mass, exp.excitation.force);
+    let sys = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
+    (e, sys)
+}
+
+/// Continues the orbits of `sys` over the band from the first seed frequency whose simulated
+/// steady state is period-1 with impacts, both ways; `compliance` maps the orbit's amplitudes
+/// to the structure's compliances.
+fn branch(
+    id: &str,
+    label: &str,
+    sys: &System,
+    freq_hz: &[f64],
+    seeds_hz: &[f64],
+    steady: &SteadyOptions,
+    compliance: &(dyn Fn(&[f64]) -> Vec<f64> + Sync),
+) -> OrbitBranch {
+    let family = |f: f64| Dynamics::new(sys, 2.0 * PI * f);
+    let opts = options(freq_hz);
+    let mut out = OrbitBranch { id: id.into(), label: label.into(), ..OrbitBranch::default() };
+    let words = |e: &BranchEnd| match e {
+        BranchEnd::Range => "reached the end of the band".to_string(),
+        BranchEnd::Budget => "point budget used up".to_string(),
+        BranchEnd::Failed(why) => format!("ended: {why}"),
+    };
+    let mut tried = 0;
+    for &f in seeds_hz {
+        if out.segments.len() >= MAX_SEGMENTS || tried >= MAX_SEEDS {
+            break;
+        }
+        if out.covers(f) {
+            continue;
+        }
+        tried += 1;
+        let Ok(d) = family(f) else { continue };
+        let st = steady_state(&d, State::at_rest(&d), steady);
+        if !(st.converged && st.period == 1) || st.bottom_impacts.first().is_none_or(|b| *b == 0.0) {
+            continue;
+        }
+        let length = st.amplitude.iter().copied().fold(0.0, f64::max).max(1e-9);
+        let Some((problem, u)) = seed(&d, &st.final_state, 1, length, d.omega, false) else { continue };
+        let down = continue_branch(&family, problem, f, &u, false, &opts);
+        let up = continue_branch(&family, problem, f, &u, true, &opts);
+        let (Ok(down), Ok(up)) = (down, up) else { continue };
+        let describe = |p: &BranchPoint| {
+            let d = family(p.p).ok()?;
+            let s = summarize(&d, &problem, &p.orbit);
+            Some(OrbitPoint {
+                freq_hz: p.p,
+                compliance: compliance(&s.amplitude),
+                phi: s.phi,
+                tau0: s.tau0,
+                tau1: s.tau1,
+                tau2: s.tau2,
+                kind: s.kind,
+                stable: p.orbit.stable,
+                smooth: p.orbit.smooth,
+                multipliers: p.orbit.multipliers.clone(),
+            })
+        };
+        out.segments.push(down.points.iter().rev().chain(up.points.iter().skip(1)).filter_map(describe).collect());
+        out.special.extend(down.special.iter().chain(&up.special).copied());
+        out.ends.push(format!(
+            "segment from {} Hz: down {}; up {}",
+            crate::checks::fmt_num(f),
+            words(&down.end),
+            words(&up.end)
+        ));
+    }
+    if out.segments.is_empty() {
+        out.ends = vec!["no seed: the simulation found no period-1 impacting motion at the seed frequencies".into()];
+    }
+    out
+}
+
+/// Seed frequencies: the mode's natural frequency first, then the band's grid outward from it.
+fn seeds(freq_hz: &[f64], natural_hz: f64) -> Vec<f64> {
+    let mut s: Vec<f64> = freq_hz.to_vec();
+    s.sort_by(|a, b| (a - natural_hz).abs().total_cmp(&(b - natural_hz).abs()));
+    s.insert(0, natural_hz);
+    s
+}
+
+/// Runs the analysis for the (single) case with a damper.
+pub fn run(
+    exp: &Experiment,
+    modes: &[ModeSummary],
+    mode: usize,
+    freq_hz: &[f64],
+    clearances_mm: Option<&[f64]>,
+    steady: &SteadyOptions,
+    tick: &Tick,
+) -> Option<OrbitsResult> {
+    let case = exp.cases.iter().find(|c| c.dampers.len() == 1)?.clone();
+    let force = exp.excitation.force;
+    let natural = modes[mode].freq_hz;
+    let seeds_hz = seeds(freq_hz, natural);
+    let sdof_compliance = |e: &EquivalentSdof| {
+        let shape = e.mode.shape.clone();
+        move |a: &[f64]| shape.iter().map(|s| s.abs() * a[0] / force).collect::<Vec<f64>>()
+    };
+    let reference = modes[mode].reference_mass;
+    // Candidate clearances: the SDOF branch of each, and the types within its resonance.
+    let scan = matches!(case.clearances.first(), Some(crate::experiment::Clearance::Scan));
+    let (chosen_mm, clearance_rows, clearance_note) = match (scan, clearances_mm) {
+        (true, Some(list)) => {
+            let rows: Vec<ClearanceRow> = list
+                .par_iter()
+                .map(|&mm| {
+                    let dampers = vec![Damper { clearance: mm * 1e-3, ..case.dampers[0] }];
+                    let (e, sys) = sdof_system(exp, &dampers, mode);
+                    let b = branch("sdof", "", &sys, freq_hz, &seeds_hz, steady, &sdof_compliance(&e));
+                    tick();
+                    let peak = b.peak(reference);
+                    let mut kinds: Vec<String> = b
+                        .points()
+                        .filter(|p| p.stable && peak.is_some_and(|pk| p.compliance[reference] >= RESONANCE * pk.1))
+                        .map(|p| p.kind.clone())
+                        .collect();
+                    kinds.sort();
+                    kinds.dedup();
+                    let only_type_ii = !kinds.is_empty() && kinds.iter().all(|k| k == "II");
+                    ClearanceRow { clearance_mm: mm, peak, kinds, only_type_ii }
+                })
+                .collect();
+            let best = |ok: bool| {
+                rows.iter().filter(|r| r.peak.is_some() && (!ok || r.only_type_ii)).min_by(|a, b| {
+                    a.peak.map_or(f64::INFINITY, |p| p.1).total_cmp(&b.peak.map_or(f64::INFINITY, |p| p.1))
+                })
+            };
+            let (pick, note) = match best(true) {
+                Some(r) => (
+                    r.clearance_mm,
+                    format!(
+                        "Of the {} candidate clearances, those whose stable SDOF orbits are all Type II within the resonance (where the compliance of m{} is at least 1/sqrt(2) of its peak); among them, the one with the lowest peak: {} mm.",
+                        rows.len(),
+                        reference + 1,
+                        crate::checks::fmt_num(r.clearance_mm)
+                    ),
+                ),
+                None => match best(false) {
+                    Some(r) => (
+                        r.clearance_mm,
+                        format!(
+                            "No candidate clearance gives Type II alone within the resonance (where the compliance is at least 1/sqrt(2) of its peak: see the table of types); the one with the lowest peak is used: {} mm.",
+                            crate::checks::fmt_num(r.clearance_mm)
+                        ),
+                    ),
+                    None => (list[0], "No candidate clearance has an impacting SDOF orbit; the first is used.".into()),
+                },
+            };
+            (pick, rows, note)
+        }
+        _ => {
+            let mm = case.dampers[0].clearance * 1e3;
+            (mm, Vec::new(), format!("The clearance is given: {} mm.", crate::checks::fmt_num(mm)))
+        }
+    };
+    let mut case = case;
+    case.dampers[0].clearance = chosen_mm * 1e-3;
+    case.clearances = vec![crate::experiment::Clearance::Fixed];
+    let (sdof_model, sdof_sys) = sdof_system(exp, &case.dampers, mode);
+    let sdof = branch("sdof", "equivalent SDOF", &sdof_sys, freq_hz, &seeds_hz, steady, &sdof_compliance(&sdof_model));
+    tick();
+    let full = curves::system(exp, &case);
+    let exact =
+        branch("exact", "exact orbit of the 3-mass structure", &full, freq_hz, &seeds_hz, steady, &|a: &[f64]| {
+            a.iter().map(|x| x / force).collect()
+        });
+    tick();
+    let n = exp.structure.dof();
+    let points: Vec<SweepPoint> = sweep::from_rest(&full, freq_hz, steady, tick);
+    let checked = check_points(&full, &points, force);
+    let simulation = curves::from_sweep("simulation", "simulation of the 3-mass structure", points, force, 1, n);
+    Some(OrbitsResult {
+        mode,
+        force,
+        case,
+        sdof_model,
+        clearance_rows,
+        clearance_note,
+        sdof,
+        exact,
+        simulation,
+        checked,
+    })
+}
+
+/// At every simulated point that settled on a period-1 motion: the exact orbit through its
+/// final state by Newton's method, and the largest relative difference of the compliances.
+fn check_points(sys: &System, points: &[SweepPoint], force: f64) -> Vec<OrbitCheckPoint> {
+    points
+        .par_iter()
+        .filter_map(|p| {
+            let st = p.result.as_ref().ok()?;
+            if !(st.converged && st.period == 1) || st.bottom_impacts[0] == 0.0 {
+                return None;
+            }
+            let d = Dynamics::new(sys, 2.0 * PI * p.freq_hz).ok()?;
+            let length = st.amplitude.iter().copied().fold(0.0, f64::max);
+            let Some((problem, u)) = seed(&d, &st.final_state, 1, length, d.omega, false) else {
+                return Some(OrbitCheckPoint {
+                    freq_hz: p.freq_hz,
+                    rel_diff: f64::NAN,
+                    stable: false,
+                    note: "no seed".into(),
+                });
+            };
+            Some(match solve(&problem, &d, &u, &NewtonOptions::default()) {
+                Ok(o) => {
+                    let s = summarize(&d, &problem, &o);
+                    let rel = s
+                        .amplitude
+                        .iter()
+                        .zip(&st.amplitude)
+                        .map(|(a, b)| (a / force - b / force).abs() / (b / force))
+                        .fold(0.0, f64::max);
+                    OrbitCheckPoint { freq_hz: p.freq_hz, rel_diff: rel, stable: o.stable, note: s.kind }
+                }
+                Err(e) => {
+                    OrbitCheckPoint { freq_hz: p.freq_hz, rel_diff: f64::NAN, stable: false, note: e.to_string() }
+                }
+            })
+        })
+        .collect()
+}
+
+/// Values other experiments may use.
+pub fn exports(r: &OrbitsResult, reference: usize) -> BTreeMap<String, f64> {
+    let mut e = BTreeMap::new();
+    e.insert("clearance_mm".into(), r.case.dampers[0].clearance * 1e3);
+    for (name, b) in [("sdof", &r.sdof), ("exact", &r.exact)] {
+        if let Some((f, c)) = b.peak(reference) {
+            e.insert(format!("peak_{name}"), c);
+            e.insert(format!("peak_hz_{name}"), f);
+        }
+    }
+    if let Some((f, c)) = r.simulation.peak(reference) {
+        e.insert("peak_simulation".into(), c);
+        e.insert("peak_hz_simulation".into(), f);
+    }
+    e
+}

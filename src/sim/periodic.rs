@@ -1,0 +1,401 @@
+//! Periodic orbits as fixed points of the event-driven flow (MODEL.md section 4), for a
+//! structure with one damper: the equivalent SDOF model of a mode, or the full structure.
+//!
+//! The Poincare section is the impact of the bed on the container bottom. There the bed moves
+//! with its host (plastic impacts) or leaves it with a known relative velocity (restitution),
+//! so the state on the section is the forcing phase `phi = omega t`, the displacements and
+//! velocities of every mass, and (with restitution) the bed's relative velocity. One return
+//! map `P` runs the same simulator from that state to the `k`-th bottom impact after it; a
+//! periodic orbit of `p` forcing periods solves `P(u) - u = (2 pi p, 0, ...)`.
+//!
+//! Newton's method solves it with the Jacobian of `P` by central differences: `P` is computed
+//! in closed form with event times refined far below 1e-13 s, so with a step of 1e-5 in
+//! scaled units (phase in rad, displacements over a length scale `L`, velocities over
+//! `omega_ref L`) the truncation error (~1e-10) and the rounding error (~1e-14 / 1e-5) of the
+//! differences stay near 1e-9: Newton then converges quadratically to ~1e-13. The same
+//! Jacobian at the solution is the linearised return map: its eigenvalues are the orbit's
+//! Floquet multipliers (the plastic collapse of the bed's relative motion contributes the
+//! zero ones), so it decides stability. No I/O.
+
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+
+use super::engine::{Bed, Engine, Event, EventKind, Observer, State, Stop};
+use super::system::{Dynamics, SetupError};
+
+/// Central-difference step in scaled units (see the module documentation).
+pub const FD_STEP: f64 = 1e-5;
+
+/// Why no orbit was found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OrbitError {
+    /// The dynamics could not be set up at this parameter.
+    Setup(SetupError),
+    /// The system has no damper or more than one.
+    Dampers(usize),
+    /// The bed did not come back to the bottom `k` times within `p + 1` periods: there is no
+    /// orbit of this type here (e.g. the bed no longer lifts off).
+    NoReturn,
+    /// The simulation stopped early (chatter).
+    Stopped(Stop),
+    /// The Newton matrix is singular.
+    Singular,
+    /// Newton's method did not converge; the residuals of its iterations.
+    NoConvergence(Vec<f64>),
+}
+
+impl std::fmt::Display for OrbitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            OrbitError::Setup(e) => write!(f, "{e}"),
+            OrbitError::Dampers(n) => write!(f, "periodic orbits need exactly one damper ({n} given)"),
+            OrbitError::NoReturn => write!(f, "no return to the bottom: no orbit of this type"),
+            OrbitError::Stopped(s) => write!(f, "simulation stopped: {s:?}"),
+            OrbitError::Singular => write!(f, "singular Newton matrix"),
+            OrbitError::NoConvergence(r) => {
+                let r: Vec<String> = r.iter().map(|x| format!("{x:.1e}")).collect();
+                write!(f, "Newton did not converge (residuals {})", r.join(", "))
+            }
+        }
+    }
+}
+
+/// The kind of orbit sought and the scales of the section's coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Problem {
+    /// Bottom impacts per orbit (the section is crossed `returns` times per orbit).
+    pub returns: usize,
+    /// Forcing periods per orbit.
+    pub periods: usize,
+    /// Length scale of the displacements, m.
+    pub length: f64,
+    /// Rate scale of the velocities, rad/s.
+    pub rate: f64,
+    /// Whether the bed's relative velocity after impact is a coordinate (restitution).
+    pub bounce: bool,
+}
+
+/// The image of one section state under the return map.
+#[derive(Debug, Clone)]
+pub struct Return {
+    /// `P(u)` in scaled coordinates (the phase unwrapped: `omega t` at the return).
+    pub image: DVector<f64>,
+    /// The events from the start to the return (the return impact last).
+    pub events: Vec<Event>,
+}
+
+/// Records events up to the `k`-th bottom impact, with the state after it.
+struct Returns {
+    wanted: usize,
+    seen: usize,
+    events: Vec<Event>,
+    at: Option<State>,
+}
+
+impl Observer for Returns {
+    fn event(&mut self, ev: &Event, after: &State) {
+        if self.at.is_some() {
+            return;
+        }
+        self.events.push(*ev);
+        if matches!(ev.kind, EventKind::Impact { top: false, .. }) && ev.bed == 0 {
+            self.seen += 1;
+            if self.seen == self.wanted {
+                self.at = Some(after.clone());
+            }
+        }
+    }
+}
+
+/// The kinds of the events in order: what makes two runs "the same motion".
+pub fn signature(events: &[Event]) -> Vec<(usize, u8)> {
+    events
+        .iter()
+        .map(|e| {
+            let k = match e.kind {
+                EventKind::LiftOff { top: false } => 0,
+                EventKind::LiftOff { top: true } => 1,
+                EventKind::Impact { top: false, attached, .. } => 2 + attached as u8,
+                EventKind::Impact { top: true, attached, .. } => 4 + attached as u8,
+            };
+            (e.bed, k)
+        })
+        .collect()
+}
+
+impl Problem {
+    /// Number of section coordinates.
+    pub fn dim(&self, n: usize) -> usize {
+        2 * n + 1 + self.bounce as usize
+    }
+
+    /// The simulator state of a section point.
+    pub fn state(&self, d: &Dynamics, u: &DVector<f64>) -> State {
+        let n = d.system.dof();
+        let t = u[0] / d.omega;
+        let x = DVector::from_fn(n, |i, _| u[1 + i] * self.length);
+        let v = DVector::from_fn(n, |i, _| u[1 + n + i] * self.length * self.rate);
+        let host = d.system.dampers[0].host;
+        let bed = if self.bounce && u[2 * n + 1] > 0.0 {
+            Bed::Free { t0: t, y0: x[host], u0: v[host] + u[2 * n + 1] * self.length * self.rate }
+        } else {
+            Bed::Bottom
+        };
+        State { t, x, v, beds: vec![bed] }
+    }
+
+    /// The section coordinates of a state just after a bottom impact.
+    pub fn coordinates(&self, d: &Dynamics, s: &State) -> DVector<f64> {
+        let n = d.system.dof();
+        let mut u = DVector::zeros(self.dim(n));
+        u[0] = d.omega * s.t;
+        for i in 0..n {
+            u[1 + i] = s.x[i] / self.length;
+            u[1 + n + i] = s.v[i] / (self.length * self.rate);
+        }
+        if self.bounce {
+            let host = d.system.dampers[0].host;
+            let (_, ub) = s.bed_motion(d, 0);
+            u[2 * n + 1] = (ub - s.v[host]) / (self.length * self.rate);
+        }
+        u
+    }
+
+    /// The return map.
+    pub fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
+        if d.system.dampers.len() != 1 {
+            return Err(OrbitError::Dampers(d.system.dampers.len()));
+        }
+        let mut s = self.state(d, u);
+        let period = 2.0 * std::f64::consts::PI / d.omega;
+        let limit = s.t + (self.periods as f64 + 1.0) * period;
+        let mut rec = Returns { wanted: self.returns, seen: 0, events: Vec::new(), at: None };
+        let engine = Engine::new(d);
+        while rec.at.is_none() && s.t < limit {
+            let next = (s.t + period / 8.0).min(limit);
+            engine.advance(&mut s, next, &mut rec).map_err(OrbitError::Stopped)?;
+        }
+        let at = rec.at.ok_or(OrbitError::NoReturn)?;
+        Ok(Return { image: self.coordinates(d, &at), events: rec.events })
+    }
+
+    /// `G(u) = P(u) - u - (2 pi p, 0, ...)`.
+    pub fn residual(&self, d: &Dynamics, u: &DVector<f64>) -> Result<(DVector<f64>, Return), OrbitError> {
+        let r = self.map(d, u)?;
+        let mut g = &r.image - u;
+        g[0] -= 2.0 * std::f64::consts::PI * self.periods as f64;
+        Ok((g, r))
+    }
+
+    /// The Jacobian of `P` by central differences, and whether every perturbed run kept the
+    /// event sequence of `base` (otherwise the orbit is at a grazing or switching point and
+    /// the derivatives straddle a kink).
+    pub fn jacobian(&self, d: &Dynamics, u: &DVector<f64>, base: &Return) -> Result<(DMatrix<f64>, bool), OrbitError> {
+        let m = u.len();
+        let sig = signature(&base.events);
+        let mut j = DMatrix::zeros(m, m);
+        let mut smooth = true;
+        for c in 0..m {
+            let mut up = u.clone();
+            up[c] += FD_STEP;
+            let mut dn = u.clone();
+            dn[c] -= FD_STEP;
+            let (a, b) = (self.map(d, &up)?, self.map(d, &dn)?);
+            smooth &= signature(&a.events) == sig && signature(&b.events) == sig;
+            j.set_column(c, &((&a.image - &b.image) / (2.0 * FD_STEP)));
+        }
+        Ok((j, smooth))
+    }
+}
+
+/// A periodic orbit.
+#[derive(Debug, Clone)]
+pub struct Orbit {
+    /// Section coordinates of the fixed point.
+    pub u: DVector<f64>,
+    /// The state just after the section impact.
+    pub state: State,
+    /// Events over one orbit from the section (the closing bottom impact last).
+    pub events: Vec<Event>,
+    /// Max-norm of the residual at each Newton iteration (the last one converged).
+    pub residuals: Vec<f64>,
+    /// The linearised return map (Jacobian of `P`) at the fixed point.
+    pub jacobian: DMatrix<f64>,
+    /// Its eigenvalues: the Floquet multipliers.
+    pub multipliers: Vec<Complex64>,
+    /// Every multiplier inside the unit circle.
+    pub stable: bool,
+    /// The perturbed runs of the Jacobian kept the event sequence.
+    pub smooth: bool,
+}
+
+impl Orbit {
+    /// The largest multiplier modulus.
+    pub fn spectral_radius(&self) -> f64 {
+        self.multipliers.iter().map(|z| z.norm()).fold(0.0, f64::max)
+    }
+}
+
+/// Newton's method settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonOptions {
+    /// Converged when the max-norm of the residual is below this (scaled units).
+    pub tol: f64,
+    pub max_iter: usize,
+    /// Largest Newton step (max-norm, scaled units); longer steps are shortened.
+    pub max_step: f64,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions { tol: 1e-11, max_iter: 12, max_step: 0.5 }
+    }
+}
+
+/// The orbit's multipliers from a Jacobian.
+pub fn multipliers(j: &DMatrix<f64>) -> Vec<Complex64> {
+    let mut l: Vec<Complex64> = j.clone().complex_eigenvalues().iter().copied().collect();
+    l.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
+    l
+}
+
+/// Finds the fixed point of `problem` near `guess` at the dynamics `d`.
+pub fn solve(problem: &Problem, d: &Dynamics, guess: &DVector<f64>, opts: &NewtonOptions) -> Result<Orbit, OrbitError> {
+    let mut u = guess.clone();
+    let mut residuals = Vec::new();
+    for _ in 0..=opts.max_iter {
+        let (g, ret) = problem.residual(d, &u)?;
+        let norm = g.amax();
+        residuals.push(norm);
+        let (j, smooth) = problem.jacobian(d, &u, &ret)?;
+        if norm < opts.tol {
+            return Ok(finish(problem, d, u, ret, residuals, j, smooth));
+        }
+        let a = &j - DMatrix::identity(u.len(), u.len());
+        let mut du = a.lu().solve(&(-g)).ok_or(OrbitError::Singular)?;
+        let step = du.amax();
+        if step > opts.max_step {
+            du *= opts.max_step / step;
+        }
+        u += du;
+    }
+    Err(OrbitError::NoConvergence(residuals))
+}
+
+/// Assembles an orbit at a converged point.
+pub fn finish(
+    problem: &Problem,
+    d: &Dynamics,
+    u: DVector<f64>,
+    ret: Return,
+    residuals: Vec<f64>,
+    jacobian: DMatrix<f64>,
+    smooth: bool,
+) -> Orbit {
+    let multipliers = multipliers(&jacobian);
+    let stable = multipliers.iter().all(|z| z.norm() < 1.0);
+    Orbit { state: problem.state(d, &u), u, events: ret.events, residuals, jacobian, multipliers, stable, smooth }
+}
+
+/// A section point from a state by running to the next bottom impact, and the number of
+/// bottom impacts in the `periods` forcing periods after it (a seed for [`solve`]).
+pub fn seed(
+    d: &Dynamics,
+    start: &State,
+    periods: usize,
+    length: f64,
+    rate: f64,
+    bounce: bool,
+) -> Option<(Problem, DVector<f64>)> {
+    let probe = Problem { returns: 1, periods, length, rate, bounce };
+    let engine = Engine::new(d);
+    let period = 2.0 * std::f64::consts::PI / d.omega;
+    let mut s = start.clone();
+    let mut first = Returns { wanted: 1, seen: 0, events: Vec::new(), at: None };
+    let limit = s.t + 2.0 * period;
+    while first.at.is_none() && s.t < limit {
+        let next = (s.t + period / 8.0).min(limit);
+        engine.advance(&mut s, next, &mut first).ok()?;
+    }
+    let at = first.at?;
+    let mut u = probe.coordinates(d, &at);
+    // The forcing is periodic: keep the phase in [0, 2 pi).
+    u[0] = u[0].rem_euclid(2.0 * std::f64::consts::PI);
+    // Count the bottom impacts over the orbit's periods, short of the closing one (a state
+    // settled to a tolerance closes its orbit a little early or late).
+    let mut s = at.clone();
+    let mut count = Returns { wanted: usize::MAX, seen: 0, events: Vec::new(), at: None };
+    engine.advance(&mut s, at.t + periods as f64 * period * (1.0 - 1e-3), &mut count).ok()?;
+    Some((Problem { returns: count.seen + 1, ..probe }, u))
+}
+
+/// What is read off an orbit (the right-hand axis of the paper's Fig. 9 and the response).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrbitSummary {
+    /// Half the peak-to-peak displacement of each mass over the orbit, m.
+    pub amplitude: Vec<f64>,
+    /// Phase lag of the force behind the bottom impact, rad in [0, 2 pi): the force is
+    /// `F sin(tau - phi)` with `tau = omega (t - t_impact)`.
+    pub phi: f64,
+    /// Forcing phase from the bottom impact to the lift-off from the bottom (0: the bed leaves
+    /// at once), rad.
+    pub tau0: Option<f64>,
+    /// ... to the impact on the top, rad.
+    pub tau1: Option<f64>,
+    /// ... to the release from the top (Type I), rad.
+    pub tau2: Option<f64>,
+    /// The motion type read from the events.
+    pub kind: String,
+}
+
+/// The motion type from one orbit's events of the bed (paper section 2.2): I rests on the
+/// top; II hits the top and falls at once; III never reaches the top; more impacts per
+/// orbit are named.
+pub fn motion_type(events: &[Event], finite: bool, periods: usize) -> String {
+    let (mut bottom, mut top_stick, mut top_bounce) = (0, 0, 0);
+    for e in events {
+        match e.kind {
+            EventKind::Impact { top: false, .. } => bottom += 1,
+            EventKind::Impact { top: true, attached: true, .. } => top_stick += 1,
+            EventKind::Impact { top: true, attached: false, .. } => top_bounce += 1,
+            EventKind::LiftOff { .. } => {}
+        }
+    }
+    let base = if top_stick > 0 {
+        "I"
+    } else if top_bounce > 0 {
+        "II"
+    } else if finite {
+        "III"
+    } else {
+        "III (no top)"
+    };
+    let mut s = base.to_string();
+    if bottom > periods || top_stick + top_bounce > periods {
+        s += &format!(", {bottom} bottom and {} top impacts", top_stick + top_bounce);
+    }
+    if periods > 1 {
+        s += &format!(", period {periods}");
+    }
+    s
+}
+
+/// Amplitudes, phases and type of an orbit.
+pub fn summarize(d: &Dynamics, problem: &Problem, orbit: &Orbit) -> OrbitSummary {
+    let n = d.system.dof();
+    let mut ext = super::observe::Extrema::new(n, 1);
+    let mut s = orbit.state.clone();
+    let t0 = s.t;
+    let period = 2.0 * std::f64::consts::PI / d.omega * problem.periods as f64;
+    let _ = Engine::new(d).advance(&mut s, t0 + period, &mut ext);
+    let phase = |e: &Event| d.omega * (e.t - t0);
+    let first = |pred: &dyn Fn(&EventKind) -> bool| orbit.events.iter().find(|e| pred(&e.kind)).map(phase);
+    OrbitSummary {
+        amplitude: ext.amplitudes(),
+        phi: (-orbit.u[0]).rem_euclid(2.0 * std::f64::consts::PI),
+        tau0: first(&|k| matches!(k, EventKind::LiftOff { top: false })),
+        tau1: first(&|k| matches!(k, EventKind::Impact { top: true, .. })),
+        tau2: first(&|k| matches!(k, EventKind::LiftOff { top: true })),
+        kind: motion_type(&orbit.events, d.system.dampers[0].clearance.is_finite(), problem.periods),
+    }
+}
