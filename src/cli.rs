@@ -11,7 +11,8 @@ use clap::{Parser, Subcommand};
 use rayon::prelude::*;
 
 use crate::analysis::{self, ExperimentResult, Progress, Tick};
-use crate::checks::reference::ReferenceStore;
+use crate::checks::baseline;
+use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::checks::Status;
 use crate::experiment::{self, Experiment, Exports};
 use crate::model::modal::modal_summary;
@@ -65,6 +66,10 @@ pub enum Command {
         /// Report folder.
         #[arg(long, default_value = "reports")]
         out: PathBuf,
+        /// Store this run's results as the regression baseline (under REFERENCE/baseline/)
+        /// instead of comparing with it. Review the diff and commit it with the change.
+        #[arg(long)]
+        bless: bool,
         /// Worker threads (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
@@ -104,15 +109,16 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         }
         Command::Run { files, out, jobs, templates } => {
             let exps = files.iter().map(|f| experiment::load(f, &cli.reference)).collect::<crate::Result<Vec<_>>>()?;
-            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref())
+            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), BaselineMode::Optional)
         }
-        Command::Report { out, jobs, templates } => {
+        Command::Report { out, jobs, templates, bless } => {
             let files = experiment::discover(&cli.experiments)?;
             if files.is_empty() {
                 anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
             }
             let exps = files.iter().map(|f| experiment::load(f, &cli.reference)).collect::<crate::Result<Vec<_>>>()?;
-            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref())
+            let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
+            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), mode)
         }
     }
 }
@@ -218,9 +224,11 @@ fn run_and_write(
     out: &Path,
     jobs: Option<usize>,
     templates: Option<&Path>,
+    baseline_mode: BaselineMode,
 ) -> anyhow::Result<bool> {
     let waves = experiment::waves(exps)?;
-    let refs = ReferenceStore::load(reference, exps)?;
+    let mut refs = ReferenceStore::load(reference, exps)?;
+    refs.load_baselines(reference, exps, baseline_mode)?;
     let writer = ReportWriter::create(out, templates)?;
     let pool = pool(jobs)?;
     let tty = std::io::stderr().is_terminal();
@@ -278,6 +286,13 @@ fn run_and_write(
     }
     let results: Vec<ExperimentResult> = slots.into_iter().flatten().collect();
     let dest = writer.finish(&results)?;
+    if baseline_mode == BaselineMode::Off {
+        let dir = reference.join("baseline");
+        for r in &results {
+            crate::output::write_baseline(&dir, &r.experiment.meta.id, &baseline::sample(&r.tables))?;
+        }
+        println!("blessed: {} experiments sampled into {} (review the diff, commit it)", results.len(), dir.display());
+    }
     let failed: Vec<String> = results
         .iter()
         .flat_map(|r| {

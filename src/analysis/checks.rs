@@ -1,7 +1,7 @@
 //! Evaluates an experiment's checks against pre-loaded references.
 
 use crate::checks::reference::{Curve as RefCurve, Quantity, ReferenceStore, ValueFile};
-use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Status, Subject};
+use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Source, Status, Subject};
 
 use std::collections::BTreeMap;
 
@@ -76,6 +76,7 @@ pub fn evaluate(
                         format!("natural frequency {} of the bare structure", mode + 1),
                         q.unit.clone(),
                         file.provenance(q),
+                        Source::from_provenance(&file.meta.provenance),
                     );
                     let expected = q.value.unwrap_or(f64::NAN);
                     out.push(compare_scalar(subject, modes[*mode].omega, expected, spec.tolerance, known));
@@ -93,6 +94,7 @@ pub fn evaluate(
                                 format!("mode {} shape at m_{} (largest element = 1)", mode + 1, r + 1),
                                 q.unit.clone(),
                                 file.provenance(q),
+                                Source::from_provenance(&file.meta.provenance),
                             );
                             out.push(compare_scalar(subject, c, e, spec.tolerance, known));
                         }
@@ -147,6 +149,7 @@ fn parameters(exp: &Experiment, file: &ValueFile, spec: &CheckSpec) -> Vec<Check
                 format!("{what}: experiment input against the paper"),
                 q.unit.clone(),
                 file.provenance(q),
+                Source::from_provenance(&file.meta.provenance),
             );
             Some(compare_scalar(
                 subject,
@@ -171,6 +174,7 @@ pub(super) fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
         tolerance: String::new(),
         status: Status::Fail,
         provenance: spec.reference_file.clone(),
+        source: Source::Internal,
         reason: None,
         detail: None,
     }
@@ -267,6 +271,7 @@ fn curve_check(
         ),
         status: status(ok, spec.known_deviation.is_some()),
         provenance: format!("independent solver: {} (reference/independent-solver/PROVENANCE.md)", spec.reference_file),
+        source: Source::IndependentSolver,
         reason: spec.known_deviation.clone(),
         detail: Some(detail),
     }
@@ -317,6 +322,7 @@ fn peak_ratio(
         ),
         status: status(within, spec.known_deviation.is_some()),
         provenance: file.provenance(lo),
+        source: Source::from_provenance(&file.meta.provenance),
         reason: spec.known_deviation.clone(),
         detail: Some(format!(
             "paper: reduction by a factor 1/{} to 1/{}; computed 1/{:.2}",

@@ -3,7 +3,7 @@
 //! paper's claim that three dampers decay faster, as a number.
 
 use crate::checks::reference::{Curve as RefCurve, Quantity, ValueFile};
-use crate::checks::{fmt_num, status, CheckOutcome};
+use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
 
 use super::checks::missing;
@@ -73,6 +73,7 @@ pub fn history(spec: &CheckSpec, r: &RefCurve, d: &Decay, window: f64) -> CheckO
         tolerance: format!("{} of each column's largest magnitude", fmt_num(spec.tolerance.rel)),
         status: status(ok, spec.known_deviation.is_some()),
         provenance: provenance(spec),
+        source: Source::IndependentSolver,
         reason: spec.known_deviation.clone(),
         detail: Some(detail),
     }
@@ -117,6 +118,7 @@ pub fn decay_time(spec: &CheckSpec, r: &RefCurve, d: &Decay, mass: usize, levels
                 tolerance: crate::checks::describe_tolerance(spec.tolerance),
                 status: status(within, spec.known_deviation.is_some()),
                 provenance: format!("{}; the same envelope estimator applied to its history", provenance(spec)),
+                source: Source::IndependentSolver,
                 reason: spec.known_deviation.clone(),
                 detail: Some(match (o, e) {
                     (None, None) => format!("not reached within the reference's {} s on either side", fmt_num(end)),
@@ -174,6 +176,7 @@ pub fn ratio(
         tolerance: format!("at most {}", fmt_num(upper)),
         status: status(within, spec.known_deviation.is_some()),
         provenance: file.provenance(bound),
+        source: Source::from_provenance(&file.meta.provenance),
         reason: spec.known_deviation.clone(),
         detail: Some(format!("{words}: {} takes {:.0} % of the time of {}", a.label, 100.0 * value, b.label)),
     }

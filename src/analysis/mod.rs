@@ -16,7 +16,8 @@ mod waveform;
 
 use std::collections::BTreeMap;
 
-use crate::checks::reference::ReferenceStore;
+use crate::checks::baseline;
+use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::checks::{fmt_num, CheckOutcome};
 use crate::error::Result;
 use crate::experiment::{Analysis, Experiment};
@@ -152,12 +153,19 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             }
         }
     }
-    let checks = checks::evaluate(
+    let mut checks = checks::evaluate(
         exp,
         &modes,
         &checks::Computed { curves: &curves, decays: &decays, orbits: orbits_result.as_ref() },
         refs,
     );
+    let (id, figure) = (&exp.meta.id, &exp.meta.figure);
+    match (refs.baseline(id), refs.baseline_mode) {
+        (_, BaselineMode::Off) => {}
+        (Some(blessed), _) => checks.push(baseline::compare(id, figure, &baseline::sample(&tables), blessed)),
+        (None, BaselineMode::Required) => checks.push(baseline::missing(id, figure)),
+        (None, BaselineMode::Optional) => {}
+    }
     Ok(ExperimentResult {
         exports,
         parameters: parameters(exp),

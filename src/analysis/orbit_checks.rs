@@ -3,7 +3,7 @@
 //! the simulation, as a number.
 
 use crate::checks::reference::{Quantity, ValueFile};
-use crate::checks::{fmt_num, status, CheckOutcome};
+use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
 use crate::model::modal::ModeSummary;
 
@@ -43,6 +43,7 @@ pub fn orbit_vs_simulation(spec: &CheckSpec, r: &OrbitsResult) -> CheckOutcome {
         tolerance: format!("{} relative (the simulation settles to a state tolerance)", fmt_num(spec.tolerance.rel)),
         status: status(ok, spec.known_deviation.is_some()),
         provenance: "the simulation of the same structure in this run (a second method)".into(),
+        source: Source::Internal,
         reason: spec.known_deviation.clone(),
         detail: Some(detail),
     }
@@ -76,6 +77,7 @@ pub fn sdof_vs_simulation(
         tolerance: crate::checks::describe_tolerance(spec.tolerance),
         status: status(within, spec.known_deviation.is_some()),
         provenance: format!("{} (the simulated value is this run's)", file.provenance(claim)),
+        source: Source::from_provenance(&file.meta.provenance),
         reason: spec.known_deviation.clone(),
         detail: Some(format!(
             "SDOF peak at {} Hz, simulation peak at {} Hz",

@@ -1,7 +1,9 @@
 //! Checks: a computed quantity against a reference under a stated tolerance, yielding
 //! pass, fail, or a known deviation (an expected difference with a written reason).
 
+pub mod baseline;
 pub mod reference;
+pub mod verdict;
 
 use serde::Serialize;
 
@@ -38,6 +40,49 @@ impl Status {
     }
 }
 
+/// Where a check's expected value comes from: what a pass means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, PartialOrd, Ord)]
+#[serde(rename_all = "snake_case")]
+pub enum Source {
+    /// A number or claim stated in the paper's text.
+    PaperText,
+    /// A curve digitised from one of the paper's figures.
+    DigitisedFigure,
+    /// A separate implementation of the model (not the paper).
+    IndependentSolver,
+    /// A second method within the same run (e.g. exact orbits against the simulation).
+    Internal,
+    /// This project's own blessed results (regression).
+    Baseline,
+}
+
+impl Source {
+    /// The source named by a reference file's provenance.
+    pub fn from_provenance(p: &str) -> Source {
+        match p {
+            "paper text" => Source::PaperText,
+            "digitised figure" => Source::DigitisedFigure,
+            _ => Source::IndependentSolver,
+        }
+    }
+
+    /// Whether a check of this source compares with the paper itself.
+    pub fn is_paper(self) -> bool {
+        matches!(self, Source::PaperText | Source::DigitisedFigure)
+    }
+
+    /// In words, for tables.
+    pub fn label(self) -> &'static str {
+        match self {
+            Source::PaperText => "paper text",
+            Source::DigitisedFigure => "digitised figure",
+            Source::IndependentSolver => "independent solver",
+            Source::Internal => "second method",
+            Source::Baseline => "baseline",
+        }
+    }
+}
+
 /// The outcome of one check, with every number a reader needs.
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckOutcome {
@@ -57,6 +102,8 @@ pub struct CheckOutcome {
     pub status: Status,
     /// Where the expected value comes from.
     pub provenance: String,
+    /// The kind of reference.
+    pub source: Source,
     /// The reason for a known deviation.
     pub reason: Option<String>,
     /// Extra detail (e.g. the worst point of a curve).
@@ -95,6 +142,7 @@ pub struct Subject {
     pub description: String,
     pub unit: String,
     pub provenance: String,
+    pub source: Source,
 }
 
 impl Subject {
@@ -104,8 +152,15 @@ impl Subject {
         description: impl Into<String>,
         unit: impl Into<String>,
         provenance: impl Into<String>,
+        source: Source,
     ) -> Subject {
-        Subject { name: name.into(), description: description.into(), unit: unit.into(), provenance: provenance.into() }
+        Subject {
+            name: name.into(),
+            description: description.into(),
+            unit: unit.into(),
+            provenance: provenance.into(),
+            source,
+        }
     }
 }
 
@@ -131,6 +186,7 @@ pub fn compare_scalar(
         tolerance: describe_tolerance(tolerance),
         status: status(within, known_deviation.is_some()),
         provenance: subject.provenance,
+        source: subject.source,
         reason: known_deviation.map(str::to_string),
         detail: None,
     }
@@ -153,14 +209,16 @@ mod tests {
     #[test]
     fn scalar_statuses() {
         let tol = Tolerance { rel: 0.005, abs: 0.0 };
-        let pass = compare_scalar(Subject::new("w", "", "rad/s", ""), 81.91, 81.9, tol, None);
+        let pass = compare_scalar(Subject::new("w", "", "rad/s", "", Source::PaperText), 81.91, 81.9, tol, None);
         assert_eq!(pass.status, Status::Pass);
-        let fail = compare_scalar(Subject::new("w", "", "rad/s", ""), 218.5, 243.9, tol, None);
+        let fail = compare_scalar(Subject::new("w", "", "rad/s", "", Source::PaperText), 218.5, 243.9, tol, None);
         assert_eq!(fail.status, Status::Fail);
         assert!((fail.rel_diff - 25.4 / 243.9).abs() < 1e-12);
-        let known = compare_scalar(Subject::new("w", "", "rad/s", ""), 218.5, 243.9, tol, Some("measured"));
+        let known =
+            compare_scalar(Subject::new("w", "", "rad/s", "", Source::PaperText), 218.5, 243.9, tol, Some("measured"));
         assert_eq!(known.status, Status::KnownDeviation);
-        let revisit = compare_scalar(Subject::new("w", "", "rad/s", ""), 243.9, 243.9, tol, Some("measured"));
+        let revisit =
+            compare_scalar(Subject::new("w", "", "rad/s", "", Source::PaperText), 243.9, 243.9, tol, Some("measured"));
         assert_eq!(revisit.status, Status::KnownDeviationPasses);
     }
 }

@@ -106,11 +106,25 @@ impl Curve {
     }
 }
 
+/// Whether runs are compared with the blessed baseline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BaselineMode {
+    /// Not compared (while blessing a new one).
+    #[default]
+    Off,
+    /// Compared where a baseline exists.
+    Optional,
+    /// Compared; a missing baseline fails.
+    Required,
+}
+
 /// Reference files loaded once, before any experiment runs (no I/O during analysis).
 #[derive(Debug, Clone, Default)]
 pub struct ReferenceStore {
     values: std::collections::BTreeMap<String, ValueFile>,
     curves: std::collections::BTreeMap<String, Curve>,
+    baselines: std::collections::BTreeMap<String, Vec<super::baseline::Value>>,
+    pub baseline_mode: BaselineMode,
 }
 
 impl ReferenceStore {
@@ -129,6 +143,31 @@ impl ReferenceStore {
             }
         }
         Ok(store)
+    }
+
+    /// Loads the blessed baseline of each experiment that has one (`dir/baseline/ID.csv`).
+    pub fn load_baselines(
+        &mut self,
+        dir: &Path,
+        experiments: &[crate::experiment::Experiment],
+        mode: BaselineMode,
+    ) -> Result<()> {
+        self.baseline_mode = mode;
+        if mode == BaselineMode::Off {
+            return Ok(());
+        }
+        for exp in experiments {
+            let path = dir.join("baseline").join(format!("{}.csv", exp.meta.id));
+            if path.is_file() {
+                self.baselines.insert(exp.meta.id.clone(), super::baseline::load(&path)?);
+            }
+        }
+        Ok(())
+    }
+
+    /// The blessed baseline of an experiment.
+    pub fn baseline(&self, id: &str) -> Option<&[super::baseline::Value]> {
+        self.baselines.get(id).map(Vec::as_slice)
     }
 
     /// A loaded value file.

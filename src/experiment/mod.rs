@@ -28,6 +28,8 @@ pub struct Meta {
     pub claim: String,
     pub assumptions: Vec<String>,
     pub notes: Vec<String>,
+    /// The main deviation from the paper and its likely cause, in a sentence.
+    pub deviation: Option<String>,
 }
 
 /// The force `F sin(omega t)` on one mass.

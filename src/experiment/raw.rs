@@ -38,6 +38,10 @@ pub struct RawMeta {
     /// Free text shown under the figure (how to read it, what differs from the paper).
     #[serde(default)]
     pub notes: Vec<String>,
+    /// One sentence on the main deviation from the paper and its likely cause (for the
+    /// summary of verdicts).
+    #[serde(default)]
+    pub deviation: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -33,6 +33,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         claim: m.claim,
         assumptions: m.assumptions,
         notes: m.notes,
+        deviation: m.deviation,
     };
 
     let (structure, source, damping_assumption) = structure(path, raw.structure)?;

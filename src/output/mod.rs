@@ -2,6 +2,7 @@
 //! owner of destinations; exporters render to bytes or draw to a path it gives them.
 
 pub mod figure;
+pub mod junit;
 pub mod plot;
 pub mod report;
 pub mod table;
@@ -86,6 +87,7 @@ impl ReportWriter {
         let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
         write(&self.staging.join("index.html"), index.as_bytes())?;
         write(&self.staging.join("checks.json"), &checks_json(results)?)?;
+        write(&self.staging.join("junit.xml"), junit::render(results).as_bytes())?;
 
         let backup = sibling(&self.out, "old");
         if self.out.exists() {
@@ -106,6 +108,13 @@ impl ReportWriter {
     pub fn abandon(self) {
         let _ = std::fs::remove_dir_all(&self.staging);
     }
+}
+
+/// Writes an experiment's regression baseline sample to `dir/ID.csv`.
+pub fn write_baseline(dir: &Path, id: &str, values: &[crate::checks::baseline::Value]) -> Result<()> {
+    mkdir(dir)?;
+    let path = dir.join(format!("{id}.csv"));
+    write(&path, &table::to_csv(&crate::checks::baseline::to_table(values))?)
 }
 
 #[derive(Serialize)]

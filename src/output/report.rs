@@ -7,6 +7,7 @@ use serde::Serialize;
 use tera::{Context, Tera};
 
 use crate::analysis::ExperimentResult;
+use crate::checks::verdict::{figure_group, verdict};
 use crate::checks::{fmt_num, CheckOutcome, Status};
 use crate::error::{read_to_string, Error, Result};
 
@@ -47,6 +48,7 @@ pub struct CheckRow {
     pub status: String,
     pub status_class: String,
     pub provenance: String,
+    pub source: String,
     pub reason: String,
     pub detail: String,
 }
@@ -68,6 +70,7 @@ impl CheckRow {
             status: c.status.label().to_string(),
             status_class: status_class(c.status).to_string(),
             provenance: c.provenance.clone(),
+            source: c.source.label().to_string(),
             reason: c.reason.clone().unwrap_or_default(),
             detail: c.detail.clone().unwrap_or_default(),
         }
@@ -218,6 +221,20 @@ pub struct SummaryRow {
     pub counts: String,
 }
 
+/// One paper figure: its verdict and the experiments behind it.
+#[derive(Debug, Serialize)]
+pub struct FigureRow {
+    pub figure: String,
+    pub verdict: String,
+    pub verdict_class: String,
+    /// (title, link) of each experiment.
+    pub experiments: Vec<(String, String)>,
+    pub paper_checks: String,
+    pub other_checks: String,
+    pub deviation: String,
+    pub thumbnail: String,
+}
+
 /// The context of the index page.
 #[derive(Debug, Serialize)]
 pub struct IndexView {
@@ -225,6 +242,7 @@ pub struct IndexView {
     pub generated_by: String,
     pub overall: String,
     pub overall_class: String,
+    pub figures: Vec<FigureRow>,
     pub rows: Vec<SummaryRow>,
     pub checks: Vec<CheckRow>,
     pub assumptions: Vec<String>,
@@ -243,6 +261,7 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         }
     }
     IndexView {
+        figures: figure_rows(results),
         title: "shotdamp: replication of Araki et al. (1997)".into(),
         generated_by: format!("shotdamp {}", env!("CARGO_PKG_VERSION")),
         overall: format!("{overall}: {words}"),
@@ -267,6 +286,72 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         checks: results.iter().flat_map(|r| r.checks.iter().map(|c| CheckRow::new(&r.experiment.meta.id, c))).collect(),
         assumptions,
     }
+}
+
+/// Sort key of a figure label: its number, then the label ("Fig. 10(a)" after "Fig. 9").
+fn figure_order(label: &str) -> (u32, String) {
+    let digits: String = label.chars().skip_while(|c| !c.is_ascii_digit()).take_while(|c| c.is_ascii_digit()).collect();
+    (digits.parse().unwrap_or(u32::MAX), label.to_string())
+}
+
+/// One row per paper figure, in the paper's order.
+fn figure_rows(results: &[ExperimentResult]) -> Vec<FigureRow> {
+    let mut groups: Vec<String> = results.iter().map(|r| figure_group(&r.experiment.meta.figure)).collect();
+    groups.sort_by_key(|g| figure_order(g));
+    groups.dedup();
+    groups
+        .into_iter()
+        .map(|g| {
+            let members: Vec<&ExperimentResult> =
+                results.iter().filter(|r| figure_group(&r.experiment.meta.figure) == g).collect();
+            let checks: Vec<&CheckOutcome> = members.iter().flat_map(|r| r.checks.iter()).collect();
+            let v = verdict(checks.iter().copied());
+            let count = |paper: bool| {
+                let sel: Vec<&&CheckOutcome> = checks.iter().filter(|c| c.source.is_paper() == paper).collect();
+                if sel.is_empty() {
+                    return "none".to_string();
+                }
+                let n = |s: Status| sel.iter().filter(|c| c.status == s).count();
+                format!(
+                    "{} pass, {} known deviation, {} fail",
+                    n(Status::Pass) + n(Status::KnownDeviationPasses),
+                    n(Status::KnownDeviation),
+                    n(Status::Fail)
+                )
+            };
+            // The main deviation: the file's sentence, else the first stated reason, else
+            // the first failure.
+            let deviation = members
+                .iter()
+                .find_map(|r| r.experiment.meta.deviation.clone())
+                .or_else(|| {
+                    checks
+                        .iter()
+                        .find(|c| c.source.is_paper() && c.status == Status::KnownDeviation)
+                        .and_then(|c| c.reason.clone())
+                })
+                .or_else(|| {
+                    checks.iter().find(|c| c.status == Status::Fail).map(|c| format!("failed: {}", c.description))
+                })
+                .unwrap_or_default();
+            FigureRow {
+                figure: g,
+                verdict: v.label().to_string(),
+                verdict_class: v.class().to_string(),
+                experiments: members
+                    .iter()
+                    .map(|r| (r.experiment.meta.title.clone(), format!("{}/index.html", r.experiment.meta.id)))
+                    .collect(),
+                paper_checks: count(true),
+                other_checks: count(false),
+                deviation,
+                thumbnail: members
+                    .iter()
+                    .find_map(|r| r.figures.first().map(|f| format!("{}/{}.png", r.experiment.meta.id, f.id)))
+                    .unwrap_or_default(),
+            }
+        })
+        .collect()
 }
 
 /// Renders a page from a serialisable view.
