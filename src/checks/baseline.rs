@@ -169,7 +169,9 @@ pub fn compare(experiment: &str, figure: &str, now: &[Value], blessed: &[Value])
         let same_nan = old.is_nan() && new.is_nan();
         let floor = ABS_FLOOR * scale.get(&(k.0.clone(), k.2.clone())).copied().unwrap_or(0.0);
         let diff = (new - old).abs();
-        if !same_nan && !(diff <= REL_TOL * old.abs() + floor) {
+        // A NaN on one side only is a change too.
+        let within = diff <= REL_TOL * old.abs() + floor;
+        if !same_nan && !within {
             let rel = if *old != 0.0 { diff / old.abs() } else { f64::INFINITY };
             moved.push((
                 if rel.is_nan() { f64::INFINITY } else { rel },
