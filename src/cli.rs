@@ -12,6 +12,7 @@ use rayon::prelude::*;
 
 use crate::analysis::{self, ExperimentResult, Progress, Tick};
 use crate::checks::baseline;
+use crate::checks::digitised::{self, ImportInfo};
 use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::checks::Status;
 use crate::experiment::{self, Experiment, Exports};
@@ -61,6 +62,21 @@ pub enum Command {
         #[arg(long)]
         templates: Option<PathBuf>,
     },
+    /// Work with reference data.
+    Reference {
+        #[command(subcommand)]
+        command: ReferenceCommand,
+    },
+    /// Compare two reports: every figure side by side and overlaid, and the checks that changed.
+    Compare {
+        /// The earlier report folder.
+        a: PathBuf,
+        /// The later report folder.
+        b: PathBuf,
+        /// Folder of the comparison page.
+        #[arg(long, default_value = "comparison")]
+        out: PathBuf,
+    },
     /// Run every experiment and regenerate the whole report.
     Report {
         /// Report folder.
@@ -76,6 +92,49 @@ pub enum Command {
         /// Folder of templates overriding the embedded ones.
         #[arg(long)]
         templates: Option<PathBuf>,
+    },
+}
+
+#[derive(Debug, Subcommand)]
+pub enum ReferenceCommand {
+    /// Import a WebPlotDigitizer export (JSON project, version 4, or CSV) as a digitised
+    /// reference file (TOML) with its provenance and the size of one pixel in data units.
+    Import {
+        /// The WebPlotDigitizer file (.json or .csv).
+        file: PathBuf,
+        /// The paper figure digitised, e.g. "Fig. 8".
+        #[arg(long)]
+        figure: String,
+        /// Who digitised it.
+        #[arg(long)]
+        by: String,
+        /// What it was digitised from (document, page, image).
+        #[arg(long)]
+        from: String,
+        /// Unit of the horizontal axis.
+        #[arg(long, default_value = "Hz")]
+        x_unit: String,
+        /// Unit of the vertical axis.
+        #[arg(long, default_value = "m/N")]
+        y_unit: String,
+        /// A dataset's computed curve: "DATASET=CASE:MASS" (repeatable).
+        #[arg(long = "map")]
+        map: Vec<String>,
+        /// CSV only: one pixel along x, in data units (linear axis) or relative (log axis).
+        #[arg(long)]
+        x_pixel: Option<f64>,
+        /// CSV only: one pixel along y.
+        #[arg(long)]
+        y_pixel: Option<f64>,
+        /// CSV only: the horizontal axis is logarithmic.
+        #[arg(long)]
+        x_log: bool,
+        /// CSV only: the vertical axis is logarithmic.
+        #[arg(long)]
+        y_log: bool,
+        /// The file to write (default: REFERENCE/digitised/STEM.toml).
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
 }
 
@@ -111,6 +170,15 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             let exps = files.iter().map(|f| experiment::load(f, &cli.reference)).collect::<crate::Result<Vec<_>>>()?;
             run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), BaselineMode::Optional)
         }
+        Command::Reference { command: ReferenceCommand::Import { .. } } => {
+            import(&cli.command, &cli.reference)?;
+            Ok(true)
+        }
+        Command::Compare { a, b, out } => {
+            let dest = crate::output::compare::write(a, b, out)?;
+            println!("comparison: {}", dest.display());
+            Ok(true)
+        }
         Command::Report { out, jobs, templates, bless } => {
             let files = experiment::discover(&cli.experiments)?;
             if files.is_empty() {
@@ -121,6 +189,84 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), mode)
         }
     }
+}
+
+/// `shotdamp reference import`.
+fn import(command: &Command, reference: &Path) -> anyhow::Result<()> {
+    let Command::Reference {
+        command:
+            ReferenceCommand::Import { file, figure, by, from, x_unit, y_unit, map, x_pixel, y_pixel, x_log, y_log, out },
+    } = command
+    else {
+        return Ok(());
+    };
+    let name = file.display().to_string();
+    let mut mapping = Vec::new();
+    for m in map {
+        let parsed = m.split_once('=').and_then(|(d, rest)| {
+            let (case, mass) = rest.split_once(':')?;
+            Some((d.to_string(), case.to_string(), mass.trim().parse::<i64>().ok()?))
+        });
+        match parsed {
+            Some(x) => mapping.push(x),
+            None => {
+                return Err(crate::Error::invalid(
+                    "--map",
+                    "map",
+                    m,
+                    "give DATASET=CASE:MASS, e.g. \"Default Dataset=D:1\"",
+                )
+                .into())
+            }
+        }
+    }
+    let info = ImportInfo {
+        figure: figure.clone(),
+        source: from.clone(),
+        digitised_by: by.clone(),
+        imported_from: file.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
+        x_unit: x_unit.clone(),
+        y_unit: y_unit.clone(),
+        mapping,
+        x_log: *x_log,
+        y_log: *y_log,
+        x_pixel: *x_pixel,
+        y_pixel: *y_pixel,
+    };
+    let text = crate::error::read_to_string(file)?;
+    let parsed = match file.extension().and_then(|e| e.to_str()) {
+        Some("json") => digitised::import_wpd_json(&name, &text, &info)?,
+        Some("csv") => digitised::import_wpd_csv(&name, &text, &info)?,
+        _ => {
+            return Err(crate::Error::invalid(
+                &name,
+                "(file)",
+                name.clone(),
+                "a WebPlotDigitizer .json project or .csv export",
+            )
+            .into())
+        }
+    };
+    let stem = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "digitised".into());
+    let dest = out.clone().unwrap_or_else(|| reference.join("digitised").join(format!("{stem}.toml")));
+    if let Some(parent) = dest.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| crate::Error::io(parent, e))?;
+    }
+    let body = parsed.to_toml()?;
+    let header = format!(
+        "# Digitised from {} ({}) by {}; imported by shotdamp from {}. One pixel is x_pixel, y_pixel\n# in data units (relative on a log axis). Never edit the numbers to make a check pass.\n",
+        parsed.meta.figure, parsed.meta.source, parsed.meta.digitised_by, parsed.meta.imported_from
+    );
+    std::fs::write(&dest, header + &body).map_err(|e| crate::Error::io(&dest, e))?;
+    let points: usize = parsed.curve.iter().map(|c| c.x.len()).sum();
+    println!(
+        "{}: {} curves, {points} points; one pixel = {} along x, {} along y",
+        dest.display(),
+        parsed.curve.len(),
+        crate::checks::fmt_num(parsed.meta.x_pixel),
+        crate::checks::fmt_num(parsed.meta.y_pixel)
+    );
+    Ok(())
 }
 
 fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
@@ -298,8 +444,9 @@ fn run_and_write(
         .flat_map(|r| {
             r.checks.iter().filter(|c| c.status.fails()).map(move |c| {
                 format!(
-                    "  {}: {}: computed {} vs expected {} (tolerance {}){}",
+                    "  {} ({}): {}: computed {} vs expected {} (tolerance {}){}",
                     r.experiment.meta.id,
+                    r.experiment.meta.figure,
                     c.name,
                     crate::checks::fmt_num(c.computed),
                     crate::checks::fmt_num(c.expected),

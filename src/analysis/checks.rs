@@ -5,8 +5,10 @@ use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Source, Statu
 
 use std::collections::BTreeMap;
 
+use super::claim_checks;
 use super::curves::{Curve, Curves};
 use super::decay_checks;
+use super::digitised_checks;
 use super::impulse::Decay;
 use super::orbit_checks;
 use super::orbits::OrbitsResult;
@@ -18,6 +20,7 @@ pub struct Computed<'a> {
     pub curves: &'a Curves,
     pub decays: &'a BTreeMap<String, Decay>,
     pub orbits: Option<&'a OrbitsResult>,
+    pub motion_types: &'a super::waveform::MotionTypes,
 }
 
 /// Every check of `exp`, in file order. A reference that is missing (the loader validates
@@ -44,6 +47,20 @@ pub fn evaluate(
                     Some(r) => orbit_checks::orbit_vs_simulation(spec, r),
                     None => missing(spec, "no periodic orbits computed"),
                 });
+                continue;
+            }
+            CheckKind::Tube { case, mass, curve, x_px, y_px }
+            | CheckKind::Peak { case, mass, curve, x_px, y_px, .. } => {
+                let file = refs.digitised(&spec.reference_file);
+                match (file, file.and_then(|f| f.get(curve)), curves.get(case)) {
+                    (Some(f), Some(d), Some(c)) => match &spec.kind {
+                        CheckKind::Peak { window, .. } => {
+                            out.extend(digitised_checks::peak_check(spec, f, d, c, *mass, *window, *x_px, *y_px))
+                        }
+                        _ => out.push(digitised_checks::tube_check(spec, f, d, c, *mass, *x_px, *y_px)),
+                    },
+                    _ => out.push(missing(spec, "digitised curve or computed curve missing")),
+                }
                 continue;
             }
             CheckKind::DecayTime { case, mass, levels } => {
@@ -103,8 +120,31 @@ pub fn evaluate(
                 }
             }
             CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
-            CheckKind::PeakRatio { case, over_case, mass, upper_id } => {
-                out.push(peak_ratio(spec, file, curves, case, over_case, *mass, upper_id));
+            CheckKind::PeakRatio { case, over_case, mass, bound, window } => {
+                out.push(claim_checks::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window));
+            }
+            CheckKind::MotionTypes { case, present, absent } => match quantity(file, spec) {
+                Some(q) => out.push(claim_checks::motion_types(
+                    spec,
+                    file,
+                    q,
+                    case,
+                    computed.motion_types.get(case),
+                    present,
+                    absent,
+                )),
+                None => out.push(missing(spec, "claim not found")),
+            },
+            CheckKind::RatioOrder { case, over_case, mass, window, than_window } => {
+                out.push(claim_checks::ratio_order(
+                    spec,
+                    file,
+                    curves,
+                    (case, over_case),
+                    *mass,
+                    *window,
+                    *than_window,
+                ));
             }
             CheckKind::DecayRatio { case, over_case, mass, level } => {
                 match (quantity(file, spec), computed.decays.get(case), computed.decays.get(over_case)) {
@@ -117,6 +157,8 @@ pub fn evaluate(
                 _ => out.push(missing(spec, "claim or periodic orbits missing")),
             },
             CheckKind::Curve { .. }
+            | CheckKind::Tube { .. }
+            | CheckKind::Peak { .. }
             | CheckKind::ImpulseHistory { .. }
             | CheckKind::DecayTime { .. }
             | CheckKind::OrbitVsSimulation => {}
@@ -274,61 +316,5 @@ fn curve_check(
         source: Source::IndependentSolver,
         reason: spec.known_deviation.clone(),
         detail: Some(detail),
-    }
-}
-
-/// The ratio of two cases' peak compliances against a range from the reference.
-fn peak_ratio(
-    spec: &CheckSpec,
-    file: &ValueFile,
-    curves: &Curves,
-    case: &str,
-    over: &str,
-    mass: usize,
-    upper_id: &str,
-) -> CheckOutcome {
-    let (Some(lo), Some(hi)) = (quantity(file, spec), file.get(upper_id)) else {
-        return missing(spec, "range bounds not found");
-    };
-    let (Some(a), Some(b)) = (curves.get(case).and_then(|c| c.peak(mass)), curves.get(over).and_then(|c| c.peak(mass)))
-    else {
-        return missing(spec, "curves not computed");
-    };
-    let (lo_v, hi_v) = (lo.value.unwrap_or(f64::NAN), hi.value.unwrap_or(f64::NAN));
-    let ratio = a.1 / b.1;
-    let slack = spec.tolerance.rel;
-    let within = ratio >= lo_v * (1.0 - slack) && ratio <= hi_v * (1.0 + slack);
-    let mid = 0.5 * (lo_v + hi_v);
-    CheckOutcome {
-        name: format!("peak ratio {case} / {over}, m{}", mass + 1),
-        description: format!(
-            "peak compliance of m{} with case {case} ({} m/N at {} Hz) over case {over} ({} m/N at {} Hz)",
-            mass + 1,
-            fmt_num(a.1),
-            fmt_num(a.0),
-            fmt_num(b.1),
-            fmt_num(b.0)
-        ),
-        computed: ratio,
-        expected: mid,
-        unit: String::new(),
-        abs_diff: (ratio - mid).abs(),
-        rel_diff: (ratio - mid).abs() / mid,
-        tolerance: format!(
-            "within [{}, {}]{}",
-            fmt_num(lo_v),
-            fmt_num(hi_v),
-            if slack > 0.0 { format!(" +/- {:.1} %", 100.0 * slack) } else { String::new() }
-        ),
-        status: status(within, spec.known_deviation.is_some()),
-        provenance: file.provenance(lo),
-        source: Source::from_provenance(&file.meta.provenance),
-        reason: spec.known_deviation.clone(),
-        detail: Some(format!(
-            "paper: reduction by a factor 1/{} to 1/{}; computed 1/{:.2}",
-            fmt_num(lo_v),
-            fmt_num(hi_v),
-            ratio
-        )),
     }
 }

@@ -49,8 +49,16 @@ impl Curve {
 
     /// Frequency and value of the highest compliance of `mass` (settled points if any).
     pub fn peak(&self, mass: usize) -> Option<(f64, f64)> {
-        let settled: Vec<usize> = (0..self.freq_hz.len()).filter(|&i| self.converged[i]).collect();
-        let pool: Vec<usize> = if settled.is_empty() { (0..self.freq_hz.len()).collect() } else { settled };
+        self.peak_in(mass, None)
+    }
+
+    /// Frequency and value of the highest compliance of `mass` within `window` (Hz; the whole
+    /// curve when `None`), among settled points if any.
+    pub fn peak_in(&self, mass: usize, window: Option<(f64, f64)>) -> Option<(f64, f64)> {
+        let inside = |i: usize| window.is_none_or(|(lo, hi)| self.freq_hz[i] >= lo && self.freq_hz[i] <= hi);
+        let settled: Vec<usize> = (0..self.freq_hz.len()).filter(|&i| inside(i) && self.converged[i]).collect();
+        let pool: Vec<usize> =
+            if settled.is_empty() { (0..self.freq_hz.len()).filter(|&i| inside(i)).collect() } else { settled };
         pool.into_iter()
             .map(|i| (self.freq_hz[i], self.compliance[i][mass]))
             .filter(|(_, c)| c.is_finite())

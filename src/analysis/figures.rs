@@ -6,6 +6,7 @@ use crate::model::modal::ModeSummary;
 use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 
 use super::curves::Curve;
+use super::overlays::Overlay;
 
 /// Dash patterns in case order.
 const DASHES: [Dash; 4] = [Dash::Solid, Dash::Dashed, Dash::DashDot, Dash::Dotted];
@@ -14,6 +15,8 @@ const DASHES: [Dash; 4] = [Dash::Solid, Dash::Dashed, Dash::DashDot, Dash::Dotte
 pub struct Extras<'a> {
     pub linear: Vec<&'a Curve>,
     pub marks: Vec<VLine>,
+    /// References drawn over the curves, with a residual panel beneath.
+    pub overlays: Vec<Overlay>,
     /// The analysis grid's range (curves may hold extra points outside it for checks).
     pub range: (f64, f64),
 }
@@ -70,6 +73,19 @@ pub fn compliance(
                         series.extend(irregular_points(c, r, color, cross_label));
                     }
                 }
+                // References as small markers in the colour of their curve.
+                for o in &extras.overlays {
+                    let Some(ci) = shown.iter().position(|c| c.id == o.curve) else { continue };
+                    for &r in masses {
+                        if o.points[r].is_empty() {
+                            continue;
+                        }
+                        let color = if by_mass { r } else { ci };
+                        let (x, y): (Vec<f64>, Vec<f64>) = o.points[r].iter().copied().unzip();
+                        let label = if by_mass { format!("m{} — {}: {}", r + 1, shown[ci].label, o.source) } else { format!("{}: {}", shown[ci].label, o.source) };
+                        series.push(Series::points(label, x, y, color, Marker::Square).sized(2));
+                    }
+                }
                 for (li, l) in extras.linear.iter().enumerate() {
                     for &r in masses {
                         let color = if by_mass { r } else { 7 };
@@ -91,20 +107,72 @@ pub fn compliance(
                     vlines: vlines.clone(),
                 }
             };
-            let panels = match p.kind {
+            let mut panels: Vec<Panel> = match p.kind {
                 PlotKind::CompliancePanels => p.masses.iter().map(|&r| panel(&[r], format!("{title}: m{}", r + 1), false)).collect(),
                 _ => vec![panel(&p.masses, title.clone(), true)],
             };
+            if let Some(res) = residual_panel(&extras.overlays, &shown, &p.masses, (lo, hi)) {
+                panels.push(res);
+            }
             Figure {
                 id: p.id.clone(),
                 title: title.clone(),
                 caption: format!(
-                    "Compliance amplitude (max - min)/2 / F with F = {} N on m{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).",
+                    "Compliance amplitude (max - min)/2 / F with F = {} N on m{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).{}",
                     exp.excitation.force,
-                    exp.excitation.mass + 1
+                    exp.excitation.mass + 1,
+                    if extras.overlays.is_empty() {
+                        ""
+                    } else {
+                        " Small squares: the reference curves of the checks; bottom panel: the relative difference from them at their points, with the checks' tolerances."
+                    }
                 ),
                 panels,
             }
         })
         .collect()
+}
+
+/// The relative difference of the shown curves from their references, with the tolerances.
+fn residual_panel(overlays: &[Overlay], shown: &[&Curve], masses: &[usize], range: (f64, f64)) -> Option<Panel> {
+    let used: Vec<&Overlay> = overlays.iter().filter(|o| shown.iter().any(|c| c.id == o.curve)).collect();
+    if used.is_empty() {
+        return None;
+    }
+    let mut panel = Panel::new(
+        "relative difference from the reference at its points (settled, period-1): circles m1, squares m2, triangles m3",
+        "frequency (Hz)",
+        "|computed - reference| / reference",
+        range,
+    )
+    .log_y();
+    let mut tols: Vec<f64> = Vec::new();
+    let mut all: Vec<f64> = Vec::new();
+    for o in &used {
+        let ci = shown.iter().position(|c| c.id == o.curve).unwrap_or(0);
+        for &m in masses {
+            if o.residual[m].is_empty() {
+                continue;
+            }
+            let (x, y): (Vec<f64>, Vec<f64>) = o.residual[m].iter().copied().unzip();
+            all.extend(y.iter().copied().filter(|v| *v > 0.0));
+            let marker = [Marker::Circle, Marker::Square, Marker::Triangle][m % 3];
+            let label =
+                if Some(&m) == masses.first() { format!("{} ({})", shown[ci].label, o.source) } else { String::new() };
+            panel.series.push(Series::points(label, x, y, ci, marker).sized(3));
+        }
+        tols.extend(o.tolerances.iter().copied());
+    }
+    tols.sort_by(f64::total_cmp);
+    tols.dedup();
+    for t in &tols {
+        panel.series.push(
+            Series::line(format!("tolerance {t:.0e}"), vec![range.0, range.1], vec![*t, *t], 7).dashed(Dash::Dashed),
+        );
+    }
+    let lo = all.iter().copied().fold(f64::INFINITY, f64::min).min(tols.first().copied().unwrap_or(1e-3)).max(1e-16);
+    let hi = all.iter().copied().fold(0.0, f64::max).max(tols.last().copied().unwrap_or(1e-3));
+    panel.y_range = Some((lo / 3.0, hi * 3.0));
+    panel.legend = crate::output::figure::Corner::LowerRight;
+    Some(panel)
 }

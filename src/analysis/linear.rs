@@ -1,5 +1,6 @@
 //! Modal table and exact linear frequency response (bare and "stuck" structures).
 
+use crate::checks::reference::ReferenceStore;
 use crate::experiment::{Experiment, PlotSpec};
 use crate::model::modal::{modal_summary, ModeSummary};
 use crate::output::figure::Figure;
@@ -40,22 +41,22 @@ pub fn frf(
     exp: &Experiment,
     modes: &[ModeSummary],
     freq_hz: &[f64],
-    extra: &dyn Fn(&str) -> Vec<f64>,
+    refs: &ReferenceStore,
 ) -> (Table, Vec<Figure>, Vec<Curve>) {
     let n = exp.structure.dof();
     let curves: Vec<Curve> = exp
         .cases
         .iter()
         .map(|case| {
-            let grid = union_grid(freq_hz, &extra(&case.id));
+            let grid = union_grid(freq_hz, &super::sweep::check_frequencies(exp, refs, &case.id));
             curves::linear(exp, case, &case.id, &case.label, &grid, !case.dampers.is_empty())
         })
         .collect();
-    let refs: Vec<&Curve> = curves.iter().collect();
+    let shown: Vec<&Curve> = curves.iter().collect();
     let table = curves::table(
         "compliance",
         "Linear compliance |x_r / F| (m/N) of each mass r (columns c1..cn): the bare structure for cases without dampers, damper masses rigidly added (stuck) otherwise",
-        &refs,
+        &shown,
         n,
         0,
     );
@@ -63,8 +64,13 @@ pub fn frf(
     let figures = figures::compliance(
         exp,
         &plots,
-        &refs,
-        &Extras { linear: Vec::new(), marks: Vec::new(), range: (freq_hz[0], freq_hz[freq_hz.len() - 1]) },
+        &shown,
+        &Extras {
+            overlays: super::overlays::overlays(exp, refs, &curves),
+            linear: Vec::new(),
+            marks: Vec::new(),
+            range: (freq_hz[0], freq_hz[freq_hz.len() - 1]),
+        },
         modes,
     );
     (table, figures, curves)

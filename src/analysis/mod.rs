@@ -2,15 +2,18 @@
 //! Nothing here reads or writes files; references arrive pre-loaded.
 
 mod checks;
+mod claim_checks;
 mod clearance;
 pub mod curves;
 mod decay_checks;
+mod digitised_checks;
 mod figures;
 pub mod impulse;
 mod linear;
 mod orbit_checks;
 mod orbit_figures;
 pub mod orbits;
+mod overlays;
 mod sweep;
 mod waveform;
 
@@ -102,11 +105,12 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     let mut curves = curves::Curves::new();
     let mut decays = std::collections::BTreeMap::new();
     let mut orbits_result = None;
+    let mut motion_types = waveform::MotionTypes::new();
     let mut exports = BTreeMap::new();
     match &exp.analysis {
         Analysis::Modal => {}
         Analysis::LinearFrf { freq_hz } => {
-            let (table, figs, cs) = linear::frf(exp, &modes, freq_hz, &|id| sweep::check_frequencies(exp, refs, id));
+            let (table, figs, cs) = linear::frf(exp, &modes, freq_hz, refs);
             tables.push(table);
             figures.extend(figs);
             curves.extend(cs.into_iter().map(|c| (c.id.clone(), c)));
@@ -134,9 +138,10 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             exports = out.exports;
         }
         Analysis::Waveform { frequencies, labels, periods, steady } => {
-            let (t, f) = waveform::run(exp, frequencies, labels, *periods, steady, tick);
+            let (t, f, m) = waveform::run(exp, frequencies, labels, *periods, steady, tick);
             tables.extend(t);
             figures.extend(f);
+            motion_types = m;
         }
         Analysis::Impulse { options, spectrum_hz, levels } => {
             let out = impulse::run(exp, &modes, options, spectrum_hz, levels, tick);
@@ -156,7 +161,12 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     let mut checks = checks::evaluate(
         exp,
         &modes,
-        &checks::Computed { curves: &curves, decays: &decays, orbits: orbits_result.as_ref() },
+        &checks::Computed {
+            curves: &curves,
+            decays: &decays,
+            orbits: orbits_result.as_ref(),
+            motion_types: &motion_types,
+        },
         refs,
     );
     let (id, figure) = (&exp.meta.id, &exp.meta.figure);

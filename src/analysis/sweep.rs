@@ -107,7 +107,12 @@ pub fn run(
         exp,
         &plots,
         &refs_c,
-        &Extras { linear: linear.iter().collect(), marks, range: (freq_hz[0], freq_hz[freq_hz.len() - 1]) },
+        &Extras {
+            overlays: super::overlays::overlays(exp, refs, &curves),
+            linear: linear.iter().collect(),
+            marks,
+            range: (freq_hz[0], freq_hz[freq_hz.len() - 1]),
+        },
         modes,
     );
     let mut tables = vec![curves::table(

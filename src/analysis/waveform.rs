@@ -82,7 +82,7 @@ pub fn run(
     periods: usize,
     steady: &SteadyOptions,
     tick: &Tick,
-) -> (Vec<Table>, Vec<Figure>) {
+) -> (Vec<Table>, Vec<Figure>, MotionTypes) {
     let freqs: Vec<f64> = frequencies.iter().map(|f| if let Number::Value(v) = f { *v } else { f64::NAN }).collect();
     let mut records = Vec::new();
     for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
@@ -113,7 +113,26 @@ pub fn run(
             tick();
         }
     }
-    (tables(exp, &records), figures(exp, &records, periods))
+    let mut types = MotionTypes::new();
+    for r in &records {
+        let list = types.entry(r.case.clone()).or_default();
+        for t in &r.types {
+            list.push(short_type(t));
+        }
+    }
+    (tables(exp, &records), figures(exp, &records, periods), types)
+}
+
+/// Per case: the motion type of each bed at each frequency, short ("I", "II", "III", or
+/// "rests" when the bed does not fly).
+pub type MotionTypes = std::collections::BTreeMap<String, Vec<String>>;
+
+/// "Type II (hits the top...); ..." -> "II"; "rests on the bottom ..." -> "rests".
+fn short_type(t: &str) -> String {
+    match t.strip_prefix("Type ") {
+        Some(rest) => rest.split([' ', ';']).next().unwrap_or(rest).to_string(),
+        None => "rests".into(),
+    }
 }
 
 fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {

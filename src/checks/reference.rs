@@ -123,6 +123,7 @@ pub enum BaselineMode {
 pub struct ReferenceStore {
     values: std::collections::BTreeMap<String, ValueFile>,
     curves: std::collections::BTreeMap<String, Curve>,
+    digitised: std::collections::BTreeMap<String, super::digitised::DigitisedFile>,
     baselines: std::collections::BTreeMap<String, Vec<super::baseline::Value>>,
     pub baseline_mode: BaselineMode,
 }
@@ -134,6 +135,15 @@ impl ReferenceStore {
         for exp in experiments {
             for check in &exp.checks {
                 let file = &check.reference_file;
+                if matches!(
+                    check.kind,
+                    crate::experiment::CheckKind::Tube { .. } | crate::experiment::CheckKind::Peak { .. }
+                ) {
+                    if !store.digitised.contains_key(file) {
+                        store.digitised.insert(file.clone(), super::digitised::load(&dir.join(file))?);
+                    }
+                    continue;
+                }
                 if file.ends_with(".toml") && !store.values.contains_key(file) {
                     store.values.insert(file.clone(), ValueFile::load(&dir.join(file))?);
                 }
@@ -173,6 +183,11 @@ impl ReferenceStore {
     /// A loaded value file.
     pub fn values(&self, file: &str) -> Option<&ValueFile> {
         self.values.get(file)
+    }
+
+    /// A loaded digitised file.
+    pub fn digitised(&self, file: &str) -> Option<&super::digitised::DigitisedFile> {
+        self.digitised.get(file)
     }
 
     /// A loaded curve file.

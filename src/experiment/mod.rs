@@ -2,6 +2,7 @@
 //! (raw serde structs, then validated typed values).
 
 mod analysis;
+mod checks;
 mod load;
 mod outputs;
 pub mod raw;
@@ -230,9 +231,22 @@ pub enum CheckKind {
     /// `curve` names the computed curve: the case id, `CASE:up` / `CASE:down` for
     /// continuation, `CASE@0.2mm` for a scanned clearance.
     Curve { curve: String, columns: String, fraction: f64, rel_tol_all: f64 },
-    /// The ratio of two cases' peak compliances of a mass within a reference range
-    /// (`reference` is the lower bound, `range_to` the id of the upper one).
-    PeakRatio { case: String, over_case: String, mass: usize, upper_id: String },
+    /// The ratio of two cases' peak compliances of a mass (within a frequency window, or over
+    /// the whole curve) against a bound from a reference: within a range (`reference` is the
+    /// lower bound, `range_to` the id of the upper one), at most or at least a value.
+    PeakRatio { case: String, over_case: String, mass: usize, bound: Bound, window: Option<(f64, f64)> },
+    /// A computed curve against a digitised one: every digitised point within `x_px` pixels
+    /// along x and `y_px` pixels (plus the check's tolerance) along y of the computed curve.
+    Tube { case: String, mass: usize, curve: String, x_px: f64, y_px: f64 },
+    /// The resonance peak of a computed curve in a window against the digitised one's:
+    /// frequency within `x_px` pixels, height within `y_px` pixels plus the check's tolerance.
+    Peak { case: String, mass: usize, curve: String, window: (f64, f64), x_px: f64, y_px: f64 },
+    /// The motion types of a case's beds at the waveform frequencies include every type of
+    /// `present` and none of `absent` ("I", "II", "III", "rests").
+    MotionTypes { case: String, present: Vec<String>, absent: Vec<String> },
+    /// An ordering claim: the peak ratio of `case` over `over_case` in `window` is smaller than
+    /// in `than_window` (e.g. dampers help a higher resonance more than the fundamental).
+    RatioOrder { case: String, over_case: String, mass: usize, window: (f64, f64), than_window: (f64, f64) },
     /// An impulse history (x, v, a of every mass) against a reference file over the first
     /// `window` seconds: the largest difference relative to the column's largest value.
     ImpulseHistory { case: String, window: f64 },
@@ -247,6 +261,17 @@ pub enum CheckKind {
     /// The peak compliance of the SDOF solution against that of the simulation of the full
     /// structure (the paper's "close agreement").
     SdofVsSimulation,
+}
+
+/// How a ratio is bounded by its reference.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Bound {
+    /// Between the reference value and the value named `upper_id`.
+    Within { upper_id: String },
+    /// At most the reference value.
+    AtMost,
+    /// At least the reference value.
+    AtLeast,
 }
 
 /// A tolerance: pass when `|computed - expected| <= abs + rel |expected|`.

@@ -275,6 +275,29 @@ pub struct RawCheck {
     /// Ratio checks: the id of the upper bound (`reference` names the lower one).
     #[serde(default)]
     pub range_to: Option<String>,
+    /// Ratio checks: "within" (default, with `range_to`), "at_most" or "at_least".
+    #[serde(default)]
+    pub bound: Option<String>,
+    /// Ratio checks: the frequency window of the peak, [from, to] Hz (default: the curve).
+    #[serde(default)]
+    pub window_hz: Option<Vec<f64>>,
+    /// Ordering checks: the window whose ratio must be the larger one.
+    #[serde(default)]
+    pub than_window_hz: Option<Vec<f64>>,
+    /// Motion type checks: types that must appear ("I", "II", "III", "rests") ...
+    #[serde(default)]
+    pub present: Option<Vec<String>>,
+    /// ... and types that must not.
+    #[serde(default)]
+    pub absent: Option<Vec<String>>,
+    /// Tube and peak checks: the digitised curve (its dataset name).
+    #[serde(default)]
+    pub curve: Option<String>,
+    /// Tube and peak checks: tolerances in pixels of the digitised figure.
+    #[serde(default)]
+    pub x_tol_px: Option<f64>,
+    #[serde(default)]
+    pub y_tol_px: Option<f64>,
     /// Impulse history checks: the compared window from t = 0, s.
     #[serde(default)]
     pub window_s: Option<f64>,

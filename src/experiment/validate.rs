@@ -9,7 +9,8 @@ use crate::error::{Error, Result};
 use crate::model::{Damper, Damping, Structure};
 
 use super::analysis::{analysis, export_ref};
-use super::outputs::{check, plot};
+use super::checks::check;
+use super::outputs::plot;
 use super::raw::{RawCase, RawExperiment, RawStructure};
 use super::{Analysis, Case, Clearance, Excitation, Experiment, Meta};
 

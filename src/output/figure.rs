@@ -34,12 +34,24 @@ pub struct Series {
     pub marker: Marker,
     /// Filled markers (hollow otherwise).
     pub filled: bool,
+    /// Marker radius, pixels.
+    pub marker_size: u32,
 }
 
 impl Series {
     /// A solid line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, color: usize) -> Series {
-        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: true, marker: Marker::None, filled: false }
+        Series {
+            label: label.into(),
+            x,
+            y,
+            color,
+            dash: Dash::Solid,
+            line: true,
+            marker: Marker::None,
+            filled: false,
+            marker_size: 4,
+        }
     }
 
     /// The same series with another dash.
@@ -84,6 +96,12 @@ impl Series {
         Series::line(label, xs, ys, color)
     }
 
+    /// The same series with markers of another radius.
+    pub fn sized(mut self, radius: u32) -> Series {
+        self.marker_size = radius;
+        self
+    }
+
     /// The same series with filled markers.
     pub fn filled(mut self) -> Series {
         self.filled = true;
@@ -92,7 +110,17 @@ impl Series {
 
     /// Points only.
     pub fn points(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, color: usize, marker: Marker) -> Series {
-        Series { label: label.into(), x, y, color, dash: Dash::Solid, line: false, marker, filled: false }
+        Series {
+            label: label.into(),
+            x,
+            y,
+            color,
+            dash: Dash::Solid,
+            line: false,
+            marker,
+            filled: false,
+            marker_size: 4,
+        }
     }
 }
 

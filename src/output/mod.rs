@@ -1,6 +1,7 @@
 //! Everything that leaves the program: tables, plots, pages. [`ReportWriter`] is the one
 //! owner of destinations; exporters render to bytes or draw to a path it gives them.
 
+pub mod compare;
 pub mod figure;
 pub mod junit;
 pub mod plot;

@@ -303,10 +303,11 @@ where
             let marker = s.marker;
             let pts = run.iter().copied();
             let anno = match marker {
-                Marker::Circle => chart.draw_series(pts.map(|p| Circle::new(p, 4, mstyle))),
-                Marker::Cross => chart.draw_series(pts.map(|p| Cross::new(p, 4, mstyle))),
+                Marker::Circle => chart.draw_series(pts.map(|p| Circle::new(p, s.marker_size, mstyle))),
+                Marker::Cross => chart.draw_series(pts.map(|p| Cross::new(p, s.marker_size, mstyle))),
                 Marker::Square => {
-                    chart.draw_series(pts.map(|p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], mstyle)))
+                    let h = s.marker_size as i32;
+                    chart.draw_series(pts.map(|p| EmptyElement::at(p) + Rectangle::new([(-h, -h), (h, h)], mstyle)))
                 }
                 Marker::Triangle | Marker::None => chart.draw_series(pts.map(|p| {
                     EmptyElement::at(p)

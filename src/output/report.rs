@@ -12,10 +12,11 @@ use crate::checks::{fmt_num, CheckOutcome, Status};
 use crate::error::{read_to_string, Error, Result};
 
 /// Template names and their embedded defaults.
-const TEMPLATES: [(&str, &str); 3] = [
+const TEMPLATES: [(&str, &str); 4] = [
     ("base.html", include_str!("../../templates/base.html")),
     ("index.html", include_str!("../../templates/index.html")),
     ("experiment.html", include_str!("../../templates/experiment.html")),
+    ("compare.html", include_str!("../../templates/compare.html")),
 ];
 
 /// The report's stylesheet.

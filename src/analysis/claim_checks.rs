@@ -1,0 +1,169 @@
+//! Claims of the paper's text about ratios of resonance peaks, each checked as a number with
+//! the value shown: a ratio within a range or beyond a bound, and an ordering of two ratios.
+
+use crate::checks::reference::ValueFile;
+use crate::checks::{fmt_num, status, CheckOutcome, Source};
+use crate::experiment::{Bound, CheckSpec};
+
+use super::checks::{missing, quantity};
+use super::curves::Curves;
+
+fn window_words(w: Option<(f64, f64)>) -> String {
+    match w {
+        Some((a, b)) => format!(" in {}-{} Hz", fmt_num(a), fmt_num(b)),
+        None => String::new(),
+    }
+}
+
+/// The peak of `case` over that of `over` in a window: (ratio, words).
+fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<(f64, String)> {
+    let a = curves.get(case)?.peak_in(mass, w)?;
+    let b = curves.get(over)?.peak_in(mass, w)?;
+    Some((
+        a.1 / b.1,
+        format!(
+            "{case}: {} m/N at {} Hz over {over}: {} m/N at {} Hz",
+            fmt_num(a.1),
+            fmt_num(a.0),
+            fmt_num(b.1),
+            fmt_num(b.0)
+        ),
+    ))
+}
+
+/// A peak ratio against a bound (a range, at most or at least a value; `rel_tol` is slack).
+pub fn peak_ratio(
+    spec: &CheckSpec,
+    file: &ValueFile,
+    curves: &Curves,
+    cases: (&str, &str),
+    mass: usize,
+    bound: &Bound,
+    window: Option<(f64, f64)>,
+) -> CheckOutcome {
+    let Some(first) = quantity(file, spec) else { return missing(spec, "bound not found") };
+    let Some((r, words)) = ratio(curves, cases, mass, window) else { return missing(spec, "curves not computed") };
+    let v = first.value.unwrap_or(f64::NAN);
+    let slack = spec.tolerance.rel;
+    let (ok, expected, tolerance, paper) = match bound {
+        Bound::Within { upper_id } => {
+            let Some(hi) = file.get(upper_id).and_then(|q| q.value) else {
+                return missing(spec, "upper bound not found");
+            };
+            (
+                r >= v * (1.0 - slack) && r <= hi * (1.0 + slack),
+                0.5 * (v + hi),
+                format!("within [{}, {}]", fmt_num(v), fmt_num(hi)),
+                format!("paper: a factor 1/{} to 1/{}; computed 1/{:.2}", fmt_num(v), fmt_num(hi), r),
+            )
+        }
+        Bound::AtMost => (r <= v * (1.0 + slack), v, format!("at most {}", fmt_num(v)), format!("computed {r:.3}")),
+        Bound::AtLeast => (r >= v * (1.0 - slack), v, format!("at least {}", fmt_num(v)), format!("computed {r:.3}")),
+    };
+    let tolerance = if slack > 0.0 { format!("{tolerance} +/- {:.1} %", 100.0 * slack) } else { tolerance };
+    CheckOutcome {
+        name: format!("peak ratio {} / {}, m{}{}", cases.0, cases.1, mass + 1, window_words(window)),
+        description: format!("peak compliance of m{}{}: {words}", mass + 1, window_words(window)),
+        computed: r,
+        expected,
+        unit: String::new(),
+        abs_diff: (r - expected).abs(),
+        rel_diff: (r - expected).abs() / expected.abs(),
+        tolerance,
+        status: status(ok, spec.known_deviation.is_some()),
+        provenance: file.provenance(first),
+        source: Source::from_provenance(&file.meta.provenance),
+        reason: spec.known_deviation.clone(),
+        detail: Some(format!("{paper}; \"{}\"", first.quote)),
+    }
+}
+
+/// The peak ratio in `window` smaller than in `than`.
+pub fn ratio_order(
+    spec: &CheckSpec,
+    file: &ValueFile,
+    curves: &Curves,
+    cases: (&str, &str),
+    mass: usize,
+    window: (f64, f64),
+    than: (f64, f64),
+) -> CheckOutcome {
+    let Some(claim) = quantity(file, spec) else { return missing(spec, "claim not found") };
+    let (Some((a, wa)), Some((b, wb))) =
+        (ratio(curves, cases, mass, Some(window)), ratio(curves, cases, mass, Some(than)))
+    else {
+        return missing(spec, "curves not computed");
+    };
+    CheckOutcome {
+        name: format!(
+            "{} / {} at m{}: {}-{} Hz below {}-{} Hz",
+            cases.0,
+            cases.1,
+            mass + 1,
+            fmt_num(window.0),
+            fmt_num(window.1),
+            fmt_num(than.0),
+            fmt_num(than.1)
+        ),
+        description: format!(
+            "the peak ratio{} ({wa}) is smaller than{} ({wb})",
+            window_words(Some(window)),
+            window_words(Some(than))
+        ),
+        computed: a,
+        expected: b,
+        unit: "(ratio)".into(),
+        abs_diff: (a - b).abs(),
+        rel_diff: (a - b).abs() / b.abs(),
+        tolerance: format!("smaller than {}", fmt_num(b)),
+        status: status(a < b, spec.known_deviation.is_some()),
+        provenance: file.provenance(claim),
+        source: Source::from_provenance(&file.meta.provenance),
+        reason: spec.known_deviation.clone(),
+        detail: Some(format!("computed {a:.3} against {b:.3}")),
+    }
+}
+
+/// The motion types seen in a case's waveforms include every type of `present` and none of
+/// `absent`.
+pub fn motion_types(
+    spec: &CheckSpec,
+    file: &ValueFile,
+    claim: &crate::checks::reference::Quantity,
+    case: &str,
+    seen: Option<&Vec<String>>,
+    present: &[String],
+    absent: &[String],
+) -> CheckOutcome {
+    let seen = seen.cloned().unwrap_or_default();
+    let count = |t: &String| seen.iter().filter(|s| *s == t).count();
+    let missing_types: Vec<&String> = present.iter().filter(|t| count(t) == 0).collect();
+    let unwanted: Vec<&String> = absent.iter().filter(|t| count(t) > 0).collect();
+    let ok = !seen.is_empty() && missing_types.is_empty() && unwanted.is_empty();
+    let mut want = Vec::new();
+    if !present.is_empty() {
+        want.push(format!("Type {} present", present.join(", ")));
+    }
+    if !absent.is_empty() {
+        want.push(format!("Type {} absent", absent.join(", ")));
+    }
+    let occurrences = present.iter().chain(absent).map(|t| count(t) as f64).sum::<f64>();
+    CheckOutcome {
+        name: format!("motion types of {case}: {}", want.join("; ")),
+        description: format!(
+            "the motion types of the beds of case {case} at the waveform frequencies: {}",
+            seen.join(", ")
+        ),
+        computed: occurrences,
+        expected: f64::NAN,
+        unit: "(occurrences of the types named)".into(),
+        abs_diff: f64::NAN,
+        rel_diff: f64::NAN,
+        tolerance: want.join("; "),
+        status: status(ok, spec.known_deviation.is_some()),
+        provenance: file.provenance(claim),
+        source: Source::from_provenance(&file.meta.provenance),
+        reason: spec.known_deviation.clone(),
+        detail: Some(format!("seen: {}", seen.join(", "))),
+    }
+}

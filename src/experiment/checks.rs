@@ -1,0 +1,466 @@
+//! Validation of `[[checks]]`: kinds, the cases and masses they name, tolerances, and the
+//! reference files and ids, which must exist.
+
+use std::path::Path;
+
+use crate::checks::reference::ValueFile;
+use crate::error::{Error, Result};
+
+use super::raw::RawCheck;
+use super::validate::mass_index;
+use super::{clearance_key, Analysis, CheckKind, CheckSpec, Start, Tolerance};
+
+/// The case a check names.
+fn case_ref(path: &Path, key: String, v: &Option<String>, case_ids: &[String]) -> Result<String> {
+    match v {
+        Some(c) if case_ids.contains(c) => Ok(c.clone()),
+        Some(c) => {
+            Err(Error::invalid(path, key, format!("\"{c}\""), format!("no such case; the cases are {case_ids:?}")))
+        }
+        None => Err(Error::invalid(path, key, "(missing)", "this check needs the case it compares")),
+    }
+}
+
+/// Validates one check; reference files and ids must exist.
+pub fn check(
+    path: &Path,
+    i: usize,
+    c: RawCheck,
+    n: usize,
+    case_ids: &[String],
+    analysis: &Analysis,
+    reference_dir: &Path,
+) -> Result<CheckSpec> {
+    let key = |k: &str| format!("checks[{i}].{k}");
+    let mode = |m: Option<i64>| -> Result<usize> {
+        let Some(m) = m else {
+            return Err(Error::invalid(path, key("mode"), "(missing)", format!("this check needs mode = 1..{n}")));
+        };
+        if m < 1 || m as usize > n {
+            return Err(Error::invalid(path, key("mode"), m, format!("modes are numbered 1 to {n}")));
+        }
+        Ok(m as usize - 1)
+    };
+    let case = |field: &str, v: &Option<String>| case_ref(path, key(field), v, case_ids);
+    for (k, v) in [("rel_tol", c.rel_tol), ("abs_tol", c.abs_tol), ("rel_tol_all", c.rel_tol_all)] {
+        if let Some(v) = v {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(path, key(k), v, "a tolerance must be >= 0 and finite"));
+            }
+        }
+    }
+    let kind =
+        match c.kind.as_str() {
+            "natural_frequency" => CheckKind::NaturalFrequency { mode: mode(c.mode)? },
+            "mode_shape" => CheckKind::ModeShape {
+                mode: mode(c.mode)?,
+                elements: match &c.elements {
+                    Some(list) => list
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &m)| mass_index(path, &format!("checks[{i}].elements[{j}]"), m, n))
+                        .collect::<Result<Vec<_>>>()?,
+                    None => (0..n).collect(),
+                },
+            },
+            "paper_parameters" => CheckKind::PaperParameters,
+            "curve" => {
+                let fraction = c.fraction.unwrap_or(1.0);
+                if !(fraction > 0.0 && fraction <= 1.0) {
+                    return Err(Error::invalid(path, key("fraction"), fraction, "a fraction of the points in (0, 1]"));
+                }
+                let rel = c.rel_tol.unwrap_or(0.0);
+                let id = case("case", &c.case)?;
+                let curve = match (analysis, c.direction.as_deref(), c.clearance_mm) {
+                    (Analysis::Sweep { start: Start::Continuation, .. }, Some(dir @ ("up" | "down")), None) => {
+                        format!("{id}:{dir}")
+                    }
+                    (Analysis::Sweep { start: Start::Continuation, .. }, _, _) => {
+                        return Err(Error::invalid(
+                            path,
+                            key("direction"),
+                            format!("{:?}", c.direction),
+                            "a continuation sweep has an \"up\" and a \"down\" curve: give direction",
+                        ));
+                    }
+                    (Analysis::ClearanceStudy { clearances_mm: Some(list), .. }, None, Some(mm))
+                        if list.iter().any(|x| (x - mm).abs() < 1e-12) =>
+                    {
+                        clearance_key(&id, mm)
+                    }
+                    (Analysis::ClearanceStudy { .. }, _, _) => {
+                        return Err(Error::invalid(
+                            path,
+                            key("clearance_mm"),
+                            format!("{:?}", c.clearance_mm),
+                            "name one of the clearances the study scans (analysis.clearances_mm)",
+                        ));
+                    }
+                    (_, None, None) => id,
+                    _ => {
+                        return Err(Error::invalid(
+                            path,
+                            key("direction"),
+                            "(given)",
+                            "direction and clearance_mm only apply to continuation sweeps and clearance studies",
+                        ))
+                    }
+                };
+                CheckKind::Curve {
+                    curve,
+                    columns: c.columns.clone().unwrap_or_default(),
+                    fraction,
+                    rel_tol_all: c.rel_tol_all.unwrap_or(rel),
+                }
+            }
+            "peak_ratio" | "ratio_order" => claim(path, i, &c, n, case_ids)?,
+            "tube" | "peak" => digitised(path, i, &c, n, case_ids, reference_dir)?,
+            "motion_types" => {
+                if !matches!(analysis, Analysis::Waveform { .. }) {
+                    return Err(Error::invalid(
+                        path,
+                        key("kind"),
+                        "\"motion_types\"",
+                        format!("only a waveform analysis reads motion types (this one is \"{}\")", analysis.kind()),
+                    ));
+                }
+                let list = |field: &str, v: &Option<Vec<String>>| -> Result<Vec<String>> {
+                    let v = v.clone().unwrap_or_default();
+                    for (j, t) in v.iter().enumerate() {
+                        if !["I", "II", "III", "rests"].contains(&t.as_str()) {
+                            return Err(Error::invalid(
+                                path,
+                                format!("checks[{i}].{field}[{j}]"),
+                                format!("\"{t}\""),
+                                "allowed: \"I\", \"II\", \"III\", \"rests\"",
+                            ));
+                        }
+                    }
+                    Ok(v)
+                };
+                CheckKind::MotionTypes {
+                    case: case_ref(path, key("case"), &c.case, case_ids)?,
+                    present: list("present", &c.present)?,
+                    absent: list("absent", &c.absent)?,
+                }
+            }
+            "orbit_vs_simulation" | "sdof_vs_simulation" => {
+                if !matches!(analysis, Analysis::SdofPeriodic { .. }) {
+                    return Err(Error::invalid(
+                        path,
+                        key("kind"),
+                        format!("\"{}\"", c.kind),
+                        format!("only an sdof_periodic analysis has periodic orbits (this one is \"{}\")", analysis.kind()),
+                    ));
+                }
+                if c.kind == "orbit_vs_simulation" {
+                    CheckKind::OrbitVsSimulation
+                } else {
+                    CheckKind::SdofVsSimulation
+                }
+            }
+            "impulse_history" | "decay_time" | "decay_ratio" => {
+                let Analysis::Impulse { levels, .. } = analysis else {
+                    return Err(Error::invalid(
+                        path,
+                        key("kind"),
+                        format!("\"{}\"", c.kind),
+                        format!("only an impulse analysis has decay histories (this one is \"{}\")", analysis.kind()),
+                    ));
+                };
+                impulse_check(path, i, &c, n, case_ids, levels)?
+            }
+            other => return Err(Error::invalid(
+                path,
+                key("kind"),
+                format!("\"{other}\""),
+                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"tube\", \"peak\", \"peak_ratio\", \"ratio_order\", \"motion_types\", \"impulse_history\", \"decay_time\", \"decay_ratio\", \"orbit_vs_simulation\", \"sdof_vs_simulation\"",
+            )),
+        };
+    // Tolerances in pixels, or none at all (a set of motion types).
+    let own_tolerance = matches!(kind, CheckKind::Tube { .. } | CheckKind::Peak { .. } | CheckKind::MotionTypes { .. });
+    if c.rel_tol.is_none() && c.abs_tol.is_none() && !own_tolerance {
+        return Err(Error::invalid(
+            path,
+            key("rel_tol"),
+            "(missing)",
+            "a check needs a tolerance: rel_tol and/or abs_tol",
+        ));
+    }
+    let tolerance = Tolerance { rel: c.rel_tol.unwrap_or(0.0), abs: c.abs_tol.unwrap_or(0.0) };
+    let reference = match (&kind, &c.reference) {
+        (CheckKind::OrbitVsSimulation, None) => {
+            return Ok(CheckSpec {
+                kind,
+                reference_file: String::new(),
+                reference_id: None,
+                tolerance,
+                known_deviation: c.known_deviation,
+            })
+        }
+        (CheckKind::OrbitVsSimulation, Some(r)) => {
+            return Err(Error::invalid(
+                path,
+                key("reference"),
+                format!("\"{r}\""),
+                "this check compares two computations of the same run: it takes no reference",
+            ))
+        }
+        (_, None) => {
+            return Err(Error::invalid(
+                path,
+                key("reference"),
+                "(missing)",
+                "name the reference: FILE or FILE#ID under reference/",
+            ))
+        }
+        (_, Some(r)) => r.clone(),
+    };
+    let (file, id) = match reference.split_once('#') {
+        Some((f, id)) => (f.to_string(), Some(id.to_string())),
+        None => (reference.clone(), None),
+    };
+    let ref_path = reference_dir.join(&file);
+    if !ref_path.is_file() {
+        return Err(Error::invalid(
+            path,
+            key("reference"),
+            format!("\"{reference}\""),
+            format!("no such reference file: {}", ref_path.display()),
+        ));
+    }
+    let mut ids: Vec<&str> = Vec::new();
+    match &kind {
+        CheckKind::NaturalFrequency { .. } | CheckKind::ModeShape { .. } => match &id {
+            Some(id) => ids.push(id),
+            None => {
+                return Err(Error::invalid(
+                    path,
+                    key("reference"),
+                    format!("\"{reference}\""),
+                    "name the value: FILE#ID",
+                ))
+            }
+        },
+        CheckKind::PeakRatio { bound, .. } => match &id {
+            Some(id) => {
+                ids.push(id);
+                if let super::Bound::Within { upper_id } = bound {
+                    ids.push(upper_id);
+                }
+            }
+            None => {
+                return Err(Error::invalid(
+                    path,
+                    key("reference"),
+                    format!("\"{reference}\""),
+                    "name the lower bound: FILE#ID",
+                ))
+            }
+        },
+        CheckKind::DecayRatio { .. }
+        | CheckKind::SdofVsSimulation
+        | CheckKind::RatioOrder { .. }
+        | CheckKind::MotionTypes { .. } => match &id {
+            Some(id) => ids.push(id),
+            None => {
+                return Err(Error::invalid(
+                    path,
+                    key("reference"),
+                    format!("\"{reference}\""),
+                    "name the upper bound of the ratio: FILE#ID",
+                ))
+            }
+        },
+        CheckKind::Curve { .. } | CheckKind::ImpulseHistory { .. } | CheckKind::DecayTime { .. }
+            if !file.ends_with(".csv") =>
+        {
+            return Err(Error::invalid(
+                path,
+                key("reference"),
+                format!("\"{reference}\""),
+                "a curve reference is a CSV file",
+            ));
+        }
+        _ => {}
+    }
+    if !ids.is_empty() {
+        let values = ValueFile::load(&ref_path)?;
+        for id in ids {
+            if values.get(id).is_none() {
+                return Err(Error::invalid(
+                    path,
+                    key("reference"),
+                    format!("\"{reference}\""),
+                    format!("{} has no quantity with id \"{id}\"", ref_path.display()),
+                ));
+            }
+        }
+    }
+    Ok(CheckSpec { kind, reference_file: file, reference_id: id, tolerance, known_deviation: c.known_deviation })
+}
+
+/// The checks of an impulse analysis: `impulse_history`, `decay_time`, `decay_ratio`.
+fn impulse_check(
+    path: &Path,
+    i: usize,
+    c: &RawCheck,
+    n: usize,
+    case_ids: &[String],
+    levels: &[f64],
+) -> Result<CheckKind> {
+    let key = |k: &str| format!("checks[{i}].{k}");
+    let case = |field: &str, v: &Option<String>| case_ref(path, key(field), v, case_ids);
+    let mass = || match c.mass {
+        Some(m) => mass_index(path, &key("mass"), m, n),
+        None => Err(Error::invalid(path, key("mass"), "(missing)", format!("name the mass (1 to {n})"))),
+    };
+    let level = |l: f64| -> Result<f64> {
+        if l > 0.0 && l < 1.0 {
+            Ok(l)
+        } else {
+            Err(Error::invalid(path, key("level"), l, "a fraction of the first envelope peak in (0, 1)"))
+        }
+    };
+    Ok(match c.kind.as_str() {
+        "impulse_history" => {
+            let window = c.window_s.unwrap_or(0.02);
+            if !(window.is_finite() && window > 0.0) {
+                return Err(Error::invalid(path, key("window_s"), window, "a positive window (s)"));
+            }
+            CheckKind::ImpulseHistory { case: case("case", &c.case)?, window }
+        }
+        "decay_time" => CheckKind::DecayTime {
+            case: case("case", &c.case)?,
+            mass: mass()?,
+            levels: match c.level {
+                Some(l) => vec![level(l)?],
+                None => levels.to_vec(),
+            },
+        },
+        _ => CheckKind::DecayRatio {
+            case: case("case", &c.case)?,
+            over_case: case("over_case", &c.over_case)?,
+            mass: mass()?,
+            level: level(c.level.unwrap_or(0.1))?,
+        },
+    })
+}
+
+/// A frequency window `[from, to]` in Hz.
+fn window(path: &Path, key: String, v: &Option<Vec<f64>>) -> Result<Option<(f64, f64)>> {
+    match v.as_deref() {
+        None => Ok(None),
+        Some(&[a, b]) if a.is_finite() && b.is_finite() && a < b => Ok(Some((a, b))),
+        Some(w) => Err(Error::invalid(path, key, format!("{w:?}"), "give [from, to] in Hz with from < to")),
+    }
+}
+
+/// The claims about peak ratios: `peak_ratio` and `ratio_order`.
+fn claim(path: &Path, i: usize, c: &RawCheck, n: usize, case_ids: &[String]) -> Result<CheckKind> {
+    let key = |k: &str| format!("checks[{i}].{k}");
+    let mass = match c.mass {
+        Some(m) => mass_index(path, &key("mass"), m, n)?,
+        None => return Err(Error::invalid(path, key("mass"), "(missing)", format!("name the mass (1 to {n})"))),
+    };
+    let case = case_ref(path, key("case"), &c.case, case_ids)?;
+    let over_case = case_ref(path, key("over_case"), &c.over_case, case_ids)?;
+    let win = window(path, key("window_hz"), &c.window_hz)?;
+    if c.kind == "ratio_order" {
+        let (Some(window), Some(than_window)) = (win, window(path, key("than_window_hz"), &c.than_window_hz)?) else {
+            return Err(Error::invalid(
+                path,
+                key("window_hz"),
+                "(missing)",
+                "an ordering claim compares two windows: give window_hz and than_window_hz",
+            ));
+        };
+        return Ok(CheckKind::RatioOrder { case, over_case, mass, window, than_window });
+    }
+    let bound = match c.bound.as_deref() {
+        None | Some("within") => match c.range_to.clone() {
+            Some(upper_id) => super::Bound::Within { upper_id },
+            None => {
+                return Err(Error::invalid(
+                    path,
+                    key("range_to"),
+                    "(missing)",
+                    "a range needs the id of its upper bound (or give bound = \"at_most\" / \"at_least\")",
+                ))
+            }
+        },
+        Some("at_most") => super::Bound::AtMost,
+        Some("at_least") => super::Bound::AtLeast,
+        Some(other) => {
+            return Err(Error::invalid(
+                path,
+                key("bound"),
+                format!("\"{other}\""),
+                "allowed: \"within\", \"at_most\", \"at_least\"",
+            ))
+        }
+    };
+    Ok(CheckKind::PeakRatio { case, over_case, mass, bound, window: win })
+}
+
+/// Checks against a digitised curve: `tube` and `peak`. The reference file must hold the
+/// curve; its case and mass come from the check or from the curve's mapping.
+fn digitised(
+    path: &Path,
+    i: usize,
+    c: &RawCheck,
+    n: usize,
+    case_ids: &[String],
+    reference_dir: &Path,
+) -> Result<CheckKind> {
+    let key = |k: &str| format!("checks[{i}].{k}");
+    let Some(reference) = c.reference.as_deref() else {
+        return Err(Error::invalid(path, key("reference"), "(missing)", "name the digitised file under reference/"));
+    };
+    let file = crate::checks::digitised::load(&reference_dir.join(reference)).map_err(|e| {
+        Error::invalid(
+            path,
+            key("reference"),
+            format!("\"{reference}\""),
+            format!("not a readable digitised file: {e}"),
+        )
+    })?;
+    let Some(name) = c.curve.clone() else {
+        return Err(Error::invalid(path, key("curve"), "(missing)", "name the digitised curve (its dataset name)"));
+    };
+    let Some(curve) = file.get(&name) else {
+        let names: Vec<&String> = file.curve.iter().map(|c| &c.name).collect();
+        return Err(Error::invalid(
+            path,
+            key("curve"),
+            format!("\"{name}\""),
+            format!("the file's curves are {names:?}"),
+        ));
+    };
+    let case = case_ref(path, key("case"), &c.case.clone().or(curve.case.clone()), case_ids)?;
+    let mass = match c.mass.or(curve.mass) {
+        Some(m) => mass_index(path, &key("mass"), m, n)?,
+        None => return Err(Error::invalid(path, key("mass"), "(missing)", format!("name the mass (1 to {n})"))),
+    };
+    let px = |k: &str, v: Option<f64>| -> Result<f64> {
+        let v = v.unwrap_or(2.0);
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(Error::invalid(path, key(k), v, "a number of pixels >= 0"))
+        }
+    };
+    let (x_px, y_px) = (px("x_tol_px", c.x_tol_px)?, px("y_tol_px", c.y_tol_px)?);
+    if c.kind == "tube" {
+        return Ok(CheckKind::Tube { case, mass, curve: name, x_px, y_px });
+    }
+    let Some(window) = window(path, key("window_hz"), &c.window_hz)? else {
+        return Err(Error::invalid(
+            path,
+            key("window_hz"),
+            "(missing)",
+            "a peak check needs the window of the resonance, [from, to] Hz",
+        ));
+    };
+    Ok(CheckKind::Peak { case, mass, curve: name, window, x_px, y_px })
+}
