@@ -115,11 +115,7 @@ pub fn to_table(values: &[Value]) -> Table {
 pub fn load(path: &Path) -> Result<Vec<Value>> {
     use polars::prelude::*;
     let err = |m: String| Error::Table { path: path.to_path_buf(), message: m };
-    let df = CsvReadOptions::default()
-        .with_has_header(true)
-        .try_into_reader_with_file_path(Some(path.to_path_buf()))
-        .and_then(|r| r.finish())
-        .map_err(|e| err(e.to_string()))?;
+    let df = crate::output::table::read_csv(path)?;
     let text = |name: &str| -> Result<Vec<String>> {
         let c = df.column(name).map_err(|e| err(e.to_string()))?;
         let c = c.cast(&DataType::String).map_err(|e| err(e.to_string()))?;

@@ -77,11 +77,7 @@ impl Curve {
     pub fn load(path: &Path) -> Result<Curve> {
         use polars::prelude::*;
         let err = |m: String| Error::Table { path: path.to_path_buf(), message: m };
-        let df = CsvReadOptions::default()
-            .with_has_header(true)
-            .try_into_reader_with_file_path(Some(path.to_path_buf()))
-            .and_then(|r| r.finish())
-            .map_err(|e| err(e.to_string()))?;
+        let df = crate::output::table::read_csv(path)?;
         let mut columns = std::collections::BTreeMap::new();
         for col in df.columns() {
             if !col.dtype().is_primitive_numeric() {

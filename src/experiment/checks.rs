@@ -229,60 +229,38 @@ pub fn check(
             format!("no such reference file: {}", ref_path.display()),
         ));
     }
+    // Checks of values name one (a range: two) in the file: FILE#ID.
+    let what = match &kind {
+        CheckKind::NaturalFrequency { .. } | CheckKind::ModeShape { .. } => Some("the value"),
+        CheckKind::PeakRatio { bound: super::Bound::Within { .. }, .. } => Some("the lower bound"),
+        CheckKind::PeakRatio { .. } | CheckKind::DecayRatio { .. } => Some("the bound"),
+        CheckKind::SdofVsSimulation | CheckKind::RatioOrder { .. } | CheckKind::MotionTypes { .. } => Some("the claim"),
+        _ => None,
+    };
     let mut ids: Vec<&str> = Vec::new();
-    match &kind {
-        CheckKind::NaturalFrequency { .. } | CheckKind::ModeShape { .. } => match &id {
-            Some(id) => ids.push(id),
-            None => {
-                return Err(Error::invalid(
-                    path,
-                    key("reference"),
-                    format!("\"{reference}\""),
-                    "name the value: FILE#ID",
-                ))
-            }
-        },
-        CheckKind::PeakRatio { bound, .. } => match &id {
-            Some(id) => {
-                ids.push(id);
-                if let super::Bound::Within { upper_id } = bound {
-                    ids.push(upper_id);
-                }
-            }
-            None => {
-                return Err(Error::invalid(
-                    path,
-                    key("reference"),
-                    format!("\"{reference}\""),
-                    "name the lower bound: FILE#ID",
-                ))
-            }
-        },
-        CheckKind::DecayRatio { .. }
-        | CheckKind::SdofVsSimulation
-        | CheckKind::RatioOrder { .. }
-        | CheckKind::MotionTypes { .. } => match &id {
-            Some(id) => ids.push(id),
-            None => {
-                return Err(Error::invalid(
-                    path,
-                    key("reference"),
-                    format!("\"{reference}\""),
-                    "name the upper bound of the ratio: FILE#ID",
-                ))
-            }
-        },
-        CheckKind::Curve { .. } | CheckKind::ImpulseHistory { .. } | CheckKind::DecayTime { .. }
-            if !file.ends_with(".csv") =>
-        {
+    if let Some(what) = what {
+        let Some(id) = &id else {
             return Err(Error::invalid(
                 path,
                 key("reference"),
                 format!("\"{reference}\""),
-                "a curve reference is a CSV file",
+                format!("name {what}: FILE#ID"),
             ));
+        };
+        ids.push(id);
+        if let CheckKind::PeakRatio { bound: super::Bound::Within { upper_id }, .. } = &kind {
+            ids.push(upper_id);
         }
-        _ => {}
+    }
+    let curve =
+        matches!(kind, CheckKind::Curve { .. } | CheckKind::ImpulseHistory { .. } | CheckKind::DecayTime { .. });
+    if curve && !file.ends_with(".csv") {
+        return Err(Error::invalid(
+            path,
+            key("reference"),
+            format!("\"{reference}\""),
+            "a curve reference is a CSV file",
+        ));
     }
     if !ids.is_empty() {
         let values = ValueFile::load(&ref_path)?;

@@ -100,6 +100,15 @@ pub fn to_parquet(table: &Table) -> Result<Vec<u8>> {
     Ok(buf)
 }
 
+/// Reads a CSV file with a header into a polars frame.
+pub fn read_csv(path: &std::path::Path) -> Result<DataFrame> {
+    CsvReadOptions::default()
+        .with_has_header(true)
+        .try_into_reader_with_file_path(Some(path.to_path_buf()))
+        .and_then(|r| r.finish())
+        .map_err(|e| Error::Table { path: path.to_path_buf(), message: e.to_string() })
+}
+
 fn table_err(name: &str, e: PolarsError) -> Error {
     Error::Table { path: format!("{name} (table)").into(), message: e.to_string() }
 }
