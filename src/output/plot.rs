@@ -122,7 +122,10 @@ fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> String> {
     if log {
         Box::new(|v: &f64| format!("{v:.0e}"))
     } else if !(1e-2..1e5).contains(&big) {
-        Box::new(move |v: &f64| if v.abs() < 1e-9 * big { "0".into() } else { format!("{v:.1e}") })
+        // Enough mantissa digits to tell ticks about a tenth of the range apart.
+        let step = ((hi - lo).abs() / 10.0).max(f64::MIN_POSITIVE);
+        let digits = ((big / step).log10().ceil() as i32).clamp(1, 4) as usize;
+        Box::new(move |v: &f64| if v.abs() < 1e-9 * big { "0".into() } else { format!("{v:.digits$e}") })
     } else {
         Box::new(move |v: &f64| {
             let v = if v.abs() < 1e-12 * big { 0.0 } else { *v };
