@@ -1,19 +1,11 @@
 //! The binary end to end: bad input gives a clear message and exit code 2; a valid set
 //! gives a report whose links all resolve.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn shotdamp() -> Command {
-    let mut c = Command::cargo_bin("shotdamp").expect("binary");
-    c.current_dir(repo());
-    c
-}
+use common::{experiments, repo, shotdamp};
 
 /// A copy of the Fig. 4(b) file with one replacement, in a temporary folder that also
 /// holds the shared structure file.
@@ -169,11 +161,7 @@ fn assert_links_resolve(page: &Path) {
 #[test]
 fn report_of_linear_experiment_links_only_existing_files() {
     let dir = tempfile::tempdir().unwrap();
-    let exps = dir.path().join("experiments");
-    std::fs::create_dir_all(exps.join("shared")).unwrap();
-    std::fs::copy(repo().join("experiments/shared/paper_structure.toml"), exps.join("shared/paper_structure.toml"))
-        .unwrap();
-    std::fs::copy(repo().join("experiments/fig04b_no_damper.toml"), exps.join("fig04b_no_damper.toml")).unwrap();
+    let exps = experiments(dir.path(), &["fig04b_no_damper.toml"]);
     let out_dir = dir.path().join("report");
     let out = shotdamp().arg("--experiments").arg(&exps).arg("report").arg("--out").arg(&out_dir).output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));

@@ -1,20 +1,12 @@
 //! What reviewers and CI rely on: digitised curves in, the regression baseline, checks.json and
 //! JUnit XML, exit codes, and the comparison of two reports.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
+use common::{experiments, repo, shotdamp};
 use shotdamp::checks::digitised::{import_wpd_json, ImportInfo};
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn shotdamp() -> Command {
-    let mut c = Command::cargo_bin("shotdamp").expect("binary");
-    c.current_dir(repo());
-    c
-}
 
 /// A WebPlotDigitizer 4 project: X1 (100, 500) = 10 Hz, X2 (600, 500) = 60 Hz; Y1 (100, 500) =
 /// 1e-6, Y2 (100, 100) = 1e-3 (log if `y_log`, else 0 and 1e-3); two points of one dataset.
@@ -83,11 +75,7 @@ fn reference_import_writes_a_digitised_file_with_provenance() {
 /// A folder with the Fig. 4(b) experiment and a copy of the references without a baseline.
 fn workspace() -> (tempfile::TempDir, PathBuf, PathBuf) {
     let dir = tempfile::tempdir().unwrap();
-    let exps = dir.path().join("experiments");
-    std::fs::create_dir_all(exps.join("shared")).unwrap();
-    std::fs::copy(repo().join("experiments/shared/paper_structure.toml"), exps.join("shared/paper_structure.toml"))
-        .unwrap();
-    std::fs::copy(repo().join("experiments/fig04b_no_damper.toml"), exps.join("fig04b_no_damper.toml")).unwrap();
+    let exps = experiments(dir.path(), &["fig04b_no_damper.toml"]);
     let refs = dir.path().join("reference");
     std::fs::create_dir_all(refs.join("independent-solver")).unwrap();
     std::fs::copy(repo().join("reference/paper-text.toml"), refs.join("paper-text.toml")).unwrap();
