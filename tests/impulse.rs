@@ -77,6 +77,10 @@ fn energy_given_equals_remaining_plus_losses() {
         let on_m1: f64 = hosts.iter().filter(|&&h| h == 0).map(|_| 0.074).sum();
         let given = 0.5 * (0.74 + on_m1) * 0.25;
         assert!((run.initial_energy - given).abs() < 1e-12 * given);
+        // The same kick as an impulse shared by m1 and the beds resting on it.
+        let kick = ImpulseOptions { kick: Kick::Impulse(0.5 * (0.74 + on_m1)), ..opts(0.5, 0.01) };
+        let by_impulse = free_response(&sys, &kick).unwrap();
+        assert!((by_impulse.initial_velocity - 0.5).abs() < 1e-15, "{}", by_impulse.initial_velocity);
     }
 }
 
