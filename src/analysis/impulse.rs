@@ -38,6 +38,8 @@ pub struct Decay {
     pub decrements: Vec<Vec<Decrement>>,
     /// Time of the last lift-off of any bed, s.
     pub last_liftoff: Option<f64>,
+    /// Per mass: the magnitude of the spectrum of its acceleration at the analysis's frequencies.
+    pub spectra: Vec<Vec<f64>>,
 }
 
 /// What an impulse analysis produced.
@@ -73,8 +75,9 @@ pub fn run(
         tick();
         let s = &run.samples;
         let t = &s.times[..s.a.len()];
-        let column = |rows: &[Vec<f64>], i: usize| rows.iter().map(|r| r[i]).collect::<Vec<f64>>();
-        let envelopes: Vec<Vec<(f64, f64)>> = (0..n).map(|i| envelope(t, &column(&s.a, i))).collect();
+        let accelerations: Vec<Vec<f64>> = (0..n).map(|i| s.a.iter().map(|r| r[i]).collect()).collect();
+        let envelopes: Vec<Vec<(f64, f64)>> = accelerations.iter().map(|a| envelope(t, a)).collect();
+        let spectra = accelerations.iter().map(|a| spectrum(options.dt, a, spectrum_hz)).collect();
         let decay_times = envelopes.iter().map(|env| levels.iter().map(|&l| decay_time(env, l)).collect()).collect();
         // Modal coordinates of the bare structure about the rest state, scaled to the
         // displacement of the mass of largest modal amplitude.
@@ -110,6 +113,7 @@ pub fn run(
                 decay_times,
                 decrements,
                 last_liftoff,
+                spectra,
             },
         );
     }
@@ -261,18 +265,11 @@ fn tables(
     spec = spec
         .str("case", srows.iter().map(|(d, _)| d.id.clone()).collect())
         .f64("freq_hz", srows.iter().map(|(_, i)| spectrum_hz[*i]).collect());
-    let spectra: Vec<Vec<Vec<f64>>> = decays.iter().map(|d| spectra(d, o.dt, spectrum_hz)).collect();
     for k in 0..n {
-        let col: Vec<f64> = spectra.iter().flat_map(|s| s[k].iter().copied()).collect();
+        let col: Vec<f64> = decays.iter().flat_map(|d| d.spectra[k].iter().copied()).collect();
         spec = spec.f64(format!("a{}", k + 1), col);
     }
     vec![h, events, decay, energy, energy_history, damping, spec]
-}
-
-/// Per mass: the spectrum of its acceleration.
-fn spectra(d: &Decay, dt: f64, freqs: &[f64]) -> Vec<Vec<f64>> {
-    let n = d.envelopes.len();
-    (0..n).map(|k| spectrum(dt, &d.run.samples.a.iter().map(|r| r[k]).collect::<Vec<_>>(), freqs)).collect()
 }
 
 fn figures(
@@ -372,7 +369,7 @@ fn figures(
                         let mut panel =
                             Panel::new(format!("spectrum of the acceleration of m{}", k + 1), "frequency (Hz)", "|A(f)| (m/s)", range).log_y();
                         for &(ci, d) in &shown {
-                            panel.series.push(Series::line(d.label.clone(), spectrum_hz.to_vec(), spectra(d, o.dt, spectrum_hz).swap_remove(k), ci));
+                            panel.series.push(Series::line(d.label.clone(), spectrum_hz.to_vec(), d.spectra[k].clone(), ci));
                         }
                         panel.vlines = modes
                             .iter()

@@ -53,7 +53,6 @@ impl Segment {
 
     /// The shared quantities at time `t`.
     pub fn point(&self, d: &Dynamics, t: f64) -> Point {
-        EVALS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let cfg = &d.configs[self.mask];
         let s = t - self.t0;
         let mut e = [Complex64::new(0.0, 0.0); MAX_TERMS];
@@ -173,6 +172,3 @@ impl Watch {
         }
     }
 }
-
-/// Evaluation counter (profiling aid).
-pub static EVALS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
