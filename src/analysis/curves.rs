@@ -29,6 +29,10 @@ pub struct Curve {
     pub max_flight: Vec<Vec<f64>>,
     /// Per point: periods simulated before recording.
     pub transient: Vec<usize>,
+    /// Per point: the orbit's fixed-point residual relative to its amplitude scale, and its
+    /// largest Floquet multiplier modulus (NaN when the point is not a certified orbit).
+    pub residual: Vec<f64>,
+    pub radius: Vec<f64>,
     /// Per point: why it stopped early, if it did.
     pub stop: Vec<String>,
 }
@@ -86,9 +90,12 @@ pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64
                 c.top_impacts.push(s.top_impacts);
                 c.max_flight.push(s.max_flight);
                 c.transient.push(s.transient_periods);
-                c.stop.push(match s.stop {
-                    Some(Stop::Chatter { t, events }) => format!("chatter: {events} events before t = {t:.4} s"),
-                    None => String::new(),
+                c.residual.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.residual));
+                c.radius.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.spectral_radius()));
+                c.stop.push(match (&s.stop, &s.failure) {
+                    (Some(Stop::Chatter { t, events }), _) => format!("chatter: {events} events before t = {t:.4} s"),
+                    (None, Some(why)) => why.to_string(),
+                    (None, None) => String::new(),
                 });
             }
             Err(e) => {
@@ -99,6 +106,8 @@ pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64
                 c.top_impacts.push(vec![0.0; beds]);
                 c.max_flight.push(vec![0.0; beds]);
                 c.transient.push(0);
+                c.residual.push(f64::NAN);
+                c.radius.push(f64::NAN);
                 c.stop.push(e.to_string());
             }
         }
@@ -125,6 +134,8 @@ pub fn linear(exp: &Experiment, case: &Case, id: &str, label: &str, freq_hz: &[f
         top_impacts: vec![Vec::new(); m],
         max_flight: vec![Vec::new(); m],
         transient: vec![0; m],
+        residual: vec![f64::NAN; m],
+        radius: vec![f64::NAN; m],
         stop: vec![String::new(); m],
     }
 }
@@ -171,5 +182,7 @@ pub fn table(name: &str, description: &str, curves: &[&Curve], n: usize, beds: u
             );
     }
     t.i64("transient_periods", rows.iter().map(|(c, i)| c.transient[*i] as i64).collect())
+        .f64("orbit_residual", rows.iter().map(|(c, i)| c.residual[*i]).collect())
+        .f64("max_multiplier", rows.iter().map(|(c, i)| c.radius[*i]).collect())
         .str("stop", rows.iter().map(|(c, i)| c.stop[*i].clone()).collect())
 }

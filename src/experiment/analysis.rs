@@ -4,6 +4,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::sim::impulse::{ImpulseOptions, Kick};
+use crate::sim::steady::SteadyMethod;
 use crate::sim::SteadyOptions;
 
 use super::raw::{RawAnalysis, RawGrid, RawSteady};
@@ -79,6 +80,27 @@ fn positive_int(path: &Path, key: &str, v: Option<i64>, default: usize, max: usi
 fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
     let mut o = SteadyOptions::default();
     let Some(s) = s else { return Ok(o) };
+    if let Some(m) = &s.method {
+        o.method = match m.as_str() {
+            "orbit" => SteadyMethod::Orbit,
+            "transient" => SteadyMethod::Transient,
+            other => {
+                return Err(Error::invalid(
+                    path,
+                    "analysis.steady.method",
+                    format!("\"{other}\""),
+                    "\"orbit\" (solve for the periodic orbit, the default) or \"transient\" (wait for the transient to die out)",
+                ))
+            }
+        };
+    }
+    if let Some(tol) = s.orbit_tol {
+        if !(tol.is_finite() && tol > 0.0 && tol < 1e-3) {
+            return Err(Error::invalid(path, "analysis.steady.orbit_tol", tol, "a relative residual in (0, 1e-3)"));
+        }
+        o.orbit_tol = tol;
+    }
+    o.max_newton = positive_int(path, "analysis.steady.max_newton", s.max_newton, o.max_newton, 100)?;
     if let Some(tol) = s.tol {
         if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
             return Err(Error::invalid(path, "analysis.steady.tol", tol, "a relative tolerance in (0, 1)"));

@@ -140,12 +140,19 @@ pub struct RawAnalysis {
     pub decay_levels: Option<Vec<f64>>,
 }
 
-/// Steady-state settings (MODEL.md section 3).
+/// Steady-state settings (docs/model.md section 3, docs/simulator.md).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawSteady {
+    /// "orbit" (default) or "transient".
+    #[serde(default)]
+    pub method: Option<String>,
     #[serde(default)]
     pub tol: Option<f64>,
+    #[serde(default)]
+    pub orbit_tol: Option<f64>,
+    #[serde(default)]
+    pub max_newton: Option<i64>,
     #[serde(default)]
     pub consecutive: Option<i64>,
     #[serde(default)]

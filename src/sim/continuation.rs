@@ -10,7 +10,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::periodic::{finish, NewtonOptions, Orbit, OrbitError, Problem, FD_STEP};
+use super::periodic::{finish, NewtonOptions, Orbit, OrbitError, Section, FD_STEP};
 use super::system::{Dynamics, SetupError};
 
 /// Dynamics at a parameter value.
@@ -72,9 +72,9 @@ pub struct Branch {
     pub end: BranchEnd,
 }
 
-struct Solver<'a> {
+struct Solver<'a, S: Section> {
     family: &'a Family<'a>,
-    problem: Problem,
+    problem: S,
     opts: ContinuationOptions,
 }
 
@@ -84,7 +84,7 @@ fn join(u: &DVector<f64>, q: f64) -> DVector<f64> {
     DVector::from_fn(m + 1, |i, _| if i < m { u[i] } else { q })
 }
 
-impl Solver<'_> {
+impl<S: Section> Solver<'_, S> {
     fn dynamics(&self, q: f64) -> Result<Dynamics, OrbitError> {
         (self.family)(q * self.opts.p_scale).map_err(OrbitError::Setup)
     }
@@ -163,9 +163,9 @@ impl Solver<'_> {
 
 /// Continues the orbit found near `guess` at parameter `p0` in the direction `up` (increasing
 /// parameter) or down, until the branch leaves the range, fails, or runs out of points.
-pub fn continue_branch(
+pub fn continue_branch<S: Section>(
     family: &Family,
-    problem: Problem,
+    problem: S,
     p0: f64,
     guess: &DVector<f64>,
     up: bool,
@@ -174,7 +174,7 @@ pub fn continue_branch(
     let solver = Solver { family, problem, opts: *opts };
     let q0 = p0 / opts.p_scale;
     let d0 = solver.dynamics(q0)?;
-    let first = super::periodic::solve(&problem, &d0, guess, &opts.newton)?;
+    let first = super::periodic::solve(&solver.problem, &d0, guess, &opts.newton)?;
     let gq = solver.g_q(&first.u, q0)?;
     let m = first.u.len();
     let mut dir = DVector::zeros(m + 1);

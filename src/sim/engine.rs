@@ -100,6 +100,13 @@ pub trait Observer {
     fn segment(&mut self, _d: &Dynamics, _seg: &Segment, _beds: &[Bed], _t_a: f64, _t_b: f64) {}
     /// An event, after it has been applied to `after`.
     fn event(&mut self, _ev: &Event, _after: &State) {}
+    /// Whether [`Observer::jump`] is wanted (it costs a copy of the state at every event).
+    fn wants_jumps(&self) -> bool {
+        false
+    }
+    /// The state just before and just after the events at one time, and the event functions
+    /// that reached zero there (for the linearised flow: saltation at events).
+    fn jump(&mut self, _d: &Dynamics, _before: &State, _after: &State, _hits: &[Watch]) {}
 }
 
 /// An observer that ignores everything.
@@ -187,8 +194,12 @@ impl<'a> Engine<'a> {
                     s.t = te;
                     s.x = x;
                     s.v = v;
+                    let before = obs.wants_jumps().then(|| s.clone());
                     for ev in self.apply(s, &hits) {
                         obs.event(&ev, s);
+                    }
+                    if let Some(before) = before {
+                        obs.jump(self.d, &before, s, &hits);
                     }
                     events += 1;
                     if events > self.settings.max_events {

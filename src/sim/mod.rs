@@ -8,12 +8,15 @@ pub mod eigen;
 pub mod engine;
 pub mod impulse;
 pub mod observe;
+pub mod orbit_search;
 pub mod periodic;
 pub mod roots;
 pub mod segment;
 pub mod steady;
+pub mod strobe;
 pub mod sweep;
 pub mod system;
+pub mod tangent;
 
 pub use engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};
 pub use steady::{steady_state, Steady, SteadyOptions};

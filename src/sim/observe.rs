@@ -6,7 +6,7 @@ use nalgebra::DVector;
 use crate::model::GRAVITY;
 
 use super::engine::{Bed, Event, EventKind, Observer, State};
-use super::segment::Segment;
+use super::segment::{Segment, Watch};
 use super::system::Dynamics;
 
 /// Extrema of every displacement (and bed states) over the observed time, found from the
@@ -238,6 +238,16 @@ pub fn energy_of(d: &Dynamics, x: &[f64], v: &[f64], y: &[f64], u: &[f64]) -> f6
     kinetic + elastic + beds
 }
 
+/// Every event, in order.
+#[derive(Debug, Clone, Default)]
+pub struct EventLog(pub Vec<Event>);
+
+impl Observer for EventLog {
+    fn event(&mut self, ev: &Event, _after: &State) {
+        self.0.push(*ev);
+    }
+}
+
 /// Both observers at once.
 pub struct Both<'a, A: Observer, B: Observer>(pub &'a mut A, pub &'a mut B);
 
@@ -249,6 +259,13 @@ impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {
     fn event(&mut self, ev: &Event, after: &State) {
         self.0.event(ev, after);
         self.1.event(ev, after);
+    }
+    fn wants_jumps(&self) -> bool {
+        self.0.wants_jumps() || self.1.wants_jumps()
+    }
+    fn jump(&mut self, d: &Dynamics, before: &State, after: &State, hits: &[Watch]) {
+        self.0.jump(d, before, after, hits);
+        self.1.jump(d, before, after, hits);
     }
 }
 

@@ -42,6 +42,8 @@ pub enum OrbitError {
     Singular,
     /// Newton's method did not converge; the residuals of its iterations.
     NoConvergence(Vec<f64>),
+    /// A bed is not where the stroboscopic section says it is: an event crossed the section.
+    PatternChanged,
 }
 
 impl std::fmt::Display for OrbitError {
@@ -56,6 +58,7 @@ impl std::fmt::Display for OrbitError {
                 let r: Vec<String> = r.iter().map(|x| format!("{x:.1e}")).collect();
                 write!(f, "Newton did not converge (residuals {})", r.join(", "))
             }
+            OrbitError::PatternChanged => write!(f, "an event crossed the section (the motion's pattern changed)"),
         }
     }
 }
@@ -82,6 +85,61 @@ pub struct Return {
     pub image: DVector<f64>,
     /// The events from the start to the return (the return impact last).
     pub events: Vec<Event>,
+    /// The Jacobian of `P` at `u` when the map computes it exactly, and whether it is smooth
+    /// there (no graze, no simultaneous impacts).
+    pub jacobian: Option<(DMatrix<f64>, bool)>,
+}
+
+/// A Poincare section and its return map `P`: what Newton's method and continuation need.
+/// A periodic orbit is a fixed point `P(u) - u = shift`.
+pub trait Section {
+    /// The offset of a fixed point's image (the impact section's phase advances by `2 pi p`).
+    fn shift(&self, dim: usize) -> DVector<f64>;
+    /// The simulator state of a section point.
+    fn state(&self, d: &Dynamics, u: &DVector<f64>) -> State;
+    /// The return map.
+    fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError>;
+
+    /// `G(u) = P(u) - u - shift`.
+    fn residual(&self, d: &Dynamics, u: &DVector<f64>) -> Result<(DVector<f64>, Return), OrbitError> {
+        let r = self.map(d, u)?;
+        let g = &r.image - u - self.shift(u.len());
+        Ok((g, r))
+    }
+
+    /// The Jacobian of `P` at `u` (`base` is `P(u)`): exact when the map provides it,
+    /// otherwise by central differences.
+    fn jacobian(&self, d: &Dynamics, u: &DVector<f64>, base: &Return) -> Result<(DMatrix<f64>, bool), OrbitError> {
+        match &base.jacobian {
+            Some(j) => Ok(j.clone()),
+            None => fd_jacobian(self, d, u, base),
+        }
+    }
+}
+
+/// The Jacobian of `P` by central differences, and whether every perturbed run kept the event
+/// sequence of `base` (otherwise the orbit is at a grazing or switching point and the
+/// differences straddle a kink).
+pub fn fd_jacobian<S: Section + ?Sized>(
+    section: &S,
+    d: &Dynamics,
+    u: &DVector<f64>,
+    base: &Return,
+) -> Result<(DMatrix<f64>, bool), OrbitError> {
+    let m = u.len();
+    let sig = signature(&base.events);
+    let mut j = DMatrix::zeros(m, m);
+    let mut smooth = true;
+    for c in 0..m {
+        let mut up = u.clone();
+        up[c] += FD_STEP;
+        let mut dn = u.clone();
+        dn[c] -= FD_STEP;
+        let (a, b) = (section.map(d, &up)?, section.map(d, &dn)?);
+        smooth &= signature(&a.events) == sig && signature(&b.events) == sig;
+        j.set_column(c, &((&a.image - &b.image) / (2.0 * FD_STEP)));
+    }
+    Ok((j, smooth))
 }
 
 /// Records events up to the `k`-th bottom impact, with the state after it.
@@ -129,21 +187,6 @@ impl Problem {
         2 * n + 1 + self.bounce as usize
     }
 
-    /// The simulator state of a section point.
-    pub fn state(&self, d: &Dynamics, u: &DVector<f64>) -> State {
-        let n = d.system.dof();
-        let t = u[0] / d.omega;
-        let x = DVector::from_fn(n, |i, _| u[1 + i] * self.length);
-        let v = DVector::from_fn(n, |i, _| u[1 + n + i] * self.length * self.rate);
-        let host = d.system.dampers[0].host;
-        let bed = if self.bounce && u[2 * n + 1] > 0.0 {
-            Bed::Free { t0: t, y0: x[host], u0: v[host] + u[2 * n + 1] * self.length * self.rate }
-        } else {
-            Bed::Bottom
-        };
-        State { t, x, v, beds: vec![bed] }
-    }
-
     /// The section coordinates of a state just after a bottom impact.
     pub fn coordinates(&self, d: &Dynamics, s: &State) -> DVector<f64> {
         let n = d.system.dof();
@@ -160,9 +203,32 @@ impl Problem {
         }
         u
     }
+}
+
+impl Section for Problem {
+    fn shift(&self, dim: usize) -> DVector<f64> {
+        let mut s = DVector::zeros(dim);
+        s[0] = 2.0 * std::f64::consts::PI * self.periods as f64;
+        s
+    }
+
+    /// The simulator state of a section point.
+    fn state(&self, d: &Dynamics, u: &DVector<f64>) -> State {
+        let n = d.system.dof();
+        let t = u[0] / d.omega;
+        let x = DVector::from_fn(n, |i, _| u[1 + i] * self.length);
+        let v = DVector::from_fn(n, |i, _| u[1 + n + i] * self.length * self.rate);
+        let host = d.system.dampers[0].host;
+        let bed = if self.bounce && u[2 * n + 1] > 0.0 {
+            Bed::Free { t0: t, y0: x[host], u0: v[host] + u[2 * n + 1] * self.length * self.rate }
+        } else {
+            Bed::Bottom
+        };
+        State { t, x, v, beds: vec![bed] }
+    }
 
     /// The return map.
-    pub fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
+    fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
         if d.system.dampers.len() != 1 {
             return Err(OrbitError::Dampers(d.system.dampers.len()));
         }
@@ -176,35 +242,7 @@ impl Problem {
             engine.advance(&mut s, next, &mut rec).map_err(OrbitError::Stopped)?;
         }
         let at = rec.at.ok_or(OrbitError::NoReturn)?;
-        Ok(Return { image: self.coordinates(d, &at), events: rec.events })
-    }
-
-    /// `G(u) = P(u) - u - (2 pi p, 0, ...)`.
-    pub fn residual(&self, d: &Dynamics, u: &DVector<f64>) -> Result<(DVector<f64>, Return), OrbitError> {
-        let r = self.map(d, u)?;
-        let mut g = &r.image - u;
-        g[0] -= 2.0 * std::f64::consts::PI * self.periods as f64;
-        Ok((g, r))
-    }
-
-    /// The Jacobian of `P` by central differences, and whether every perturbed run kept the
-    /// event sequence of `base` (otherwise the orbit is at a grazing or switching point and
-    /// the derivatives straddle a kink).
-    pub fn jacobian(&self, d: &Dynamics, u: &DVector<f64>, base: &Return) -> Result<(DMatrix<f64>, bool), OrbitError> {
-        let m = u.len();
-        let sig = signature(&base.events);
-        let mut j = DMatrix::zeros(m, m);
-        let mut smooth = true;
-        for c in 0..m {
-            let mut up = u.clone();
-            up[c] += FD_STEP;
-            let mut dn = u.clone();
-            dn[c] -= FD_STEP;
-            let (a, b) = (self.map(d, &up)?, self.map(d, &dn)?);
-            smooth &= signature(&a.events) == sig && signature(&b.events) == sig;
-            j.set_column(c, &((&a.image - &b.image) / (2.0 * FD_STEP)));
-        }
-        Ok((j, smooth))
+        Ok(Return { image: self.coordinates(d, &at), events: rec.events, jacobian: None })
     }
 }
 
@@ -260,7 +298,12 @@ pub fn multipliers(j: &DMatrix<f64>) -> Vec<Complex64> {
 }
 
 /// Finds the fixed point of `problem` near `guess` at the dynamics `d`.
-pub fn solve(problem: &Problem, d: &Dynamics, guess: &DVector<f64>, opts: &NewtonOptions) -> Result<Orbit, OrbitError> {
+pub fn solve<S: Section + ?Sized>(
+    problem: &S,
+    d: &Dynamics,
+    guess: &DVector<f64>,
+    opts: &NewtonOptions,
+) -> Result<Orbit, OrbitError> {
     let mut u = guess.clone();
     let mut residuals = Vec::new();
     for _ in 0..=opts.max_iter {
@@ -283,8 +326,8 @@ pub fn solve(problem: &Problem, d: &Dynamics, guess: &DVector<f64>, opts: &Newto
 }
 
 /// Assembles an orbit at a converged point.
-pub fn finish(
-    problem: &Problem,
+pub fn finish<S: Section + ?Sized>(
+    problem: &S,
     d: &Dynamics,
     u: DVector<f64>,
     ret: Return,

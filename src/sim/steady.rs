@@ -1,24 +1,59 @@
-//! Steady state under harmonic forcing (MODEL.md section 3): stroboscopic convergence,
-//! period detection, then amplitudes and event counts over recorded periods.
+//! Steady state under harmonic forcing (docs/model.md section 3). Two methods:
+//!
+//! - `Orbit` (the default, [`super::orbit_search`]): integrate from the start only until the
+//!   motion's pattern of events repeats, then solve for the periodic orbit by Newton's method
+//!   on the stroboscopic map, and certify it (residual, Floquet multipliers, stability);
+//! - `Transient`: integrate until the once-per-period samples stop changing to a tolerance
+//!   (its cost and its error both grow as 1/damping), then record.
 
 use std::collections::VecDeque;
 use std::f64::consts::PI;
+
+use num_complex::Complex64;
 
 use super::engine::{Bed, Engine, Quiet, State, Stop};
 use super::observe::{flat, stored_energy, Both, Energy, Extrema};
 use super::system::Dynamics;
 
+/// How a steady state is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SteadyMethod {
+    /// Solve for the periodic orbit once the motion's pattern is established.
+    Orbit,
+    /// Wait for the transient to die out.
+    Transient,
+}
+
+impl SteadyMethod {
+    pub fn name(&self) -> &'static str {
+        match self {
+            SteadyMethod::Orbit => "orbit",
+            SteadyMethod::Transient => "transient",
+        }
+    }
+}
+
 /// How a steady state is sought.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SteadyOptions {
-    /// Relative change of the once-per-period state that counts as settled.
+    pub method: SteadyMethod,
+    /// Transient: relative change of the once-per-period state that counts as settled.
     pub tol: f64,
-    /// Settled for this many periods in a row.
+    /// Transient: settled for this many periods in a row. Orbit: the motion's pattern of
+    /// events has repeated this many times.
     pub consecutive: usize,
+    /// Periods simulated before the motion is judged (both methods).
     pub min_periods: usize,
+    /// Most periods simulated before giving up (both methods).
     pub max_periods: usize,
-    /// Periods recorded once settled (rounded up to a multiple of the motion's period).
+    /// Transient: periods recorded once settled (rounded up to a multiple of the motion's
+    /// period). Orbit: one orbit is recorded (it is exact).
     pub record_periods: usize,
+    /// Orbit: Newton's method stops when the fixed-point residual, relative to the amplitude
+    /// scale, is below this.
+    pub orbit_tol: f64,
+    /// Orbit: most Newton iterations per attempt.
+    pub max_newton: usize,
     /// Longest subharmonic recognised, in forcing periods.
     pub max_subharmonic: usize,
     /// Also integrate the energy balance over the recorded periods.
@@ -29,6 +64,7 @@ impl Default for SteadyOptions {
     fn default() -> Self {
         // The independent solver's settings (reference/independent-solver/PROVENANCE.md).
         SteadyOptions {
+            method: SteadyMethod::Orbit,
             tol: 1e-7,
             consecutive: 5,
             min_periods: 20,
@@ -36,6 +72,8 @@ impl Default for SteadyOptions {
             record_periods: 10,
             max_subharmonic: 8,
             energy: false,
+            orbit_tol: 1e-11,
+            max_newton: 10,
         }
     }
 }
@@ -57,13 +95,69 @@ impl EnergyBalance {
     }
 }
 
+/// What certifies a steady state found as a periodic orbit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Certificate {
+    /// Max-norm of `P(u) - u` on the section, relative to the amplitude scale.
+    pub residual: f64,
+    /// Floquet multipliers: eigenvalues of the Jacobian of the map at the orbit, largest
+    /// modulus first.
+    pub multipliers: Vec<Complex64>,
+    /// Every multiplier inside the unit circle.
+    pub stable: bool,
+    /// No graze and no simultaneous impacts on the orbit (its map is smooth there).
+    pub smooth: bool,
+    /// Newton iterations of the successful attempt, and attempts made.
+    pub iterations: usize,
+    pub attempts: usize,
+    /// Forcing phase of the section, rad.
+    pub phase: f64,
+}
+
+impl Certificate {
+    /// The largest multiplier modulus.
+    pub fn spectral_radius(&self) -> f64 {
+        self.multipliers.iter().map(|z| z.norm()).fold(0.0, f64::max)
+    }
+}
+
+/// Why a point has no steady state.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NoSteady {
+    /// The motion did not settle (transient) or its pattern of events never repeated long
+    /// enough to solve for an orbit (orbit) within this many periods.
+    Budget { periods: usize },
+    /// Every orbit found with the motion's pattern was unstable (chaotic or quasi-periodic
+    /// motion near it): the largest multiplier modulus of the last one.
+    Unstable { radius: f64 },
+    /// Newton's method found no orbit with the motion's pattern: the last reason.
+    NoOrbit(String),
+}
+
+impl std::fmt::Display for NoSteady {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NoSteady::Budget { periods } => write!(f, "no steady state within {periods} periods"),
+            NoSteady::Unstable { radius } => {
+                write!(f, "only unstable orbits (largest multiplier {radius:.4}): chaotic or quasi-periodic motion")
+            }
+            NoSteady::NoOrbit(why) => write!(f, "no periodic orbit found: {why}"),
+        }
+    }
+}
+
 /// The steady state of one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct Steady {
     /// Forcing frequency, rad/s.
     pub omega: f64,
-    /// Settled within `max_periods`.
+    pub method: SteadyMethod,
+    /// Settled (transient) or a stable orbit found (orbit) within `max_periods`.
     pub converged: bool,
+    /// Orbit method: the orbit's certificate (when one was found).
+    pub certificate: Option<Certificate>,
+    /// Why there is no steady state (when `converged` is false and no chatter stopped it).
+    pub failure: Option<NoSteady>,
     /// Periods simulated before recording.
     pub transient_periods: usize,
     /// Period of the motion in forcing periods (1, or a subharmonic); 0 when none was found.
@@ -97,18 +191,30 @@ fn distance(a: &(Vec<Bed>, nalgebra::DVector<f64>), b: &(Vec<Bed>, nalgebra::DVe
     (&a.1 - &b.1).amax() / scale
 }
 
+/// The size of the motion in a state: the largest `hypot(x_i - x_rest,i, v_i / omega)` (for
+/// harmonic motion, the amplitude), with a floor that keeps it positive.
+pub fn amplitude_scale(d: &Dynamics, s: &State) -> f64 {
+    let all = (1usize << d.system.dampers.len()) - 1;
+    let rest = &d.configs[all].offset;
+    (0..d.system.dof()).map(|i| (s.x[i] - rest[i]).hypot(s.v[i] / d.omega)).fold(1e-15, f64::max)
+}
+
 /// Runs from `start` to a steady state and records it.
 pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
+    match opts.method {
+        SteadyMethod::Orbit => super::orbit_search::orbit_steady(d, start, opts),
+        SteadyMethod::Transient => transient_steady(d, start, opts),
+    }
+}
+
+/// The transient method: run until the once-per-period samples settle, then record.
+pub fn transient_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
     let engine = Engine::new(d);
     let period = 2.0 * PI / d.omega;
     let mut s = start;
     // Align the start to a multiple of the period.
     let k0 = (s.t / period).ceil();
     let mut k = k0 as usize;
-    let n = d.system.dof();
-    let nb = d.system.dampers.len();
-    let all = (1usize << nb) - 1;
-    let rest = &d.configs[all].offset;
     let keep = opts.max_subharmonic + opts.consecutive + 1;
     let mut history: VecDeque<(Vec<Bed>, nalgebra::DVector<f64>)> = VecDeque::with_capacity(keep + 1);
     let mut streak = vec![0usize; opts.max_subharmonic + 1];
@@ -125,7 +231,7 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             break;
         }
         let z = flat(d, &s);
-        let scale = (0..n).map(|i| (s.x[i] - rest[i]).hypot(s.v[i] / d.omega)).fold(1e-15, f64::max);
+        let scale = amplitude_scale(d, &s);
         history.push_front((s.beds.clone(), z));
         history.truncate(keep);
         for (p, st) in streak.iter_mut().enumerate().skip(1) {
@@ -154,12 +260,44 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     let converged = found > 0;
     let period_mult = found.max(1);
     let record = opts.record_periods.div_ceil(period_mult) * period_mult;
+    let t_end = (k - 1 + record) as f64 * period;
+    let outcome = Outcome {
+        method: SteadyMethod::Transient,
+        converged,
+        certificate: None,
+        failure: (!converged && stop.is_none()).then_some(NoSteady::Budget { periods: simulated }),
+        transient_periods: simulated,
+        period: found,
+        record,
+        stop,
+    };
+    finish(d, s, t_end, opts.energy, outcome)
+}
+
+/// How a search for a steady state ended, before its record.
+pub(crate) struct Outcome {
+    pub method: SteadyMethod,
+    pub converged: bool,
+    pub certificate: Option<Certificate>,
+    pub failure: Option<NoSteady>,
+    pub transient_periods: usize,
+    pub period: usize,
+    /// Forcing periods to record.
+    pub record: usize,
+    pub stop: Option<Stop>,
+}
+
+/// Records the motion from `s` to `t_end` (unless the search stopped early) and assembles
+/// the steady state.
+pub(crate) fn finish(d: &Dynamics, mut s: State, t_end: f64, energy_on: bool, o: Outcome) -> Steady {
+    let (n, nb) = (d.system.dof(), d.system.dampers.len());
     let mut ext = Extrema::new(n, nb);
     let mut energy = Energy::default();
     let e0 = stored_energy(d, &s);
+    let mut stop = o.stop;
     if stop.is_none() {
-        let t_end = (k - 1 + record) as f64 * period;
-        let result = if opts.energy {
+        let engine = Engine::new(d);
+        let result = if energy_on {
             engine.advance(&mut s, t_end, &mut Both(&mut ext, &mut energy))
         } else {
             engine.advance(&mut s, t_end, &mut ext)
@@ -168,19 +306,23 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             stop = Some(e);
         }
     }
+    let record = o.record.max(1);
     let per = |v: &[usize]| v.iter().map(|&c| c as f64 / record as f64).collect::<Vec<_>>();
     Steady {
         omega: d.omega,
-        converged: converged && stop.is_none(),
-        transient_periods: simulated,
-        period: found,
+        method: o.method,
+        converged: o.converged && stop.is_none(),
+        certificate: o.certificate,
+        failure: o.failure,
+        transient_periods: o.transient_periods,
+        period: o.period,
         amplitude: ext.amplitudes(),
         bottom_impacts: per(&ext.bottom_impacts),
         top_impacts: per(&ext.top_impacts),
         liftoffs: per(&ext.liftoffs),
         max_flight: ext.max_flight.clone(),
-        recorded_periods: record,
-        energy: opts.energy.then(|| EnergyBalance {
+        recorded_periods: o.record,
+        energy: energy_on.then(|| EnergyBalance {
             work: energy.work,
             viscous: energy.viscous,
             impact: energy.impact,

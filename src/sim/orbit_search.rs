@@ -1,0 +1,244 @@
+//! The steady state as a certified periodic orbit (docs/simulator.md, "Steady states").
+//!
+//! From the start state the motion is integrated one forcing period at a time, keeping each
+//! period's events. Once the sequence of events has repeated with some period `p` (the
+//! smallest, up to `max_subharmonic`) for `consecutive` cycles, a stroboscopic section is put
+//! at the forcing phase farthest from every event of the last cycle, and Newton's method
+//! solves for the fixed point of the `p`-period map from the current state. The orbit is
+//! accepted when it is stable and has the same events per cycle as the motion that led to it
+//! (so it is the motion's attractor, not another orbit nearby). Otherwise the transient goes
+//! on and the search tries again later (and, after an unstable `p`-orbit, also with `2p`),
+//! until `max_periods` are spent: then the point is flagged with the reason.
+
+use std::collections::VecDeque;
+use std::f64::consts::PI;
+
+use super::engine::{Engine, Event, State};
+use super::observe::EventLog;
+use super::periodic::{signature, solve, NewtonOptions, Orbit, OrbitError, Section};
+use super::steady::{amplitude_scale, finish, Certificate, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions};
+use super::strobe::Strobe;
+use super::system::Dynamics;
+
+/// One forcing period of the transient.
+struct Period {
+    events: Vec<Event>,
+    /// Its events counted per bed and kind.
+    sig: Vec<(usize, u8, usize)>,
+    /// The amplitude scale at its end.
+    scale: f64,
+}
+
+/// The smallest `p` for which the last `reps` cycles of `p` periods have the same events (in
+/// number, per bed and kind: their order can change while the timings still drift).
+fn pattern(history: &VecDeque<Period>, max_p: usize, reps: usize) -> Option<usize> {
+    (1..=max_p).find(|&p| history.len() >= reps * p && (p..reps * p).all(|i| history[i].sig == history[i - p].sig))
+}
+
+/// Counts of each event kind per bed: what "the same events per cycle" compares.
+fn counts(events: &[Event]) -> Vec<(usize, u8, usize)> {
+    let mut sig = signature(events);
+    sig.sort_unstable();
+    let mut out: Vec<(usize, u8, usize)> = Vec::new();
+    for (bed, kind) in sig {
+        match out.last_mut() {
+            Some((b, k, c)) if *b == bed && *k == kind => *c += 1,
+            _ => out.push((bed, kind, 1)),
+        }
+    }
+    out
+}
+
+/// The forcing phase (from the start of the cycle, in `[0, 2 pi p)`) farthest from every
+/// event of the cycle, the events taken as repeating with the cycle.
+fn quiet_phase(events: &[Event], t_start: f64, omega: f64, p: usize) -> f64 {
+    let span = 2.0 * PI * p as f64;
+    let mut phases: Vec<f64> = events.iter().map(|e| (omega * (e.t - t_start)).clamp(0.0, span)).collect();
+    if phases.is_empty() {
+        return 0.5 * span;
+    }
+    phases.sort_by(f64::total_cmp);
+    let mut best = (span - phases[phases.len() - 1] + phases[0], phases[phases.len() - 1]);
+    for w in phases.windows(2) {
+        if w[1] - w[0] > best.0 {
+            best = (w[1] - w[0], w[0]);
+        }
+    }
+    (best.1 + 0.5 * best.0).rem_euclid(span)
+}
+
+/// A failed attempt.
+enum Miss {
+    Unstable { radius: f64 },
+    Other(String),
+}
+
+/// One attempt: the section through the state `at`, Newton on the `p`-period map, and the
+/// checks that make the orbit the motion's own.
+fn attempt(
+    d: &Dynamics,
+    at: &State,
+    p: usize,
+    length: f64,
+    wanted: &[(usize, u8, usize)],
+    opts: &SteadyOptions,
+) -> Result<(Strobe, Orbit), Miss> {
+    let (strobe, u0) = Strobe::through(d, at, p, length);
+    let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
+    let orbit = solve(&strobe, d, &u0, &newton).map_err(|e: OrbitError| Miss::Other(e.to_string()))?;
+    if !orbit.stable {
+        return Err(Miss::Unstable { radius: orbit.spectral_radius() });
+    }
+    if counts(&orbit.events) != wanted {
+        return Err(Miss::Other("the orbit found has other events than the motion".into()));
+    }
+    Ok(minimal(d, strobe, orbit, &newton))
+}
+
+/// The orbit on the map of its least period: a `p`-orbit that closes after a divisor `q` of
+/// `p` (the events of a period-1 motion can look period-`p` when one of them jitters across
+/// the sampling instant during the transient) is solved again on the `q`-period map.
+fn minimal(d: &Dynamics, strobe: Strobe, orbit: Orbit, newton: &NewtonOptions) -> (Strobe, Orbit) {
+    let p = strobe.periods;
+    for q in (1..p).filter(|q| p % q == 0) {
+        let short = Strobe { periods: q, ..strobe.clone() };
+        let Ok(ret) = short.map(d, &orbit.u) else { continue };
+        if (&ret.image - &orbit.u).amax() > 1e-6 {
+            continue;
+        }
+        if let Ok(o) = solve(&short, d, &orbit.u, newton) {
+            if o.stable {
+                return (short, o);
+            }
+        }
+    }
+    (strobe, orbit)
+}
+
+/// Runs from `start` to a certified periodic orbit and records one orbit of it.
+pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
+    let engine = Engine::new(d);
+    let period = 2.0 * PI / d.omega;
+    let mut s = start;
+    let mut k = (s.t / period).ceil() as usize;
+    let reps = opts.consecutive.max(2);
+    let keep = opts.max_subharmonic * reps;
+    let mut history: VecDeque<Period> = VecDeque::with_capacity(keep + 1);
+    let mut simulated = 0;
+    let mut next_try = opts.min_periods;
+    let mut attempts = 0;
+    let mut failure = None;
+    let mut stop = None;
+    while simulated < opts.max_periods {
+        let mut log = EventLog::default();
+        if let Err(e) = engine.advance(&mut s, k as f64 * period, &mut log) {
+            stop = Some(e);
+            break;
+        }
+        let sig = counts(&log.0);
+        history.push_front(Period { events: log.0, sig, scale: amplitude_scale(d, &s) });
+        history.truncate(keep);
+        simulated += 1;
+        k += 1;
+        if simulated < next_try {
+            continue;
+        }
+        let Some(p) = pattern(&history, opts.max_subharmonic, reps) else {
+            continue;
+        };
+        attempts += 1;
+        // The last cycle, oldest period first, and the section at its quietest phase.
+        let cycle: Vec<Event> = history.iter().take(p).rev().flat_map(|h| h.events.iter().copied()).collect();
+        let t_start = s.t - p as f64 * period;
+        let length = history.iter().take(p).map(|h| h.scale).fold(0.0, f64::max);
+        let wanted = counts(&cycle);
+        let mut at = s.clone();
+        let phase = quiet_phase(&cycle, t_start, d.omega, p);
+        if let Err(e) = engine.advance(&mut at, s.t + phase / d.omega, &mut super::engine::Quiet) {
+            stop = Some(e);
+            break;
+        }
+        let mut result = attempt(d, &at, p, length, &wanted, opts);
+        // An unstable p-orbit with the motion's events may have a stable 2p-orbit beside it
+        // (after a period doubling the events per period can stay the same).
+        if let Err(Miss::Unstable { .. }) = &result {
+            if 2 * p <= opts.max_subharmonic {
+                let doubled: Vec<(usize, u8, usize)> = wanted.iter().map(|&(b, k, c)| (b, k, 2 * c)).collect();
+                if let Ok(found) = attempt(d, &at, 2 * p, length, &doubled, opts) {
+                    result = Ok(found);
+                }
+            }
+        }
+        match result {
+            Ok((strobe, orbit)) => return record(d, &strobe, &orbit, simulated, attempts, opts),
+            Err(Miss::Unstable { radius }) => failure = Some(NoSteady::Unstable { radius }),
+            Err(Miss::Other(why)) => failure = Some(NoSteady::NoOrbit(why)),
+        }
+        next_try = simulated + (reps * p).max(simulated / 2);
+    }
+    let failure = if stop.is_some() {
+        None
+    } else {
+        match failure {
+            Some(NoSteady::Unstable { radius }) => Some(NoSteady::Unstable { radius }),
+            _ => Some(NoSteady::Budget { periods: simulated }),
+        }
+    };
+    let outcome = Outcome {
+        method: SteadyMethod::Orbit,
+        converged: false,
+        certificate: None,
+        failure,
+        transient_periods: simulated,
+        period: 0,
+        record: opts.record_periods,
+        stop,
+    };
+    // An unsettled point still reports what its motion does over the next periods.
+    let t_end = s.t + opts.record_periods as f64 * period;
+    finish(d, s, t_end, opts.energy, outcome)
+}
+
+/// Records one orbit from its section state and ends the record on a whole forcing period
+/// (where a continuation sweep restarts).
+fn record(
+    d: &Dynamics,
+    strobe: &Strobe,
+    orbit: &Orbit,
+    simulated: usize,
+    attempts: usize,
+    opts: &SteadyOptions,
+) -> Steady {
+    let period = 2.0 * PI / d.omega;
+    let p = strobe.periods;
+    let start = strobe.state(d, &orbit.u);
+    let t_end = start.t + p as f64 * period;
+    let certificate = Certificate {
+        residual: orbit.residuals.last().copied().unwrap_or(f64::NAN),
+        multipliers: orbit.multipliers.clone(),
+        stable: orbit.stable,
+        smooth: orbit.smooth,
+        iterations: orbit.residuals.len().saturating_sub(1),
+        attempts,
+        phase: strobe.phase,
+    };
+    let outcome = Outcome {
+        method: SteadyMethod::Orbit,
+        converged: true,
+        certificate: Some(certificate),
+        failure: None,
+        transient_periods: simulated,
+        period: p,
+        record: p,
+        stop: None,
+    };
+    let mut st = finish(d, start, t_end, opts.energy, outcome);
+    if st.stop.is_none() {
+        let whole = (st.final_state.t / period).ceil() * period;
+        if let Err(e) = Engine::new(d).advance(&mut st.final_state, whole, &mut super::engine::Quiet) {
+            st.stop = Some(e);
+            st.converged = false;
+        }
+    }
+    st
+}

@@ -1,0 +1,211 @@
+//! The stroboscopic section of the forced motion with any number of beds (docs/periodic.md):
+//! the state at the times `t = (phase + 2 pi k) / omega`. A periodic orbit of `p` forcing
+//! periods is a fixed point of the `p`-period map `P` from one section time to the one `p`
+//! periods later.
+//!
+//! On the section each bed is resting on its bottom, pressed against its top, or free; which,
+//! is part of the motion's pattern and fixed for a section (the section is placed at a forcing
+//! phase away from every event, so that small changes of the state keep it). The coordinates
+//! are the masses' displacements over a length scale `L` and velocities over `omega L`, then
+//! for each free bed its height above the container bottom over `L` and its velocity relative
+//! to the container over `omega L`; a resting bed has none. `P` is the simulator itself, and
+//! its exact Jacobian comes with it from the linearised flow ([`super::tangent`]), so
+//! Newton's method costs about one map evaluation per iteration and the Floquet multipliers
+//! are the eigenvalues of that Jacobian at the orbit. No I/O.
+
+use std::f64::consts::PI;
+
+use nalgebra::{DMatrix, DVector};
+
+use super::engine::{Bed, Engine, State};
+use super::observe::{Both, EventLog};
+use super::periodic::{OrbitError, Return, Section};
+use super::system::Dynamics;
+use super::tangent::Tangent;
+
+/// Where a bed is on the section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rest {
+    Bottom,
+    Top,
+    Free,
+}
+
+impl Rest {
+    /// The bed's place in a simulator state.
+    pub fn of(b: &Bed) -> Rest {
+        match b {
+            Bed::Bottom => Rest::Bottom,
+            Bed::Top => Rest::Top,
+            Bed::Free { .. } => Rest::Free,
+        }
+    }
+}
+
+/// Smallest relative impact speed, over `omega L`, below which an orbit counts as grazing
+/// (its map is not smooth: the derivative grows without bound as the speed goes to zero).
+pub const GRAZE: f64 = 1e-6;
+
+/// A stroboscopic section.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Strobe {
+    /// Forcing phase of the section, rad in `[0, 2 pi)`.
+    pub phase: f64,
+    /// Forcing periods per orbit.
+    pub periods: usize,
+    /// Where each bed is on the section.
+    pub beds: Vec<Rest>,
+    /// Length scale of the coordinates, m.
+    pub length: f64,
+}
+
+impl Strobe {
+    /// A section through the state `s` (its forcing phase and bed places).
+    pub fn through(d: &Dynamics, s: &State, periods: usize, length: f64) -> (Strobe, DVector<f64>) {
+        let strobe = Strobe {
+            phase: (d.omega * s.t).rem_euclid(2.0 * PI),
+            periods,
+            beds: s.beds.iter().map(Rest::of).collect(),
+            length,
+        };
+        let u = strobe.coordinates_unchecked(d, s);
+        (strobe, u)
+    }
+
+    /// Number of coordinates.
+    pub fn dim(&self, n: usize) -> usize {
+        2 * n + 2 * self.beds.iter().filter(|b| **b == Rest::Free).count()
+    }
+
+    /// The section time of the first period, s.
+    pub fn time(&self, d: &Dynamics) -> f64 {
+        self.phase / d.omega
+    }
+
+    fn rate(&self, d: &Dynamics) -> f64 {
+        d.omega * self.length
+    }
+
+    /// The coordinates of a state (whose beds are where the section says).
+    fn coordinates_unchecked(&self, d: &Dynamics, s: &State) -> DVector<f64> {
+        let n = d.system.dof();
+        let (l, w) = (self.length, self.rate(d));
+        let mut u = DVector::zeros(self.dim(n));
+        for i in 0..n {
+            u[i] = s.x[i] / l;
+            u[n + i] = s.v[i] / w;
+        }
+        let mut c = 2 * n;
+        for (j, rest) in self.beds.iter().enumerate() {
+            if *rest == Rest::Free {
+                let p = d.system.dampers[j].host;
+                let (y, v) = s.bed_motion(d, j);
+                u[c] = (y - s.x[p]) / l;
+                u[c + 1] = (v - s.v[p]) / w;
+                c += 2;
+            }
+        }
+        u
+    }
+
+    /// The coordinates of a state, or [`OrbitError::PatternChanged`] when a bed is not where
+    /// the section says (an event has crossed the section).
+    pub fn coordinates(&self, d: &Dynamics, s: &State) -> Result<DVector<f64>, OrbitError> {
+        if s.beds.iter().map(Rest::of).ne(self.beds.iter().copied()) {
+            return Err(OrbitError::PatternChanged);
+        }
+        Ok(self.coordinates_unchecked(d, s))
+    }
+
+    /// `d xi / d u`: the full state's dependence on the coordinates (resting beds move with
+    /// their hosts).
+    fn embedding(&self, d: &Dynamics) -> DMatrix<f64> {
+        let n = d.system.dof();
+        let (l, w) = (self.length, self.rate(d));
+        let mut e = DMatrix::zeros(Tangent::full_dim(d), self.dim(n));
+        for i in 0..n {
+            e[(i, i)] = l;
+            e[(n + i, n + i)] = w;
+        }
+        let mut c = 2 * n;
+        for (j, rest) in self.beds.iter().enumerate() {
+            let p = d.system.dampers[j].host;
+            let r = 2 * n + 2 * j;
+            e[(r, p)] = l;
+            e[(r + 1, n + p)] = w;
+            if *rest == Rest::Free {
+                e[(r, c)] = l;
+                e[(r + 1, c + 1)] = w;
+                c += 2;
+            }
+        }
+        e
+    }
+
+    /// `d u / d xi` on the section.
+    fn restriction(&self, d: &Dynamics) -> DMatrix<f64> {
+        let n = d.system.dof();
+        let (l, w) = (self.length, self.rate(d));
+        let mut r = DMatrix::zeros(self.dim(n), Tangent::full_dim(d));
+        for i in 0..n {
+            r[(i, i)] = 1.0 / l;
+            r[(n + i, n + i)] = 1.0 / w;
+        }
+        let mut c = 2 * n;
+        for (j, rest) in self.beds.iter().enumerate() {
+            if *rest == Rest::Free {
+                let p = d.system.dampers[j].host;
+                let row = 2 * n + 2 * j;
+                r[(c, row)] = 1.0 / l;
+                r[(c, p)] = -1.0 / l;
+                r[(c + 1, row + 1)] = 1.0 / w;
+                r[(c + 1, n + p)] = -1.0 / w;
+                c += 2;
+            }
+        }
+        r
+    }
+}
+
+impl Section for Strobe {
+    fn shift(&self, dim: usize) -> DVector<f64> {
+        DVector::zeros(dim)
+    }
+
+    fn state(&self, d: &Dynamics, u: &DVector<f64>) -> State {
+        let n = d.system.dof();
+        let (l, w) = (self.length, self.rate(d));
+        let t = self.time(d);
+        let x = DVector::from_fn(n, |i, _| u[i] * l);
+        let v = DVector::from_fn(n, |i, _| u[n + i] * w);
+        let mut c = 2 * n;
+        let beds = self
+            .beds
+            .iter()
+            .enumerate()
+            .map(|(j, rest)| match rest {
+                Rest::Bottom => Bed::Bottom,
+                Rest::Top => Bed::Top,
+                Rest::Free => {
+                    let p = d.system.dampers[j].host;
+                    let bed = Bed::Free { t0: t, y0: x[p] + u[c] * l, u0: v[p] + u[c + 1] * w };
+                    c += 2;
+                    bed
+                }
+            })
+            .collect();
+        State { t, x, v, beds }
+    }
+
+    fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
+        let mut s = self.state(d, u);
+        let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
+        let mut tangent = Tangent::new(d, self.embedding(d));
+        let mut log = EventLog::default();
+        Engine::new(d).advance(&mut s, t_end, &mut Both(&mut tangent, &mut log)).map_err(OrbitError::Stopped)?;
+        let image = self.coordinates(d, &s)?;
+        let jacobian = self.restriction(d) * &tangent.m;
+        let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
+        Ok(Return { image, events: log.0, jacobian: Some((jacobian, smooth)) })
+    }
+}

@@ -1,0 +1,203 @@
+//! The linearised flow: the derivative of the state at the end of a run with respect to the
+//! state at its start, carried exactly through the closed-form segments and the events.
+//!
+//! The full state is `xi = (x_1..x_n, v_1..v_n, y_1, u_1, ..., y_N, u_N)`: the masses'
+//! displacements and velocities and every bed's position and velocity. A bed that rests on
+//! its bottom or top has no freedom of its own: its rows are copies of its host's (its
+//! position differs by a constant, which a derivative does not see).
+//!
+//! - Between events, in configuration `S`, the masses obey `z' = A_S z + forcing`, so a
+//!   variation moves with `Phi(tau) = V e^(Lambda tau) V^-1`, from the eigendecomposition the
+//!   simulator already holds; a free bed's variation moves as `dy += tau du`.
+//! - At an event at time `t_e` where an event function `h` reaches zero, with jump map `g`
+//!   (the momentum exchange of an impact) of derivative `G`, and vector fields `f-` before
+//!   and `f+` after, a variation jumps by the saltation matrix
+//!   `S = G + (f+ - G f-) grad(h)^T / (grad(h) . f-)`: the event time moves with the
+//!   variation, and during that shift the motion follows the other vector field.
+//!   A lift-off (a contact force reaching zero) changes neither the state nor the
+//!   accelerations (the contact force was zero), so its saltation matrix is the identity.
+//!
+//! No I/O; the result is checked against central differences of the same map in the tests.
+
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+
+use crate::model::GRAVITY;
+
+use super::engine::{Bed, Observer, State};
+use super::segment::{Segment, Watch};
+use super::system::Dynamics;
+
+/// The derivative of the full state with respect to `k` chosen start coordinates.
+#[derive(Debug, Clone)]
+pub struct Tangent {
+    /// `D x k`, `D = 2n + 2N`.
+    pub m: DMatrix<f64>,
+    /// Smallest relative speed of an impact on the way, m/s (a graze has speed 0: the
+    /// derivative is unbounded there).
+    pub min_impact_speed: f64,
+    /// Events at which two or more beds hit at the same time (the map is not smooth there).
+    pub simultaneous: usize,
+    n: usize,
+}
+
+/// Row of `y_j` in the full state (`u_j` is the next one).
+fn bed_row(n: usize, j: usize) -> usize {
+    2 * n + 2 * j
+}
+
+impl Tangent {
+    /// Starts from `m0` (`D x k`): how the start state depends on the chosen coordinates.
+    pub fn new(d: &Dynamics, m0: DMatrix<f64>) -> Tangent {
+        Tangent { m: m0, min_impact_speed: f64::INFINITY, simultaneous: 0, n: d.system.dof() }
+    }
+
+    /// Dimension of the full state of `d`.
+    pub fn full_dim(d: &Dynamics) -> usize {
+        2 * d.system.dof() + 2 * d.system.dampers.len()
+    }
+
+    /// The rows of attached beds copy their host's.
+    fn slave(&mut self, d: &Dynamics, beds: &[Bed]) {
+        let n = self.n;
+        for (j, b) in beds.iter().enumerate() {
+            if b.attached() {
+                let p = d.system.dampers[j].host;
+                let r = bed_row(n, j);
+                let (xp, vp) = (self.m.row(p).into_owned(), self.m.row(n + p).into_owned());
+                self.m.set_row(r, &xp);
+                self.m.set_row(r + 1, &vp);
+            }
+        }
+    }
+
+    /// The full vector field at a state (masses' velocities and accelerations in the state's
+    /// configuration, beds' velocities and accelerations).
+    fn field(d: &Dynamics, s: &State) -> DVector<f64> {
+        let n = d.system.dof();
+        let nb = s.beds.len();
+        let (a, _) = d.accelerations(s.mask(), s.t, &s.x, &s.v);
+        let mut f = DVector::zeros(2 * n + 2 * nb);
+        for i in 0..n {
+            f[i] = s.v[i];
+            f[n + i] = a[i];
+        }
+        for j in 0..nb {
+            let p = d.system.dampers[j].host;
+            let (_, u) = s.bed_motion(d, j);
+            f[bed_row(n, j)] = u;
+            f[bed_row(n, j) + 1] = if s.beds[j].attached() { a[p] } else { -GRAVITY };
+        }
+        f
+    }
+}
+
+/// `Phi(tau)` of configuration `mask`: the derivative of `(x, v)` after `tau` with respect
+/// to `(x, v)` at the start.
+pub fn transition(d: &Dynamics, mask: usize, tau: f64) -> DMatrix<f64> {
+    let cfg = &d.configs[mask];
+    let n = d.system.dof();
+    let len = cfg.lambda.len();
+    let e: Vec<Complex64> = cfg.lambda.iter().map(|l| (l * tau).exp()).collect();
+    let mut out = DMatrix::zeros(2 * n, 2 * n);
+    let mut scaled = [Complex64::new(0.0, 0.0); super::system::MAX_TERMS];
+    for i in 0..2 * n {
+        let row = if i < n { &cfg.vl[i][0] } else { &cfg.vl[i - n][1] };
+        for r in 0..len {
+            scaled[r] = row[r] * e[r];
+        }
+        for j in 0..2 * n {
+            out[(i, j)] =
+                (0..len).map(|r| scaled[r].re * cfg.inverse[(r, j)].re - scaled[r].im * cfg.inverse[(r, j)].im).sum();
+        }
+    }
+    out
+}
+
+impl Observer for Tangent {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        let tau = t_b - t_a;
+        if tau <= 0.0 {
+            return;
+        }
+        let n = self.n;
+        let phi = transition(d, seg.mask, tau);
+        let top = phi * self.m.rows(0, 2 * n);
+        self.m.rows_mut(0, 2 * n).copy_from(&top);
+        for (j, b) in beds.iter().enumerate() {
+            if !b.attached() {
+                let r = bed_row(n, j);
+                for c in 0..self.m.ncols() {
+                    self.m[(r, c)] += tau * self.m[(r + 1, c)];
+                }
+            }
+        }
+        self.slave(d, beds);
+    }
+
+    fn wants_jumps(&self) -> bool {
+        true
+    }
+
+    fn jump(&mut self, d: &Dynamics, before: &State, after: &State, hits: &[Watch]) {
+        let impacts: Vec<(usize, bool)> = hits
+            .iter()
+            .filter_map(|w| match *w {
+                Watch::GapBottom { bed, .. } => Some((bed, false)),
+                Watch::GapTop { bed, .. } => Some((bed, true)),
+                Watch::Contact { .. } => None,
+            })
+            .collect();
+        let Some(&(j, top)) = impacts.first() else {
+            // Lift-offs: no jump in the state or the vector field.
+            self.slave(d, &after.beds);
+            return;
+        };
+        if impacts.len() > 1 {
+            self.simultaneous += 1;
+        }
+        let n = self.n;
+        let sys = &d.system;
+        let p = sys.dampers[j].host;
+        let md = sys.dampers[j].mass;
+        // The host moves with the beds already resting on it.
+        let riders: Vec<usize> = (0..before.beds.len())
+            .filter(|&k| k != j && before.beds[k].attached() && sys.dampers[k].host == p)
+            .collect();
+        let mh = sys.structure.masses[p] + riders.iter().map(|&k| sys.dampers[k].mass).sum::<f64>();
+        let (_, u) = before.bed_motion(d, j);
+        let rel = u - before.v[p];
+        self.min_impact_speed = self.min_impact_speed.min(rel.abs());
+        let e = if sys.restitution > 0.0 && rel.abs() >= sys.stick_speed { sys.restitution } else { 0.0 };
+        let total = mh + md;
+        // G: v_p' = (1 - a) v_p + a u, u' = b v_p + (1 - b) u (plastic: both the common velocity);
+        // beds riding on the host take the host's new velocity.
+        let a = md * (1.0 + e) / total;
+        let b = mh * (1.0 + e) / total;
+        let (rv, ru) = (n + p, bed_row(n, j) + 1);
+        let apply_g = |m: &mut DMatrix<f64>| {
+            let (vp, uj) = (m.row(rv).into_owned(), m.row(ru).into_owned());
+            let new_v = &vp * (1.0 - a) + &uj * a;
+            let new_u = &vp * b + &uj * (1.0 - b);
+            m.set_row(rv, &new_v);
+            m.set_row(ru, &new_u);
+            for &k in &riders {
+                m.set_row(bed_row(n, k) + 1, &new_v);
+            }
+        };
+        let f_minus = Tangent::field(d, before);
+        let f_plus = Tangent::field(d, after);
+        let mut g_f = DMatrix::from_column_slice(f_minus.len(), 1, f_minus.as_slice());
+        apply_g(&mut g_f);
+        let w = &f_plus - g_f.column(0);
+        // h = y_j - x_p at the bottom, x_p + d - y_j at the top; its rate before the event.
+        let sign = if top { -1.0 } else { 1.0 };
+        let h_dot = sign * (f_minus[bed_row(n, j)] - f_minus[p]);
+        let grad_m = (self.m.row(bed_row(n, j)) - self.m.row(p)) * sign;
+        apply_g(&mut self.m);
+        if h_dot != 0.0 {
+            self.m += (&w / h_dot) * grad_m;
+        }
+        self.slave(d, &after.beds);
+    }
+}
