@@ -114,11 +114,18 @@ fn one_bed_orbits_equal_impact_section_orbits() {
 
 /// A 1000 kg table driven to amplitude A = Gamma g / omega^2 with a 1 microgram plastic bed.
 fn ball(gamma: f64) -> Result<Dynamics, SetupError> {
+    bouncing_ball(gamma, 0.0)
+}
+
+/// The same with restitution `e` (impacts slower than 1 mm/s stick).
+fn bouncing_ball(gamma: f64, e: f64) -> Result<Dynamics, SetupError> {
     let omega = 2.0 * PI * 10.0;
     let host = Structure::chain(&[1000.0], &[1e6], Damping::ModalRatios(vec![0.05]));
     let h = receptance(&host, &host.mass_matrix(), 0, omega).unwrap()[0];
     let force = gamma * GRAVITY / (omega * omega) / h.norm();
-    let sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: f64::INFINITY }], 0, force);
+    let mut sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: f64::INFINITY }], 0, force);
+    sys.restitution = e;
+    sys.stick_speed = 1e-3;
     Dynamics::new(&sys, omega)
 }
 
@@ -203,5 +210,38 @@ fn orbits_equal_long_transients_over_the_fig8_and_fig5_sweeps() {
             compared += 1;
         }
         assert!(compared * 10 >= freqs.len() * 9, "{name}: {compared} of {} points compared", freqs.len());
+    }
+}
+
+/// The impact section's exact Jacobian (the return at an impact, whose time moves with the
+/// start) against central differences: the full structure, the SDOF model, a bouncing bed.
+#[test]
+fn impact_section_jacobian_equals_central_differences() {
+    use shotdamp::model::sdof::EquivalentSdof;
+    let e = EquivalentSdof::new(&paper(0.01), &[Damper { host: 1, mass: 0.071, clearance: 0.5e-3 }], 2, 0, 2.6);
+    let sdof = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
+    let bouncy = bouncing_ball(1.3, 0.5).unwrap();
+    for (name, d, bounce) in [
+        ("3-mass, d = 0.4 mm", Dynamics::new(&system(&[1], 0.4e-3, 0.01), 2.0 * PI * 49.0).unwrap(), false),
+        ("SDOF, d = 0.5 mm", Dynamics::new(&sdof, 2.0 * PI * 49.66).unwrap(), false),
+        ("ball, e = 0.5, Gamma = 1.3", bouncy, true),
+        // Above Gamma = sqrt(1 + pi^2) the plastic ball leaves the table at once after landing:
+        // the start's phase column must follow the flow with the ball already free.
+        ("plastic ball leaving at once, Gamma = 3.5", ball(3.5).unwrap(), false),
+    ] {
+        let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
+        assert!(st.converged, "{name}: {:?}", st.failure);
+        let length = st.amplitude.iter().copied().fold(0.0, f64::max);
+        let (problem, u) = seed(&d, &st.final_state, st.period, length, d.omega, bounce).unwrap();
+        let base = problem.map(&d, &u).unwrap();
+        let (exact, _) = base.jacobian.clone().expect("the impact section's map gives its Jacobian");
+        let (fd, fd_smooth) = fd_jacobian(&problem, &d, &u, &base).unwrap();
+        assert!(fd_smooth, "{name}: the differences keep the events");
+        let diff = (&exact - &fd).amax();
+        assert!(
+            diff < 1e-6 * exact.amax(),
+            "{name}: |J - J_fd| = {diff:e} against |J| = {:e}\n{exact}{fd}",
+            exact.amax()
+        );
     }
 }

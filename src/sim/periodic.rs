@@ -21,7 +21,9 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::engine::{Bed, Engine, Event, EventKind, Observer, State, Stop};
+use super::observe::Both;
 use super::system::{Dynamics, SetupError};
+use super::tangent::Tangent;
 
 /// Central-difference step in scaled units (see the module documentation).
 pub const FD_STEP: f64 = 1e-5;
@@ -236,13 +238,60 @@ impl Section for Problem {
         let period = 2.0 * std::f64::consts::PI / d.omega;
         let limit = s.t + (self.periods as f64 + 1.0) * period;
         let mut rec = Returns { wanted: self.returns, seen: 0, events: Vec::new(), at: None };
+        let mut tangent = Tangent::new(d, self.embedding(d, &s)).until_impact(0, self.returns);
         let engine = Engine::new(d);
         while rec.at.is_none() && s.t < limit {
             let next = (s.t + period / 8.0).min(limit);
-            engine.advance(&mut s, next, &mut rec).map_err(OrbitError::Stopped)?;
+            engine.advance(&mut s, next, &mut Both(&mut rec, &mut tangent)).map_err(OrbitError::Stopped)?;
         }
         let at = rec.at.ok_or(OrbitError::NoReturn)?;
-        Ok(Return { image: self.coordinates(d, &at), events: rec.events, jacobian: None })
+        let jacobian = tangent.dt.as_ref().map(|dt| {
+            let mut j = self.restriction(d) * &tangent.m;
+            j.set_row(0, &(dt * d.omega));
+            let smooth =
+                tangent.simultaneous == 0 && tangent.min_impact_speed > super::strobe::GRAZE * self.length * self.rate;
+            (j, smooth)
+        });
+        Ok(Return { image: self.coordinates(d, &at), events: rec.events, jacobian })
+    }
+}
+
+impl Problem {
+    /// `d xi / d u` at the start state `s`: the phase column moves the start along the flow;
+    /// the bed rests on its host unless it bounces.
+    fn embedding(&self, d: &Dynamics, s: &State) -> DMatrix<f64> {
+        let n = d.system.dof();
+        let (l, w) = (self.length, self.length * self.rate);
+        let host = d.system.dampers[0].host;
+        let mut e = DMatrix::zeros(Tangent::full_dim(d), self.dim(n));
+        Tangent::phase_column(d, s, &mut e, 0);
+        for i in 0..n {
+            e[(i, 1 + i)] = l;
+            e[(n + i, 1 + n + i)] = w;
+        }
+        e[(2 * n, 1 + host)] = l;
+        e[(2 * n + 1, 1 + n + host)] = w;
+        if self.bounce {
+            e[(2 * n + 1, 2 * n + 1)] = w;
+        }
+        e
+    }
+
+    /// `d u / d xi` just after the return impact (the phase row comes from the event time).
+    fn restriction(&self, d: &Dynamics) -> DMatrix<f64> {
+        let n = d.system.dof();
+        let (l, w) = (self.length, self.length * self.rate);
+        let host = d.system.dampers[0].host;
+        let mut r = DMatrix::zeros(self.dim(n), Tangent::full_dim(d));
+        for i in 0..n {
+            r[(1 + i, i)] = 1.0 / l;
+            r[(1 + n + i, n + i)] = 1.0 / w;
+        }
+        if self.bounce {
+            r[(2 * n + 1, 2 * n + 1)] = 1.0 / w;
+            r[(2 * n + 1, n + host)] = -1.0 / w;
+        }
+        r
     }
 }
 

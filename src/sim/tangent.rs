@@ -38,6 +38,12 @@ pub struct Tangent {
     pub min_impact_speed: f64,
     /// Events at which two or more beds hit at the same time (the map is not smooth there).
     pub simultaneous: usize,
+    /// For a map that ends at an impact (the impact section): the bed and the number of its
+    /// bottom impacts after which the derivative is taken at the moving event time and frozen.
+    pub until: Option<(usize, usize)>,
+    seen: usize,
+    /// Once frozen: the derivative of the event time with respect to the coordinates, s.
+    pub dt: Option<nalgebra::RowDVector<f64>>,
     n: usize,
 }
 
@@ -49,7 +55,48 @@ fn bed_row(n: usize, j: usize) -> usize {
 impl Tangent {
     /// Starts from `m0` (`D x k`): how the start state depends on the chosen coordinates.
     pub fn new(d: &Dynamics, m0: DMatrix<f64>) -> Tangent {
-        Tangent { m: m0, min_impact_speed: f64::INFINITY, simultaneous: 0, n: d.system.dof() }
+        Tangent {
+            m: m0,
+            min_impact_speed: f64::INFINITY,
+            simultaneous: 0,
+            until: None,
+            seen: 0,
+            dt: None,
+            n: d.system.dof(),
+        }
+    }
+
+    /// Ends at the `count`-th bottom impact of `bed`: the derivative of the state just after
+    /// it, at its own (moving) time, and of that time ([`Tangent::dt`]).
+    pub fn until_impact(mut self, bed: usize, count: usize) -> Tangent {
+        self.until = Some((bed, count));
+        self
+    }
+
+    /// The start is at a forcing phase that varies too: column `col` of the start's derivative
+    /// is that of the phase, `-f(xi_0, t_0) / omega` (starting later from the same state is
+    /// starting on time from the state shifted back along the flow).
+    /// A bed that rests at the start but is pulled off (negative contact force) leaves at
+    /// once: the flow after the start is the one with that bed free.
+    pub fn phase_column(d: &Dynamics, start: &State, m0: &mut DMatrix<f64>, col: usize) {
+        let mut s = start.clone();
+        let (a, _) = d.accelerations(s.mask(), s.t, &s.x, &s.v);
+        for j in 0..s.beds.len() {
+            let p = d.system.dampers[j].host;
+            let sigma = match s.beds[j] {
+                Bed::Bottom => 1.0,
+                Bed::Top => -1.0,
+                Bed::Free { .. } => continue,
+            };
+            if d.system.dampers[j].clearance != 0.0 && sigma * (a[p] + GRAVITY) < 0.0 {
+                let (y0, u0) = s.bed_motion(d, j);
+                s.beds[j] = Bed::Free { t0: s.t, y0, u0 };
+            }
+        }
+        let f = Tangent::field(d, &s);
+        for r in 0..m0.nrows() {
+            m0[(r, col)] = -f[r] / d.omega;
+        }
     }
 
     /// Dimension of the full state of `d`.
@@ -117,7 +164,7 @@ pub fn transition(d: &Dynamics, mask: usize, tau: f64) -> DMatrix<f64> {
 impl Observer for Tangent {
     fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
         let tau = t_b - t_a;
-        if tau <= 0.0 {
+        if tau <= 0.0 || self.dt.is_some() {
             return;
         }
         let n = self.n;
@@ -140,6 +187,9 @@ impl Observer for Tangent {
     }
 
     fn jump(&mut self, d: &Dynamics, before: &State, after: &State, hits: &[Watch]) {
+        if self.dt.is_some() {
+            return;
+        }
         let impacts: Vec<(usize, bool)> = hits
             .iter()
             .filter_map(|w| match *w {
@@ -196,8 +246,19 @@ impl Observer for Tangent {
         let grad_m = (self.m.row(bed_row(n, j)) - self.m.row(p)) * sign;
         apply_g(&mut self.m);
         if h_dot != 0.0 {
-            self.m += (&w / h_dot) * grad_m;
+            self.m += (&w / h_dot) * &grad_m;
         }
         self.slave(d, &after.beds);
+        if let Some((bed, count)) = self.until {
+            if bed == j && !top {
+                self.seen += 1;
+                if self.seen == count {
+                    // The state at the event's own time: add the flow after it over the shift.
+                    let dt = -grad_m / h_dot;
+                    self.m += &f_plus * &dt;
+                    self.dt = Some(dt);
+                }
+            }
+        }
     }
 }
