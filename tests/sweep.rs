@@ -52,3 +52,35 @@ fn continuation_finds_both_motions_at_48_2_hz() {
     assert!((c_down - 9.2922753813e-05).abs() < 1e-3 * c_down, "down: {c_down}");
     assert_eq!((n_up, n_down), (1.0, 2.0));
 }
+
+#[test]
+fn orbit_continuation_across_the_fold_keeps_both_motions_and_the_unstable_one_between() {
+    // Continued by pseudo-arclength downward from the orbit at 50.4 Hz, the branch passes
+    // 48.2 Hz three times: the top-reaching motion (stable), the top-reaching orbit between the
+    // fold and the graze of the top (unstable), and the bottom-only motion (stable); the stable
+    // ones are the two motions of the continuation sweeps.
+    let sys = system(&[1], 0.5e-3);
+    let d = shotdamp::sim::Dynamics::new(&sys, 2.0 * std::f64::consts::PI * 50.4).unwrap();
+    let st = shotdamp::sim::steady_state(&d, shotdamp::sim::State::at_rest(&d), &SteadyOptions::default());
+    let b = shotdamp::analysis::branches::continue_orbit("b", "b", &sys, 50.4, &st, false, (47.6, 50.4));
+    let mut crossings = Vec::new();
+    for i in 0..b.freq_hz.len() - 1 {
+        let (f0, f1) = (b.freq_hz[i], b.freq_hz[i + 1]);
+        if (f0 - 48.2) * (f1 - 48.2) < 0.0 {
+            let w = (48.2 - f0) / (f1 - f0);
+            let c = b.compliance[i][0] + w * (b.compliance[i + 1][0] - b.compliance[i][0]);
+            crossings.push((c, b.stable[i] && b.stable[i + 1], !b.stable[i] && !b.stable[i + 1]));
+        }
+    }
+    assert_eq!(crossings.len(), 3, "{crossings:?}");
+    let (hi, mid, lo) = (crossings[0], crossings[1], crossings[2]);
+    assert!(lo.1 && mid.2 && hi.1, "stable, unstable, stable: {crossings:?}");
+    // Linear interpolation between branch points (steps <= 0.05 Hz) against the sweeps' values.
+    assert!((lo.0 - 8.0795045113e-05).abs() < 2e-3 * lo.0, "bottom-only: {}", lo.0);
+    assert!((hi.0 - 9.2922753813e-05).abs() < 2e-3 * hi.0, "top-reaching: {}", hi.0);
+    assert!(mid.0 > lo.0 && mid.0 < hi.0);
+    assert!(b
+        .special
+        .iter()
+        .any(|s| matches!(s, shotdamp::sim::continuation::Special::Fold { p } if (p - 48.188).abs() < 2e-3)));
+}

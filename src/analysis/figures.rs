@@ -5,6 +5,7 @@ use crate::experiment::{Experiment, PlotKind, PlotSpec, Scale};
 use crate::model::modal::ModeSummary;
 use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 
+use super::branches::{self, OrbitCurve};
 use super::curves::Curve;
 use super::overlays::Overlay;
 
@@ -17,6 +18,8 @@ pub struct Extras<'a> {
     pub marks: Vec<VLine>,
     /// References drawn over the curves, with a residual panel beneath.
     pub overlays: Vec<Overlay>,
+    /// Branches of periodic orbits continued in frequency (stable solid, unstable dashed).
+    pub branches: Vec<&'a OrbitCurve>,
     /// The analysis grid's range (curves may hold extra points outside it for checks).
     pub range: (f64, f64),
 }
@@ -73,6 +76,12 @@ pub fn compliance(
                         series.extend(irregular_points(c, r, color, cross_label));
                     }
                 }
+                for (bi, b) in extras.branches.iter().enumerate() {
+                    for &r in masses {
+                        let color = if by_mass { r } else { shown.len() + bi };
+                        series.extend(branches::series(b, r, color, r == masses[0]));
+                    }
+                }
                 // References as small markers in the colour of their curve.
                 for o in &extras.overlays {
                     let Some(ci) = shown.iter().position(|c| c.id == o.curve) else { continue };
@@ -118,9 +127,14 @@ pub fn compliance(
                 id: p.id.clone(),
                 title: title.clone(),
                 caption: format!(
-                    "Compliance amplitude (max - min)/2 / F with F = {} N on m{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).{}",
+                    "Compliance amplitude (max - min)/2 / F with F = {} N on m{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).{}{}",
                     exp.excitation.force,
                     exp.excitation.mass + 1,
+                    if extras.branches.is_empty() {
+                        ""
+                    } else {
+                        " Thin lines: periodic orbits continued in frequency through folds, solid where stable, dashed where unstable; filled squares: folds, turns at a graze and period doublings."
+                    },
                     if extras.overlays.is_empty() {
                         ""
                     } else {

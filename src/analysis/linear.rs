@@ -69,6 +69,7 @@ pub fn frf(
             overlays: super::overlays::overlays(exp, refs, &curves),
             linear: Vec::new(),
             marks: Vec::new(),
+            branches: Vec::new(),
             range: (freq_hz[0], freq_hz[freq_hz.len() - 1]),
         },
         modes,

@@ -1,6 +1,7 @@
 //! Running experiments: solvers in, finished tables, figures and check outcomes out.
 //! Nothing here reads or writes files; references arrive pre-loaded.
 
+pub mod branches;
 mod checks;
 mod claim_checks;
 mod clearance;

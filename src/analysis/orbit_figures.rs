@@ -95,28 +95,11 @@ pub fn tables(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult) -> Vec<
     out.push(
         Table::new(
             "special_points",
-            "Folds (saddle-nodes) and period doublings located on each branch, frequency in Hz",
+            "Folds (saddle-nodes), turns at a graze (non-smooth, between two branch points: the outer one) and period doublings located on each branch, frequency in Hz",
         )
         .str("branch", specials.iter().map(|(b, _)| b.to_string()).collect())
-        .str(
-            "kind",
-            specials
-                .iter()
-                .map(|(_, s)| match s {
-                    Special::Fold { .. } => "fold".to_string(),
-                    Special::PeriodDoubling { .. } => "period doubling".to_string(),
-                })
-                .collect(),
-        )
-        .f64(
-            "freq_hz",
-            specials
-                .iter()
-                .map(|(_, s)| match s {
-                    Special::Fold { p } | Special::PeriodDoubling { p } => *p,
-                })
-                .collect(),
-        ),
+        .str("kind", specials.iter().map(|(_, s)| s.name().to_string()).collect())
+        .f64("freq_hz", specials.iter().map(|(_, s)| s.p()).collect()),
     );
     // The SDOF approximation against the exact orbits and the simulation.
     let rows: Vec<(&str, Option<(f64, f64)>)> = vec![
@@ -226,7 +209,7 @@ fn special_markers(b: &OrbitBranch, tag: &str, color: usize, value: &Value<'_>) 
     let mut pds = (Vec::new(), Vec::new());
     for s in &b.special {
         let (list, p) = match s {
-            Special::Fold { p } => (&mut folds, *p),
+            Special::Fold { p } | Special::Grazing { p } => (&mut folds, *p),
             Special::PeriodDoubling { p } => (&mut pds, *p),
         };
         if let Some((x, y)) = at(p) {
@@ -236,7 +219,10 @@ fn special_markers(b: &OrbitBranch, tag: &str, color: usize, value: &Value<'_>) 
     }
     let mut out = Vec::new();
     if !folds.0.is_empty() {
-        out.push(Series::points(format!("{tag}: folds"), folds.0, folds.1, color, Marker::Square).filled());
+        out.push(
+            Series::points(format!("{tag}: folds and turns at a graze"), folds.0, folds.1, color, Marker::Square)
+                .filled(),
+        );
     }
     if !pds.0.is_empty() {
         out.push(Series::points(format!("{tag}: period doublings"), pds.0, pds.1, color, Marker::Triangle).filled());

@@ -12,6 +12,7 @@ use crate::output::table::Table;
 use crate::sim::sweep::{self, Direction};
 use crate::sim::SteadyOptions;
 
+use super::branches::{self, OrbitCurve};
 use super::curves::{self, union_grid, Curve};
 use super::figures::{self, Extras};
 use super::Tick;
@@ -69,6 +70,8 @@ pub fn run(
     let n = exp.structure.dof();
     let beds = exp.cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
     let mut curves: Vec<Curve> = Vec::new();
+    let mut orbit_branches: Vec<OrbitCurve> = Vec::new();
+    let band = (freq_hz[0], freq_hz[freq_hz.len() - 1]);
     for case in &exp.cases {
         if case.dampers.is_empty() {
             let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &case.id));
@@ -92,6 +95,18 @@ pub fn run(
             Start::Continuation => {
                 for (dir, word) in [(Direction::Up, "up"), (Direction::Down, "down")] {
                     let pts = sweep::continued(&sys, freq_hz, dir, steady, tick);
+                    // The orbit of the sweep's first point, continued through the band.
+                    if let Some((f, Ok(st))) = pts.first().map(|p| (p.freq_hz, &p.result)) {
+                        orbit_branches.push(branches::continue_orbit(
+                            &format!("{}:orbits-{word}", case.id),
+                            &format!("orbits continued {word}ward from {} Hz", fmt_num(f)),
+                            &sys,
+                            f,
+                            st,
+                            dir == Direction::Up,
+                            band,
+                        ));
+                    }
                     let id = format!("{}:{word}", case.id);
                     let label = format!("{} (continued {word}ward)", case.label);
                     curves.push(curves::from_sweep(&id, &label, pts, exp.excitation.force, case.dampers.len(), n));
@@ -111,7 +126,8 @@ pub fn run(
             overlays: super::overlays::overlays(exp, refs, &curves),
             linear: linear.iter().collect(),
             marks,
-            range: (freq_hz[0], freq_hz[freq_hz.len() - 1]),
+            branches: orbit_branches.iter().collect(),
+            range: band,
         },
         modes,
     );
@@ -122,6 +138,9 @@ pub fn run(
         n,
         beds,
     )];
+    if !orbit_branches.is_empty() {
+        tables.extend(branches::tables(&orbit_branches, n));
+    }
     if !linear.is_empty() {
         let l: Vec<&Curve> = linear.iter().collect();
         tables.push(curves::table(

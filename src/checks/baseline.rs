@@ -23,7 +23,9 @@ pub const ROWS_PER_TABLE: usize = 60;
 /// Tables not sampled: continuation branches (adaptive points), the tables listing them,
 /// impulse histories past their start and what is computed from the whole of them
 /// (trajectories of an impact system part after many impacts under any change of rounding).
-pub const SKIPPED: [&str; 8] = [
+pub const SKIPPED: [&str; 10] = [
+    "branches",
+    "branch_special_points",
     "sdof_branch",
     "exact_branch",
     "special_points",

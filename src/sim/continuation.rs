@@ -10,8 +10,11 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::periodic::{finish, NewtonOptions, Orbit, OrbitError, Section, FD_STEP};
+use super::periodic::{finish, signature, NewtonOptions, Orbit, OrbitError, Section, FD_STEP};
 use super::system::{Dynamics, SetupError};
+
+/// Steps across a change of the orbit's events are refined down to `ds_max / KINK_REFINEMENT`.
+const KINK_REFINEMENT: f64 = 64.0;
 
 /// Dynamics at a parameter value.
 pub type Family<'a> = dyn Fn(f64) -> Result<Dynamics, SetupError> + Sync + 'a;
@@ -62,6 +65,27 @@ pub enum Special {
     Fold { p: f64 },
     /// A real multiplier crosses -1.
     PeriodDoubling { p: f64 },
+    /// The branch turns back where an impact appears or vanishes (a graze): a non-smooth
+    /// turning point, somewhere between the two points around it; `p` is the outer one.
+    Grazing { p: f64 },
+}
+
+impl Special {
+    /// Where it is on the parameter axis.
+    pub fn p(&self) -> f64 {
+        match *self {
+            Special::Fold { p } | Special::PeriodDoubling { p } | Special::Grazing { p } => p,
+        }
+    }
+
+    /// Its name in tables and legends.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Special::Fold { .. } => "fold",
+            Special::PeriodDoubling { .. } => "period doubling",
+            Special::Grazing { .. } => "turn at a graze",
+        }
+    }
 }
 
 /// A continued branch.
@@ -183,12 +207,25 @@ pub fn continue_branch<S: Section>(
     let mut points = vec![BranchPoint { p: p0, dp_ds: t[m], orbit: first, s: 0.0 }];
     let mut ds = opts.ds;
     let mut end = BranchEnd::Budget;
+    // Set when the steps have shrunk to nothing at a kink: one step of full length across it
+    // (a non-smooth turning point leaves in a direction the tangent does not predict).
+    let mut leap_at: Option<usize> = None;
     while points.len() < opts.max_points {
         let last = &points[points.len() - 1];
         let y = join(&last.orbit.u, last.p / opts.p_scale);
         let pred = &y + &t * ds;
         match solver.correct(&pred, &t, ds) {
             Ok((orbit, q, gq, iters)) => {
+                // Where an impact appears or vanishes the branch has a kink: step onto it in
+                // small steps, so that both sides are resolved.
+                let leaping = leap_at == Some(points.len());
+                if !leaping
+                    && ds > opts.ds_max / KINK_REFINEMENT
+                    && signature(&orbit.events) != signature(&last.orbit.events)
+                {
+                    ds *= 0.5;
+                    continue;
+                }
                 let p = q * opts.p_scale;
                 if p < opts.p_min || p > opts.p_max {
                     end = BranchEnd::Range;
@@ -208,6 +245,11 @@ pub fn continue_branch<S: Section>(
             Err(e) => {
                 ds *= 0.5;
                 if ds < opts.ds_min {
+                    if leap_at != Some(points.len()) {
+                        leap_at = Some(points.len());
+                        ds = opts.ds_max;
+                        continue;
+                    }
                     end = BranchEnd::Failed(e.to_string());
                     break;
                 }
@@ -224,7 +266,10 @@ pub fn continue_branch<S: Section>(
 fn special_points(points: &[BranchPoint]) -> Vec<Special> {
     let mut out = Vec::new();
     for w in points.windows(2) {
-        if w[0].dp_ds * w[1].dp_ds < 0.0 {
+        if w[0].dp_ds * w[1].dp_ds < 0.0 && signature(&w[0].orbit.events) != signature(&w[1].orbit.events) {
+            let p = if w[0].dp_ds > 0.0 { w[0].p.max(w[1].p) } else { w[0].p.min(w[1].p) };
+            out.push(Special::Grazing { p });
+        } else if w[0].dp_ds * w[1].dp_ds < 0.0 {
             // Take the neighbour triple (s, p) and the vertex of its parabola.
             let k = points.iter().position(|x| std::ptr::eq(x, &w[0])).unwrap_or(0);
             let (a, b) = if k + 2 < points.len() { (k, k + 2) } else { (k.saturating_sub(1), k + 1) };

@@ -17,7 +17,7 @@ use super::engine::{Engine, Event, State};
 use super::observe::EventLog;
 use super::periodic::{signature, solve, NewtonOptions, Orbit, OrbitError, Section};
 use super::steady::{amplitude_scale, finish, Certificate, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions};
-use super::strobe::Strobe;
+use super::strobe::{quiet_phase, Strobe};
 use super::system::Dynamics;
 
 /// One forcing period of the transient.
@@ -47,24 +47,6 @@ fn counts(events: &[Event]) -> Vec<(usize, u8, usize)> {
         }
     }
     out
-}
-
-/// The forcing phase (from the start of the cycle, in `[0, 2 pi p)`) farthest from every
-/// event of the cycle, the events taken as repeating with the cycle.
-fn quiet_phase(events: &[Event], t_start: f64, omega: f64, p: usize) -> f64 {
-    let span = 2.0 * PI * p as f64;
-    let mut phases: Vec<f64> = events.iter().map(|e| (omega * (e.t - t_start)).clamp(0.0, span)).collect();
-    if phases.is_empty() {
-        return 0.5 * span;
-    }
-    phases.sort_by(f64::total_cmp);
-    let mut best = (span - phases[phases.len() - 1] + phases[0], phases[phases.len() - 1]);
-    for w in phases.windows(2) {
-        if w[1] - w[0] > best.0 {
-            best = (w[1] - w[0], w[0]);
-        }
-    }
-    (best.1 + 0.5 * best.0).rem_euclid(span)
 }
 
 /// A failed attempt.

@@ -17,9 +17,10 @@ use std::f64::consts::PI;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::engine::{Bed, Engine, State};
-use super::observe::{Both, EventLog};
+use super::engine::{Bed, Engine, Event, Quiet, State};
+use super::observe::{Both, EventLog, Extrema};
 use super::periodic::{OrbitError, Return, Section};
+use super::steady::Steady;
 use super::system::Dynamics;
 use super::tangent::Tangent;
 
@@ -46,6 +47,24 @@ impl Rest {
 /// (its map is not smooth: the derivative grows without bound as the speed goes to zero).
 pub const GRAZE: f64 = 1e-6;
 
+/// The forcing phase (from the start of the cycle, in `[0, 2 pi p)`) farthest from every
+/// event of the cycle, the events taken as repeating with the cycle.
+pub fn quiet_phase(events: &[Event], t_start: f64, omega: f64, p: usize) -> f64 {
+    let span = 2.0 * PI * p as f64;
+    let mut phases: Vec<f64> = events.iter().map(|e| (omega * (e.t - t_start)).clamp(0.0, span)).collect();
+    if phases.is_empty() {
+        return 0.5 * span;
+    }
+    phases.sort_by(f64::total_cmp);
+    let mut best = (span - phases[phases.len() - 1] + phases[0], phases[phases.len() - 1]);
+    for w in phases.windows(2) {
+        if w[1] - w[0] > best.0 {
+            best = (w[1] - w[0], w[0]);
+        }
+    }
+    (best.1 + 0.5 * best.0).rem_euclid(span)
+}
+
 /// A stroboscopic section.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Strobe {
@@ -70,6 +89,36 @@ impl Strobe {
         };
         let u = strobe.coordinates_unchecked(d, s);
         (strobe, u)
+    }
+
+    /// The section through a steady state found as an orbit (at its certificate's phase).
+    pub fn of_steady(d: &Dynamics, st: &Steady) -> Option<(Strobe, DVector<f64>)> {
+        let cert = st.certificate.as_ref()?;
+        let mut s = st.final_state.clone();
+        let t = s.t + cert.phase / d.omega;
+        Engine::new(d).advance(&mut s, t, &mut Quiet).ok()?;
+        let length = st.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
+        Some(Strobe::through(d, &s, st.period, length))
+    }
+
+    /// The same orbit on a section at the quietest phase of its events (a continuation moves
+    /// the events; when one reaches the section, the section is moved).
+    pub fn resection(&self, d: &Dynamics, u: &DVector<f64>, events: &[Event]) -> Option<(Strobe, DVector<f64>)> {
+        let mut s = self.state(d, u);
+        let t0 = s.t;
+        let phase = quiet_phase(events, t0, d.omega, self.periods);
+        Engine::new(d).advance(&mut s, t0 + phase / d.omega, &mut Quiet).ok()?;
+        Some(Strobe::through(d, &s, self.periods, self.length))
+    }
+
+    /// Half the peak-to-peak displacement of each mass over one orbit from `u`, m, and the
+    /// events over it.
+    pub fn amplitudes(&self, d: &Dynamics, u: &DVector<f64>) -> Option<Vec<f64>> {
+        let mut s = self.state(d, u);
+        let mut ext = Extrema::new(d.system.dof(), d.system.dampers.len());
+        let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
+        Engine::new(d).advance(&mut s, t_end, &mut ext).ok()?;
+        Some(ext.amplitudes())
     }
 
     /// Number of coordinates.
