@@ -1,27 +1,51 @@
-//! Benchmarks of the simulator: one steady-state point, and the Fig. 8 three-damper sweep.
+//! Benchmarks of the simulator: one steady-state point (as a periodic orbit and by the
+//! transient rule), the Fig. 8 three-damper sweep, the low-damping sweeps, a Fig. 9 branch.
 //! Results and the machine they ran on are recorded in BENCHMARKS.md.
 
 use std::f64::consts::PI;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::sim::steady::SteadyMethod;
 use shotdamp::sim::{steady_state, sweep, Dynamics, State, SteadyOptions, System};
 
-fn three_dampers() -> System {
-    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+/// The paper's structure with modal damping `zeta` and beds (mass ratio 0.1) on `hosts`.
+fn beds(hosts: &[usize], clearance: f64, zeta: f64) -> System {
+    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![zeta; 3]));
     let m = [0.74, 0.71, 0.64];
-    let dampers = (0..3).map(|j| Damper { host: j, mass: 0.1 * m[j], clearance: f64::INFINITY }).collect();
+    let dampers = hosts.iter().map(|&j| Damper { host: j, mass: 0.1 * m[j], clearance }).collect();
     System::plastic(s, dampers, 0, 2.6)
+}
+
+fn three_dampers() -> System {
+    beds(&[0, 1, 2], f64::INFINITY, 0.01)
 }
 
 fn point(c: &mut Criterion) {
     let sys = three_dampers();
-    c.bench_function("steady point N=3 d=inf 49.5 Hz", |b| {
-        b.iter(|| {
-            let d = Dynamics::new(&sys, 2.0 * PI * 49.5).expect("dynamics");
-            steady_state(&d, State::at_rest(&d), &SteadyOptions::default())
-        })
-    });
+    for method in [SteadyMethod::Orbit, SteadyMethod::Transient] {
+        let opts = SteadyOptions { method, ..SteadyOptions::default() };
+        c.bench_function(&format!("steady point N=3 d=inf 49.5 Hz ({})", method.name()), |b| {
+            b.iter(|| {
+                let d = Dynamics::new(&sys, 2.0 * PI * 49.5).expect("dynamics");
+                steady_state(&d, State::at_rest(&d), &opts)
+            })
+        });
+    }
+}
+
+/// Damping 0.002, d = 0.2 mm, 44-56 Hz: one bed on m2 and three beds (121 points each).
+fn low_damping(c: &mut Criterion) {
+    let freqs: Vec<f64> = (0..=120).map(|i| ((440.0 + i as f64) / 10.0 * 1e9).round() / 1e9).collect();
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    for (name, hosts) in [("N=1 (m2)", vec![1]), ("N=3", vec![0, 1, 2])] {
+        let sys = beds(&hosts, 0.2e-3, 0.002);
+        group.bench_function(format!("damping 0.002 d=0.2mm {name} 44-56 Hz (121 points)"), |b| {
+            b.iter(|| sweep::from_rest(&sys, &freqs, &SteadyOptions::default(), &|| {}))
+        });
+    }
+    group.finish();
 }
 
 fn fig08_sweep(c: &mut Criterion) {
@@ -75,6 +99,6 @@ criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = point, fig08_sweep, fig09_branch
+    targets = point, fig08_sweep, low_damping, fig09_branch
 }
 criterion_main!(benches);

@@ -34,15 +34,15 @@ pub fn orbit_vs_simulation(spec: &CheckSpec, r: &OrbitsResult) -> CheckOutcome {
     }
     CheckOutcome {
         name: "exact orbits vs simulation".into(),
-        description: "compliance of every mass: the periodic orbit solved by Newton's method through each settled simulated state, against that simulation".into(),
+        description: "compliance of every mass: the periodic orbit solved on the impact section through each simulated steady state (itself an orbit of the stroboscopic section), against that steady state".into(),
         computed: value,
         expected: 0.0,
         unit: "(largest relative difference)".into(),
         abs_diff: value,
         rel_diff: value,
-        tolerance: format!("{} relative (the simulation settles to a state tolerance)", fmt_num(spec.tolerance.rel)),
+        tolerance: format!("{} relative (two sections, each solved to a residual of ~1e-13)", fmt_num(spec.tolerance.rel)),
         status: status(ok, spec.known_deviation.is_some()),
-        provenance: "the simulation of the same structure in this run (a second method)".into(),
+        provenance: "the steady states of the same structure in this run (another section and another return map)".into(),
         source: Source::Internal,
         reason: spec.known_deviation.clone(),
         detail: Some(detail),

@@ -303,8 +303,11 @@ fn figure_rows(results: &[ExperimentResult]) -> Vec<FigureRow> {
     groups
         .into_iter()
         .map(|g| {
-            let members: Vec<&ExperimentResult> =
+            // The experiment of the paper figure itself first (its deviation and preview stand
+            // for the figure), then its companions ("Fig. 5 (clearance)", ...).
+            let mut members: Vec<&ExperimentResult> =
                 results.iter().filter(|r| figure_group(&r.experiment.meta.figure) == g).collect();
+            members.sort_by_key(|r| r.experiment.meta.figure != g);
             let checks: Vec<&CheckOutcome> = members.iter().flat_map(|r| r.checks.iter()).collect();
             let v = verdict(checks.iter().copied());
             let count = |paper: bool| {
