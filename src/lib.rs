@@ -12,6 +12,7 @@ pub mod cli;
 pub mod error;
 pub mod experiment;
 pub mod model;
+pub mod number;
 pub mod output;
 pub mod signal;
 pub mod sim;

@@ -32,11 +32,7 @@ fn orbit_point(sys: &System, f: f64) -> (Dynamics, shotdamp::sim::Steady) {
 
 /// The section through a certified orbit, and its coordinates.
 fn section(d: &Dynamics, st: &shotdamp::sim::Steady) -> (Strobe, nalgebra::DVector<f64>) {
-    let cert = st.certificate.as_ref().expect("a certified orbit");
-    let mut s = st.final_state.clone();
-    let t = s.t + cert.phase / d.omega;
-    shotdamp::sim::Engine::new(d).advance(&mut s, t, &mut shotdamp::sim::Quiet).unwrap();
-    Strobe::through(d, &s, st.period, st.amplitude.iter().copied().fold(0.0, f64::max))
+    st.section(d).expect("a certified orbit")
 }
 
 #[test]

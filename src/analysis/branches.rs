@@ -8,7 +8,6 @@ use crate::output::figure::{Dash, Marker, Series};
 use crate::output::table::Table;
 use crate::sim::continuation::{continue_branch, BranchEnd, ContinuationOptions, Special};
 use crate::sim::periodic::NewtonOptions;
-use crate::sim::strobe::Strobe;
 use crate::sim::{Dynamics, Steady, System};
 
 /// Most times a branch is moved to a new section when an event reaches the old one.
@@ -43,7 +42,7 @@ pub fn continue_orbit(
 ) -> OrbitCurve {
     let mut out = OrbitCurve { id: id.into(), label: label.into(), ..OrbitCurve::default() };
     let family = |f: f64| Dynamics::new(sys, 2.0 * PI * f);
-    let Some((mut strobe, mut u)) = family(seed_hz).ok().and_then(|d| Strobe::of_steady(&d, seed)) else {
+    let Some((mut strobe, mut u)) = family(seed_hz).ok().and_then(|d| seed.section(&d)) else {
         out.end = "no seed: the point did not end on a certified orbit".into();
         return out;
     };

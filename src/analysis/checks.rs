@@ -1,7 +1,7 @@
 //! Evaluates an experiment's checks against pre-loaded references.
 
-use crate::checks::reference::{Curve as RefCurve, Quantity, ReferenceStore, ValueFile};
-use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Source, Status, Subject};
+use crate::checks::reference::{Curve as RefCurve, ReferenceStore, ValueFile};
+use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Source, Subject};
 
 use std::collections::BTreeMap;
 
@@ -38,14 +38,14 @@ pub fn evaluate(
             CheckKind::ImpulseHistory { case, window } => {
                 out.push(match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
                     (Some(r), Some(d)) => decay_checks::history(spec, r, d, *window),
-                    _ => missing(spec, "reference or impulse run missing"),
+                    _ => CheckOutcome::missing(spec, "reference or impulse run missing"),
                 });
                 continue;
             }
             CheckKind::OrbitVsSimulation => {
                 out.push(match computed.orbits {
                     Some(r) => orbit_checks::orbit_vs_simulation(spec, r),
-                    None => missing(spec, "no periodic orbits computed"),
+                    None => CheckOutcome::missing(spec, "no periodic orbits computed"),
                 });
                 continue;
             }
@@ -59,14 +59,14 @@ pub fn evaluate(
                         }
                         _ => out.push(digitised_checks::tube_check(spec, f, d, c, *mass, *x_px, *y_px)),
                     },
-                    _ => out.push(missing(spec, "digitised curve or computed curve missing")),
+                    _ => out.push(CheckOutcome::missing(spec, "digitised curve or computed curve missing")),
                 }
                 continue;
             }
             CheckKind::DecayTime { case, mass, levels } => {
                 match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
                     (Some(r), Some(d)) => out.extend(decay_checks::decay_time(spec, r, d, *mass, levels)),
-                    _ => out.push(missing(spec, "reference or impulse run missing")),
+                    _ => out.push(CheckOutcome::missing(spec, "reference or impulse run missing")),
                 }
                 continue;
             }
@@ -75,18 +75,18 @@ pub fn evaluate(
         if let CheckKind::Curve { curve, columns, fraction, rel_tol_all } = &spec.kind {
             out.push(match (refs.curve(&spec.reference_file), curves.get(curve)) {
                 (Some(r), Some(c)) => curve_check(exp, spec, r, c, columns, *fraction, *rel_tol_all),
-                (None, _) => missing(spec, "reference curve not loaded"),
-                (_, None) => missing(spec, &format!("no computed curve \"{curve}\"")),
+                (None, _) => CheckOutcome::missing(spec, "reference curve not loaded"),
+                (_, None) => CheckOutcome::missing(spec, &format!("no computed curve \"{curve}\"")),
             });
             continue;
         }
         let Some(file) = refs.values(&spec.reference_file) else {
-            out.push(missing(spec, "reference file not loaded"));
+            out.push(CheckOutcome::missing(spec, "reference file not loaded"));
             continue;
         };
         let known = spec.known_deviation.as_deref();
         match &spec.kind {
-            CheckKind::NaturalFrequency { mode } => match quantity(file, spec) {
+            CheckKind::NaturalFrequency { mode } => match file.for_check(spec) {
                 Some(q) => {
                     let subject = Subject::new(
                         format!("omega_{}", mode + 1),
@@ -98,10 +98,10 @@ pub fn evaluate(
                     let expected = q.value.unwrap_or(f64::NAN);
                     out.push(compare_scalar(subject, modes[*mode].omega, expected, spec.tolerance, known));
                 }
-                None => out.push(missing(spec, "no such quantity")),
+                None => out.push(CheckOutcome::missing(spec, "no such quantity")),
             },
             CheckKind::ModeShape { mode, elements } => {
-                match quantity(file, spec).and_then(|q| q.values.as_ref().map(|v| (q, v))) {
+                match file.for_check(spec).and_then(|q| q.values.as_ref().map(|v| (q, v))) {
                     Some((q, values)) => {
                         for (r, (&c, &e)) in
                             modes[*mode].shape.iter().zip(values).enumerate().filter(|(r, _)| elements.contains(r))
@@ -116,14 +116,14 @@ pub fn evaluate(
                             out.push(compare_scalar(subject, c, e, spec.tolerance, known));
                         }
                     }
-                    None => out.push(missing(spec, "no such vector quantity")),
+                    None => out.push(CheckOutcome::missing(spec, "no such vector quantity")),
                 }
             }
             CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
             CheckKind::PeakRatio { case, over_case, mass, bound, window } => {
                 out.push(claim_checks::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window));
             }
-            CheckKind::MotionTypes { case, present, absent } => match quantity(file, spec) {
+            CheckKind::MotionTypes { case, present, absent } => match file.for_check(spec) {
                 Some(q) => out.push(claim_checks::motion_types(
                     spec,
                     file,
@@ -133,7 +133,7 @@ pub fn evaluate(
                     present,
                     absent,
                 )),
-                None => out.push(missing(spec, "claim not found")),
+                None => out.push(CheckOutcome::missing(spec, "claim not found")),
             },
             CheckKind::RatioOrder { case, over_case, mass, window, than_window } => {
                 out.push(claim_checks::ratio_order(
@@ -147,14 +147,14 @@ pub fn evaluate(
                 ));
             }
             CheckKind::DecayRatio { case, over_case, mass, level } => {
-                match (quantity(file, spec), computed.decays.get(case), computed.decays.get(over_case)) {
+                match (file.for_check(spec), computed.decays.get(case), computed.decays.get(over_case)) {
                     (Some(q), Some(a), Some(b)) => out.push(decay_checks::ratio(spec, file, q, a, b, *mass, *level)),
-                    _ => out.push(missing(spec, "bound or impulse runs missing")),
+                    _ => out.push(CheckOutcome::missing(spec, "bound or impulse runs missing")),
                 }
             }
-            CheckKind::SdofVsSimulation => match (quantity(file, spec), computed.orbits) {
+            CheckKind::SdofVsSimulation => match (file.for_check(spec), computed.orbits) {
                 (Some(q), Some(r)) => out.push(orbit_checks::sdof_vs_simulation(spec, file, q, r, modes)),
-                _ => out.push(missing(spec, "claim or periodic orbits missing")),
+                _ => out.push(CheckOutcome::missing(spec, "claim or periodic orbits missing")),
             },
             CheckKind::Curve { .. }
             | CheckKind::Tube { .. }
@@ -165,10 +165,6 @@ pub fn evaluate(
         }
     }
     out
-}
-
-pub(super) fn quantity<'a>(file: &'a ValueFile, spec: &CheckSpec) -> Option<&'a Quantity> {
-    spec.reference_id.as_deref().and_then(|id| file.get(id))
 }
 
 /// The experiment's masses, stiffnesses and force against the paper's.
@@ -202,24 +198,6 @@ fn parameters(exp: &Experiment, file: &ValueFile, spec: &CheckSpec) -> Vec<Check
             ))
         })
         .collect()
-}
-
-pub(super) fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
-    CheckOutcome {
-        name: format!("{}#{}", spec.reference_file, spec.reference_id.clone().unwrap_or_default()),
-        description: format!("reference missing: {why}"),
-        computed: f64::NAN,
-        expected: f64::NAN,
-        unit: String::new(),
-        abs_diff: f64::NAN,
-        rel_diff: f64::NAN,
-        tolerance: String::new(),
-        status: Status::Fail,
-        provenance: spec.reference_file.clone(),
-        source: Source::Internal,
-        reason: None,
-        detail: None,
-    }
 }
 
 /// The chain springs k_1..k_n behind a chain stiffness matrix (k_1 ties m_1 to ground).

@@ -5,7 +5,6 @@ use crate::checks::reference::ValueFile;
 use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::{Bound, CheckSpec};
 
-use super::checks::{missing, quantity};
 use super::curves::Curves;
 
 fn window_words(w: Option<(f64, f64)>) -> String {
@@ -41,14 +40,16 @@ pub fn peak_ratio(
     bound: &Bound,
     window: Option<(f64, f64)>,
 ) -> CheckOutcome {
-    let Some(first) = quantity(file, spec) else { return missing(spec, "bound not found") };
-    let Some((r, words)) = ratio(curves, cases, mass, window) else { return missing(spec, "curves not computed") };
+    let Some(first) = file.for_check(spec) else { return CheckOutcome::missing(spec, "bound not found") };
+    let Some((r, words)) = ratio(curves, cases, mass, window) else {
+        return CheckOutcome::missing(spec, "curves not computed");
+    };
     let v = first.value.unwrap_or(f64::NAN);
     let slack = spec.tolerance.rel;
     let (ok, expected, tolerance, paper) = match bound {
         Bound::Within { upper_id } => {
             let Some(hi) = file.get(upper_id).and_then(|q| q.value) else {
-                return missing(spec, "upper bound not found");
+                return CheckOutcome::missing(spec, "upper bound not found");
             };
             (
                 r >= v * (1.0 - slack) && r <= hi * (1.0 + slack),
@@ -88,11 +89,11 @@ pub fn ratio_order(
     window: (f64, f64),
     than: (f64, f64),
 ) -> CheckOutcome {
-    let Some(claim) = quantity(file, spec) else { return missing(spec, "claim not found") };
+    let Some(claim) = file.for_check(spec) else { return CheckOutcome::missing(spec, "claim not found") };
     let (Some((a, wa)), Some((b, wb))) =
         (ratio(curves, cases, mass, Some(window)), ratio(curves, cases, mass, Some(than)))
     else {
-        return missing(spec, "curves not computed");
+        return CheckOutcome::missing(spec, "curves not computed");
     };
     CheckOutcome {
         name: format!(

@@ -6,7 +6,6 @@ use crate::checks::reference::{Curve as RefCurve, Quantity, ValueFile};
 use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
 
-use super::checks::missing;
 use super::impulse::{decay_times, Decay};
 
 fn provenance(spec: &CheckSpec) -> String {
@@ -17,7 +16,7 @@ fn provenance(spec: &CheckSpec) -> String {
 /// column relative to that column's largest magnitude in the window.
 pub fn history(spec: &CheckSpec, r: &RefCurve, d: &Decay, window: f64) -> CheckOutcome {
     let s = &d.run.samples;
-    let Some(t_ref) = r.column("t") else { return missing(spec, "the reference has no column t") };
+    let Some(t_ref) = r.column("t") else { return CheckOutcome::missing(spec, "the reference has no column t") };
     let n = d.envelopes.len();
     let dt = s.times.get(1).map_or(f64::NAN, |t1| t1 - s.times[0]);
     let rows: Vec<(usize, usize)> = t_ref
@@ -83,7 +82,7 @@ pub fn history(spec: &CheckSpec, r: &RefCurve, d: &Decay, window: f64) -> CheckO
 /// same estimator on the reference history.
 pub fn decay_time(spec: &CheckSpec, r: &RefCurve, d: &Decay, mass: usize, levels: &[f64]) -> Vec<CheckOutcome> {
     let (Some(t), Some(a)) = (r.column("t"), r.column(&format!("a{}", mass + 1))) else {
-        return vec![missing(spec, "the reference has no columns t and a")];
+        return vec![CheckOutcome::missing(spec, "the reference has no columns t and a")];
     };
     let theirs = decay_times(t, a, levels);
     // Over the reference's span only: "falls for good" depends on how long one looks.

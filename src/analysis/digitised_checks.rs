@@ -124,7 +124,7 @@ pub fn peak_check(
     let (Some(theirs), Some(ours)) =
         (peak(&reference, window.0, window.1), peak(&computed_points(c, mass), window.0, window.1))
     else {
-        return vec![super::checks::missing(spec, "no point of a curve in the window")];
+        return vec![CheckOutcome::missing(spec, "no point of a curve in the window")];
     };
     let w = format!("{}-{} Hz", fmt_num(window.0), fmt_num(window.1));
     let one = |what: &str, o: f64, e: f64, t: &AxisTol, unit: &str| {

@@ -9,7 +9,9 @@ pub mod verdict;
 
 use serde::Serialize;
 
-use crate::experiment::Tolerance;
+use crate::experiment::CheckSpec;
+
+pub use crate::number::{fmt_num, Tolerance};
 
 /// The verdict of one check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -112,6 +114,27 @@ pub struct CheckOutcome {
     pub detail: Option<String>,
 }
 
+impl CheckOutcome {
+    /// A check whose reference is missing: a failure that says why.
+    pub fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
+        CheckOutcome {
+            name: format!("{}#{}", spec.reference_file, spec.reference_id.clone().unwrap_or_default()),
+            description: format!("reference missing: {why}"),
+            computed: f64::NAN,
+            expected: f64::NAN,
+            unit: String::new(),
+            abs_diff: f64::NAN,
+            rel_diff: f64::NAN,
+            tolerance: String::new(),
+            status: Status::Fail,
+            provenance: spec.reference_file.clone(),
+            source: Source::Internal,
+            reason: None,
+            detail: None,
+        }
+    }
+}
+
 /// Formats a tolerance for people.
 pub fn describe_tolerance(t: Tolerance) -> String {
     match (t.rel > 0.0, t.abs > 0.0) {
@@ -119,21 +142,6 @@ pub fn describe_tolerance(t: Tolerance) -> String {
         (true, false) => format!("{:.3} % relative", t.rel * 100.0),
         (false, true) => format!("{} absolute", fmt_num(t.abs)),
         (false, false) => "exact".to_string(),
-    }
-}
-
-/// Number formatting shared by tables and checks.
-pub fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        "0".to_string()
-    } else if !v.is_finite() {
-        format!("{v}")
-    } else if v.abs() >= 1e-3 && v.abs() < 1e5 {
-        let s = format!("{v:.6}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
-    } else {
-        format!("{v:.5e}")
     }
 }
 

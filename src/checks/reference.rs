@@ -45,6 +45,11 @@ pub struct Quantity {
 }
 
 impl ValueFile {
+    /// The quantity a check names with `FILE#ID`.
+    pub fn for_check(&self, spec: &crate::experiment::CheckSpec) -> Option<&Quantity> {
+        spec.reference_id.as_deref().and_then(|id| self.get(id))
+    }
+
     /// Reads and parses a value file.
     pub fn load(path: &Path) -> Result<ValueFile> {
         let text = read_to_string(path)?;

@@ -73,7 +73,7 @@ pub fn figure_group(figure: &str) -> String {
 mod tests {
     use super::*;
     use crate::checks::{compare_scalar, Source, Subject};
-    use crate::experiment::Tolerance;
+    use crate::number::Tolerance;
 
     fn check(source: Source, computed: f64, known: bool) -> CheckOutcome {
         let tol = Tolerance { rel: 0.01, abs: 0.0 };

@@ -322,7 +322,7 @@ pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> R
 fn impulse(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
     let key = |k: &str| format!("analysis.{k}");
     let mass = match a.struck_mass {
-        Some(m) => super::validate::mass_index(path, &key("struck_mass"), m, n)?,
+        Some(m) => super::fields::mass_index(path, &key("struck_mass"), m, n)?,
         None => {
             return Err(Error::invalid(
                 path,

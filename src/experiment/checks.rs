@@ -6,9 +6,10 @@ use std::path::Path;
 use crate::checks::reference::ValueFile;
 use crate::error::{Error, Result};
 
+use super::fields::mass_index;
 use super::raw::RawCheck;
-use super::validate::mass_index;
-use super::{clearance_key, Analysis, CheckKind, CheckSpec, Start, Tolerance};
+use super::{clearance_key, Analysis, CheckKind, CheckSpec, Start};
+use crate::number::Tolerance;
 
 /// The case a check names.
 fn case_ref(path: &Path, key: String, v: &Option<String>, case_ids: &[String]) -> Result<String> {

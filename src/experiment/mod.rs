@@ -3,6 +3,7 @@
 
 mod analysis;
 mod checks;
+mod fields;
 mod load;
 mod outputs;
 pub mod raw;
@@ -12,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::model::{Damper, Structure};
+use crate::number::Tolerance;
 use crate::sim::impulse::ImpulseOptions;
 use crate::sim::SteadyOptions;
 
@@ -274,13 +276,6 @@ pub enum Bound {
     AtLeast,
 }
 
-/// A tolerance: pass when `|computed - expected| <= abs + rel |expected|`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tolerance {
-    pub rel: f64,
-    pub abs: f64,
-}
-
 /// A check to make against a reference.
 #[derive(Debug, Clone)]
 pub struct CheckSpec {
@@ -373,7 +368,7 @@ impl Experiment {
 
 /// The key of a scanned clearance's curve, e.g. `triple@0.2mm`.
 pub fn clearance_key(case: &str, mm: f64) -> String {
-    format!("{case}@{}mm", crate::checks::fmt_num(mm))
+    format!("{case}@{}mm", crate::number::fmt_num(mm))
 }
 
 /// Values experiments export, by experiment id and key.

@@ -4,8 +4,8 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
+use super::fields::{is_identifier, mass_index};
 use super::raw::RawPlot;
-use super::validate::{is_identifier, mass_index};
 use super::{Analysis, Linear, PlotKind, PlotSpec, Scale};
 
 /// Plot kinds each analysis kind can draw.

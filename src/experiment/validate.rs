@@ -10,6 +10,7 @@ use crate::model::{Damper, Damping, Structure};
 
 use super::analysis::{analysis, export_ref};
 use super::checks::check;
+use super::fields::{is_identifier, mass_index};
 use super::outputs::plot;
 use super::raw::{RawCase, RawExperiment, RawStructure};
 use super::{Analysis, Case, Clearance, Excitation, Experiment, Meta};
@@ -102,24 +103,6 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         plots,
         checks,
     })
-}
-
-/// Letters, digits, '_' and '-'.
-pub fn is_identifier(s: &str) -> bool {
-    !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-}
-
-/// A 1-based mass number to a 0-based index.
-pub fn mass_index(path: &Path, key: &str, value: i64, n: usize) -> Result<usize> {
-    if value < 1 || value as usize > n {
-        return Err(Error::invalid(
-            path,
-            key,
-            value,
-            format!("masses are numbered 1 to {n} (the structure has {n} masses)"),
-        ));
-    }
-    Ok(value as usize - 1)
 }
 
 fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<()> {

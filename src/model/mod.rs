@@ -2,6 +2,7 @@
 
 pub mod frf;
 pub mod modal;
+pub mod modes;
 pub mod sdof;
 pub mod structure;
 

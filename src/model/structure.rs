@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::modal::symmetric_modes;
+use super::modes::symmetric_modes;
 
 /// Standard gravity, m/s^2 (MODEL.md section 1).
 pub const GRAVITY: f64 = 9.806_65;

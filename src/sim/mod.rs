@@ -17,7 +17,16 @@ pub mod strobe;
 pub mod sweep;
 pub mod system;
 pub mod tangent;
+pub mod transient;
 
 pub use engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};
-pub use steady::{steady_state, Steady, SteadyOptions};
+pub use steady::{Steady, SteadyMethod, SteadyOptions};
 pub use system::{Dynamics, SetupError, System};
+
+/// Runs from `start` to a steady state and records it.
+pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
+    match opts.method {
+        SteadyMethod::Orbit => orbit_search::orbit_steady(d, start, opts),
+        SteadyMethod::Transient => transient::transient_steady(d, start, opts),
+    }
+}

@@ -249,7 +249,7 @@ impl Section for Problem {
             let mut j = self.restriction(d) * &tangent.m;
             j.set_row(0, &(dt * d.omega));
             let smooth =
-                tangent.simultaneous == 0 && tangent.min_impact_speed > super::strobe::GRAZE * self.length * self.rate;
+                tangent.simultaneous == 0 && tangent.min_impact_speed > super::tangent::GRAZE * self.length * self.rate;
             (j, smooth)
         });
         Ok(Return { image: self.coordinates(d, &at), events: rec.events, jacobian })

@@ -20,9 +20,8 @@ use nalgebra::{DMatrix, DVector};
 use super::engine::{Bed, Engine, Event, Quiet, State};
 use super::observe::{Both, EventLog, Extrema};
 use super::periodic::{OrbitError, Return, Section};
-use super::steady::Steady;
 use super::system::Dynamics;
-use super::tangent::Tangent;
+use super::tangent::{Tangent, GRAZE};
 
 /// Where a bed is on the section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,10 +41,6 @@ impl Rest {
         }
     }
 }
-
-/// Smallest relative impact speed, over `omega L`, below which an orbit counts as grazing
-/// (its map is not smooth: the derivative grows without bound as the speed goes to zero).
-pub const GRAZE: f64 = 1e-6;
 
 /// The forcing phase (from the start of the cycle, in `[0, 2 pi p)`) farthest from every
 /// event of the cycle, the events taken as repeating with the cycle.
@@ -89,16 +84,6 @@ impl Strobe {
         };
         let u = strobe.coordinates_unchecked(d, s);
         (strobe, u)
-    }
-
-    /// The section through a steady state found as an orbit (at its certificate's phase).
-    pub fn of_steady(d: &Dynamics, st: &Steady) -> Option<(Strobe, DVector<f64>)> {
-        let cert = st.certificate.as_ref()?;
-        let mut s = st.final_state.clone();
-        let t = s.t + cert.phase / d.omega;
-        Engine::new(d).advance(&mut s, t, &mut Quiet).ok()?;
-        let length = st.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
-        Some(Strobe::through(d, &s, st.period, length))
     }
 
     /// The same orbit on a section at the quietest phase of its events (a continuation moves

@@ -6,7 +6,8 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 
 use super::engine::{Bed, State};
-use super::steady::{steady_state, Steady, SteadyOptions};
+use super::steady::{Steady, SteadyOptions};
+use super::steady_state;
 use super::system::{Dynamics, SetupError, System};
 
 /// Direction of a continuation sweep.

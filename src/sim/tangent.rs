@@ -28,6 +28,10 @@ use super::engine::{Bed, Observer, State};
 use super::segment::{Segment, Watch};
 use super::system::Dynamics;
 
+/// Smallest relative impact speed, over `omega L`, below which an orbit counts as grazing
+/// (its map is not smooth: the derivative grows without bound as the speed goes to zero).
+pub const GRAZE: f64 = 1e-6;
+
 /// The derivative of the full state with respect to `k` chosen start coordinates.
 #[derive(Debug, Clone)]
 pub struct Tangent {
