@@ -1,5 +1,7 @@
 //! Periodic orbits by shooting against long simulations and the bouncing ball's closed forms.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use nalgebra::DVector;
@@ -77,17 +79,8 @@ fn newton_converges_quadratically() {
     }
 }
 
-/// A 1000 kg host driven to amplitude A = Gamma g / omega^2 with a 1 microgram bed on it.
 fn ball(gamma: f64, restitution: f64) -> Result<Dynamics, SetupError> {
-    let omega = 2.0 * PI * 10.0;
-    let host = Structure::chain(&[1000.0], &[1e6], Damping::ModalRatios(vec![0.05]));
-    let h = receptance(&host, &host.mass_matrix(), 0, omega).unwrap()[0];
-    let force = gamma * GRAVITY / (omega * omega) / h.norm();
-    let mut sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: f64::INFINITY }], 0, force);
-    sys.restitution = restitution;
-    // Impacts slower than this stick (so that chattering ends); the orbits here hit at ~1 m/s.
-    sys.stick_speed = 1e-3;
-    Dynamics::new(&sys, omega)
+    common::bouncing_ball(gamma, restitution)
 }
 
 /// The period-1 orbit of the ball at `gamma`, seeded by a long simulation.

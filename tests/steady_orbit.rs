@@ -3,11 +3,12 @@
 //! one-bed orbits against the impact-section solver, the bouncing ball's period doubling, and
 //! the orbits against long transient runs.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use num_complex::Complex64;
-use shotdamp::model::frf::receptance;
-use shotdamp::model::{Damper, Damping, Structure, GRAVITY};
+use shotdamp::model::{Damper, Damping, Structure};
 use shotdamp::sim::continuation::{continue_branch, ContinuationOptions, Special};
 use shotdamp::sim::periodic::{fd_jacobian, multipliers, seed, solve, summarize, NewtonOptions, Section};
 use shotdamp::sim::steady::SteadyMethod;
@@ -113,16 +114,8 @@ fn ball(gamma: f64) -> Result<Dynamics, SetupError> {
     bouncing_ball(gamma, 0.0)
 }
 
-/// The same with restitution `e` (impacts slower than 1 mm/s stick).
 fn bouncing_ball(gamma: f64, e: f64) -> Result<Dynamics, SetupError> {
-    let omega = 2.0 * PI * 10.0;
-    let host = Structure::chain(&[1000.0], &[1e6], Damping::ModalRatios(vec![0.05]));
-    let h = receptance(&host, &host.mass_matrix(), 0, omega).unwrap()[0];
-    let force = gamma * GRAVITY / (omega * omega) / h.norm();
-    let mut sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: f64::INFINITY }], 0, force);
-    sys.restitution = e;
-    sys.stick_speed = 1e-3;
-    Dynamics::new(&sys, omega)
+    common::bouncing_ball(gamma, e)
 }
 
 #[test]

@@ -279,14 +279,7 @@ impl<'a> Engine<'a> {
                 Bed::Free { .. } => None,
             })
             .collect();
-        let mut hit_beds: Vec<(usize, bool)> = hits
-            .iter()
-            .filter_map(|w| match *w {
-                Watch::GapBottom { bed, .. } => Some((bed, false)),
-                Watch::GapTop { bed, .. } => Some((bed, true)),
-                Watch::Contact { .. } => None,
-            })
-            .collect();
+        let mut hit_beds: Vec<(usize, bool)> = hits.iter().filter_map(Watch::impact).collect();
         hit_beds.sort_by_key(|h| h.0);
         let mut impact_speed = vec![0.0; s.beds.len()];
         for &(j, top) in &hit_beds {

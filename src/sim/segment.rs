@@ -145,6 +145,16 @@ impl Watch {
         }
     }
 
+    /// The bed and side (`true`: top) of an impact this function signals; `None` for a
+    /// contact force.
+    pub fn impact(&self) -> Option<(usize, bool)> {
+        match *self {
+            Watch::GapBottom { bed, .. } => Some((bed, false)),
+            Watch::GapTop { bed, .. } => Some((bed, true)),
+            Watch::Contact { .. } => None,
+        }
+    }
+
     /// Value, derivatives and bound at a point of a segment.
     pub fn taylor(&self, seg: &Segment, d: &Dynamics, pt: &Point) -> Taylor {
         match *self {

@@ -184,13 +184,12 @@ pub struct Steady {
 impl Steady {
     /// The section through a steady state found as an orbit (at its certificate's phase).
     pub fn section(&self, d: &Dynamics) -> Option<(Strobe, DVector<f64>)> {
-        let st = self;
-        let cert = st.certificate.as_ref()?;
-        let mut s = st.final_state.clone();
+        let cert = self.certificate.as_ref()?;
+        let mut s = self.final_state.clone();
         let t = s.t + cert.phase / d.omega;
         Engine::new(d).advance(&mut s, t, &mut Quiet).ok()?;
-        let length = st.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
-        Some(Strobe::through(d, &s, st.period, length))
+        let length = self.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
+        Some(Strobe::through(d, &s, self.period, length))
     }
 }
 

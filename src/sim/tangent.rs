@@ -194,14 +194,7 @@ impl Observer for Tangent {
         if self.dt.is_some() {
             return;
         }
-        let impacts: Vec<(usize, bool)> = hits
-            .iter()
-            .filter_map(|w| match *w {
-                Watch::GapBottom { bed, .. } => Some((bed, false)),
-                Watch::GapTop { bed, .. } => Some((bed, true)),
-                Watch::Contact { .. } => None,
-            })
-            .collect();
+        let impacts: Vec<(usize, bool)> = hits.iter().filter_map(Watch::impact).collect();
         let Some(&(j, top)) = impacts.first() else {
             // Lift-offs: no jump in the state or the vector field.
             self.slave(d, &after.beds);

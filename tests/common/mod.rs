@@ -30,3 +30,19 @@ pub fn experiments(dir: &Path, files: &[&str]) -> PathBuf {
     }
     exps
 }
+
+/// A 1000 kg table driven to amplitude A = Gamma g / omega^2 (10 Hz) with a 1 microgram bed
+/// on it, restitution `e`; impacts slower than 1 mm/s stick (so that chattering ends; the
+/// orbits of the tests hit at ~1 m/s).
+pub fn bouncing_ball(gamma: f64, e: f64) -> Result<shotdamp::sim::Dynamics, shotdamp::sim::SetupError> {
+    use shotdamp::model::{frf::receptance, Damper, Damping, Structure, GRAVITY};
+    let omega = 2.0 * std::f64::consts::PI * 10.0;
+    let host = Structure::chain(&[1000.0], &[1e6], Damping::ModalRatios(vec![0.05]));
+    let h = receptance(&host, &host.mass_matrix(), 0, omega).expect("receptance")[0];
+    let force = gamma * GRAVITY / (omega * omega) / h.norm();
+    let mut sys =
+        shotdamp::sim::System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: f64::INFINITY }], 0, force);
+    sys.restitution = e;
+    sys.stick_speed = 1e-3;
+    shotdamp::sim::Dynamics::new(&sys, omega)
+}
