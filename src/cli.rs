@@ -151,6 +151,20 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// On Ctrl-C (SIGINT) or SIGTERM: removes the staging folder of the report being written
+/// and exits with 128 + the signal number (the previous report stays as it was).
+fn remove_on_interrupt(staging: PathBuf) {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else { return };
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            eprintln!("interrupted: removing {}", staging.display());
+            let _ = std::fs::remove_dir_all(&staging);
+            std::process::exit(128 + sig);
+        }
+    });
+}
+
 /// Runs a command; `Ok(false)` when a check failed.
 pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
     match &cli.command {
@@ -376,6 +390,7 @@ fn run_and_write(
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, baseline_mode)?;
     let writer = ReportWriter::create(out, templates)?;
+    remove_on_interrupt(writer.staging_dir().to_path_buf());
     let pool = pool(jobs)?;
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };

@@ -14,13 +14,13 @@ pub enum Error {
     /// An input file is not valid TOML or does not have the expected shape.
     #[error("{file}: {message}")]
     Parse { file: String, message: String },
-    /// Reading or writing a file failed.
-    #[error("{path}: {source}")]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// Reading or writing a file failed. (The OS error is part of the message, not a
+    /// `source`: printed with its chain, it would otherwise appear twice.)
+    #[error("{path}: {error}")]
+    Io { path: PathBuf, error: std::io::Error },
+    /// An output folder that shotdamp may not replace.
+    #[error("{path}: {message}")]
+    Destination { path: PathBuf, message: String },
     /// A data table could not be written or read.
     #[error("{path}: {message}")]
     Table { path: PathBuf, message: String },
@@ -47,7 +47,7 @@ impl Error {
 
     /// An I/O error on `path`.
     pub fn io(path: impl AsRef<Path>, source: std::io::Error) -> Error {
-        Error::Io { path: path.as_ref().to_path_buf(), source }
+        Error::Io { path: path.as_ref().to_path_buf(), error: source }
     }
 
     /// True for errors caused by the user's input (exit code 2 at the edge, like I/O).

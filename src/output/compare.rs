@@ -107,14 +107,8 @@ pub fn write(a: &Path, b: &Path, out: &Path) -> Result<PathBuf> {
     }
     let (ca, cb) = (checks(a)?, checks(b)?);
     let (fa, fb) = (figures(a)?, figures(b)?);
-    let staging = out.with_file_name(format!(
-        ".{}.tmp-{}",
-        out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "comparison".into()),
-        std::process::id()
-    ));
-    if staging.exists() {
-        std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
-    }
+    let stage = super::destination::Staging::create(out)?;
+    let staging = stage.dir().to_path_buf();
     let mut pairs = Vec::new();
     let ids: std::collections::BTreeSet<&String> = fa.keys().chain(fb.keys()).collect();
     for id in ids {
@@ -182,12 +176,7 @@ pub fn write(a: &Path, b: &Path, out: &Path) -> Result<PathBuf> {
     };
     let tera = super::report::templates(None)?;
     let html = super::report::render(&tera, "compare.html", &view)?;
-    std::fs::create_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
     std::fs::write(staging.join("index.html"), html).map_err(|e| Error::io(&staging, e))?;
     std::fs::write(staging.join("style.css"), super::report::STYLE_CSS).map_err(|e| Error::io(&staging, e))?;
-    if out.exists() {
-        std::fs::remove_dir_all(out).map_err(|e| Error::io(out, e))?;
-    }
-    std::fs::rename(&staging, out).map_err(|e| Error::io(out, e))?;
-    Ok(out.join("index.html"))
+    Ok(stage.commit()?.join("index.html"))
 }

@@ -2,6 +2,7 @@
 //! owner of destinations; exporters render to bytes or draw to a path it gives them.
 
 pub mod compare;
+pub mod destination;
 pub mod figure;
 pub mod junit;
 pub mod plot;
@@ -17,10 +18,10 @@ use crate::checks::CheckOutcome;
 use crate::error::{Error, Result};
 
 /// Writes a report into a fresh staging folder next to the destination and renames it into
-/// place only when everything is written: a failed run leaves the previous report intact.
+/// place only when everything is written: a failed run leaves the previous report intact
+/// ([`destination`]: what may be replaced).
 pub struct ReportWriter {
-    out: PathBuf,
-    staging: PathBuf,
+    staging: destination::Staging,
     tera: tera::Tera,
 }
 
@@ -32,41 +33,28 @@ fn mkdir(path: &Path) -> Result<()> {
     std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))
 }
 
-/// The staging or backup sibling of `out`.
-fn sibling(out: &Path, tag: &str) -> PathBuf {
-    let name = out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "reports".into());
-    out.with_file_name(format!(".{name}.{tag}-{}", std::process::id()))
-}
-
 impl ReportWriter {
     /// Prepares a staging folder for a report that will end up at `out`. Fails before any
     /// long run when the destination cannot be written.
     pub fn create(out: &Path, templates_dir: Option<&Path>) -> Result<ReportWriter> {
-        let out = if out.is_absolute() {
-            out.to_path_buf()
-        } else {
-            std::env::current_dir().map_err(|e| Error::io(".", e))?.join(out)
-        };
-        if let Some(parent) = out.parent() {
-            mkdir(parent)?;
-        }
-        let staging = sibling(&out, "tmp");
-        if staging.exists() {
-            std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
-        }
-        mkdir(&staging)?;
         let tera = report::templates(templates_dir)?;
-        Ok(ReportWriter { out, staging, tera })
+        let staging = destination::Staging::create(out)?;
+        Ok(ReportWriter { staging, tera })
     }
 
     /// Where the report will be.
     pub fn destination(&self) -> &Path {
-        &self.out
+        self.staging.destination()
+    }
+
+    /// The staging folder (removed when the run is interrupted).
+    pub fn staging_dir(&self) -> &Path {
+        self.staging.dir()
     }
 
     /// Writes one experiment's folder: figures (PNG, SVG), tables (CSV, Parquet), page.
     pub fn write_experiment(&self, r: &ExperimentResult, source_file: &str) -> Result<()> {
-        let dir = self.staging.join(&r.experiment.meta.id);
+        let dir = self.staging.dir().join(&r.experiment.meta.id);
         let data = dir.join("data");
         mkdir(&data)?;
         for t in &r.tables {
@@ -84,30 +72,18 @@ impl ReportWriter {
 
     /// Writes the index, the stylesheet and `checks.json`, then moves the report into place.
     pub fn finish(self, results: &[ExperimentResult]) -> Result<PathBuf> {
-        write(&self.staging.join("style.css"), report::STYLE_CSS.as_bytes())?;
+        let dir = self.staging.dir();
+        write(&dir.join("style.css"), report::STYLE_CSS.as_bytes())?;
         let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
-        write(&self.staging.join("index.html"), index.as_bytes())?;
-        write(&self.staging.join("checks.json"), &checks_json(results)?)?;
-        write(&self.staging.join("junit.xml"), junit::render(results).as_bytes())?;
-
-        let backup = sibling(&self.out, "old");
-        if self.out.exists() {
-            std::fs::rename(&self.out, &backup).map_err(|e| Error::io(&self.out, e))?;
-        }
-        if let Err(e) = std::fs::rename(&self.staging, &self.out) {
-            // Put the previous report back before failing.
-            let _ = std::fs::rename(&backup, &self.out);
-            return Err(Error::io(&self.out, e));
-        }
-        if backup.exists() {
-            std::fs::remove_dir_all(&backup).map_err(|e| Error::io(&backup, e))?;
-        }
-        Ok(self.out.clone())
+        write(&dir.join("index.html"), index.as_bytes())?;
+        write(&dir.join("checks.json"), &checks_json(results)?)?;
+        write(&dir.join("junit.xml"), junit::render(results).as_bytes())?;
+        self.staging.commit()
     }
 
     /// Removes the staging folder of an abandoned report.
     pub fn abandon(self) {
-        let _ = std::fs::remove_dir_all(&self.staging);
+        self.staging.abandon();
     }
 }
 

@@ -1,0 +1,184 @@
+//! Output folders. A report is written into a new staging folder beside its destination and
+//! renamed into place at the end, so a failed or interrupted run leaves the previous report
+//! intact. shotdamp replaces only a folder that it wrote itself (it carries the marker file
+//! [`MARKER`]) or an empty one: a folder of someone else's files, or a path that is a file, is
+//! refused before the run starts. Nothing of the user's is moved, renamed or deleted.
+//!
+//! Staging folders are `.NAME.tmp-PID` beside the destination; the next run into the same
+//! destination removes those of processes that no longer run (never a live one).
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// The marker file every report folder carries.
+pub const MARKER: &str = ".shotdamp-report";
+
+/// The marker's text (fixed, so that a tracked copy never shows as changed).
+pub const MARKER_TEXT: &str = "This folder was written by shotdamp. shotdamp replaces it on its next run into this folder;\nfiles added here are lost then.\n";
+
+/// The README every report folder carries (the same bytes as the tracked `reports/README.md`).
+pub const README: &str = include_str!("../../reports/README.md");
+
+/// A report being written.
+pub struct Staging {
+    out: PathBuf,
+    dir: PathBuf,
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |e| Error::io(path, e)
+}
+
+/// The staging or backup sibling of `out` for process `pid`.
+fn sibling(out: &Path, tag: &str, pid: u32) -> PathBuf {
+    out.with_file_name(format!(".{}.{tag}-{pid}", name(out)))
+}
+
+fn name(out: &Path) -> String {
+    out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "reports".into())
+}
+
+/// Whether `out` may be replaced: it does not exist, or it is a folder that shotdamp wrote or
+/// an empty one. Anything else is an error that says what is there and what to do.
+pub fn check(out: &Path) -> Result<()> {
+    let meta = match std::fs::symlink_metadata(out) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(Error::io(out, e)),
+    };
+    let refuse = |what: String| {
+        Error::Destination {
+        path: out.to_path_buf(),
+        message: format!(
+            "{what}; shotdamp replaces only a folder it wrote itself (with a {MARKER} file) or an empty one. Give --out a new folder, or move those files away first"
+        ),
+    }
+    };
+    if !meta.is_dir() {
+        return Err(refuse(if meta.file_type().is_symlink() {
+            "is a symbolic link, not a folder".into()
+        } else {
+            "is a file, not a folder".into()
+        }));
+    }
+    if out.join(MARKER).is_file() {
+        return Ok(());
+    }
+    let entries: Vec<String> = std::fs::read_dir(out)
+        .map_err(io(out))?
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let mut shown: Vec<&str> = entries.iter().map(String::as_str).take(3).collect();
+    shown.sort_unstable();
+    let more = if entries.len() > 3 { format!(" and {} more", entries.len() - 3) } else { String::new() };
+    Err(refuse(format!(
+        "is a folder that shotdamp did not write ({} {}: {}{more})",
+        entries.len(),
+        if entries.len() == 1 { "entry" } else { "entries" },
+        shown.join(", ")
+    )))
+}
+
+/// Whether process `pid` is running (on systems without `/proc`: assumed running).
+fn running(pid: u32) -> bool {
+    !Path::new("/proc/self").exists() || Path::new(&format!("/proc/{pid}")).exists()
+}
+
+/// Removes the staging and backup folders beside `out` left by processes that no longer run.
+/// Returns the folders removed.
+pub fn remove_stale(out: &Path) -> Vec<PathBuf> {
+    let Some(parent) = out.parent() else { return Vec::new() };
+    let Ok(entries) = std::fs::read_dir(parent) else { return Vec::new() };
+    let prefixes = [format!(".{}.tmp-", name(out)), format!(".{}.old-", name(out))];
+    let mut removed = Vec::new();
+    for e in entries.filter_map(|e| e.ok()) {
+        let file = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = prefixes.iter().find_map(|p| file.strip_prefix(p.as_str())).and_then(|s| s.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        let path = e.path();
+        // Only folders shotdamp wrote (a staging folder carries the marker from its start).
+        if pid != std::process::id()
+            && !running(pid)
+            && path.join(MARKER).is_file()
+            && std::fs::remove_dir_all(&path).is_ok()
+        {
+            removed.push(path);
+        }
+    }
+    removed
+}
+
+impl Staging {
+    /// Checks the destination and prepares a staging folder for it (with the marker and the
+    /// README), before any long run.
+    pub fn create(out: &Path) -> Result<Staging> {
+        let out = if out.is_absolute() {
+            out.to_path_buf()
+        } else {
+            std::env::current_dir().map_err(|e| Error::io(".", e))?.join(out)
+        };
+        check(&out)?;
+        if let Some(parent) = out.parent() {
+            std::fs::create_dir_all(parent).map_err(io(parent))?;
+        }
+        remove_stale(&out);
+        let dir = sibling(&out, "tmp", std::process::id());
+        if dir.exists() {
+            std::fs::remove_dir_all(&dir).map_err(io(&dir))?;
+        }
+        std::fs::create_dir_all(&dir).map_err(io(&dir))?;
+        std::fs::write(dir.join(MARKER), MARKER_TEXT).map_err(io(&dir))?;
+        std::fs::write(dir.join("README.md"), README).map_err(io(&dir))?;
+        Ok(Staging { out, dir })
+    }
+
+    /// The staging folder (what an interrupt handler removes).
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Where the report will be.
+    pub fn destination(&self) -> &Path {
+        &self.out
+    }
+
+    /// Moves the report into place; the previous one (checked again: it may have changed
+    /// during the run) is removed only after the new one is there.
+    pub fn commit(self) -> Result<PathBuf> {
+        // (`self` is dropped at the end: its staging folder is gone by then, or abandoned.)
+        check(&self.out)?;
+        let backup = sibling(&self.out, "old", std::process::id());
+        let had_old = self.out.exists();
+        if had_old {
+            std::fs::rename(&self.out, &backup).map_err(io(&self.out))?;
+        }
+        if let Err(e) = std::fs::rename(&self.dir, &self.out) {
+            if had_old {
+                let _ = std::fs::rename(&backup, &self.out);
+            }
+            return Err(Error::io(&self.out, e));
+        }
+        if had_old {
+            std::fs::remove_dir_all(&backup).map_err(io(&backup))?;
+        }
+        Ok(self.out.clone())
+    }
+
+    /// Removes the staging folder of an abandoned report (as dropping it does).
+    pub fn abandon(self) {}
+}
+
+impl Drop for Staging {
+    /// A report that was not committed leaves nothing behind (after a commit the staging
+    /// folder no longer exists).
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
