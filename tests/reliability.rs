@@ -138,3 +138,102 @@ fn a_missing_file_is_named_once_with_its_os_error_once() {
     assert_eq!(msg.matches("no-such-experiment.toml").count(), 1, "{msg}");
     assert_eq!(msg.matches("No such file or directory").count(), 1, "{msg}");
 }
+
+/// A copy of `reference/` in `dir` with `file` rewritten by `edit` (rows as CSV cells).
+fn corrupted_reference(dir: &Path, file: &str, edit: impl Fn(&mut Vec<Vec<String>>)) -> std::path::PathBuf {
+    let refs = dir.join("reference");
+    copy_tree(&common::repo().join("reference"), &refs);
+    let path = refs.join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut rows: Vec<Vec<String>> = text.lines().map(|l| l.split(',').map(str::to_string).collect()).collect();
+    edit(&mut rows);
+    let out: Vec<String> = rows.iter().map(|r| r.join(",")).collect();
+    std::fs::write(&path, out.join("\n") + "\n").unwrap();
+    refs
+}
+
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_dir() {
+            copy_tree(&e.path(), &to.join(e.file_name()));
+        } else {
+            std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+        }
+    }
+}
+
+/// Runs the Fig. 8 experiment against a reference folder; exit code and stderr.
+fn fig08_with(refs: &Path, dir: &Path) -> (Option<i32>, String) {
+    let out = shotdamp()
+        .arg("--reference")
+        .arg(refs)
+        .arg("run")
+        .arg("experiments/fig08_number_of_dampers.toml")
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    (out.status.code(), stderr(&out))
+}
+
+#[test]
+fn a_corrupted_reference_curve_is_an_input_error_naming_file_line_column_and_value() {
+    let file = "independent-solver/P_dinf_N3.csv";
+    type Edit = Box<dyn Fn(&mut Vec<Vec<String>>)>;
+    let cases: Vec<(&str, Edit, &[&str])> = vec![
+        (
+            "a word in c2",
+            Box::new(|r| r[10][2] = "abc".into()),
+            &["line 11", "column c2", "\"abc\"", "a finite number"],
+        ),
+        ("nan in c1", Box::new(|r| r[20][1] = "nan".into()), &["line 21", "column c1", "finite"]),
+        ("inf in c3", Box::new(|r| r[5][3] = "inf".into()), &["line 6", "column c3", "finite"]),
+        ("an empty cell", Box::new(|r| r[7][1] = String::new()), &["line 8", "column c1"]),
+        (
+            "c2 and c3 deleted",
+            Box::new(|r| r.iter_mut().for_each(|row| drop(row.drain(2..4)))),
+            &["needs the columns", "c2", "c3"],
+        ),
+        (
+            "a duplicated row",
+            Box::new(|r| {
+                let dup = r[29].clone();
+                r.insert(30, dup)
+            }),
+            &["line 31", "freq_hz", "increase strictly"],
+        ),
+        ("converged = 2", Box::new(|r| r[40][4] = "2".into()), &["line 41", "converged", "0 or 1"]),
+        ("period 1.5", Box::new(|r| r[40][5] = "1.5".into()), &["line 41", "period", "whole number"]),
+    ];
+    for (what, edit, words) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let refs = corrupted_reference(dir.path(), file, edit);
+        let (code, msg) = fig08_with(&refs, dir.path());
+        assert_eq!(code, Some(2), "{what}: {msg}");
+        assert!(msg.contains("P_dinf_N3.csv"), "{what}: names the file: {msg}");
+        for w in words {
+            assert!(msg.contains(w), "{what}: says {w:?}: {msg}");
+        }
+        assert!(!dir.path().join("out").exists(), "{what}: no report is written");
+    }
+}
+
+#[test]
+fn non_finite_paper_values_are_input_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let refs = dir.path().join("reference");
+    copy_tree(&common::repo().join("reference"), &refs);
+    let path = refs.join("paper-text.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (head, tail) = text.split_once("value = ").unwrap();
+    let rest = tail.split_once('\n').unwrap().1;
+    std::fs::write(&path, format!("{head}value = nan\n{rest}")).unwrap();
+    let (code, msg) = fig08_with(&refs, dir.path());
+    assert_eq!(code, Some(2), "{msg}");
+    assert!(
+        msg.contains("paper-text.toml") && msg.contains(".value = NaN") && msg.contains("a finite number"),
+        "{msg}"
+    );
+}

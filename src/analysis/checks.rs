@@ -228,7 +228,7 @@ fn curve_check(
     let conv = r.column("converged");
     let per = r.column("period");
     let mut diffs: Vec<(f64, f64, usize, f64, f64)> = Vec::new(); // (rel, f, mass, ours, theirs)
-    let (mut missing_points, mut disagree) = (0, 0);
+    let (mut missing_points, mut disagree, mut neither, mut compared) = (0, 0, 0, 0);
     for (k, &f) in freq.iter().enumerate() {
         let ref_regular = conv.is_none_or(|v| v[k] == 1.0) && per.is_none_or(|v| v[k] == 1.0);
         let Some(i) = c.index_of(f) else {
@@ -238,23 +238,32 @@ fn curve_check(
         if !(ref_regular && c.regular(i)) {
             if ref_regular != c.regular(i) {
                 disagree += 1;
+            } else {
+                neither += 1;
             }
             continue;
         }
+        compared += 1;
         for m in 0..n {
+            // The loader made sure the columns are there (ReferenceStore::load).
             if let Some(col) = r.column(&format!("{prefix}c{}", m + 1)) {
                 let (ours, theirs) = (c.compliance[i][m], col[k]);
                 diffs.push(((ours - theirs).abs() / theirs.abs(), f, m, ours, theirs));
             }
         }
     }
+    // Points not compared count against the fraction: a reference that quietly stops being
+    // compared must not pass.
+    let enough = compared as f64 >= fraction * freq.len() as f64;
     let total = diffs.len();
     let within = diffs.iter().filter(|d| d.0 <= spec.tolerance.rel).count();
     let worst = diffs.iter().copied().max_by(|a, b| a.0.total_cmp(&b.0));
     let achieved = if total > 0 { within as f64 / total as f64 } else { 0.0 };
-    let ok = total > 0 && missing_points == 0 && achieved >= fraction && worst.is_none_or(|w| w.0 <= rel_all);
+    let ok = total > 0 && enough && missing_points == 0 && achieved >= fraction && worst.is_none_or(|w| w.0 <= rel_all);
     let mut detail = format!(
-        "{within} of {total} values (mass x frequency) within {} ({:.1} %, {:.0} % required)",
+        "{compared} of the reference's {} points compared{}; {within} of {total} values (mass x frequency) within {} ({:.1} %, {:.0} % required)",
+        freq.len(),
+        if enough { String::new() } else { format!(", fewer than the {:.0} % required", 100.0 * fraction) },
         fmt_num(spec.tolerance.rel),
         100.0 * achieved,
         100.0 * fraction
@@ -271,6 +280,9 @@ fn curve_check(
     }
     if disagree > 0 {
         detail += &format!("; {disagree} points settled and period-1 on one side only (not compared)");
+    }
+    if neither > 0 {
+        detail += &format!("; {neither} points settled and period-1 on neither side (not compared)");
     }
     if missing_points > 0 {
         detail += &format!("; {missing_points} reference frequencies not computed");

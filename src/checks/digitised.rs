@@ -293,6 +293,37 @@ pub fn import_wpd_csv(file: &str, text: &str, info: &ImportInfo) -> Result<Digit
 /// Reads a digitised reference file.
 pub fn load(path: &std::path::Path) -> Result<DigitisedFile> {
     let text = crate::error::read_to_string(path)?;
-    toml::from_str(&text)
-        .map_err(|e| Error::Parse { file: path.display().to_string(), message: e.to_string().trim_end().to_string() })
+    let file: DigitisedFile = toml::from_str(&text).map_err(|e| Error::Parse {
+        file: path.display().to_string(),
+        message: e.to_string().trim_end().to_string(),
+    })?;
+    validate(path, &file)?;
+    Ok(file)
+}
+
+/// Pixel sizes are positive and finite; every curve has as many finite x as y values (positive
+/// on a log axis), at least one.
+fn validate(path: &std::path::Path, f: &DigitisedFile) -> Result<()> {
+    for (key, v) in [("meta.x_pixel", f.meta.x_pixel), ("meta.y_pixel", f.meta.y_pixel)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::invalid(path, key, v, "a positive size of one pixel in data units"));
+        }
+    }
+    for (k, c) in f.curve.iter().enumerate() {
+        if c.x.is_empty() || c.x.len() != c.y.len() {
+            return Err(Error::invalid(
+                path,
+                format!("curve[{k}] (\"{}\")", c.name),
+                format!("{} x and {} y values", c.x.len(), c.y.len()),
+                "as many x as y values, at least one",
+            ));
+        }
+        for (axis, values, log) in [("x", &c.x, f.meta.x_log), ("y", &c.y, f.meta.y_log)] {
+            if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite() || (log && **v <= 0.0)) {
+                let allowed = if log { "a positive finite number (log axis)" } else { "a finite number" };
+                return Err(Error::invalid(path, format!("curve[{k}] (\"{}\").{axis}[{i}]", c.name), v, allowed));
+            }
+        }
+    }
+    Ok(())
 }

@@ -50,13 +50,39 @@ impl ValueFile {
         spec.reference_id.as_deref().and_then(|id| self.get(id))
     }
 
-    /// Reads and parses a value file.
+    /// Reads, parses and validates a value file: ids are unique; a quantity has a finite
+    /// `value`, a non-empty list of finite `values`, or neither (a claim in words).
     pub fn load(path: &Path) -> Result<ValueFile> {
         let text = read_to_string(path)?;
-        toml::from_str(&text).map_err(|e| Error::Parse {
+        let file: ValueFile = toml::from_str(&text).map_err(|e| Error::Parse {
             file: path.display().to_string(),
             message: e.to_string().trim_end().to_string(),
-        })
+        })?;
+        for (k, q) in file.quantities.iter().enumerate() {
+            let key = |what: &str| format!("quantity[{k}] (id \"{}\").{what}", q.id);
+            if file.quantities[..k].iter().any(|p| p.id == q.id) {
+                return Err(Error::invalid(path, key("id"), &q.id, "ids are unique within a file"));
+            }
+            match (q.value, &q.values) {
+                (Some(v), None) if !v.is_finite() => {
+                    return Err(Error::invalid(path, key("value"), v, "a finite number"))
+                }
+                (None, Some(vs)) if vs.is_empty() => {
+                    return Err(Error::invalid(path, key("values"), "[]", "at least one finite number"))
+                }
+                (None, Some(vs)) => {
+                    if let Some((i, v)) = vs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                        return Err(Error::invalid(path, key(&format!("values[{i}]")), v, "a finite number"));
+                    }
+                }
+                (Some(_), Some(_)) => {
+                    return Err(Error::invalid(path, key("value"), "(both value and values)", "give one of them"))
+                }
+                // A number, or a claim stated in words (its check says how it is judged).
+                _ => {}
+            }
+        }
+        Ok(file)
     }
 
     /// The quantity with this id.
@@ -77,33 +103,127 @@ pub struct Curve {
     pub columns: std::collections::BTreeMap<String, Vec<f64>>,
 }
 
+/// Text columns a reference curve may have (event kinds, bed states); every other column is
+/// numbers.
+fn is_text_column(name: &str) -> bool {
+    name == "kind" || name.strip_prefix("state").is_some_and(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit()))
+}
+
 impl Curve {
-    /// Reads a CSV file with a header; numeric columns are kept, text columns dropped.
+    /// Reads a CSV reference with a header and validates it as strictly as the experiment
+    /// files: every value of every column but the text ones (`kind`, `stateN`) is a finite
+    /// number; `freq_hz` strictly increases (no duplicate rows); `t` never decreases;
+    /// `converged` is 0 or 1; `period` is a whole number, 0 only where `converged` is 0. An
+    /// error names the file, the line, the column and the value.
     pub fn load(path: &Path) -> Result<Curve> {
         use polars::prelude::*;
         let err = |m: String| Error::Table { path: path.to_path_buf(), message: m };
+        let bad = |line: usize, name: &str, value: String, what: &str| {
+            Error::invalid(path, format!("line {line}, column {name}"), value, what.to_string())
+        };
         let df = crate::output::table::read_csv(path)?;
+        if df.height() == 0 {
+            return Err(err("no rows: a reference curve needs at least one".into()));
+        }
         let mut columns = std::collections::BTreeMap::new();
         for col in df.columns() {
-            if !col.dtype().is_primitive_numeric() {
+            let name = col.name().to_string();
+            if is_text_column(&name) {
                 continue;
             }
-            let name = col.name().to_string();
+            if !col.dtype().is_primitive_numeric() {
+                // Name the first cell that is not a number.
+                let text = col.cast(&DataType::String).map_err(|e| err(format!("column \"{name}\": {e}")))?;
+                let cells = text.str().map_err(|e| err(format!("column \"{name}\": {e}")))?;
+                for (k, cell) in cells.iter().enumerate() {
+                    let cell = cell.unwrap_or("");
+                    if cell.trim().parse::<f64>().map_or(true, |v| !v.is_finite()) {
+                        return Err(bad(k + 2, &name, format!("\"{cell}\""), "a finite number"));
+                    }
+                }
+                return Err(err(format!("column \"{name}\" is not numeric")));
+            }
             let cast = col.cast(&DataType::Float64).map_err(|e| err(format!("column \"{name}\": {e}")))?;
-            let values = cast
-                .f64()
-                .map_err(|e| err(format!("column \"{name}\": {e}")))?
-                .iter()
-                .map(|v| v.ok_or_else(|| err(format!("column \"{name}\" has an empty value"))))
-                .collect::<Result<Vec<f64>>>()?;
+            let mut values = Vec::with_capacity(df.height());
+            for (k, v) in cast.f64().map_err(|e| err(format!("column \"{name}\": {e}")))?.iter().enumerate() {
+                match v {
+                    Some(v) if v.is_finite() => values.push(v),
+                    Some(v) => return Err(bad(k + 2, &name, v.to_string(), "a finite number")),
+                    None => return Err(bad(k + 2, &name, "(empty)".to_string(), "a finite number")),
+                }
+            }
             columns.insert(name, values);
         }
-        Ok(Curve { path: path.display().to_string(), columns })
+        let curve = Curve { path: path.display().to_string(), columns };
+        curve.validate(path)?;
+        Ok(curve)
+    }
+
+    /// The rules of the named columns.
+    fn validate(&self, path: &Path) -> Result<()> {
+        let bad = |line: usize, name: &str, value: f64, what: &str| {
+            Err(Error::invalid(path, format!("line {line}, column {name}"), value, what.to_string()))
+        };
+        if let Some(f) = self.column("freq_hz") {
+            if let Some(k) = (1..f.len()).find(|&k| f[k] <= f[k - 1]) {
+                return bad(
+                    k + 2,
+                    "freq_hz",
+                    f[k],
+                    &format!("frequencies increase strictly (the line before has {})", f[k - 1]),
+                );
+            }
+        }
+        if let Some(t) = self.column("t") {
+            if let Some(k) = (1..t.len()).find(|&k| t[k] < t[k - 1]) {
+                return bad(k + 2, "t", t[k], &format!("times never decrease (the line before has {})", t[k - 1]));
+            }
+        }
+        let conv = self.column("converged");
+        if let Some(c) = conv {
+            if let Some(k) = c.iter().position(|&v| v != 0.0 && v != 1.0) {
+                return bad(k + 2, "converged", c[k], "0 or 1");
+            }
+        }
+        if let Some(p) = self.column("period") {
+            for (k, &v) in p.iter().enumerate() {
+                let settled = conv.is_none_or(|c| c[k] == 1.0);
+                if v < 0.0 || v.fract() != 0.0 || (v == 0.0 && settled) {
+                    return bad(k + 2, "period", v, "a whole number of forcing periods, 0 only where converged is 0");
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Fails unless every column in `names` is there, saying which check needs them.
+    pub fn require(&self, names: &[String], who: &str) -> Result<()> {
+        let missing: Vec<&String> = names.iter().filter(|n| self.column(n).is_none()).collect();
+        if missing.is_empty() {
+            return Ok(());
+        }
+        let have: Vec<&String> = self.columns.keys().collect();
+        Err(Error::invalid(&self.path, "columns", format!("{have:?}"), format!("{who} needs the columns {missing:?}")))
     }
 
     /// A column by name.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         self.columns.get(name).map(Vec::as_slice)
+    }
+}
+
+/// The columns of a reference curve a check reads.
+fn needed_columns(kind: &crate::experiment::CheckKind, n: usize) -> Vec<String> {
+    use crate::experiment::CheckKind;
+    match kind {
+        CheckKind::Curve { columns, .. } => {
+            std::iter::once("freq_hz".to_string()).chain((1..=n).map(|m| format!("{columns}c{m}"))).collect()
+        }
+        CheckKind::ImpulseHistory { .. } => std::iter::once("t".to_string())
+            .chain(["x", "v", "a"].iter().flat_map(|q| (1..=n).map(move |m| format!("{q}{m}"))))
+            .collect(),
+        CheckKind::DecayTime { mass, .. } => vec!["t".to_string(), format!("a{}", mass + 1)],
+        _ => Vec::new(),
     }
 }
 
@@ -150,6 +270,10 @@ impl ReferenceStore {
                 }
                 if file.ends_with(".csv") && !store.curves.contains_key(file) {
                     store.curves.insert(file.clone(), Curve::load(&dir.join(file))?);
+                }
+                if let Some(curve) = store.curves.get(file) {
+                    let who = format!("the check of {} against it", exp.path.display());
+                    curve.require(&needed_columns(&check.kind, exp.structure.dof()), &who)?;
                 }
             }
         }
