@@ -122,7 +122,7 @@ fn plastic_bouncing_ball_flight_durations() {
 }
 
 /// The same model integrated by an adaptive Runge-Kutta method (Dormand-Prince 5(4)) with
-/// events found by bisection on the step, and contacts released by MODEL.md's rule (most
+/// events found by bisection on the step, and contacts released by the rule of docs/model.md section 2 (most
 /// negative first). It shares nothing with the closed-form simulator but the model.
 mod rk {
     use super::*;

@@ -1,4 +1,4 @@
-//! Exact linear frequency response (MODEL.md section 3, "Linear references").
+//! Exact linear frequency response (docs/model.md section 3, "Linear references").
 
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;

@@ -1,4 +1,4 @@
-//! The equivalent single-degree-of-freedom model of one mode (paper section 2.2, MODEL.md
+//! The equivalent single-degree-of-freedom model of one mode (paper section 2.2, docs/model.md
 //! section 4): modal mass, stiffness and damping of the mode shape normalised to a largest
 //! element of +1, the force on the mode, and the mass ratio of Eq. 13.
 

@@ -1,11 +1,11 @@
 //! The primary structure: lumped masses in a chain, its stiffness and its fixed damping
-//! matrix (MODEL.md section 1).
+//! matrix (docs/model.md section 1).
 
 use nalgebra::{DMatrix, DVector};
 
 use super::modes::symmetric_modes;
 
-/// Standard gravity, m/s^2 (MODEL.md section 1).
+/// Standard gravity, m/s^2 (docs/model.md section 1).
 pub const GRAVITY: f64 = 9.806_65;
 
 /// How the fixed damping matrix `C` of the bare structure is specified.

@@ -1,5 +1,5 @@
 //! The event-driven simulator: closed-form segments, certified event location, plastic (or
-//! restitution) impacts, and contact resolution after every event (MODEL.md section 2).
+//! restitution) impacts, and contact resolution after every event (docs/model.md section 2).
 
 use nalgebra::DVector;
 
@@ -48,7 +48,7 @@ impl State {
         self.beds.iter().enumerate().filter(|(_, b)| b.attached()).fold(0, |m, (j, _)| m | (1 << j))
     }
 
-    /// At rest in static equilibrium with every bed on its bottom (MODEL.md section 3).
+    /// At rest in static equilibrium with every bed on its bottom (docs/model.md section 3).
     pub fn at_rest(d: &Dynamics) -> State {
         let n = d.system.dof();
         let all = (1usize << d.system.dampers.len()) - 1;

@@ -1,4 +1,4 @@
-//! Free response after an impulse (Fig. 10b, MODEL.md section 3): no force, the structure at
+//! Free response after an impulse (Fig. 10b, docs/model.md section 3): no force, the structure at
 //! rest in static equilibrium with every bed on its bottom, an initial velocity given to one
 //! mass and the beds resting on it; sampled histories, the exact event list and the energy
 //! terms. No I/O.

@@ -1,4 +1,4 @@
-//! The exact event-driven simulator of the structure with N shot dampers (MODEL.md
+//! The exact event-driven simulator of the structure with N shot dampers (docs/model.md
 //! sections 2 and 3). Between events the motion is a closed form (one eigendecomposition
 //! per configuration, computed once); events are located by a certified search; solvers
 //! return data and a stop reason and do no I/O.

@@ -1,4 +1,4 @@
-//! Periodic orbits as fixed points of the event-driven flow (MODEL.md section 4), for a
+//! Periodic orbits as fixed points of the event-driven flow (docs/model.md section 4), for a
 //! structure with one damper: the equivalent SDOF model of a mode, or the full structure.
 //!
 //! The Poincare section is the impact of the bed on the container bottom. There the bed moves

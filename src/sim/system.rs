@@ -1,5 +1,5 @@
 //! The structure with its dampers and forcing, and the closed-form dynamics of each of the
-//! 2^N configurations (MODEL.md section 2).
+//! 2^N configurations (docs/model.md section 2).
 
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
