@@ -237,3 +237,70 @@ fn non_finite_paper_values_are_input_errors() {
         "{msg}"
     );
 }
+
+/// An experiment with one bed on m2 over `freq_hz`, with `extra` TOML (structure overrides)
+/// and the bed's `mass` and `clearance`.
+fn extreme(dir: &Path, id: &str, extra: &str, freq_hz: &str, mass: &str, clearance: &str) -> std::path::PathBuf {
+    let exps = experiments(dir, &[]);
+    let text = format!(
+        "extends = \"shared/paper_structure.toml\"\n{extra}\n[experiment]\nid = \"{id}\"\ntitle = \"{id}\"\nfigure = \"test\"\ncaption = \"-\"\nclaim = \"-\"\n\n[analysis]\nkind = \"sweep\"\nfreq_hz = {freq_hz}\n\n[[cases]]\nid = \"one\"\nlabel = \"one bed\"\ndampers = [{{ mass = 2, {mass}, clearance_mm = {clearance} }}]\n\n[[plots]]\nid = \"c\"\nkind = \"compliance_panels\"\nmasses = [1, 2]\n"
+    );
+    std::fs::write(exps.join(format!("{id}.toml")), text).unwrap();
+    exps
+}
+
+#[test]
+fn extreme_physics_ends_every_point_with_a_result_or_a_reason() {
+    let band = "{ start = 44.0, stop = 56.0, points = 4 }";
+    let cases = [
+        (
+            "zeta0",
+            "[structure.damping]\nmodal_ratios = [0.0, 0.0, 0.0]\nassumption = \"none\"",
+            band,
+            "mass_ratio = 0.1",
+            "0.3",
+        ),
+        ("heavy", "[structure]\nmasses_kg = [0.74, 1e300, 0.64]", band, "mass_ratio = 0.1", "0.3"),
+        ("big_bed", "", band, "mass_ratio = 50.0", "0.3"),
+        ("tiny_clearance", "", band, "mass_ratio = 0.1", "1e-9"),
+        ("millihertz", "", "{ start = 0.001, stop = 0.004, points = 4 }", "mass_ratio = 0.1", "0.3"),
+        ("hundred_khz", "", "{ start = 25000.0, stop = 100000.0, points = 4 }", "mass_ratio = 0.1", "0.3"),
+    ];
+    for (id, extra, band, mass, clearance) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let exps = extreme(dir.path(), id, extra, band, mass, clearance);
+        let out_dir = dir.path().join("out");
+        let started = std::time::Instant::now();
+        let out = shotdamp()
+            .arg("--experiments")
+            .arg(&exps)
+            .arg("run")
+            .arg(exps.join(format!("{id}.toml")))
+            .arg("--out")
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(0), "{id}: {}", stderr(&out));
+        assert!(started.elapsed().as_secs() < 60, "{id}: bounded ({:?})", started.elapsed());
+        let table = std::fs::read_to_string(out_dir.join(id).join("data/compliance.csv")).unwrap();
+        let mut lines = table.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+        let (c1, conv, stop) = (col("c1"), col("converged"), col("stop"));
+        for line in lines {
+            let cells: Vec<&str> = line.split(',').collect();
+            let c: f64 = cells[c1].parse().unwrap_or(f64::NAN);
+            if cells[conv] == "1" {
+                assert!(c.is_finite() && c > 0.0 && c < 1.0, "{id}: a result is a plausible compliance: {line}");
+            } else {
+                assert!(!cells[stop].trim_matches('"').is_empty(), "{id}: an unsettled point says why: {line}");
+            }
+            if id == "heavy" {
+                assert!(line.contains("numerically singular"), "{id}: {line}");
+            }
+            if id == "millihertz" {
+                assert!((c - 4.115e-5).abs() < 1e-7, "{id}: quasi-static compliance {c}");
+            }
+        }
+    }
+}

@@ -15,6 +15,9 @@ pub const MAX_TERMS: usize = 16;
 /// forces are second derivatives; their certified bounds need four more).
 pub const ORDERS: usize = 7;
 
+/// Largest condition number (max |V| max |V^-1|) of a configuration's eigenvectors.
+const MAX_CONDITION: f64 = 1e12;
+
 /// What the simulator integrates: the structure, its dampers, the force.
 #[derive(Debug, Clone)]
 pub struct System {
@@ -74,6 +77,9 @@ pub enum SetupError {
     Singular { mask: usize },
     /// More masses than the closed form supports.
     TooLarge { masses: usize },
+    /// The decomposition cannot be trusted: an eigenvalue grows (a passive structure has
+    /// none) or the eigenvectors are nearly dependent (condition number given).
+    IllConditioned { mask: usize, condition: f64 },
 }
 
 impl std::fmt::Display for SetupError {
@@ -85,6 +91,10 @@ impl std::fmt::Display for SetupError {
             SetupError::Singular { mask } => {
                 write!(f, "configuration {mask:#b}: dynamic stiffness is singular at the forcing frequency")
             }
+            SetupError::IllConditioned { mask, condition } => write!(
+                f,
+                "configuration {mask:#b}: numerically singular (eigenvector condition {condition:.1e}, or a growing mode): masses, stiffnesses or damping differ by too many orders of magnitude"
+            ),
             SetupError::TooLarge { masses } => {
                 write!(f, "{masses} masses: the simulator supports at most {}", MAX_TERMS / 2)
             }
@@ -162,6 +172,14 @@ impl Dynamics {
                 }
             }
             let eig = eigen::decompose(&a).ok_or(SetupError::Defective { mask })?;
+            // A passive structure has no growing mode; nearly dependent eigenvectors make the
+            // closed form meaningless (e.g. one mass 1e20 times another).
+            let rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+            let condition = eig.vectors.iter().map(|z| z.norm()).fold(0.0, f64::max)
+                * eig.inverse.iter().map(|z| z.norm()).fold(0.0, f64::max);
+            if !(condition < MAX_CONDITION) || eig.values.iter().any(|l| l.re > 1e-9 * rate) {
+                return Err(SetupError::IllConditioned { mask, condition });
+            }
             let reps = &eig.representatives;
             let vl: Vec<[Vec<Complex64>; ORDERS]> = (0..n)
                 .map(|p| {
