@@ -177,7 +177,7 @@ impl Dynamics {
             let rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
             let condition = eig.vectors.iter().map(|z| z.norm()).fold(0.0, f64::max)
                 * eig.inverse.iter().map(|z| z.norm()).fold(0.0, f64::max);
-            if !(condition < MAX_CONDITION) || eig.values.iter().any(|l| l.re > 1e-9 * rate) {
+            if condition.is_nan() || condition >= MAX_CONDITION || eig.values.iter().any(|l| l.re > 1e-9 * rate) {
                 return Err(SetupError::IllConditioned { mask, condition });
             }
             let reps = &eig.representatives;
