@@ -224,19 +224,11 @@ pub fn compare(experiment: &str, figure: &str, now: &[Value], blessed: &[Value])
 
 /// The outcome when an experiment has no blessed baseline yet.
 pub fn missing(experiment: &str, figure: &str) -> CheckOutcome {
-    CheckOutcome {
-        name: "baseline".into(),
-        description: format!("{figure} ({experiment}): no blessed baseline"),
-        computed: f64::NAN,
-        expected: f64::NAN,
-        unit: String::new(),
-        abs_diff: f64::NAN,
-        rel_diff: f64::NAN,
-        tolerance: String::new(),
-        status: super::Status::Fail,
-        provenance: format!("reference/baseline/{experiment}.csv (missing)"),
-        source: Source::Baseline,
-        reason: None,
-        detail: Some("bless the current results with: shotdamp report --bless (and review the diff)".into()),
-    }
+    CheckOutcome::unavailable(
+        "baseline".into(),
+        format!("{figure} ({experiment}): no blessed baseline"),
+        format!("reference/baseline/{experiment}.csv (missing)"),
+        Source::Baseline,
+        Some("bless the current results with: shotdamp report --bless (and review the diff)".into()),
+    )
 }

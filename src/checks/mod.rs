@@ -115,11 +115,17 @@ pub struct CheckOutcome {
 }
 
 impl CheckOutcome {
-    /// A check whose reference is missing: a failure that says why.
-    pub fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
+    /// A failed check with nothing computed (a missing reference or baseline).
+    pub fn unavailable(
+        name: String,
+        description: String,
+        provenance: String,
+        source: Source,
+        detail: Option<String>,
+    ) -> CheckOutcome {
         CheckOutcome {
-            name: format!("{}#{}", spec.reference_file, spec.reference_id.clone().unwrap_or_default()),
-            description: format!("reference missing: {why}"),
+            name,
+            description,
             computed: f64::NAN,
             expected: f64::NAN,
             unit: String::new(),
@@ -127,11 +133,22 @@ impl CheckOutcome {
             rel_diff: f64::NAN,
             tolerance: String::new(),
             status: Status::Fail,
-            provenance: spec.reference_file.clone(),
-            source: Source::Internal,
+            provenance,
+            source,
             reason: None,
-            detail: None,
+            detail,
         }
+    }
+
+    /// A check whose reference is missing: a failure that says why.
+    pub fn missing(spec: &CheckSpec, why: &str) -> CheckOutcome {
+        CheckOutcome::unavailable(
+            format!("{}#{}", spec.reference_file, spec.reference_id.clone().unwrap_or_default()),
+            format!("reference missing: {why}"),
+            spec.reference_file.clone(),
+            Source::Internal,
+            None,
+        )
     }
 }
 
