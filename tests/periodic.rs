@@ -116,16 +116,7 @@ fn ball_family(restitution: f64) -> impl Fn(f64) -> Result<Dynamics, SetupError>
 }
 
 fn options(p_min: f64, p_max: f64) -> ContinuationOptions {
-    ContinuationOptions {
-        p_min,
-        p_max,
-        p_scale: 1.0,
-        ds: 0.01,
-        ds_min: 1e-6,
-        ds_max: 0.02,
-        max_points: 400,
-        newton: NewtonOptions::default(),
-    }
+    common::ball_continuation(p_min, p_max)
 }
 
 fn period_doubling(branch: &shotdamp::sim::continuation::Branch) -> Option<f64> {

@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 
 use num_complex::Complex64;
 use shotdamp::model::{Damper, Damping, Structure};
-use shotdamp::sim::continuation::{continue_branch, ContinuationOptions, Special};
+use shotdamp::sim::continuation::{continue_branch, Special};
 use shotdamp::sim::periodic::{fd_jacobian, multipliers, seed, solve, summarize, NewtonOptions, Section};
 use shotdamp::sim::steady::SteadyMethod;
 use shotdamp::sim::strobe::Strobe;
@@ -125,16 +125,7 @@ fn bouncing_ball_period_doubles_on_the_stroboscopic_section() {
     assert!(st.converged && st.period == 1, "{:?}", st.failure);
     let (strobe, u) = section(&d, &st);
     let family = |g: f64| ball(g);
-    let opts = ContinuationOptions {
-        p_min: 3.5,
-        p_max: 3.9,
-        p_scale: 1.0,
-        ds: 0.01,
-        ds_min: 1e-6,
-        ds_max: 0.02,
-        max_points: 400,
-        newton: NewtonOptions::default(),
-    };
+    let opts = common::ball_continuation(3.5, 3.9);
     let branch = continue_branch(&family, strobe, 3.5, &u, true, &opts).unwrap();
     let pd = branch
         .special

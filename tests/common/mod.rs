@@ -46,3 +46,17 @@ pub fn bouncing_ball(gamma: f64, e: f64) -> Result<shotdamp::sim::Dynamics, shot
     sys.stick_speed = 1e-3;
     shotdamp::sim::Dynamics::new(&sys, omega)
 }
+
+/// Continuation settings of the bouncing-ball tests over `[p_min, p_max]` (Gamma).
+pub fn ball_continuation(p_min: f64, p_max: f64) -> shotdamp::sim::continuation::ContinuationOptions {
+    shotdamp::sim::continuation::ContinuationOptions {
+        p_min,
+        p_max,
+        p_scale: 1.0,
+        ds: 0.01,
+        ds_min: 1e-6,
+        ds_max: 0.02,
+        max_points: 400,
+        newton: shotdamp::sim::periodic::NewtonOptions::default(),
+    }
+}
