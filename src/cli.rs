@@ -47,6 +47,19 @@ pub enum Command {
         #[arg(long)]
         case: Option<String>,
     },
+    /// Calibrate the modal damping ratios of an experiment's structure (each model) against a
+    /// digitised compliance of the bare structure (`shotdamp reference import`, datasets mapped
+    /// to masses with --map DATASET=bare:MASS).
+    Damping {
+        /// Experiment file whose structure and excitation are used.
+        file: PathBuf,
+        /// Digitised reference file (TOML) with the measured bare-structure curves.
+        #[arg(long)]
+        curve: PathBuf,
+        /// Only this model (default: every model of the file).
+        #[arg(long)]
+        model: Option<String>,
+    },
     /// Run some experiments and write their report.
     Run {
         /// Experiment files.
@@ -170,18 +183,32 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
     match &cli.command {
         Command::List => {
             for path in experiment::discover(&cli.experiments)? {
-                let exp = experiment::load(&path, &cli.reference)?;
-                println!("{:<28} {:<12} {:<12} {}", exp.meta.id, exp.meta.figure, exp.analysis.kind(), exp.meta.title);
+                let exps = experiment::load(&path, &cli.reference)?;
+                let Some(exp) = exps.first() else { continue };
+                let models: Vec<&str> = exps.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.as_str())).collect();
+                let on = if models.is_empty() { String::new() } else { format!(" [models: {}]", models.join(", ")) };
+                println!(
+                    "{:<28} {:<12} {:<12} {}{on}",
+                    exp.meta.id,
+                    exp.meta.figure,
+                    exp.analysis.kind(),
+                    exp.meta.title
+                );
             }
             Ok(true)
         }
         Command::Modal { file, case } => {
-            let exp = experiment::load(file, &cli.reference)?;
-            print_modal(&exp, case.as_deref())?;
+            for exp in experiment::load(file, &cli.reference)? {
+                print_modal(&exp, case.as_deref())?;
+            }
+            Ok(true)
+        }
+        Command::Damping { file, curve, model } => {
+            calibrate_damping(file, curve, model.as_deref(), &cli.reference)?;
             Ok(true)
         }
         Command::Run { files, out, jobs, templates } => {
-            let exps = files.iter().map(|f| experiment::load(f, &cli.reference)).collect::<crate::Result<Vec<_>>>()?;
+            let exps = experiment::load_all(files, &cli.reference)?;
             run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), BaselineMode::Optional)
         }
         Command::Reference { command: ReferenceCommand::Import { .. } } => {
@@ -198,7 +225,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             if files.is_empty() {
                 anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
             }
-            let exps = files.iter().map(|f| experiment::load(f, &cli.reference)).collect::<crate::Result<Vec<_>>>()?;
+            let exps = experiment::load_all(&files, &cli.reference)?;
             let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
             run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), mode)
         }
@@ -299,7 +326,11 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
     };
     let modes = modal_summary(&exp.structure, &[]);
     let n = modes.len();
-    println!("{} ({}): modes of the bare structure", exp.meta.id, exp.path.display());
+    let on = exp.model.as_ref().map(|m| format!(", model \"{}\" ({})", m.id, m.label)).unwrap_or_default();
+    println!("{} ({}{on}): modes of the bare structure", exp.meta.id, exp.path.display());
+    if let Some(fit) = &exp.fit {
+        print_fit(fit);
+    }
     print!("{:>4} {:>12} {:>10}", "mode", "omega rad/s", "f Hz");
     for r in 0..n {
         print!(" {:>9}", format!("phi_m{}", r + 1));
@@ -341,6 +372,98 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// `shotdamp damping`: the modal damping ratios that fit a digitised bare-structure curve.
+fn calibrate_damping(file: &Path, curve: &Path, model: Option<&str>, reference: &Path) -> anyhow::Result<()> {
+    use crate::model::damping_fit::{fit_modal_damping, Measured, BAND};
+    let digitised = digitised::load(curve)?;
+    let data: Vec<Measured> = digitised
+        .curve
+        .iter()
+        .filter_map(|c| {
+            let m = usize::try_from(c.mass?).ok()?.checked_sub(1)?;
+            Some(Measured { mass: m, freq_hz: c.x.clone(), compliance: c.y.clone() })
+        })
+        .collect();
+    if data.is_empty() {
+        return Err(crate::Error::invalid(
+            curve,
+            "curve[].mass",
+            "(none)",
+            "no curve is mapped to a mass: import it with --map \"DATASET=bare:1\" (one per mass)",
+        )
+        .into());
+    }
+    let exps = experiment::load(file, reference)?;
+    let ids: Vec<String> = exps.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
+    let chosen: Vec<&Experiment> =
+        exps.iter().filter(|e| model.is_none_or(|id| e.model.as_ref().is_some_and(|m| m.id == id))).collect();
+    if chosen.is_empty() {
+        return Err(crate::Error::invalid("--model", "model", model.unwrap_or(""), format!("one of {ids:?}")).into());
+    }
+    let points: usize = data.iter().map(|d| d.freq_hz.len()).sum();
+    println!(
+        "{}: {} curves, {points} points; fitted: ln|x/F| at the points within {:.0} % of each natural frequency",
+        curve.display(),
+        data.len(),
+        BAND * 100.0
+    );
+    for exp in chosen {
+        let fit = fit_modal_damping(&exp.structure, exp.excitation.mass, &data)
+            .map_err(|e| crate::Error::invalid(curve, "curve", exp.meta.id.clone(), e.to_string()))?;
+        let name = exp.model.as_ref().map(|m| m.label.clone()).unwrap_or_else(|| exp.meta.id.clone());
+        println!("{name}: rms residual of ln(compliance) {:.4}", fit.rms_log_residual);
+        println!("{:>4} {:>10} {:>8} {:>12}", "mode", "zeta", "points", "half-power");
+        for (k, z) in fit.ratios.iter().enumerate() {
+            let hp = fit.half_power[k].map(|v| format!("{v:.5}")).unwrap_or_else(|| "-".into());
+            println!("{:>4} {:>10.5} {:>8} {:>12}", k + 1, z, fit.points[k], hp);
+        }
+        let list: Vec<String> = fit.ratios.iter().map(|z| format!("{z:.5}")).collect();
+        println!("  in a model file: [structure.damping] modal_ratios = [{}]", list.join(", "));
+    }
+    Ok(())
+}
+
+/// The stiffness fitted to measured modes: the matrix, its condition, the residuals.
+fn print_fit(fit: &crate::model::fit::StiffnessFit) {
+    let n = fit.omegas.len();
+    println!("stiffness fitted to the measured modes (N/m):");
+    for i in 0..n {
+        let row: Vec<String> = (0..n).map(|j| format!("{:>12.1}", fit.stiffness[(i, j)])).collect();
+        println!("  [{}]", row.join(" "));
+    }
+    println!(
+        "  condition {:.2}; {} of {} starts reached the best fit{}; measured shapes mass-orthogonal to {:.3}",
+        fit.condition,
+        fit.starts_at_best,
+        fit.starts,
+        if fit.unique() {
+            " (the same matrix: unique)".to_string()
+        } else {
+            format!(" (NOT unique: their matrices differ by {:.1e} relative)", fit.spread)
+        },
+        fit.orthogonality
+    );
+    println!(
+        "{:>4} {:>14} {:>14} {:>12}   shape (model), residual per element",
+        "mode", "omega rad/s", "residual", "relative"
+    );
+    for i in 0..n {
+        let measured = fit.omegas[i] - fit.frequency_residuals[i];
+        let shape: Vec<String> =
+            fit.shapes[i].iter().zip(&fit.shape_residuals[i]).map(|(v, r)| format!("{v:.4} ({r:+.4})")).collect();
+        println!(
+            "{:>4} {:>14.6} {:>14.3e} {:>12.3e}   {}",
+            i + 1,
+            fit.omegas[i],
+            fit.frequency_residuals[i],
+            fit.frequency_residuals[i] / measured,
+            shape.join(", ")
+        );
+    }
+    let worst = fit.shape_residuals.iter().flatten().fold(0.0_f64, |a, r| a.max(r.abs()));
+    println!("  largest shape residual {worst:.4}");
 }
 
 fn pool(jobs: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
@@ -408,15 +531,15 @@ fn run_and_write(
                         .par_iter()
                         .map(|(i, exp)| {
                             let started = std::time::Instant::now();
-                            let tick = bars.start(&exp.meta.id, analysis::work(exp, &refs));
+                            let tick = bars.start(&exp.key(), analysis::work(exp, &refs));
                             let r = analysis::run(exp, &refs, &*tick)?;
                             writer.write_experiment(&r, &exp.path.display().to_string())?;
                             let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
                             if log {
                                 let mark = if n_fail > 0 { "FAIL" } else { "ok" };
                                 let msg = format!(
-                                    "{mark:>4} {:<28} {} checks, {n_fail} failed ({:.2} s)",
-                                    exp.meta.id,
+                                    "{mark:>4} {:<36} {} checks, {n_fail} failed ({:.2} s)",
+                                    exp.key(),
                                     r.checks.len(),
                                     started.elapsed().as_secs_f64()
                                 );
@@ -435,7 +558,7 @@ fn run_and_write(
         match outcome {
             Ok(done) => {
                 for (i, r) in done {
-                    exports.insert(r.experiment.meta.id.clone(), r.exports.clone());
+                    exports.insert(r.experiment.key(), r.exports.clone());
                     slots[i] = Some(r);
                 }
             }
@@ -450,7 +573,7 @@ fn run_and_write(
     if baseline_mode == BaselineMode::Off {
         let dir = reference.join("baseline");
         for r in &results {
-            crate::output::write_baseline(&dir, &r.experiment.meta.id, &baseline::sample(&r.tables))?;
+            crate::output::write_baseline(&dir, &r.experiment.key(), &baseline::sample(&r.tables))?;
         }
         println!("blessed: {} experiments sampled into {} (review the diff, commit it)", results.len(), dir.display());
     }
@@ -460,7 +583,7 @@ fn run_and_write(
             r.checks.iter().filter(|c| c.status.fails()).map(move |c| {
                 format!(
                     "  {} ({}): {}: computed {} vs expected {} (tolerance {}){}",
-                    r.experiment.meta.id,
+                    r.experiment.key(),
                     r.experiment.meta.figure,
                     c.name,
                     crate::checks::fmt_num(c.computed),

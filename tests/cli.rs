@@ -11,9 +11,7 @@ use common::{experiments, repo, shotdamp};
 /// holds the shared structure file.
 fn variant(from: &str, to: &str) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().expect("tempdir");
-    let shared = dir.path().join("shared");
-    std::fs::create_dir_all(&shared).unwrap();
-    std::fs::copy(repo().join("experiments/shared/paper_structure.toml"), shared.join("paper_structure.toml")).unwrap();
+    common::copy_shared(dir.path());
     let text = std::fs::read_to_string(repo().join("experiments/fig04b_no_damper.toml")).unwrap();
     assert!(text.contains(from), "fixture text {from:?} not found");
     let path = dir.path().join("x.toml");
@@ -191,4 +189,18 @@ fn failed_run_leaves_previous_report_intact() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("excitation.force_n = -2.6"));
     assert_eq!(std::fs::read_to_string(out_dir.join("index.html")).unwrap(), "previous");
+}
+
+#[test]
+fn check_for_an_unknown_model_is_named() {
+    fails_with(
+        "models = [\"stated\"]",
+        "models = [\"chain\"]",
+        &["checks[0].models", "\"stated\", \"coil\", \"fitted\""],
+    );
+}
+
+#[test]
+fn deviation_text_for_an_unknown_model_is_named() {
+    fails_with("deviation = { stated =", "deviation = { chained =", &["experiment.deviation", "chained", "model id"]);
 }

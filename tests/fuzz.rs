@@ -159,15 +159,19 @@ proptest! {
     #[test]
     fn mutated_experiment_files_load_or_fail_with_their_name(
         pick in 0usize..64,
-        shared in any::<bool>(),
+        which in 0usize..3,
         muts in proptest::collection::vec(mutation(), 1..4),
     ) {
         let files = experiment_files();
         let name = &files[pick % files.len()];
         let dir = tempfile::tempdir().unwrap();
         let exps = common::experiments(dir.path(), &[name.as_str()]);
-        // Mutate the experiment itself or the shared file it extends.
-        let target = if shared { exps.join("shared/paper_structure.toml") } else { exps.join(name) };
+        // Mutate the experiment itself, the shared file it extends, or a model file.
+        let target = match which {
+            0 => exps.join(name),
+            1 => exps.join("shared/paper_structure.toml"),
+            _ => exps.join("shared/models/fitted.toml"),
+        };
         let bytes = apply(&std::fs::read(&target).unwrap(), &muts);
         std::fs::write(&target, bytes).unwrap();
         if let Err(e) = shotdamp::experiment::load(&exps.join(name), &common::repo().join("reference")) {

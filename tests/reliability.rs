@@ -238,12 +238,13 @@ fn non_finite_paper_values_are_input_errors() {
     );
 }
 
-/// An experiment with one bed on m2 over `freq_hz`, with `extra` TOML (structure overrides)
+/// An experiment with one bed on m2 over `freq_hz` on the stated chain, with `extra` TOML
+/// (structure overrides)
 /// and the bed's `mass` and `clearance`.
 fn extreme(dir: &Path, id: &str, extra: &str, freq_hz: &str, mass: &str, clearance: &str) -> std::path::PathBuf {
     let exps = experiments(dir, &[]);
     let text = format!(
-        "extends = \"shared/paper_structure.toml\"\n{extra}\n[experiment]\nid = \"{id}\"\ntitle = \"{id}\"\nfigure = \"test\"\ncaption = \"-\"\nclaim = \"-\"\n\n[analysis]\nkind = \"sweep\"\nfreq_hz = {freq_hz}\n\n[[cases]]\nid = \"one\"\nlabel = \"one bed\"\ndampers = [{{ mass = 2, {mass}, clearance_mm = {clearance} }}]\n\n[[plots]]\nid = \"c\"\nkind = \"compliance_panels\"\nmasses = [1, 2]\n"
+        "extends = \"shared/paper_structure.toml\"\nmodels = [\"shared/models/stated.toml\"]\n{extra}\n[experiment]\nid = \"{id}\"\ntitle = \"{id}\"\nfigure = \"test\"\ncaption = \"-\"\nclaim = \"-\"\n\n[analysis]\nkind = \"sweep\"\nfreq_hz = {freq_hz}\n\n[[cases]]\nid = \"one\"\nlabel = \"one bed\"\ndampers = [{{ mass = 2, {mass}, clearance_mm = {clearance} }}]\n\n[[plots]]\nid = \"c\"\nkind = \"compliance_panels\"\nmasses = [1, 2]\n"
     );
     std::fs::write(exps.join(format!("{id}.toml")), text).unwrap();
     exps
@@ -282,7 +283,7 @@ fn extreme_physics_ends_every_point_with_a_result_or_a_reason() {
             .unwrap();
         assert_eq!(out.status.code(), Some(0), "{id}: {}", stderr(&out));
         assert!(started.elapsed().as_secs() < 60, "{id}: bounded ({:?})", started.elapsed());
-        let table = std::fs::read_to_string(out_dir.join(id).join("data/compliance.csv")).unwrap();
+        let table = std::fs::read_to_string(out_dir.join(id).join("stated/data/compliance.csv")).unwrap();
         let mut lines = table.lines();
         let header: Vec<&str> = lines.next().unwrap().split(',').collect();
         let col = |name: &str| header.iter().position(|h| *h == name).unwrap();

@@ -11,6 +11,7 @@ mod digitised_checks;
 mod figures;
 pub mod impulse;
 mod linear;
+pub mod models;
 mod orbit_checks;
 mod orbit_figures;
 pub mod orbits;
@@ -43,6 +44,9 @@ pub struct ExperimentResult {
     pub tables: Vec<Table>,
     pub figures: Vec<Figure>,
     pub checks: Vec<CheckOutcome>,
+    /// The compliance curves computed (sweeps, linear responses, scans), by id, for figures
+    /// that compare models.
+    pub curves: curves::Curves,
     /// Values other experiments may use (`"@ID.KEY"`).
     pub exports: BTreeMap<String, f64>,
 }
@@ -170,7 +174,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         },
         refs,
     );
-    let (id, figure) = (&exp.meta.id, &exp.meta.figure);
+    let (id, figure) = (&exp.key(), &exp.meta.figure);
     match (refs.baseline(id), refs.baseline_mode) {
         (_, BaselineMode::Off) => {}
         (Some(blessed), _) => checks.push(baseline::compare(id, figure, &baseline::sample(&tables), blessed)),
@@ -186,6 +190,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         tables,
         figures,
         checks,
+        curves,
     })
 }
 
@@ -220,6 +225,31 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
         ),
         ("analysis".to_string(), exp.analysis.kind().to_string()),
     ];
+    if let Some(m) = &exp.model {
+        p.insert(0, ("model".to_string(), format!("{} ({}): {}", m.label, m.id, m.description)));
+    }
+    if let Some(f) = &exp.fit {
+        let worst = f.shape_residuals.iter().flatten().fold(0.0_f64, |a, r| a.max(r.abs()));
+        let freq = f
+            .frequency_residuals
+            .iter()
+            .zip(&f.omegas)
+            .map(|(r, w)| format!("{:.1e}", r / (w - r)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        p.push((
+            "stiffness fit".to_string(),
+            format!(
+                "Levenberg-Marquardt from {} starts, {} at the best fit ({}); condition of K {:.2}; relative frequency residuals [{freq}]; largest mode-shape residual {:.4}; measured shapes mass-orthogonal to {:.3}",
+                f.starts,
+                f.starts_at_best,
+                if f.unique() { "unique" } else { "NOT unique" },
+                f.condition,
+                worst,
+                f.orthogonality
+            ),
+        ));
+    }
     if let Analysis::LinearFrf { freq_hz } = &exp.analysis {
         if let (Some(a), Some(b)) = (freq_hz.first(), freq_hz.last()) {
             p.push((

@@ -292,9 +292,10 @@ impl ReferenceStore {
             return Ok(());
         }
         for exp in experiments {
-            let path = dir.join("baseline").join(format!("{}.csv", exp.meta.id));
+            let key = exp.key();
+            let path = dir.join("baseline").join(format!("{key}.csv"));
             if path.is_file() {
-                self.baselines.insert(exp.meta.id.clone(), super::baseline::load(&path)?);
+                self.baselines.insert(key, super::baseline::load(&path)?);
             }
         }
         Ok(())

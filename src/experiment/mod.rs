@@ -12,6 +12,7 @@ mod validate;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+use crate::model::fit::StiffnessFit;
 use crate::model::{Damper, Structure};
 use crate::number::Tolerance;
 use crate::sim::impulse::ImpulseOptions;
@@ -33,6 +34,15 @@ pub struct Meta {
     pub notes: Vec<String>,
     /// The main deviation from the paper and its likely cause, in a sentence.
     pub deviation: Option<String>,
+}
+
+/// The structural model an experiment runs on, when its file lists several
+/// (`models = [...]`, docs/experiment-format.md).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ModelInfo {
+    pub id: String,
+    pub label: String,
+    pub description: String,
 }
 
 /// The force `F sin(omega t)` on one mass.
@@ -293,7 +303,13 @@ pub struct Experiment {
     /// The file it came from.
     pub path: PathBuf,
     pub meta: Meta,
+    /// The model this copy runs on (`None`: the file has one structure of its own).
+    pub model: Option<ModelInfo>,
+    /// Every model the file runs on, in its order (empty without `models`).
+    pub models: Vec<ModelInfo>,
     pub structure: Structure,
+    /// The stiffness fit, when the structure is fitted to measured modes.
+    pub fit: Option<StiffnessFit>,
     /// Where the structure's numbers come from.
     pub structure_source: Option<String>,
     /// Why the damping has the values it has.
@@ -306,6 +322,20 @@ pub struct Experiment {
 }
 
 impl Experiment {
+    /// The run's key: the experiment id, with `/MODEL` when it runs on several models. It
+    /// names the report folder, the baseline file and the exports.
+    pub fn key(&self) -> String {
+        self.key_of(&self.meta.id)
+    }
+
+    /// The key of experiment `id` on this experiment's model.
+    pub fn key_of(&self, id: &str) -> String {
+        match &self.model {
+            Some(m) => format!("{id}/{}", m.id),
+            None => id.to_string(),
+        }
+    }
+
     /// Ids of the experiments whose exports this one uses.
     pub fn dependencies(&self) -> Vec<String> {
         let mut ids: Vec<String> = Vec::new();
@@ -335,8 +365,9 @@ impl Experiment {
     /// key -> value).
     pub fn resolve(&self, exports: &Exports) -> Result<Experiment> {
         let lookup = |r: &ExportRef, key: String| -> Result<f64> {
-            exports.get(&r.experiment).and_then(|e| e.get(&r.key)).copied().ok_or_else(|| {
-                let known: Vec<&String> = exports.get(&r.experiment).map(|e| e.keys().collect()).unwrap_or_default();
+            let run = self.key_of(&r.experiment);
+            exports.get(&run).and_then(|e| e.get(&r.key)).copied().ok_or_else(|| {
+                let known: Vec<&String> = exports.get(&run).map(|e| e.keys().collect()).unwrap_or_default();
                 Error::invalid(
                     &self.path,
                     key,
@@ -371,15 +402,16 @@ pub fn clearance_key(case: &str, mm: f64) -> String {
     format!("{case}@{}mm", crate::number::fmt_num(mm))
 }
 
-/// Values experiments export, by experiment id and key.
+/// Values experiments export, by run key ([`Experiment::key`]) and value name.
 pub type Exports = std::collections::BTreeMap<String, std::collections::BTreeMap<String, f64>>;
 
 /// Groups experiments into waves: each wave depends only on earlier ones. Fails on an
 /// unknown experiment id or a cycle.
 pub fn waves(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
-    let ids: Vec<&str> = exps.iter().map(|e| e.meta.id.as_str()).collect();
+    let keys: Vec<String> = exps.iter().map(|e| e.key()).collect();
+    let ids: Vec<&str> = keys.iter().map(|k| k.as_str()).collect();
     for (i, e) in exps.iter().enumerate() {
-        if let Some(j) = ids.iter().position(|id| *id == e.meta.id).filter(|&j| j != i) {
+        if let Some(j) = ids.iter().position(|id| *id == e.key()).filter(|&j| j != i) {
             return Err(Error::invalid(
                 &e.path,
                 "experiment.id",
@@ -388,12 +420,13 @@ pub fn waves(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
             ));
         }
         for dep in e.dependencies() {
-            if !ids.contains(&dep.as_str()) {
+            if !ids.contains(&e.key_of(&dep).as_str()) {
+                let on = e.model.as_ref().map(|m| format!(" on model \"{}\"", m.id)).unwrap_or_default();
                 return Err(Error::invalid(
                     &e.path,
                     "(export reference)",
                     format!("@{dep}"),
-                    format!("no experiment has id \"{dep}\"; the ids are {ids:?}"),
+                    format!("no experiment with id \"{dep}\" runs{on}; the runs are {ids:?}"),
                 ));
             }
         }
@@ -407,7 +440,7 @@ pub fn waves(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
                     && exps[i]
                         .dependencies()
                         .iter()
-                        .all(|dep| ids.iter().position(|id| id == dep).is_some_and(|j| done[j]))
+                        .all(|dep| ids.iter().position(|id| *id == exps[i].key_of(dep)).is_some_and(|j| done[j]))
             })
             .collect();
         if wave.is_empty() {
@@ -427,10 +460,43 @@ pub fn waves(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
     Ok(out)
 }
 
-/// Loads and validates one experiment file; references are looked up in `reference_dir`.
-pub fn load(path: &Path, reference_dir: &Path) -> Result<Experiment> {
-    let raw = load::read_raw(path)?;
-    validate(path, raw, reference_dir)
+/// Loads and validates one experiment file: one experiment per model it runs on (one when it
+/// lists no models); references are looked up in `reference_dir`.
+pub fn load(path: &Path, reference_dir: &Path) -> Result<Vec<Experiment>> {
+    let mut exps = load::read_models(path)?
+        .into_iter()
+        .map(|(model_file, table)| {
+            load::read_raw(path, table)
+                .and_then(|raw| validate(path, raw, reference_dir))
+                .map_err(|e| on_model(e, model_file.as_deref()))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let models: Vec<ModelInfo> = exps.iter().filter_map(|e| e.model.clone()).collect();
+    for e in &mut exps {
+        e.models = models.clone();
+    }
+    Ok(exps)
+}
+
+/// An input error of an experiment merged with a model file names both files: the bad value
+/// may be in either.
+fn on_model(e: Error, model_file: Option<&Path>) -> Error {
+    let Some(m) = model_file else { return e };
+    let with = |file: String| format!("{file} (merged with the model file {})", m.display());
+    match e {
+        Error::Invalid { file, key, value, message } => Error::Invalid { file: with(file), key, value, message },
+        Error::Parse { file, message } => Error::Parse { file: with(file), message },
+        other => other,
+    }
+}
+
+/// Loads every experiment of several files (each once per model).
+pub fn load_all(paths: &[PathBuf], reference_dir: &Path) -> Result<Vec<Experiment>> {
+    let mut out = Vec::new();
+    for p in paths {
+        out.extend(load(p, reference_dir)?);
+    }
+    Ok(out)
 }
 
 /// The experiment files of a folder (`*.toml` directly inside it), sorted by name.

@@ -12,6 +12,9 @@ pub struct RawExperiment {
     /// Path of a shared file whose tables this file extends (merged before parsing).
     #[serde(default)]
     pub extends: Option<String>,
+    /// The model this copy of the experiment runs on (from a model file listed in `models`).
+    #[serde(default)]
+    pub model: Option<RawModel>,
     pub experiment: RawMeta,
     pub structure: RawStructure,
     pub excitation: RawExcitation,
@@ -44,6 +47,15 @@ pub struct RawMeta {
     pub deviation: Option<String>,
 }
 
+/// The `[model]` table of a model file (`experiments/shared/models/*.toml`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawModel {
+    pub id: String,
+    pub label: String,
+    pub description: String,
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawStructure {
@@ -54,7 +66,30 @@ pub struct RawStructure {
     /// A general symmetric stiffness matrix, rows.
     #[serde(default)]
     pub stiffness_matrix_n_per_m: Option<Vec<Vec<f64>>>,
+    /// Measured modal data a stiffness matrix is fitted to.
+    #[serde(default)]
+    pub fit: Option<RawFit>,
+    /// Springs from each mass to ground, added to the stiffness (0: none).
+    #[serde(default)]
+    pub ground_stiffness_n_per_m: Option<Vec<f64>>,
     pub damping: RawDamping,
+    #[serde(default)]
+    pub source: Option<String>,
+}
+
+/// Measured natural frequencies and mode shapes (model updating).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFit {
+    pub omegas_rad_per_s: Vec<f64>,
+    /// One row per mode.
+    pub shapes: Vec<Vec<f64>>,
+    /// Weight of a relative frequency error against a shape element's (default 100).
+    #[serde(default)]
+    pub frequency_weight: Option<f64>,
+    /// Weight of each shape element (0: not trusted; default 1).
+    #[serde(default)]
+    pub shape_weights: Option<Vec<Vec<f64>>>,
     #[serde(default)]
     pub source: Option<String>,
 }

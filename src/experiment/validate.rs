@@ -6,14 +6,15 @@ use std::path::Path;
 use nalgebra::DMatrix;
 
 use crate::error::{Error, Result};
+use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 use crate::model::{Damper, Damping, Structure};
 
 use super::analysis::{analysis, export_ref};
 use super::checks::check;
 use super::fields::{is_identifier, mass_index};
 use super::outputs::plot;
-use super::raw::{RawCase, RawExperiment, RawStructure};
-use super::{Analysis, Case, Clearance, Excitation, Experiment, Meta};
+use super::raw::{RawCase, RawExperiment, RawFit, RawStructure};
+use super::{Analysis, Case, Clearance, Excitation, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
 pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result<Experiment> {
@@ -38,7 +39,8 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         deviation: m.deviation,
     };
 
-    let (structure, source, damping_assumption) = structure(path, raw.structure)?;
+    let model = raw.model.map(|m| ModelInfo { id: m.id, label: m.label, description: m.description });
+    let Built { structure, source, damping_assumption, fit } = structure(path, raw.structure)?;
     let n = structure.dof();
 
     let e = raw.excitation;
@@ -94,7 +96,10 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     Ok(Experiment {
         path: path.to_path_buf(),
         meta,
+        model,
+        models: Vec::new(),
         structure,
+        fit,
         structure_source: source,
         damping_assumption,
         excitation,
@@ -122,11 +127,26 @@ fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<(
     Ok(())
 }
 
-fn structure(path: &Path, s: RawStructure) -> Result<(Structure, Option<String>, Option<String>)> {
+/// A validated structure with where its numbers come from.
+struct Built {
+    structure: Structure,
+    source: Option<String>,
+    damping_assumption: Option<String>,
+    fit: Option<StiffnessFit>,
+}
+
+fn structure(path: &Path, s: RawStructure) -> Result<Built> {
     positive_list(path, "structure.masses_kg", &s.masses_kg, "mass")?;
     let n = s.masses_kg.len();
-    let k = match (&s.chain_stiffness_n_per_m, &s.stiffness_matrix_n_per_m) {
-        (Some(k), None) => {
+    let mut fit = None;
+    let mut k = match (&s.chain_stiffness_n_per_m, &s.stiffness_matrix_n_per_m, &s.fit) {
+        (None, None, Some(f)) => {
+            let out = fitted(path, &s.masses_kg, f)?;
+            let k = out.stiffness.clone();
+            fit = Some(out);
+            k
+        }
+        (Some(k), None, None) => {
             positive_list(path, "structure.chain_stiffness_n_per_m", k, "stiffness")?;
             if k.len() != n {
                 return Err(Error::invalid(
@@ -138,16 +158,38 @@ fn structure(path: &Path, s: RawStructure) -> Result<(Structure, Option<String>,
             }
             crate::model::structure::chain_stiffness(k)
         }
-        (None, Some(rows)) => stiffness_matrix(path, rows, n)?,
+        (None, Some(rows), None) => stiffness_matrix(path, rows, n)?,
         _ => {
             return Err(Error::invalid(
                 path,
                 "structure",
-                "chain_stiffness_n_per_m / stiffness_matrix_n_per_m",
-                "give exactly one of chain_stiffness_n_per_m and stiffness_matrix_n_per_m",
+                "chain_stiffness_n_per_m / stiffness_matrix_n_per_m / fit",
+                "give exactly one of chain_stiffness_n_per_m, stiffness_matrix_n_per_m and fit (measured modes)",
             ))
         }
     };
+    if let Some(g) = &s.ground_stiffness_n_per_m {
+        let key = "structure.ground_stiffness_n_per_m";
+        if g.len() != n {
+            return Err(Error::invalid(
+                path,
+                key,
+                format!("{} values", g.len()),
+                format!("expected {n} springs to ground, one per mass (0: none)"),
+            ));
+        }
+        for (i, v) in g.iter().enumerate() {
+            if !(v.is_finite() && *v >= 0.0) {
+                return Err(Error::invalid(
+                    path,
+                    format!("{key}[{i}]"),
+                    v,
+                    "a spring to ground must be non-negative and finite (N/m)",
+                ));
+            }
+            k[(i, i)] += v;
+        }
+    }
     let d = s.damping;
     let damping = match (d.modal_ratios, d.rayleigh_alpha, d.rayleigh_beta) {
         (Some(z), None, None) => {
@@ -193,7 +235,27 @@ fn structure(path: &Path, s: RawStructure) -> Result<(Structure, Option<String>,
             ))
         }
     };
-    Ok((Structure::from_matrices(&s.masses_kg, k, damping), s.source, d.assumption))
+    Ok(Built {
+        structure: Structure::from_matrices(&s.masses_kg, k, damping),
+        source: s.source,
+        damping_assumption: d.assumption,
+        fit,
+    })
+}
+
+/// Fits the stiffness to measured modes; bad data is an input error naming `structure.fit`.
+fn fitted(path: &Path, masses: &[f64], f: &RawFit) -> Result<StiffnessFit> {
+    let n = masses.len();
+    let data = ModalData {
+        omegas: f.omegas_rad_per_s.clone(),
+        shapes: f.shapes.clone(),
+        frequency_weight: f.frequency_weight.unwrap_or(FREQUENCY_WEIGHT),
+        shape_weights: f.shape_weights.clone().unwrap_or_else(|| vec![vec![1.0; n]; f.shapes.len()]),
+    };
+    fit_stiffness(masses, &data).map_err(|e| {
+        let shown = format!("omegas {:?}, shapes {:?}", f.omegas_rad_per_s, f.shapes);
+        Error::invalid(path, "structure.fit", shown, format!("{e}; the fit needs one positive frequency and one shape of {n} elements per mass, independent shapes and data a positive definite stiffness can match"))
+    })
 }
 
 fn stiffness_matrix(path: &Path, rows: &[Vec<f64>], n: usize) -> Result<DMatrix<f64>> {

@@ -1,6 +1,9 @@
 //! The physical model: structure, dampers, modes and the linear response.
 
+pub mod damping_fit;
+pub mod fit;
 pub mod frf;
+pub mod least_squares;
 pub mod modal;
 pub mod modes;
 pub mod sdof;

@@ -33,7 +33,7 @@ pub fn render(results: &[ExperimentResult]) -> String {
         count(Status::KnownDeviation)
     );
     for r in results {
-        let id = &r.experiment.meta.id;
+        let id = &r.experiment.key();
         let n = |s: Status| r.checks.iter().filter(|c| c.status == s).count();
         x += &format!(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" skipped=\"{}\">\n",

@@ -5,6 +5,7 @@ pub mod compare;
 pub mod destination;
 pub mod figure;
 pub mod junit;
+pub mod models_page;
 pub mod plot;
 pub mod report;
 pub mod table;
@@ -54,7 +55,7 @@ impl ReportWriter {
 
     /// Writes one experiment's folder: figures (PNG, SVG), tables (CSV, Parquet), page.
     pub fn write_experiment(&self, r: &ExperimentResult, source_file: &str) -> Result<()> {
-        let dir = self.staging.dir().join(&r.experiment.meta.id);
+        let dir = self.staging.dir().join(r.experiment.key());
         let data = dir.join("data");
         mkdir(&data)?;
         for t in &r.tables {
@@ -65,7 +66,7 @@ impl ReportWriter {
             plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
             write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
         }
-        let view = report::experiment_view(r, source_file);
+        let view = report::experiment_view(r, source_file, &r.experiment.models);
         let html = report::render(&self.tera, "experiment.html", &view)?;
         write(&dir.join("index.html"), html.as_bytes())
     }
@@ -73,6 +74,9 @@ impl ReportWriter {
     /// Writes the index, the stylesheet and `checks.json`, then moves the report into place.
     pub fn finish(self, results: &[ExperimentResult]) -> Result<PathBuf> {
         let dir = self.staging.dir();
+        for runs in by_experiment(results) {
+            self.write_models(&runs)?;
+        }
         write(&dir.join("style.css"), report::STYLE_CSS.as_bytes())?;
         let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
         write(&dir.join("index.html"), index.as_bytes())?;
@@ -81,22 +85,52 @@ impl ReportWriter {
         self.staging.commit()
     }
 
+    /// Writes the page of one experiment run on several models (`ID/index.html`) with the
+    /// figures that overlay them.
+    fn write_models(&self, runs: &[&ExperimentResult]) -> Result<()> {
+        let dir = self.staging.dir().join(&runs[0].experiment.meta.id);
+        mkdir(&dir)?;
+        let overlays = crate::analysis::models::overlay(runs);
+        for f in &overlays {
+            plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
+            write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
+        }
+        let view = models_page::models_view(runs, &overlays);
+        let html = report::render(&self.tera, "models.html", &view)?;
+        write(&dir.join("index.html"), html.as_bytes())
+    }
+
     /// Removes the staging folder of an abandoned report.
     pub fn abandon(self) {
         self.staging.abandon();
     }
 }
 
+/// The runs of each experiment that runs on several models, grouped, in first-seen order.
+pub fn by_experiment(results: &[ExperimentResult]) -> Vec<Vec<&ExperimentResult>> {
+    let mut groups: Vec<Vec<&ExperimentResult>> = Vec::new();
+    for r in results.iter().filter(|r| r.experiment.model.is_some()) {
+        match groups.iter_mut().find(|g| g[0].experiment.meta.id == r.experiment.meta.id) {
+            Some(g) => g.push(r),
+            None => groups.push(vec![r]),
+        }
+    }
+    groups
+}
+
 /// Writes an experiment's regression baseline sample to `dir/ID.csv`.
 pub fn write_baseline(dir: &Path, id: &str, values: &[crate::checks::baseline::Value]) -> Result<()> {
-    mkdir(dir)?;
     let path = dir.join(format!("{id}.csv"));
+    mkdir(path.parent().unwrap_or(dir))?;
     write(&path, &table::to_csv(&crate::checks::baseline::to_table(values))?)
 }
 
 #[derive(Serialize)]
 struct CheckRecord<'a> {
     experiment: &'a str,
+    /// The model the run used (absent when the experiment has one structure of its own).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    model: Option<&'a str>,
     figure: &'a str,
     #[serde(flatten)]
     check: &'a CheckOutcome,
@@ -119,6 +153,7 @@ pub fn checks_json(results: &[ExperimentResult]) -> Result<Vec<u8>> {
             .flat_map(|r| {
                 r.checks.iter().map(move |c| CheckRecord {
                     experiment: &r.experiment.meta.id,
+                    model: r.experiment.model.as_ref().map(|m| m.id.as_str()),
                     figure: &r.experiment.meta.figure,
                     check: c,
                 })

@@ -10,12 +10,14 @@ use crate::analysis::ExperimentResult;
 use crate::checks::verdict::{figure_group, verdict};
 use crate::checks::{fmt_num, CheckOutcome, Status};
 use crate::error::{read_to_string, Error, Result};
+use crate::experiment::ModelInfo;
 
 /// Template names and their embedded defaults.
-const TEMPLATES: [(&str, &str); 4] = [
+const TEMPLATES: [(&str, &str); 5] = [
     ("base.html", include_str!("../../templates/base.html")),
     ("index.html", include_str!("../../templates/index.html")),
     ("experiment.html", include_str!("../../templates/experiment.html")),
+    ("models.html", include_str!("../../templates/models.html")),
     ("compare.html", include_str!("../../templates/compare.html")),
 ];
 
@@ -55,7 +57,7 @@ pub struct CheckRow {
 }
 
 impl CheckRow {
-    fn new(experiment: &str, c: &CheckOutcome) -> CheckRow {
+    pub(super) fn new(experiment: &str, c: &CheckOutcome) -> CheckRow {
         CheckRow {
             experiment: experiment.to_string(),
             name: c.name.clone(),
@@ -78,7 +80,7 @@ impl CheckRow {
     }
 }
 
-fn status_class(s: Status) -> &'static str {
+pub(super) fn status_class(s: Status) -> &'static str {
     match s {
         Status::Pass => "pass",
         Status::Fail => "fail",
@@ -110,6 +112,13 @@ pub struct TableView {
 #[derive(Debug, Serialize)]
 pub struct ExperimentView {
     pub id: String,
+    /// The way up to the report's root ("../", or "../../" for a model's page).
+    pub root: String,
+    /// The model run on ("" when the experiment has one structure of its own), what it is,
+    /// and every model of the experiment: (label, link from this page, is this one).
+    pub model: String,
+    pub model_description: String,
+    pub siblings: Vec<(String, String, bool)>,
     pub title: String,
     pub figure: String,
     pub caption: String,
@@ -129,7 +138,7 @@ pub struct ExperimentView {
 }
 
 /// Counts of statuses, in words.
-fn counts(checks: &[CheckOutcome]) -> (String, &'static str, String) {
+pub(super) fn counts(checks: &[CheckOutcome]) -> (String, &'static str, String) {
     let n = |s: Status| checks.iter().filter(|c| c.status == s).count();
     let (pass, fail, known, revisit) =
         (n(Status::Pass), n(Status::Fail), n(Status::KnownDeviation), n(Status::KnownDeviationPasses));
@@ -147,8 +156,9 @@ fn counts(checks: &[CheckOutcome]) -> (String, &'static str, String) {
 }
 
 /// Builds the view of one experiment; `source_file` is how the report names its input.
-pub fn experiment_view(r: &ExperimentResult, source_file: &str) -> ExperimentView {
-    let id = &r.experiment.meta.id;
+pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelInfo]) -> ExperimentView {
+    let id = &r.experiment.key();
+    let current = r.experiment.model.as_ref();
     let (verdict, class, words) = counts(&r.checks);
     let n = r.modes.len();
     let mut mode_header = vec!["mode".to_string(), "omega (rad/s)".into(), "f (Hz)".into()];
@@ -171,6 +181,14 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str) -> ExperimentVie
         .collect();
     ExperimentView {
         id: id.clone(),
+        root: if current.is_some() { "../../".into() } else { "../".into() },
+        model: current.map(|m| m.label.clone()).unwrap_or_default(),
+        model_description: current.map(|m| m.description.clone()).unwrap_or_default(),
+        siblings: if current.is_some() {
+            models.iter().map(|m| (m.label.clone(), format!("../{}/index.html", m.id), Some(m) == current)).collect()
+        } else {
+            Vec::new()
+        },
         title: r.experiment.meta.title.clone(),
         figure: r.experiment.meta.figure.clone(),
         caption: r.experiment.meta.caption.clone(),
@@ -222,12 +240,26 @@ pub struct SummaryRow {
     pub counts: String,
 }
 
+/// A figure's verdict on one model.
+#[derive(Debug, Serialize)]
+pub struct ModelCell {
+    pub verdict: String,
+    pub verdict_class: String,
+    /// The main deviation on this model ("" when none is stated).
+    pub deviation: String,
+}
+
 /// One paper figure: its verdict and the experiments behind it.
 #[derive(Debug, Serialize)]
 pub struct FigureRow {
     pub figure: String,
     pub verdict: String,
     pub verdict_class: String,
+    /// The verdict on each model of [`IndexView::models`] (empty when no experiment of the
+    /// report runs on several models).
+    pub cells: Vec<ModelCell>,
+    /// Names of the checks against the paper that hold on some models only.
+    pub dependence: Vec<String>,
     /// (title, link) of each experiment.
     pub experiments: Vec<(String, String)>,
     pub paper_checks: String,
@@ -243,6 +275,8 @@ pub struct IndexView {
     pub generated_by: String,
     pub overall: String,
     pub overall_class: String,
+    /// Labels of the models experiments run on, in first-seen order.
+    pub models: Vec<String>,
     pub figures: Vec<FigureRow>,
     pub rows: Vec<SummaryRow>,
     pub checks: Vec<CheckRow>,
@@ -261,8 +295,10 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
             }
         }
     }
+    let models = model_list(results);
     IndexView {
-        figures: figure_rows(results),
+        figures: figure_rows(results, &models),
+        models: models.iter().map(|m| m.label.clone()).collect(),
         title: "shotdamp: replication of Araki et al. (1997)".into(),
         generated_by: format!("shotdamp {}", env!("CARGO_PKG_VERSION")),
         overall: format!("{overall}: {words}"),
@@ -271,7 +307,7 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
             .iter()
             .map(|r| {
                 let (verdict, class, counts) = counts(&r.checks);
-                let id = &r.experiment.meta.id;
+                let id = &r.experiment.key();
                 SummaryRow {
                     id: id.clone(),
                     figure: r.experiment.meta.figure.clone(),
@@ -284,7 +320,7 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
                 }
             })
             .collect(),
-        checks: results.iter().flat_map(|r| r.checks.iter().map(|c| CheckRow::new(&r.experiment.meta.id, c))).collect(),
+        checks: results.iter().flat_map(|r| r.checks.iter().map(|c| CheckRow::new(&r.experiment.key(), c))).collect(),
         assumptions,
     }
 }
@@ -295,8 +331,19 @@ fn figure_order(label: &str) -> (u32, String) {
     (digits.parse().unwrap_or(u32::MAX), label.to_string())
 }
 
+/// The models of the report's runs, in first-seen order.
+fn model_list(results: &[ExperimentResult]) -> Vec<ModelInfo> {
+    let mut out: Vec<ModelInfo> = Vec::new();
+    for m in results.iter().filter_map(|r| r.experiment.model.as_ref()) {
+        if !out.contains(m) {
+            out.push(m.clone());
+        }
+    }
+    out
+}
+
 /// One row per paper figure, in the paper's order.
-fn figure_rows(results: &[ExperimentResult]) -> Vec<FigureRow> {
+fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<FigureRow> {
     let mut groups: Vec<String> = results.iter().map(|r| figure_group(&r.experiment.meta.figure)).collect();
     groups.sort_by_key(|g| figure_order(g));
     groups.dedup();
@@ -338,20 +385,50 @@ fn figure_rows(results: &[ExperimentResult]) -> Vec<FigureRow> {
                     checks.iter().find(|c| c.status == Status::Fail).map(|c| format!("failed: {}", c.description))
                 })
                 .unwrap_or_default();
+            let cells = models
+                .iter()
+                .map(|m| {
+                    let on: Vec<&&ExperimentResult> =
+                        members.iter().filter(|r| r.experiment.model.as_ref() == Some(m)).collect();
+                    if on.is_empty() {
+                        return ModelCell {
+                            verdict: "not run".into(),
+                            verdict_class: "none".into(),
+                            deviation: String::new(),
+                        };
+                    }
+                    let v = verdict(on.iter().flat_map(|r| r.checks.iter()));
+                    ModelCell {
+                        verdict: v.label().to_string(),
+                        verdict_class: v.class().to_string(),
+                        deviation: on.iter().find_map(|r| r.experiment.meta.deviation.clone()).unwrap_or_default(),
+                    }
+                })
+                .collect();
+            let mut dependence = Vec::new();
+            let mut titles: Vec<(String, String)> = Vec::new();
+            for r in &members {
+                let link = format!("{}/index.html", r.experiment.meta.id);
+                if !titles.iter().any(|(_, l)| *l == link) {
+                    titles.push((r.experiment.meta.title.clone(), link));
+                    let runs: Vec<&ExperimentResult> =
+                        members.iter().copied().filter(|x| x.experiment.meta.id == r.experiment.meta.id).collect();
+                    dependence.extend(super::models_page::dependent_names(&runs));
+                }
+            }
             FigureRow {
                 figure: g,
                 verdict: v.label().to_string(),
                 verdict_class: v.class().to_string(),
-                experiments: members
-                    .iter()
-                    .map(|r| (r.experiment.meta.title.clone(), format!("{}/index.html", r.experiment.meta.id)))
-                    .collect(),
+                cells,
+                dependence,
+                experiments: titles,
                 paper_checks: count(true),
                 other_checks: count(false),
                 deviation,
                 thumbnail: members
                     .iter()
-                    .find_map(|r| r.figures.first().map(|f| format!("{}/{}.png", r.experiment.meta.id, f.id)))
+                    .find_map(|r| r.figures.first().map(|f| format!("{}/{}.png", r.experiment.key(), f.id)))
                     .unwrap_or_default(),
             }
         })

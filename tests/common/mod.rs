@@ -18,13 +18,26 @@ pub fn shotdamp() -> Command {
     c
 }
 
-/// An experiments folder in `dir` holding the shared structure file and copies of `files`
-/// (names in `experiments/`).
+/// Copies `experiments/shared` (the shared structure file and the model files) into
+/// `exps/shared`.
+pub fn copy_shared(exps: &Path) {
+    let from = repo().join("experiments/shared");
+    for sub in ["", "models"] {
+        std::fs::create_dir_all(exps.join("shared").join(sub)).unwrap();
+        for entry in std::fs::read_dir(from.join(sub)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_file() {
+                std::fs::copy(&path, exps.join("shared").join(sub).join(path.file_name().unwrap())).unwrap();
+            }
+        }
+    }
+}
+
+/// An experiments folder in `dir` holding the shared structure and model files and copies of
+/// `files` (names in `experiments/`).
 pub fn experiments(dir: &Path, files: &[&str]) -> PathBuf {
     let exps = dir.join("experiments");
-    std::fs::create_dir_all(exps.join("shared")).unwrap();
-    std::fs::copy(repo().join("experiments/shared/paper_structure.toml"), exps.join("shared/paper_structure.toml"))
-        .unwrap();
+    copy_shared(&exps);
     for f in files {
         std::fs::copy(repo().join("experiments").join(f), exps.join(f)).unwrap();
     }

@@ -1,0 +1,197 @@
+//! The page of one experiment run on several models: the verdict on each, the checks side by
+//! side, which conclusions depend on the model, and the figures overlaid or side by side.
+
+use serde::Serialize;
+
+use crate::analysis::ExperimentResult;
+use crate::checks::verdict::verdict;
+use crate::checks::{fmt_num, CheckOutcome, Status};
+use crate::output::figure::Figure;
+
+use super::report::{counts, status_class, FigureView};
+
+/// One model's column.
+#[derive(Debug, Serialize)]
+pub struct ModelColumn {
+    pub id: String,
+    pub label: String,
+    pub description: String,
+    pub link: String,
+    /// Against the paper only (as in the index).
+    pub verdict: String,
+    pub verdict_class: String,
+    /// Every check, in words.
+    pub counts: String,
+    pub deviation: String,
+}
+
+/// One check across the models: (CSS class, text) per model, empty where it does not run.
+#[derive(Debug, Serialize)]
+pub struct MatrixRow {
+    pub name: String,
+    pub description: String,
+    pub source: String,
+    pub cells: Vec<(String, String)>,
+}
+
+/// One figure of every model in a row.
+#[derive(Debug, Serialize)]
+pub struct SideBySide {
+    pub title: String,
+    /// (model label, PNG, SVG), links relative to the experiment's folder.
+    pub cells: Vec<(String, String, String)>,
+}
+
+/// The context of `models.html`.
+#[derive(Debug, Serialize)]
+pub struct ModelsView {
+    pub id: String,
+    pub title: String,
+    pub figure: String,
+    pub caption: String,
+    pub claim: String,
+    pub source_file: String,
+    pub models: Vec<ModelColumn>,
+    pub overlays: Vec<FigureView>,
+    pub side_by_side: Vec<SideBySide>,
+    pub matrix: Vec<MatrixRow>,
+    /// Conclusions (checks against the paper) whose outcome differs between models.
+    pub dependence: Vec<String>,
+}
+
+/// True when a check's claim holds (passes, also where a deviation was expected).
+fn holds(c: &CheckOutcome) -> bool {
+    matches!(c.status, Status::Pass | Status::KnownDeviationPasses)
+}
+
+/// Which paper checks pass on some models and not on others, in sentences.
+pub fn dependence(runs: &[&ExperimentResult]) -> Vec<String> {
+    dependent(runs).into_iter().map(|(_, sentence)| sentence).collect()
+}
+
+/// The names of the paper checks that pass on some models and not on others.
+pub fn dependent_names(runs: &[&ExperimentResult]) -> Vec<String> {
+    dependent(runs).into_iter().map(|(name, _)| name).collect()
+}
+
+fn dependent(runs: &[&ExperimentResult]) -> Vec<(String, String)> {
+    let mut names: Vec<&str> = Vec::new();
+    for r in runs {
+        for c in r.checks.iter().filter(|c| c.source.is_paper()) {
+            if !names.contains(&c.name.as_str()) {
+                names.push(&c.name);
+            }
+        }
+    }
+    let label = |r: &ExperimentResult| r.experiment.model.as_ref().map(|m| m.label.clone()).unwrap_or_default();
+    names
+        .into_iter()
+        .filter_map(|name| {
+            let outcomes: Vec<(String, &CheckOutcome)> =
+                runs.iter().filter_map(|r| r.checks.iter().find(|c| c.name == name).map(|c| (label(r), c))).collect();
+            let yes: Vec<&str> = outcomes.iter().filter(|(_, c)| holds(c)).map(|(l, _)| l.as_str()).collect();
+            let no: Vec<String> = outcomes
+                .iter()
+                .filter(|(_, c)| !holds(c))
+                .map(|(l, c)| format!("{l} ({}: {})", c.status.label(), fmt_num(c.computed)))
+                .collect();
+            if yes.is_empty() || no.is_empty() {
+                return None;
+            }
+            let description = &outcomes[0].1.description;
+            Some((
+                name.to_string(),
+                format!("{name} ({description}) holds on {} and not on {}.", yes.join(", "), no.join(", ")),
+            ))
+        })
+        .collect()
+}
+
+/// Builds the page of `runs` (one experiment, one run per model) with the overlaid figures.
+pub fn models_view(runs: &[&ExperimentResult], overlays: &[Figure]) -> ModelsView {
+    let first = &runs[0].experiment;
+    let models: Vec<ModelColumn> = runs
+        .iter()
+        .map(|r| {
+            let m = r.experiment.model.clone().unwrap_or_else(|| crate::experiment::ModelInfo {
+                id: String::new(),
+                label: String::new(),
+                description: String::new(),
+            });
+            let v = verdict(r.checks.iter());
+            let (_, _, words) = counts(&r.checks);
+            ModelColumn {
+                link: format!("{}/index.html", m.id),
+                id: m.id,
+                label: m.label,
+                description: m.description,
+                verdict: v.label().to_string(),
+                verdict_class: v.class().to_string(),
+                counts: words,
+                deviation: r.experiment.meta.deviation.clone().unwrap_or_default(),
+            }
+        })
+        .collect();
+    let mut names: Vec<(String, String, String)> = Vec::new();
+    for r in runs {
+        for c in &r.checks {
+            if !names.iter().any(|(n, _, _)| *n == c.name) {
+                names.push((c.name.clone(), c.description.clone(), c.source.label().to_string()));
+            }
+        }
+    }
+    let matrix = names
+        .into_iter()
+        .map(|(name, description, source)| MatrixRow {
+            cells: runs
+                .iter()
+                .map(|r| match r.checks.iter().find(|c| c.name == name) {
+                    Some(c) => (
+                        status_class(c.status).to_string(),
+                        format!("{}: {} {}", c.status.label(), fmt_num(c.computed), c.unit),
+                    ),
+                    None => (String::new(), "not run on this model".to_string()),
+                })
+                .collect(),
+            name,
+            description,
+            source,
+        })
+        .collect();
+    let side_by_side = runs[0]
+        .figures
+        .iter()
+        .map(|f| SideBySide {
+            title: f.title.clone(),
+            cells: runs
+                .iter()
+                .filter(|r| r.figures.iter().any(|g| g.id == f.id))
+                .filter_map(|r| {
+                    let m = r.experiment.model.as_ref()?;
+                    Some((m.label.clone(), format!("{}/{}.png", m.id, f.id), format!("{}/{}.svg", m.id, f.id)))
+                })
+                .collect(),
+        })
+        .collect();
+    ModelsView {
+        id: first.meta.id.clone(),
+        title: first.meta.title.clone(),
+        figure: first.meta.figure.clone(),
+        caption: first.meta.caption.clone(),
+        claim: first.meta.claim.clone(),
+        source_file: first.path.display().to_string(),
+        models,
+        overlays: overlays
+            .iter()
+            .map(|f| FigureView {
+                title: f.title.clone(),
+                caption: f.caption.clone(),
+                png: format!("{}.png", f.id),
+                svg: format!("{}.svg", f.id),
+            })
+            .collect(),
+        side_by_side,
+        matrix,
+        dependence: dependence(runs),
+    }
+}
