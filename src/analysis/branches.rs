@@ -41,7 +41,9 @@ pub fn continue_orbit(
     range: (f64, f64),
 ) -> OrbitCurve {
     let mut out = OrbitCurve { id: id.into(), label: label.into(), ..OrbitCurve::default() };
-    let family = |f: f64| Dynamics::new(sys, 2.0 * PI * f);
+    // Decomposed once; each frequency adds only its forced response.
+    let base = Dynamics::unforced(sys);
+    let family = |f: f64| base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f));
     let Some((mut strobe, mut u)) = family(seed_hz).ok().and_then(|d| seed.section(&d)) else {
         out.end = "no seed: the point did not end on a certified orbit".into();
         return out;

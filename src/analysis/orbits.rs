@@ -153,7 +153,9 @@ fn branch(
     steady: &SteadyOptions,
     compliance: &(dyn Fn(&[f64]) -> Vec<f64> + Sync),
 ) -> OrbitBranch {
-    let family = |f: f64| Dynamics::new(sys, 2.0 * PI * f);
+    // Decomposed once; each frequency adds only its forced response.
+    let base = Dynamics::unforced(sys);
+    let family = |f: f64| base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f));
     let opts = options(freq_hz);
     let mut out = OrbitBranch { id: id.into(), label: label.into(), ..OrbitBranch::default() };
     let words = |e: &BranchEnd| match e {
@@ -327,6 +329,7 @@ pub fn run(
 /// At every simulated point that settled on a period-1 motion: the exact orbit through its
 /// final state by Newton's method, and the largest relative difference of the compliances.
 fn check_points(sys: &System, points: &[SweepPoint], force: f64) -> Vec<OrbitCheckPoint> {
+    let base = Dynamics::unforced(sys).ok();
     points
         .par_iter()
         .filter_map(|p| {
@@ -334,7 +337,7 @@ fn check_points(sys: &System, points: &[SweepPoint], force: f64) -> Vec<OrbitChe
             if !(st.converged && st.period == 1) || st.bottom_impacts[0] == 0.0 {
                 return None;
             }
-            let d = Dynamics::new(sys, 2.0 * PI * p.freq_hz).ok()?;
+            let d = base.as_ref()?.at_omega(2.0 * PI * p.freq_hz).ok()?;
             let length = st.amplitude.iter().copied().fold(0.0, f64::max);
             let Some((problem, u)) = seed(&d, &st.final_state, 1, length, d.omega, false) else {
                 return Some(OrbitCheckPoint {

@@ -27,10 +27,17 @@ pub struct SweepPoint {
 /// Every frequency from rest, independently. Results are in the order of `freqs_hz`; each
 /// point's computation depends on nothing else, so the bytes do not depend on threads.
 pub fn from_rest(sys: &System, freqs_hz: &[f64], opts: &SteadyOptions, tick: &(dyn Fn() + Sync)) -> Vec<SweepPoint> {
+    // Decomposed once; each frequency adds only its forced response (the same numbers as
+    // `Dynamics::new` at that frequency).
+    let base = Dynamics::unforced(sys);
     freqs_hz
         .par_iter()
         .map(|&f| {
-            let result = Dynamics::new(sys, 2.0 * PI * f).map(|d| steady_state(&d, State::at_rest(&d), opts));
+            let result = base
+                .as_ref()
+                .map_err(Clone::clone)
+                .and_then(|b| b.at_omega(2.0 * PI * f))
+                .map(|d| steady_state(&d, State::at_rest(&d), opts));
             tick();
             SweepPoint { freq_hz: f, result }
         })
@@ -69,8 +76,9 @@ pub fn continued(
     }
     let mut prev: Option<State> = None;
     let mut out = Vec::with_capacity(order.len());
+    let base = Dynamics::unforced(sys);
     for f in order {
-        let result = Dynamics::new(sys, 2.0 * PI * f).map(|d| {
+        let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
             let start = prev.as_ref().map(restart).unwrap_or_else(|| State::at_rest(&d));
             steady_state(&d, start, opts)
         });

@@ -123,7 +123,8 @@ pub struct Config {
     pub q: DVector<f64>,
     /// Static offset under the attached beds' weights.
     pub offset: DVector<f64>,
-    /// `M^-1`, for accelerations at events.
+    /// `M` and `M^-1` (accelerations at events).
+    pub mass: DMatrix<f64>,
     pub mass_inv: DMatrix<f64>,
     /// Largest `|Im lambda|`.
     pub max_rate: f64,
@@ -148,8 +149,44 @@ pub struct Dynamics {
 }
 
 impl Dynamics {
-    /// Decomposes all 2^N configurations once.
+    /// Decomposes all 2^N configurations and adds the forced response at `omega`.
     pub fn new(system: &System, omega: f64) -> Result<Dynamics, SetupError> {
+        Dynamics::unforced(system)?.at_omega(omega)
+    }
+
+    /// The same system forced at another frequency: only the forced response is computed
+    /// again (the decompositions do not depend on the frequency), so a sweep or a
+    /// continuation in frequency decomposes once. Identical to [`Dynamics::new`] at `omega`.
+    pub fn at_omega(&self, omega: f64) -> Result<Dynamics, SetupError> {
+        let mut d = self.clone();
+        let n = self.system.dof();
+        for cfg in &mut d.configs {
+            let (p, q) = if self.system.force != 0.0 {
+                let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
+                    Complex64::new(self.k[(i, j)] - omega * omega * cfg.mass[(i, j)], omega * self.c[(i, j)])
+                });
+                let mut rhs = DVector::<Complex64>::zeros(n);
+                rhs[self.system.driven] = Complex64::new(self.system.force, 0.0);
+                let x = z.lu().solve(&rhs).ok_or(SetupError::Singular { mask: cfg.mask })?;
+                (x.map(|v| v.im), x.map(|v| v.re))
+            } else {
+                (DVector::zeros(n), DVector::zeros(n))
+            };
+            cfg.amp = DVector::from_fn(n, |i, _| p[i].hypot(q[i]));
+            cfg.p = p;
+            cfg.q = q;
+        }
+        let max_rate = d.configs.iter().map(|c| c.max_rate).fold(omega, f64::max);
+        d.omega = omega;
+        d.min_period = 2.0 * std::f64::consts::PI / max_rate;
+        d.omega_pow = std::array::from_fn(|m| omega.powi(m as i32));
+        Ok(d)
+    }
+
+    /// Decomposes all 2^N configurations once, without forcing (frequency 0; use
+    /// [`Dynamics::at_omega`] to force it).
+    pub fn unforced(system: &System) -> Result<Dynamics, SetupError> {
+        let omega = 0.0;
         let n = system.dof();
         if 2 * n > MAX_TERMS {
             return Err(SetupError::TooLarge { masses: n });
@@ -196,31 +233,21 @@ impl Dynamics {
                 .iter()
                 .map(|rows| std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect()))
                 .collect();
-            // Forced response: (K - omega^2 M + i omega C) X = F e_k; x_p = Im(X e^{i omega t}).
-            let (p, q) = if system.force != 0.0 {
-                let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
-                    Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)])
-                });
-                let mut rhs = DVector::<Complex64>::zeros(n);
-                rhs[system.driven] = Complex64::new(system.force, 0.0);
-                let x = z.lu().solve(&rhs).ok_or(SetupError::Singular { mask })?;
-                (x.map(|v| v.im), x.map(|v| v.re))
-            } else {
-                (DVector::zeros(n), DVector::zeros(n))
-            };
+            // The forced response (K - omega^2 M + i omega C) X = F e_k, x_p = Im(X e^{i omega t}),
+            // is added by `at_omega`.
             let offset = &k_inv * system.weight_load(mask);
             let max_rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
-            let amp = DVector::from_fn(n, |i, _| p[i].hypot(q[i]));
             configs.push(Config {
                 mask,
                 lambda,
                 vl,
                 vl_abs,
                 inverse,
-                amp,
-                p,
-                q,
+                amp: DVector::zeros(n),
+                p: DVector::zeros(n),
+                q: DVector::zeros(n),
                 offset,
+                mass: m,
                 mass_inv: m_inv,
                 max_rate,
                 residual: eig.residual,
