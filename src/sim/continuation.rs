@@ -115,8 +115,8 @@ impl<S: Section> Solver<'_, S> {
 
     /// `dG/dq` by central differences.
     fn g_q(&self, u: &DVector<f64>, q: f64) -> Result<DVector<f64>, OrbitError> {
-        let (a, _) = self.problem.residual(&self.dynamics(q + FD_STEP)?, u)?;
-        let (b, _) = self.problem.residual(&self.dynamics(q - FD_STEP)?, u)?;
+        let a = self.problem.residual_only(&self.dynamics(q + FD_STEP)?, u)?;
+        let b = self.problem.residual_only(&self.dynamics(q - FD_STEP)?, u)?;
         Ok((a - b) / (2.0 * FD_STEP))
     }
 

@@ -102,6 +102,17 @@ pub trait Section {
     /// The return map.
     fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError>;
 
+    /// The image `P(u)` alone (no Jacobian, no events): the same numbers as `map(d, u).image`,
+    /// for finite differences in the parameter.
+    fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
+        self.map(d, u).map(|r| r.image)
+    }
+
+    /// `G(u)` alone, from [`Section::image`].
+    fn residual_only(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
+        Ok(&self.image(d, u)? - u - self.shift(u.len()))
+    }
+
     /// `G(u) = P(u) - u - shift`.
     fn residual(&self, d: &Dynamics, u: &DVector<f64>) -> Result<(DVector<f64>, Return), OrbitError> {
         let r = self.map(d, u)?;
@@ -253,6 +264,25 @@ impl Section for Problem {
             (j, smooth)
         });
         Ok(Return { image: self.coordinates(d, &at), events: rec.events, jacobian })
+    }
+
+    /// The image without the linearised flow (the tangent only observes: the motion and the
+    /// return are the same).
+    fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
+        if d.system.dampers.len() != 1 {
+            return Err(OrbitError::Dampers(d.system.dampers.len()));
+        }
+        let mut s = self.state(d, u);
+        let period = 2.0 * std::f64::consts::PI / d.omega;
+        let limit = s.t + (self.periods as f64 + 1.0) * period;
+        let mut rec = Returns { wanted: self.returns, seen: 0, events: Vec::new(), at: None };
+        let engine = Engine::new(d);
+        while rec.at.is_none() && s.t < limit {
+            let next = (s.t + period / 8.0).min(limit);
+            engine.advance(&mut s, next, &mut rec).map_err(OrbitError::Stopped)?;
+        }
+        let at = rec.at.ok_or(OrbitError::NoReturn)?;
+        Ok(self.coordinates(d, &at))
     }
 }
 

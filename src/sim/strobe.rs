@@ -242,4 +242,12 @@ impl Section for Strobe {
         let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
         Ok(Return { image, events: log.0, jacobian: Some((jacobian, smooth)) })
     }
+
+    /// The image without the linearised flow (the tangent only observes).
+    fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
+        let mut s = self.state(d, u);
+        let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
+        Engine::new(d).advance(&mut s, t_end, &mut crate::sim::engine::Quiet).map_err(OrbitError::Stopped)?;
+        self.coordinates(d, &s)
+    }
 }
