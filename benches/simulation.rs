@@ -1,5 +1,6 @@
 //! Benchmarks of the simulator: one steady-state point (as a periodic orbit and by the
-//! transient rule), the Fig. 8 three-damper sweep, the low-damping sweeps, a Fig. 9 branch.
+//! transient rule), the Fig. 8 three-damper sweep, the low-damping sweeps, a Fig. 9 branch,
+//! setting up the dynamics, and the stiffness fit to measured modes.
 //! Results and the machine they ran on are recorded in BENCHMARKS.md.
 
 use std::f64::consts::PI;
@@ -95,10 +96,32 @@ fn fig09_branch(c: &mut Criterion) {
     group.finish();
 }
 
+/// Setting up the dynamics of three beds at one frequency: decomposing all 8 configurations,
+/// against adding only the forced response to decompositions made once (sweeps and
+/// continuations do the latter).
+fn dynamics_setup(c: &mut Criterion) {
+    let sys = three_dampers();
+    c.bench_function("dynamics N=3: Dynamics::new", |b| b.iter(|| Dynamics::new(&sys, 2.0 * PI * 49.5)));
+    let base = Dynamics::unforced(&sys).expect("dynamics");
+    c.bench_function("dynamics N=3: at_omega from the decomposition", |b| b.iter(|| base.at_omega(2.0 * PI * 49.5)));
+}
+
+/// The stiffness fitted to the paper's measured modes (12 Levenberg-Marquardt starts).
+fn stiffness_fit(c: &mut Criterion) {
+    use shotdamp::model::fit::{fit_stiffness, ModalData, FREQUENCY_WEIGHT};
+    let data = ModalData {
+        omegas: vec![81.9, 243.9, 312.3],
+        shapes: vec![vec![0.37, 0.77, 1.0], vec![1.0, 0.57, -0.91], vec![-0.96, 1.0, -0.47]],
+        frequency_weight: FREQUENCY_WEIGHT,
+        shape_weights: vec![vec![1.0; 3]; 3],
+    };
+    c.bench_function("stiffness fit to the measured modes", |b| b.iter(|| fit_stiffness(&[0.74, 0.71, 0.64], &data)));
+}
+
 criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = point, fig08_sweep, low_damping, fig09_branch
+    targets = point, fig08_sweep, low_damping, fig09_branch, dynamics_setup, stiffness_fit
 }
 criterion_main!(benches);

@@ -25,15 +25,25 @@ fn browser() -> PathBuf {
     panic!("no Chromium found: install it (apt-get install -y chromium) or set SHOTDAMP_BROWSER");
 }
 
-/// The pages of a report: the index and every experiment's page.
+/// The pages of a report: the index, every experiment's page and the page of each of its
+/// models.
 fn pages(root: &Path) -> Vec<String> {
+    let dirs = |p: &Path| {
+        let mut d: Vec<_> =
+            std::fs::read_dir(p).unwrap().filter_map(|e| e.ok()).filter(|e| e.path().is_dir()).collect();
+        d.sort_by_key(|e| e.file_name());
+        d
+    };
     let mut out = vec!["index.html".to_string()];
-    let mut dirs: Vec<_> =
-        std::fs::read_dir(root).unwrap().filter_map(|e| e.ok()).filter(|e| e.path().is_dir()).collect();
-    dirs.sort_by_key(|e| e.file_name());
-    for d in dirs {
+    for d in dirs(root) {
+        let id = d.file_name().to_string_lossy().into_owned();
         if d.path().join("index.html").is_file() {
-            out.push(format!("{}/index.html", d.file_name().to_string_lossy()));
+            out.push(format!("{id}/index.html"));
+        }
+        for m in dirs(&d.path()) {
+            if m.path().join("index.html").is_file() {
+                out.push(format!("{id}/{}/index.html", m.file_name().to_string_lossy()));
+            }
         }
     }
     out

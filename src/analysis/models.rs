@@ -1,5 +1,5 @@
 //! One experiment on several models of the structure: compliance curves overlaid across
-//! models (docs/model.md section 1.3). Nothing here runs a solver: it reads finished results.
+//! models (docs/model.md section 1.2). Nothing here runs a solver: it reads finished results.
 
 use crate::experiment::{Analysis, PlotKind, Scale};
 use crate::output::figure::{Corner, Dash, Figure, Panel, Series};

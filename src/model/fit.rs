@@ -1,5 +1,5 @@
 //! Model updating: a symmetric positive definite stiffness matrix fitted to measured natural
-//! frequencies and mode shapes, the masses held fixed (docs/model.md section 1.2).
+//! frequencies and mode shapes, the masses held fixed (docs/model.md section 1.3).
 //!
 //! Unknowns are the `n (n + 1) / 2` entries of `K` on and above the diagonal. Residuals are
 //! the relative frequency errors (times `frequency_weight`) and, per mode, the differences of

@@ -57,15 +57,18 @@ fn checks(dir: &Path) -> Result<Checks> {
         .iter()
         .map(|c| {
             let s = |k: &str| c.get(k).and_then(|x| x.as_str()).unwrap_or_default().to_string();
-            (
-                (s("experiment"), s("name")),
-                (s("status"), c.get("computed").and_then(|x| x.as_f64()).unwrap_or(f64::NAN)),
-            )
+            // A run on one of several models is `ID/MODEL`, as its folder.
+            let run = match c.get("model").and_then(|m| m.as_str()) {
+                Some(m) => format!("{}/{m}", s("experiment")),
+                None => s("experiment"),
+            };
+            ((run, s("name")), (s("status"), c.get("computed").and_then(|x| x.as_f64()).unwrap_or(f64::NAN)))
         })
         .collect())
 }
 
-/// The PNG figures of a report, by experiment folder.
+/// The PNG figures of a report, by experiment folder (`ID`, and `ID/MODEL` for the runs of an
+/// experiment on several models).
 fn figures(dir: &Path) -> Result<BTreeMap<String, Vec<String>>> {
     let mut out = BTreeMap::new();
     for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
@@ -74,16 +77,28 @@ fn figures(dir: &Path) -> Result<BTreeMap<String, Vec<String>>> {
             continue;
         }
         let id = entry.file_name().to_string_lossy().into_owned();
-        let mut pngs: Vec<String> = std::fs::read_dir(entry.path())
-            .map_err(|e| Error::io(entry.path(), e))?
-            .filter_map(|e| e.ok())
-            .map(|e| e.file_name().to_string_lossy().into_owned())
-            .filter(|n| n.ends_with(".png"))
-            .collect();
-        pngs.sort();
-        out.insert(id, pngs);
+        out.insert(id.clone(), pngs(&entry.path())?);
+        for sub in std::fs::read_dir(entry.path()).map_err(|e| Error::io(entry.path(), e))? {
+            let sub = sub.map_err(|e| Error::io(entry.path(), e))?;
+            let name = sub.file_name().to_string_lossy().into_owned();
+            if sub.path().is_dir() && name != "data" {
+                out.insert(format!("{id}/{name}"), pngs(&sub.path())?);
+            }
+        }
     }
     Ok(out)
+}
+
+/// The PNG files directly in `dir`, sorted.
+fn pngs(dir: &Path) -> Result<Vec<String>> {
+    let mut pngs: Vec<String> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".png"))
+        .collect();
+    pngs.sort();
+    Ok(pngs)
 }
 
 fn copy(from: &Path, to: &Path) -> Result<()> {
