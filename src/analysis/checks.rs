@@ -120,8 +120,17 @@ pub fn evaluate(
                 }
             }
             CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
-            CheckKind::PeakRatio { case, over_case, mass, bound, window } => {
-                out.push(claim_checks::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window));
+            CheckKind::PeakRatio { case, over_case, mass, bound, window, reading } => {
+                out.push(claim_checks::peak_ratio(
+                    spec,
+                    file,
+                    curves,
+                    (case, over_case),
+                    *mass,
+                    bound,
+                    *window,
+                    *reading,
+                ));
             }
             CheckKind::MotionTypes { case, present, absent } => match file.for_check(spec) {
                 Some(q) => out.push(claim_checks::motion_types(

@@ -3,7 +3,7 @@
 
 use crate::checks::reference::ValueFile;
 use crate::checks::{fmt_num, status, CheckOutcome, Source};
-use crate::experiment::{Bound, CheckSpec};
+use crate::experiment::{Bound, CheckSpec, Reading};
 
 use super::curves::Curves;
 
@@ -30,7 +30,65 @@ fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f6
     ))
 }
 
-/// A peak ratio against a bound (a range, at most or at least a value; `rel_tol` is slack).
+/// Both curves at the frequency of `case`'s peak: (ratio, words). The curves share their grid.
+fn at_resonance(
+    curves: &Curves,
+    (case, over): (&str, &str),
+    mass: usize,
+    w: Option<(f64, f64)>,
+) -> Option<(f64, String)> {
+    let (a, b) = (curves.get(case)?, curves.get(over)?);
+    let (f, peak) = a.peak_in(mass, w)?;
+    let j = b.freq_hz.iter().position(|x| *x == f)?;
+    let c = b.compliance[j][mass];
+    let settled = if b.regular(j) { "" } else { " (not settled or not period-1 there)" };
+    Some((
+        peak / c,
+        format!(
+            "at {case}'s peak, {} Hz: {case} {} m/N over {over} {} m/N{settled}",
+            fmt_num(f),
+            fmt_num(peak),
+            fmt_num(c)
+        ),
+    ))
+}
+
+/// The largest ratio at one frequency over the band where `case` is at least 1/sqrt(2) of its
+/// peak (settled, period-1 points of both): (ratio, words).
+fn band_max(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<(f64, String)> {
+    let (a, b) = (curves.get(case)?, curves.get(over)?);
+    let (_, peak) = a.peak_in(mass, w)?;
+    let inside = |f: f64| w.is_none_or(|(lo, hi)| f >= lo && f <= hi);
+    let mut ratios: Vec<(f64, f64)> = Vec::new();
+    for (i, &f) in a.freq_hz.iter().enumerate() {
+        let ca = a.compliance[i][mass];
+        if !(inside(f) && a.regular(i) && ca >= peak / std::f64::consts::SQRT_2) {
+            continue;
+        }
+        if let Some(j) = b.freq_hz.iter().position(|x| *x == f).filter(|&j| b.regular(j)) {
+            ratios.push((f, ca / b.compliance[j][mass]));
+        }
+    }
+    let (lo, hi) = (ratios.first()?.0, ratios.last()?.0);
+    let min = ratios.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
+    let &(f_max, max) = ratios.iter().max_by(|x, y| x.1.total_cmp(&y.1))?;
+    Some((
+        max,
+        format!(
+            "{case} over {over} at each of {} frequencies of {case}'s resonance band ({}-{} Hz): {:.2} to {:.2}, largest at {} Hz",
+            ratios.len(),
+            fmt_num(lo),
+            fmt_num(hi),
+            min,
+            max,
+            fmt_num(f_max)
+        ),
+    ))
+}
+
+/// A ratio of two responses, read as `reading`, against a bound (a range, at most or at least
+/// a value; `rel_tol` is slack).
+#[allow(clippy::too_many_arguments)]
 pub fn peak_ratio(
     spec: &CheckSpec,
     file: &ValueFile,
@@ -39,9 +97,15 @@ pub fn peak_ratio(
     mass: usize,
     bound: &Bound,
     window: Option<(f64, f64)>,
+    reading: Reading,
 ) -> CheckOutcome {
     let Some(first) = file.for_check(spec) else { return CheckOutcome::missing(spec, "bound not found") };
-    let Some((r, words)) = ratio(curves, cases, mass, window) else {
+    let computed = match reading {
+        Reading::PeakOverPeak => ratio(curves, cases, mass, window),
+        Reading::AtResonance => at_resonance(curves, cases, mass, window),
+        Reading::BandMax => band_max(curves, cases, mass, window),
+    };
+    let Some((r, words)) = computed else {
         return CheckOutcome::missing(spec, "curves not computed");
     };
     let v = first.value.unwrap_or(f64::NAN);
@@ -62,9 +126,46 @@ pub fn peak_ratio(
         Bound::AtLeast => (r >= v * (1.0 - slack), v, format!("at least {}", fmt_num(v)), format!("computed {r:.3}")),
     };
     let tolerance = if slack > 0.0 { format!("{tolerance} +/- {:.1} %", 100.0 * slack) } else { tolerance };
+    let (name, description) = match reading {
+        Reading::PeakOverPeak => (
+            format!("peak ratio {} / {}, m{}{}", cases.0, cases.1, mass + 1, window_words(window)),
+            format!("peak compliance of m{}{} (reading: peak over peak): {words}", mass + 1, window_words(window)),
+        ),
+        Reading::AtResonance => (
+            format!(
+                "ratio {} / {} at {}'s resonance, m{}{}",
+                cases.0,
+                cases.1,
+                cases.0,
+                mass + 1,
+                window_words(window)
+            ),
+            format!(
+                "compliance of m{}{} (reading: both at {}'s resonance): {words}",
+                mass + 1,
+                window_words(window),
+                cases.0
+            ),
+        ),
+        Reading::BandMax => (
+            format!(
+                "largest ratio {} / {} over {}'s resonance band, m{}{}",
+                cases.0,
+                cases.1,
+                cases.0,
+                mass + 1,
+                window_words(window)
+            ),
+            format!(
+                "compliance of m{}{} (reading: the largest reduction at one frequency around resonance): {words}",
+                mass + 1,
+                window_words(window)
+            ),
+        ),
+    };
     CheckOutcome {
-        name: format!("peak ratio {} / {}, m{}{}", cases.0, cases.1, mass + 1, window_words(window)),
-        description: format!("peak compliance of m{}{}: {words}", mass + 1, window_words(window)),
+        name,
+        description,
         computed: r,
         expected,
         unit: String::new(),

@@ -346,6 +346,14 @@ fn claim(path: &Path, i: usize, c: &RawCheck, n: usize, case_ids: &[String]) -> 
     let over_case = case_ref(path, key("over_case"), &c.over_case, case_ids)?;
     let win = window(path, key("window_hz"), &c.window_hz)?;
     if c.kind == "ratio_order" {
+        if let Some(r) = &c.reading {
+            return Err(Error::invalid(
+                path,
+                key("reading"),
+                format!("\"{r}\""),
+                "an ordering claim compares peaks: it takes no reading",
+            ));
+        }
         let (Some(window), Some(than_window)) = (win, window(path, key("than_window_hz"), &c.than_window_hz)?) else {
             return Err(Error::invalid(
                 path,
@@ -379,7 +387,20 @@ fn claim(path: &Path, i: usize, c: &RawCheck, n: usize, case_ids: &[String]) -> 
             ))
         }
     };
-    Ok(CheckKind::PeakRatio { case, over_case, mass, bound, window: win })
+    let reading = match c.reading.as_deref() {
+        None | Some("peak_over_peak") => super::Reading::PeakOverPeak,
+        Some("at_resonance") => super::Reading::AtResonance,
+        Some("band_max") => super::Reading::BandMax,
+        Some(other) => {
+            return Err(Error::invalid(
+                path,
+                key("reading"),
+                format!("\"{other}\""),
+                "allowed: \"peak_over_peak\", \"at_resonance\", \"band_max\"",
+            ))
+        }
+    };
+    Ok(CheckKind::PeakRatio { case, over_case, mass, bound, window: win, reading })
 }
 
 /// Checks against a digitised curve: `tube` and `peak`. The reference file must hold the

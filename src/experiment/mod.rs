@@ -246,7 +246,14 @@ pub enum CheckKind {
     /// The ratio of two cases' peak compliances of a mass (within a frequency window, or over
     /// the whole curve) against a bound from a reference: within a range (`reference` is the
     /// lower bound, `range_to` the id of the upper one), at most or at least a value.
-    PeakRatio { case: String, over_case: String, mass: usize, bound: Bound, window: Option<(f64, f64)> },
+    PeakRatio {
+        case: String,
+        over_case: String,
+        mass: usize,
+        bound: Bound,
+        window: Option<(f64, f64)>,
+        reading: Reading,
+    },
     /// A computed curve against a digitised one: every digitised point within `x_px` pixels
     /// along x and `y_px` pixels (plus the check's tolerance) along y of the computed curve.
     Tube { case: String, mass: usize, curve: String, x_px: f64, y_px: f64 },
@@ -273,6 +280,30 @@ pub enum CheckKind {
     /// The peak compliance of the SDOF solution against that of the simulation of the full
     /// structure (the paper's "close agreement").
     SdofVsSimulation,
+}
+
+/// How a claim about the ratio of two responses "around resonance" is read: the paper's words
+/// allow more than one reading, each a check of its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reading {
+    /// The peak of `case` over the peak of `over_case` (each at its own frequency).
+    PeakOverPeak,
+    /// Both at the frequency of `case`'s peak (e.g. the single damper's resonance).
+    AtResonance,
+    /// The largest ratio of the two at one frequency, over the band where `case` is at least
+    /// 1/sqrt(2) of its peak (its resonance band).
+    BandMax,
+}
+
+impl Reading {
+    /// The name used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reading::PeakOverPeak => "peak_over_peak",
+            Reading::AtResonance => "at_resonance",
+            Reading::BandMax => "band_max",
+        }
+    }
 }
 
 /// How a ratio is bounded by its reference.

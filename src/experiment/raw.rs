@@ -317,6 +317,11 @@ pub struct RawCheck {
     /// Ratio checks: the id of the upper bound (`reference` names the lower one).
     #[serde(default)]
     pub range_to: Option<String>,
+    /// Ratio checks: how "around resonance" is read: "peak_over_peak" (default),
+    /// "at_resonance" (both at `case`'s peak frequency) or "band_max" (the largest ratio at one
+    /// frequency over `case`'s resonance band).
+    #[serde(default)]
+    pub reading: Option<String>,
     /// Ratio checks: "within" (default, with `range_to`), "at_most" or "at_least".
     #[serde(default)]
     pub bound: Option<String>,

@@ -1,0 +1,135 @@
+//! The readings of a claim about "amplitude reductions around resonance": each computed value
+//! is what the sweep's own table gives by hand.
+
+mod common;
+
+use common::{repo, shotdamp};
+
+const EXPERIMENT: &str = r#"
+[experiment]
+id = "readings"
+title = "t"
+figure = "Fig. 5"
+caption = "-"
+claim = "-"
+
+[structure]
+masses_kg = [0.74, 0.71, 0.64]
+chain_stiffness_n_per_m = [24.3e3, 21.8e3, 19.8e3]
+
+[structure.damping]
+modal_ratios = [0.01, 0.01, 0.01]
+
+[excitation]
+mass = 1
+force_n = 2.6
+
+[analysis]
+kind = "sweep"
+freq_hz = { start = 46.0, stop = 50.0, step = 0.1 }
+
+[[cases]]
+id = "single"
+label = "one damper on m2"
+dampers = [{ mass = 2, mass_ratio = 0.1, clearance_mm = 0.2 }]
+
+[[cases]]
+id = "triple"
+label = "dampers on m1, m2, m3"
+dampers = [
+    { mass = 1, mass_ratio = 0.1, clearance_mm = 0.2 },
+    { mass = 2, mass_ratio = 0.1, clearance_mm = 0.2 },
+    { mass = 3, mass_ratio = 0.1, clearance_mm = 0.2 },
+]
+"#;
+
+fn check(reading: &str) -> String {
+    format!(
+        "\n[[checks]]\nkind = \"peak_ratio\"\nreading = \"{reading}\"\ncase = \"single\"\nover_case = \"triple\"\nmass = 2\nreference = \"paper-text.toml#reduction_min\"\nrange_to = \"reduction_max\"\nrel_tol = 0.0\nknown_deviation = \"whatever it is\"\n"
+    )
+}
+
+#[test]
+fn each_reading_is_the_value_of_the_sweep_table_by_hand() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("readings.toml");
+    let text = format!("{EXPERIMENT}{}{}{}", check("peak_over_peak"), check("at_resonance"), check("band_max"));
+    std::fs::write(&file, text).unwrap();
+    let out_dir = dir.path().join("out");
+    let out = shotdamp()
+        .arg("--reference")
+        .arg(repo().join("reference"))
+        .arg("run")
+        .arg(&file)
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+
+    // The table: (freq, c2, regular) per case.
+    let table = std::fs::read_to_string(out_dir.join("readings/data/compliance.csv")).unwrap();
+    let mut lines = table.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| header.iter().position(|h| *h == n).unwrap();
+    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(String::from).collect()).collect();
+    let curve = |id: &str| -> Vec<(f64, f64, bool, bool)> {
+        rows.iter()
+            .filter(|r| r[col("curve")] == id)
+            .map(|r| {
+                let conv = r[col("converged")] == "1";
+                (
+                    r[col("freq_hz")].parse().unwrap(),
+                    r[col("c2")].parse().unwrap(),
+                    conv,
+                    conv && r[col("period")] == "1",
+                )
+            })
+            .collect()
+    };
+    let (single, triple) = (curve("single"), curve("triple"));
+    assert_eq!(single.len(), 41);
+    let peak = |c: &[(f64, f64, bool, bool)]| {
+        c.iter().filter(|p| p.2).map(|p| (p.0, p.1)).max_by(|a, b| a.1.total_cmp(&b.1)).unwrap()
+    };
+    let at = |c: &[(f64, f64, bool, bool)], f: f64| c.iter().find(|p| p.0 == f).unwrap().1;
+    let (fs, ps) = peak(&single);
+    let peak_over_peak = ps / peak(&triple).1;
+    let at_resonance = ps / at(&triple, fs);
+    let band_max = single
+        .iter()
+        .filter(|p| p.3 && p.1 >= ps / std::f64::consts::SQRT_2)
+        .filter_map(|p| triple.iter().find(|q| q.0 == p.0 && q.3).map(|q| p.1 / q.1))
+        .fold(0.0, f64::max);
+
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out_dir.join("checks.json")).unwrap()).unwrap();
+    let computed = |prefix: &str| {
+        json["checks"].as_array().unwrap().iter().find(|c| c["name"].as_str().unwrap().starts_with(prefix)).unwrap()
+            ["computed"]
+            .as_f64()
+            .unwrap()
+    };
+    for (name, by_hand) in [
+        ("peak ratio single / triple", peak_over_peak),
+        ("ratio single / triple at single's resonance", at_resonance),
+        ("largest ratio single / triple over single's resonance band", band_max),
+    ] {
+        let c = computed(name);
+        // The CSV holds every digit of f64: the same numbers.
+        assert!((c / by_hand - 1.0).abs() < 1e-12, "{name}: {c} against {by_hand} by hand");
+    }
+    // The readings differ: at the single damper's resonance the three dampers' response is
+    // not at its own peak.
+    assert!(at_resonance > peak_over_peak, "{at_resonance} {peak_over_peak}");
+}
+
+#[test]
+fn an_unknown_reading_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("readings.toml");
+    std::fs::write(&file, format!("{EXPERIMENT}{}", check("mean"))).unwrap();
+    let out = shotdamp().arg("--reference").arg(repo().join("reference")).arg("modal").arg(&file).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("checks[0].reading = \"mean\"") && err.contains("band_max"), "{err}");
+}
