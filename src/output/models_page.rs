@@ -59,6 +59,15 @@ pub struct ModelsView {
     pub dependence: Vec<String>,
 }
 
+/// A number to four significant digits.
+fn short(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-2 || v.abs() >= 1e4) {
+        format!("{v:.3e}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+
 /// True when a check's claim holds (passes, also where a deviation was expected).
 fn holds(c: &CheckOutcome) -> bool {
     matches!(c.status, Status::Pass | Status::KnownDeviationPasses)
@@ -89,20 +98,21 @@ fn dependent(runs: &[&ExperimentResult]) -> Vec<(String, String)> {
         .filter_map(|name| {
             let outcomes: Vec<(String, &CheckOutcome)> =
                 runs.iter().filter_map(|r| r.checks.iter().find(|c| c.name == name).map(|c| (label(r), c))).collect();
-            let yes: Vec<&str> = outcomes.iter().filter(|(_, c)| holds(c)).map(|(l, _)| l.as_str()).collect();
-            let no: Vec<String> = outcomes
-                .iter()
-                .filter(|(_, c)| !holds(c))
-                .map(|(l, c)| format!("{l} ({}: {})", c.status.label(), fmt_num(c.computed)))
-                .collect();
+            let words = |keep: bool| -> Vec<String> {
+                outcomes
+                    .iter()
+                    .filter(|(_, c)| holds(c) == keep)
+                    .map(|(l, c)| {
+                        let unit = if c.unit.is_empty() { String::new() } else { format!(" {}", c.unit) };
+                        format!("{l} ({}: {}{unit})", c.status.label(), short(c.computed))
+                    })
+                    .collect()
+            };
+            let (yes, no) = (words(true), words(false));
             if yes.is_empty() || no.is_empty() {
                 return None;
             }
-            let description = &outcomes[0].1.description;
-            Some((
-                name.to_string(),
-                format!("{name} ({description}) holds on {} and not on {}.", yes.join(", "), no.join(", ")),
-            ))
+            Some((name.to_string(), format!("{name} holds on {} and not on {}.", yes.join(", "), no.join(", "))))
         })
         .collect()
 }
