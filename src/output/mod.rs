@@ -9,6 +9,7 @@ pub mod models_page;
 pub mod plot;
 pub mod report;
 pub mod table;
+pub mod view;
 
 use std::path::{Path, PathBuf};
 

@@ -4,11 +4,11 @@
 use serde::Serialize;
 
 use crate::analysis::ExperimentResult;
+use crate::checks::fmt_num;
 use crate::checks::verdict::verdict;
-use crate::checks::{fmt_num, CheckOutcome, Status};
 use crate::output::figure::Figure;
 
-use super::report::{counts, status_class, FigureView};
+use super::view::{counts, dependence, status_class, FigureView};
 
 /// One model's column.
 #[derive(Debug, Serialize)]
@@ -57,64 +57,6 @@ pub struct ModelsView {
     pub matrix: Vec<MatrixRow>,
     /// Conclusions (checks against the paper) whose outcome differs between models.
     pub dependence: Vec<String>,
-}
-
-/// A number to four significant digits.
-fn short(v: f64) -> String {
-    if v != 0.0 && (v.abs() < 1e-2 || v.abs() >= 1e4) {
-        format!("{v:.3e}")
-    } else {
-        format!("{v:.4}")
-    }
-}
-
-/// True when a check's claim holds (passes, also where a deviation was expected).
-fn holds(c: &CheckOutcome) -> bool {
-    matches!(c.status, Status::Pass | Status::KnownDeviationPasses)
-}
-
-/// Which paper checks pass on some models and not on others, in sentences.
-pub fn dependence(runs: &[&ExperimentResult]) -> Vec<String> {
-    dependent(runs).into_iter().map(|(_, sentence)| sentence).collect()
-}
-
-/// The names of the paper checks that pass on some models and not on others.
-pub fn dependent_names(runs: &[&ExperimentResult]) -> Vec<String> {
-    dependent(runs).into_iter().map(|(name, _)| name).collect()
-}
-
-fn dependent(runs: &[&ExperimentResult]) -> Vec<(String, String)> {
-    let mut names: Vec<&str> = Vec::new();
-    for r in runs {
-        for c in r.checks.iter().filter(|c| c.source.is_paper()) {
-            if !names.contains(&c.name.as_str()) {
-                names.push(&c.name);
-            }
-        }
-    }
-    let label = |r: &ExperimentResult| r.experiment.model.as_ref().map(|m| m.label.clone()).unwrap_or_default();
-    names
-        .into_iter()
-        .filter_map(|name| {
-            let outcomes: Vec<(String, &CheckOutcome)> =
-                runs.iter().filter_map(|r| r.checks.iter().find(|c| c.name == name).map(|c| (label(r), c))).collect();
-            let words = |keep: bool| -> Vec<String> {
-                outcomes
-                    .iter()
-                    .filter(|(_, c)| holds(c) == keep)
-                    .map(|(l, c)| {
-                        let unit = if c.unit.is_empty() { String::new() } else { format!(" {}", c.unit) };
-                        format!("{l} ({}: {}{unit})", c.status.label(), short(c.computed))
-                    })
-                    .collect()
-            };
-            let (yes, no) = (words(true), words(false));
-            if yes.is_empty() || no.is_empty() {
-                return None;
-            }
-            Some((name.to_string(), format!("{name} holds on {} and not on {}.", yes.join(", "), no.join(", "))))
-        })
-        .collect()
 }
 
 /// Builds the page of `runs` (one experiment, one run per model) with the overlaid figures.

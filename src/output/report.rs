@@ -12,6 +12,8 @@ use crate::checks::{fmt_num, CheckOutcome, Status};
 use crate::error::{read_to_string, Error, Result};
 use crate::experiment::ModelInfo;
 
+pub use super::view::{counts, status_class, FigureView};
+
 /// Template names and their embedded defaults.
 const TEMPLATES: [(&str, &str); 5] = [
     ("base.html", include_str!("../../templates/base.html")),
@@ -80,24 +82,6 @@ impl CheckRow {
     }
 }
 
-pub(super) fn status_class(s: Status) -> &'static str {
-    match s {
-        Status::Pass => "pass",
-        Status::Fail => "fail",
-        Status::KnownDeviation => "known",
-        Status::KnownDeviationPasses => "revisit",
-    }
-}
-
-/// A figure with its files.
-#[derive(Debug, Serialize)]
-pub struct FigureView {
-    pub title: String,
-    pub caption: String,
-    pub png: String,
-    pub svg: String,
-}
-
 /// A data table with its files.
 #[derive(Debug, Serialize)]
 pub struct TableView {
@@ -135,24 +119,6 @@ pub struct ExperimentView {
     pub verdict: String,
     pub verdict_class: String,
     pub counts: String,
-}
-
-/// Counts of statuses, in words.
-pub(super) fn counts(checks: &[CheckOutcome]) -> (String, &'static str, String) {
-    let n = |s: Status| checks.iter().filter(|c| c.status == s).count();
-    let (pass, fail, known, revisit) =
-        (n(Status::Pass), n(Status::Fail), n(Status::KnownDeviation), n(Status::KnownDeviationPasses));
-    let words = format!("{pass} pass, {fail} fail, {known} known deviation, {revisit} to revisit");
-    let (verdict, class) = if checks.is_empty() {
-        ("no checks".to_string(), "none")
-    } else if fail > 0 {
-        ("FAIL".to_string(), "fail")
-    } else if known > 0 || revisit > 0 {
-        ("pass, with known deviations".to_string(), "known")
-    } else {
-        ("pass".to_string(), "pass")
-    };
-    (verdict, class, words)
 }
 
 /// Builds the view of one experiment; `source_file` is how the report names its input.
@@ -413,7 +379,7 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                     titles.push((r.experiment.meta.title.clone(), link));
                     let runs: Vec<&ExperimentResult> =
                         members.iter().copied().filter(|x| x.experiment.meta.id == r.experiment.meta.id).collect();
-                    dependence.extend(super::models_page::dependent_names(&runs));
+                    dependence.extend(super::view::dependent_names(&runs));
                 }
             }
             FigureRow {
