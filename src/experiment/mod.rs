@@ -509,14 +509,19 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Vec<Experiment>> {
     Ok(exps)
 }
 
-/// An input error of an experiment merged with a model file names both files: the bad value
-/// may be in either.
+/// An input error in the structure of an experiment merged with a model file names both
+/// files: the bad value may be in either (the model file gives `[structure]`, the experiment
+/// may override it).
 fn on_model(e: Error, model_file: Option<&Path>) -> Error {
     let Some(m) = model_file else { return e };
     let with = |file: String| format!("{file} (merged with the model file {})", m.display());
     match e {
-        Error::Invalid { file, key, value, message } => Error::Invalid { file: with(file), key, value, message },
-        Error::Parse { file, message } => Error::Parse { file: with(file), message },
+        Error::Invalid { file, key, value, message } if key.starts_with("structure") || key.starts_with("model") => {
+            Error::Invalid { file: with(file), key, value, message }
+        }
+        Error::Parse { file, message } if message.starts_with("structure") || message.starts_with("model") => {
+            Error::Parse { file: with(file), message }
+        }
         other => other,
     }
 }
