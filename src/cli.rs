@@ -172,7 +172,14 @@ fn remove_on_interrupt(staging: PathBuf) {
     std::thread::spawn(move || {
         if let Some(sig) = signals.forever().next() {
             eprintln!("interrupted: removing {}", staging.display());
-            let _ = std::fs::remove_dir_all(&staging);
+            // Workers may still be writing into it (they cannot recreate it once it is gone):
+            // retry while a removal races with a file being created.
+            for _ in 0..100 {
+                if std::fs::remove_dir_all(&staging).is_ok() || !staging.exists() {
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(2));
+            }
             std::process::exit(128 + sig);
         }
     });

@@ -31,6 +31,21 @@ fn write(path: &Path, bytes: &[u8]) -> Result<()> {
     std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
 }
 
+/// Creates the folders of `rel` below `root`, never `root` itself: once an interrupted run
+/// has removed its staging folder, a worker still writing cannot bring it back.
+fn mkdir_below(root: &Path, rel: &Path) -> Result<()> {
+    let mut path = root.to_path_buf();
+    for part in rel.components() {
+        path.push(part);
+        match std::fs::create_dir(&path) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && path.is_dir() => {}
+            Err(e) => return Err(Error::io(&path, e)),
+        }
+    }
+    Ok(())
+}
+
 fn mkdir(path: &Path) -> Result<()> {
     std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))
 }
@@ -56,9 +71,10 @@ impl ReportWriter {
 
     /// Writes one experiment's folder: figures (PNG, SVG), tables (CSV, Parquet), page.
     pub fn write_experiment(&self, r: &ExperimentResult, source_file: &str) -> Result<()> {
-        let dir = self.staging.dir().join(r.experiment.key());
+        let key = r.experiment.key();
+        let dir = self.staging.dir().join(&key);
+        mkdir_below(self.staging.dir(), &Path::new(&key).join("data"))?;
         let data = dir.join("data");
-        mkdir(&data)?;
         for t in &r.tables {
             write(&data.join(format!("{}.csv", t.name)), &table::to_csv(t)?)?;
             write(&data.join(format!("{}.parquet", t.name)), &table::to_parquet(t)?)?;
@@ -89,8 +105,9 @@ impl ReportWriter {
     /// Writes the page of one experiment run on several models (`ID/index.html`) with the
     /// figures that overlay them.
     fn write_models(&self, runs: &[&ExperimentResult]) -> Result<()> {
-        let dir = self.staging.dir().join(&runs[0].experiment.meta.id);
-        mkdir(&dir)?;
+        let id = &runs[0].experiment.meta.id;
+        let dir = self.staging.dir().join(id);
+        mkdir_below(self.staging.dir(), Path::new(id))?;
         let overlays = crate::analysis::models::overlay(runs);
         for f in &overlays {
             plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
