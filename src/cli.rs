@@ -519,8 +519,10 @@ fn run_and_write(
     let waves = experiment::waves(exps)?;
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, baseline_mode)?;
+    // The handler is in place before the staging folder exists: an interrupt at any moment
+    // removes it.
+    remove_on_interrupt(crate::output::destination::staging_path(out)?);
     let writer = ReportWriter::create(out, templates)?;
-    remove_on_interrupt(writer.staging_dir().to_path_buf());
     let pool = pool(jobs)?;
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };

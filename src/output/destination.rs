@@ -11,6 +11,21 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
+/// `out` made absolute (against the working directory).
+fn absolute(out: &Path) -> Result<PathBuf> {
+    if out.is_absolute() {
+        Ok(out.to_path_buf())
+    } else {
+        Ok(std::env::current_dir().map_err(|e| Error::io(".", e))?.join(out))
+    }
+}
+
+/// The staging folder this process will write a report for `out` into (known before it
+/// exists, so that an interrupt handler can be in place before it is created).
+pub fn staging_path(out: &Path) -> Result<PathBuf> {
+    Ok(sibling(&absolute(out)?, "tmp", std::process::id()))
+}
+
 /// The marker file every report folder carries.
 pub const MARKER: &str = ".shotdamp-report";
 
@@ -119,11 +134,7 @@ impl Staging {
     /// Checks the destination and prepares a staging folder for it (with the marker and the
     /// README), before any long run.
     pub fn create(out: &Path) -> Result<Staging> {
-        let out = if out.is_absolute() {
-            out.to_path_buf()
-        } else {
-            std::env::current_dir().map_err(|e| Error::io(".", e))?.join(out)
-        };
+        let out = absolute(out)?;
         check(&out)?;
         if let Some(parent) = out.parent() {
             std::fs::create_dir_all(parent).map_err(io(parent))?;
