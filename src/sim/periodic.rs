@@ -242,20 +242,9 @@ impl Section for Problem {
 
     /// The return map.
     fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
-        if d.system.dampers.len() != 1 {
-            return Err(OrbitError::Dampers(d.system.dampers.len()));
-        }
-        let mut s = self.state(d, u);
-        let period = 2.0 * std::f64::consts::PI / d.omega;
-        let limit = s.t + (self.periods as f64 + 1.0) * period;
-        let mut rec = Returns { wanted: self.returns, seen: 0, events: Vec::new(), at: None };
-        let mut tangent = Tangent::new(d, self.embedding(d, &s)).until_impact(0, self.returns);
-        let engine = Engine::new(d);
-        while rec.at.is_none() && s.t < limit {
-            let next = (s.t + period / 8.0).min(limit);
-            engine.advance(&mut s, next, &mut Both(&mut rec, &mut tangent)).map_err(OrbitError::Stopped)?;
-        }
-        let at = rec.at.ok_or(OrbitError::NoReturn)?;
+        let start = self.state(d, u);
+        let mut tangent = Tangent::new(d, self.embedding(d, &start)).until_impact(0, self.returns);
+        let (at, events) = self.run_to_return(d, start, &mut tangent)?;
         let jacobian = tangent.dt.as_ref().map(|dt| {
             let mut j = self.restriction(d) * &tangent.m;
             j.set_row(0, &(dt * d.omega));
@@ -263,30 +252,42 @@ impl Section for Problem {
                 tangent.simultaneous == 0 && tangent.min_impact_speed > super::tangent::GRAZE * self.length * self.rate;
             (j, smooth)
         });
-        Ok(Return { image: self.coordinates(d, &at), events: rec.events, jacobian })
+        Ok(Return { image: self.coordinates(d, &at), events, jacobian })
     }
 
     /// The image without the linearised flow (the tangent only observes: the motion and the
     /// return are the same).
     fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
+        let (at, _) = self.run_to_return(d, self.state(d, u), &mut crate::sim::engine::Quiet)?;
+        Ok(self.coordinates(d, &at))
+    }
+}
+
+impl Problem {
+    /// Runs from `start` to the `returns`-th impact, `extra` observing beside the return
+    /// recorder: the state at the return and the events up to it.
+    fn run_to_return<O: Observer>(
+        &self,
+        d: &Dynamics,
+        start: State,
+        extra: &mut O,
+    ) -> Result<(State, Vec<Event>), OrbitError> {
         if d.system.dampers.len() != 1 {
             return Err(OrbitError::Dampers(d.system.dampers.len()));
         }
-        let mut s = self.state(d, u);
+        let mut s = start;
         let period = 2.0 * std::f64::consts::PI / d.omega;
         let limit = s.t + (self.periods as f64 + 1.0) * period;
         let mut rec = Returns { wanted: self.returns, seen: 0, events: Vec::new(), at: None };
         let engine = Engine::new(d);
         while rec.at.is_none() && s.t < limit {
             let next = (s.t + period / 8.0).min(limit);
-            engine.advance(&mut s, next, &mut rec).map_err(OrbitError::Stopped)?;
+            engine.advance(&mut s, next, &mut Both(&mut rec, extra)).map_err(OrbitError::Stopped)?;
         }
         let at = rec.at.ok_or(OrbitError::NoReturn)?;
-        Ok(self.coordinates(d, &at))
+        Ok((at, rec.events))
     }
-}
 
-impl Problem {
     /// `d xi / d u` at the start state `s`: the phase column moves the start along the flow;
     /// the bed rests on its host unless it bounces.
     fn embedding(&self, d: &Dynamics, s: &State) -> DMatrix<f64> {
