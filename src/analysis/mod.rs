@@ -16,6 +16,7 @@ mod orbit_checks;
 mod orbit_figures;
 pub mod orbits;
 mod overlays;
+pub mod study;
 mod sweep;
 mod waveform;
 

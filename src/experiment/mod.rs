@@ -7,6 +7,7 @@ mod fields;
 mod load;
 mod outputs;
 pub mod raw;
+pub mod study;
 mod validate;
 
 use std::path::{Path, PathBuf};

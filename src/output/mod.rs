@@ -4,10 +4,12 @@
 pub mod compare;
 pub mod destination;
 pub mod figure;
+pub mod heatmap;
 pub mod junit;
 pub mod models_page;
 pub mod plot;
 pub mod report;
+pub mod study;
 pub mod table;
 pub mod view;
 

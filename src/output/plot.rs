@@ -32,7 +32,7 @@ const PALETTE: [RGBColor; 8] = [
 static FONT: Once = Once::new();
 
 /// Registers the embedded DejaVu Sans under the "sans-serif" family (once per process).
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     let mut result = Ok(());
     FONT.call_once(|| {
         let fonts: [(FontStyle, &'static [u8]); 2] =

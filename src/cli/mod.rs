@@ -2,6 +2,8 @@
 //!
 //! Exit codes: 0 every check passed, 1 a check failed, 2 bad input or an I/O error.
 
+mod study;
+
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -75,6 +77,9 @@ pub enum Command {
         #[arg(long)]
         templates: Option<PathBuf>,
     },
+    /// Re-run an experiment's claims over values the paper leaves unstated (a study file),
+    /// whole or as one shard of a cluster job; `study merge DIR` joins the shards.
+    Study(study::StudyArgs),
     /// Work with reference data.
     Reference {
         #[command(subcommand)]
@@ -222,6 +227,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             import(&cli.command, &cli.reference)?;
             Ok(true)
         }
+        Command::Study(args) => study::dispatch(args, &cli.reference),
         Command::Compare { a, b, out } => {
             let dest = crate::output::compare::write(a, b, out)?;
             println!("comparison: {}", dest.display());

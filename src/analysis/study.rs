@@ -1,0 +1,259 @@
+//! Running a study's samples: each sample's experiment (and the experiments it takes values
+//! from, at the same structure and excitation) with its claim checks only; one row per claim.
+//! No I/O: the study's tables and references arrive loaded.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Mutex;
+
+use crate::checks::reference::ReferenceStore;
+use crate::checks::Status;
+use crate::error::Result;
+use crate::experiment::study::{is_claim, Sample, Study};
+use crate::experiment::{CheckKind, Experiment, Exports};
+use crate::output::table::Table;
+
+/// One claim at one sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClaimRow {
+    pub sample: usize,
+    pub model: String,
+    /// The sample's values, in the order of the study's `vary`.
+    pub values: Vec<f64>,
+    /// 0-based position among the experiment's claim checks.
+    pub check: usize,
+    /// The check's name (it says the reading).
+    pub claim: String,
+    /// The reading of a ratio claim (`peak_over_peak`, `at_resonance`, `band_max`; empty for
+    /// other claims).
+    pub reading: String,
+    /// The claimed quantity as computed.
+    pub value: f64,
+    /// What the paper claims, in words (e.g. "within [2.5, 4]").
+    pub bound: String,
+    /// Whether the claim holds at this sample.
+    pub holds: bool,
+}
+
+/// Exports of dependencies already run, by (experiment id, model, carried-over values).
+#[derive(Default)]
+pub struct DependencyCache {
+    runs: Mutex<BTreeMap<String, BTreeMap<String, f64>>>,
+}
+
+/// The claim checks of an experiment (those a study re-evaluates), in file order.
+pub fn claims(exp: &Experiment) -> Vec<crate::experiment::CheckSpec> {
+    exp.checks.iter().filter(|c| is_claim(&c.kind)).cloned().collect()
+}
+
+/// Evaluates one sample: its claim rows, in check order.
+pub fn run_sample(
+    study: &Study,
+    sample: &Sample,
+    refs: &ReferenceStore,
+    reference_dir: &Path,
+    cache: &DependencyCache,
+) -> Result<Vec<ClaimRow>> {
+    let mut exp = study.experiment(sample, reference_dir)?;
+    let exports = dependency_exports(study, &exp, sample, refs, reference_dir, cache)?;
+    exp = exp.resolve(&exports)?;
+    exp.checks = claims(&exp);
+    let result = super::run(&exp, refs, &|| {})?;
+    Ok(exp
+        .checks
+        .iter()
+        .zip(&result.checks)
+        .enumerate()
+        .map(|(check, (spec, outcome))| ClaimRow {
+            sample: sample.index,
+            model: sample.model.clone(),
+            values: sample.values.clone(),
+            check,
+            claim: outcome.name.clone(),
+            reading: match &spec.kind {
+                CheckKind::PeakRatio { reading, .. } => reading.name().to_string(),
+                _ => String::new(),
+            },
+            value: outcome.computed,
+            bound: outcome.tolerance.clone(),
+            holds: matches!(outcome.status, Status::Pass | Status::KnownDeviationPasses),
+        })
+        .collect())
+}
+
+/// The exports `exp` needs, from its dependencies run at the sample (cached: a dependency
+/// runs once per model and set of carried-over values).
+fn dependency_exports(
+    study: &Study,
+    exp: &Experiment,
+    sample: &Sample,
+    refs: &ReferenceStore,
+    reference_dir: &Path,
+    cache: &DependencyCache,
+) -> Result<Exports> {
+    let mut exports = Exports::new();
+    for id in exp.dependencies() {
+        let key = format!("{id}/{}/{:?}", sample.model, study.dependency_values(sample));
+        let known = cache.runs.lock().ok().and_then(|m| m.get(&key).cloned());
+        let values = match known {
+            Some(v) => v,
+            None => {
+                let dep = study.dependency(&id, sample, reference_dir)?;
+                let inner = dependency_exports(study, &dep, sample, refs, reference_dir, cache)?;
+                let dep = dep.resolve(&inner)?;
+                let v = super::run(&dep, refs, &|| {})?.exports;
+                if let Ok(mut m) = cache.runs.lock() {
+                    m.insert(key, v.clone());
+                }
+                v
+            }
+        };
+        exports.insert(exp.key_of(&id), values);
+    }
+    Ok(exports)
+}
+
+/// Column names of a study's long table, in order.
+pub fn columns(study: &Study) -> Vec<String> {
+    let mut out: Vec<String> = vec!["sample".into(), "model".into()];
+    out.extend(study.vary.iter().map(|v| v.name.clone()));
+    out.extend(["check", "claim", "reading", "value", "bound", "holds"].map(String::from));
+    out
+}
+
+/// The long table of some rows: a row per sample and claim.
+pub fn table(study: &Study, rows: &[ClaimRow]) -> Table {
+    let mut t = Table::new(
+        study.id.clone(),
+        format!(
+            "study {}: a row per sample and claim of experiment {} (value: the claimed quantity; holds: 1 when the claim holds)",
+            study.id, study.base[0].meta.id
+        ),
+    )
+    .i64("sample", rows.iter().map(|r| r.sample as i64).collect())
+    .str("model", rows.iter().map(|r| r.model.clone()).collect());
+    for (k, v) in study.vary.iter().enumerate() {
+        t = t.f64(v.name.clone(), rows.iter().map(|r| r.values[k]).collect());
+    }
+    t.i64("check", rows.iter().map(|r| r.check as i64).collect())
+        .str("claim", rows.iter().map(|r| r.claim.clone()).collect())
+        .str("reading", rows.iter().map(|r| r.reading.clone()).collect())
+        .f64("value", rows.iter().map(|r| r.value).collect())
+        .str("bound", rows.iter().map(|r| r.bound.clone()).collect())
+        .i64("holds", rows.iter().map(|r| i64::from(r.holds)).collect())
+}
+
+/// Per model and claim: how many samples, in how many it holds, the range of the value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClaimSummary {
+    pub model: String,
+    pub check: usize,
+    pub claim: String,
+    pub bound: String,
+    pub samples: usize,
+    pub holds: usize,
+    pub min: f64,
+    pub max: f64,
+    /// Per varied key: the smallest and largest value among the samples where the claim
+    /// holds (NaN when it holds nowhere): the box around the region.
+    pub region: Vec<(f64, f64)>,
+}
+
+impl ClaimSummary {
+    /// The fraction of samples where the claim holds.
+    pub fn fraction(&self) -> f64 {
+        if self.samples == 0 {
+            0.0
+        } else {
+            self.holds as f64 / self.samples as f64
+        }
+    }
+}
+
+/// Summaries of rows, by model (in the order of `models`) then check.
+pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
+    let mut out: Vec<ClaimSummary> = Vec::new();
+    for model in models {
+        let mine: Vec<&ClaimRow> = rows.iter().filter(|r| &r.model == model).collect();
+        let n_checks = mine.iter().map(|r| r.check + 1).max().unwrap_or(0);
+        for check in 0..n_checks {
+            let of: Vec<&&ClaimRow> = mine.iter().filter(|r| r.check == check).collect();
+            let Some(first) = of.first() else { continue };
+            let finite = of.iter().map(|r| r.value).filter(|v| v.is_finite());
+            out.push(ClaimSummary {
+                model: model.clone(),
+                check,
+                claim: first.claim.clone(),
+                bound: first.bound.clone(),
+                samples: of.len(),
+                holds: of.iter().filter(|r| r.holds).count(),
+                min: finite.clone().fold(f64::INFINITY, f64::min),
+                max: finite.fold(f64::NEG_INFINITY, f64::max),
+                region: (0..first.values.len())
+                    .map(|k| {
+                        let held = of.iter().filter(|r| r.holds).map(|r| r.values[k]);
+                        let lo = held.clone().fold(f64::INFINITY, f64::min);
+                        let hi = held.fold(f64::NEG_INFINITY, f64::max);
+                        if lo.is_finite() {
+                            (lo, hi)
+                        } else {
+                            (f64::NAN, f64::NAN)
+                        }
+                    })
+                    .collect(),
+            });
+        }
+    }
+    out
+}
+
+/// Where a claim holds, in words: "holds at 12 of 112 samples (10.7 %), within damping
+/// 0.003-0.006, clearance_mm 0.25-0.55" (the box around them).
+pub fn region_words(s: &ClaimSummary, names: &[String]) -> String {
+    let fmt = crate::number::fmt_num;
+    let head = format!("holds at {} of {} samples ({:.1} %)", s.holds, s.samples, 100.0 * s.fraction());
+    if s.holds == 0 {
+        return format!("{head}; the claimed quantity ranges {} to {}", fmt(s.min), fmt(s.max));
+    }
+    let parts: Vec<String> = names
+        .iter()
+        .zip(&s.region)
+        .map(
+            |(n, (lo, hi))| {
+                if lo == hi {
+                    format!("{n} {}", fmt(*lo))
+                } else {
+                    format!("{n} {}-{}", fmt(*lo), fmt(*hi))
+                }
+            },
+        )
+        .collect();
+    if parts.is_empty() {
+        head
+    } else {
+        format!("{head}, within {}", parts.join(", "))
+    }
+}
+
+/// The summary table of study `id` (`names`: the varied keys).
+pub fn summary_table(id: &str, names: &[String], summaries: &[ClaimSummary]) -> Table {
+    let mut t = Table::new(
+        format!("{id}_summary"),
+        format!("study {id}: per model and claim, the samples where it holds and the range of the claimed quantity"),
+    )
+    .str("model", summaries.iter().map(|s| s.model.clone()).collect())
+    .i64("check", summaries.iter().map(|s| s.check as i64).collect())
+    .str("claim", summaries.iter().map(|s| s.claim.clone()).collect())
+    .str("bound", summaries.iter().map(|s| s.bound.clone()).collect())
+    .i64("samples", summaries.iter().map(|s| s.samples as i64).collect())
+    .i64("holds", summaries.iter().map(|s| s.holds as i64).collect())
+    .f64("fraction", summaries.iter().map(|s| s.fraction()).collect())
+    .f64("min", summaries.iter().map(|s| s.min).collect())
+    .f64("max", summaries.iter().map(|s| s.max).collect());
+    for (k, n) in names.iter().enumerate() {
+        t = t
+            .f64(format!("{n}_holds_min"), summaries.iter().map(|s| s.region[k].0).collect())
+            .f64(format!("{n}_holds_max"), summaries.iter().map(|s| s.region[k].1).collect());
+    }
+    t
+}

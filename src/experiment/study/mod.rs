@@ -1,0 +1,522 @@
+//! Study files: an experiment re-run over values the paper leaves unstated (docs/studies.md).
+//!
+//! A study names an experiment file, the models to run it on, and the keys it varies (lists,
+//! ranges, or a quasi-random design over ranges). Each sample is the experiment's merged
+//! table with the sample's values set at their key paths, validated like any experiment.
+
+pub mod design;
+pub mod overrides;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::error::{read_to_string, Error, Result};
+
+use super::{load as loader, validate, CheckKind, Experiment};
+pub use design::{Design, Domain};
+pub use overrides::KeyPath;
+
+/// Most samples a study may have (the Sobol sequence's limit, and a sane size for one table).
+pub const MAX_SAMPLES: usize = 65_536;
+
+/// One varied key.
+#[derive(Debug, Clone)]
+pub struct Vary {
+    /// Column name in the study's table.
+    pub name: String,
+    pub key: KeyPath,
+    /// Axis label.
+    pub label: String,
+    pub domain: Domain,
+}
+
+impl Vary {
+    /// Whether its axis is logarithmic.
+    pub fn log(&self) -> bool {
+        matches!(self.domain, Domain::Range { log: true, .. })
+    }
+}
+
+/// One point of a study: a model and a value for each varied key.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sample {
+    /// 0-based, over the whole study (models outermost).
+    pub index: usize,
+    pub model: String,
+    pub values: Vec<f64>,
+}
+
+/// A validated study.
+#[derive(Debug, Clone)]
+pub struct Study {
+    pub path: PathBuf,
+    pub id: String,
+    pub title: String,
+    pub description: Option<String>,
+    /// The experiment file it re-runs.
+    pub experiment_path: PathBuf,
+    /// The experiment as it stands, once per model studied (for ids, figure, references).
+    pub base: Vec<Experiment>,
+    pub design: Design,
+    pub vary: Vec<Vary>,
+    /// Values set in every sample (`[study.set]`).
+    pub set: Vec<(KeyPath, toml::Value)>,
+    /// Indices into `vary` of the heat maps' horizontal and vertical axes.
+    pub map: Option<(usize, usize)>,
+    pub samples: Vec<Sample>,
+    /// Merged tables of the experiment, by model id (`""` without models).
+    tables: BTreeMap<String, toml::Table>,
+    /// The experiments it takes values from (`"@ID.KEY"`), recursively, at their own values
+    /// on every model (for their references).
+    pub dependencies: Vec<Experiment>,
+    /// Their merged tables, by experiment id and model id, with their files.
+    dependency_tables: BTreeMap<(String, String), (PathBuf, toml::Table)>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    study: RawStudy,
+    #[serde(default)]
+    vary: Vec<RawVary>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStudy {
+    id: String,
+    title: String,
+    experiment: String,
+    #[serde(default)]
+    description: Option<String>,
+    #[serde(default)]
+    models: Option<Vec<String>>,
+    #[serde(default)]
+    design: Option<String>,
+    #[serde(default)]
+    samples: Option<i64>,
+    #[serde(default)]
+    seed: Option<i64>,
+    #[serde(default)]
+    map: Option<Vec<String>>,
+    #[serde(default)]
+    set: toml::Table,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawVary {
+    name: String,
+    key: String,
+    #[serde(default)]
+    label: Option<String>,
+    #[serde(default)]
+    values: Option<Vec<f64>>,
+    #[serde(default)]
+    range: Option<RawRange>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRange {
+    start: f64,
+    stop: f64,
+    #[serde(default)]
+    count: Option<i64>,
+    #[serde(default)]
+    scale: Option<String>,
+}
+
+/// Whether a check states one of the paper's claims as a number (what a study re-evaluates).
+pub fn is_claim(kind: &CheckKind) -> bool {
+    matches!(
+        kind,
+        CheckKind::PeakRatio { .. }
+            | CheckKind::RatioOrder { .. }
+            | CheckKind::MotionTypes { .. }
+            | CheckKind::DecayRatio { .. }
+    )
+}
+
+/// Loads and validates a study file, with every sample's experiment built once (so that a
+/// bad value is reported before anything runs).
+pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
+    let text = read_to_string(path)?;
+    let table = loader::parse_table(path, &text)?;
+    let raw: RawFile = serde_path_to_error::deserialize(table).map_err(|e| {
+        let key = e.path().to_string();
+        Error::Parse { file: path.display().to_string(), message: format!("{key}: {}", e.into_inner().message()) }
+    })?;
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
+    let s = raw.study;
+    if !super::fields::is_identifier(&s.id) {
+        return Err(bad("study.id", &format!("\"{}\"", s.id), "use letters, digits, '_' and '-' only"));
+    }
+    let experiment_path = path.parent().unwrap_or(Path::new(".")).join(&s.experiment);
+    if !experiment_path.is_file() {
+        return Err(bad(
+            "study.experiment",
+            &format!("\"{}\"", s.experiment),
+            &format!("no such experiment file: {} (the path is relative to the study file)", experiment_path.display()),
+        ));
+    }
+    let all = super::load(&experiment_path, reference_dir)?;
+    let known: Vec<String> = all.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
+    let base: Vec<Experiment> = match &s.models {
+        None => all,
+        Some(list) => {
+            if list.is_empty() || known.is_empty() {
+                return Err(bad(
+                    "study.models",
+                    &format!("{list:?}"),
+                    &format!("a non-empty list of the experiment's models {known:?}"),
+                ));
+            }
+            let mut chosen = Vec::new();
+            for id in list {
+                let Some(e) = all.iter().find(|e| e.model.as_ref().is_some_and(|m| &m.id == id)) else {
+                    return Err(bad(
+                        "study.models",
+                        &format!("\"{id}\""),
+                        &format!("one of the experiment's models {known:?}"),
+                    ));
+                };
+                if chosen.iter().any(|c: &Experiment| c.model == e.model) {
+                    return Err(bad("study.models", &format!("\"{id}\""), "each model may be listed once"));
+                }
+                chosen.push(e.clone());
+            }
+            chosen
+        }
+    };
+    if !base[0].checks.iter().any(|c| is_claim(&c.kind)) {
+        return Err(bad(
+            "study.experiment",
+            &format!("\"{}\"", s.experiment),
+            "the experiment has no claim checks (peak_ratio, ratio_order, motion_types, decay_ratio) to re-evaluate",
+        ));
+    }
+
+    let mut vary = Vec::new();
+    for (i, v) in raw.vary.into_iter().enumerate() {
+        vary.push(vary_entry(path, i, v)?);
+    }
+    for (i, v) in vary.iter().enumerate() {
+        if vary[..i].iter().any(|w| w.name == v.name) {
+            return Err(bad(&format!("vary[{i}].name"), &format!("\"{}\"", v.name), "each name may be used once"));
+        }
+    }
+    let design = design_of(path, &s, &vary)?;
+    let mut set = Vec::new();
+    for (k, v) in &s.set {
+        let key = KeyPath::parse(k).map_err(|m| bad(&format!("study.set.\"{k}\""), &v, &m))?;
+        set.push((key, v.clone()));
+    }
+    let map = match &s.map {
+        None => (vary.len() >= 2).then_some((0, 1)),
+        Some(names) => {
+            let names_all: Vec<&str> = vary.iter().map(|v| v.name.as_str()).collect();
+            let idx: Option<Vec<usize>> = names.iter().map(|n| vary.iter().position(|v| &v.name == n)).collect();
+            match idx.as_deref() {
+                Some([x, y]) if x != y => Some((*x, *y)),
+                _ => {
+                    return Err(bad(
+                        "study.map",
+                        &format!("{names:?}"),
+                        &format!("two different names of varied keys, x then y (the names are {names_all:?})"),
+                    ))
+                }
+            }
+        }
+    };
+
+    let domains: Vec<Domain> = vary.iter().map(|v| v.domain.clone()).collect();
+    let points = design::points(design, &domains);
+    let per_model = points.len().max(1);
+    if per_model * base.len() > MAX_SAMPLES {
+        return Err(bad(
+            "vary",
+            &format!("{} samples", per_model * base.len()),
+            &format!("a study may have at most {MAX_SAMPLES} samples; split it"),
+        ));
+    }
+    let mut samples = Vec::new();
+    for e in &base {
+        let model = e.model.as_ref().map(|m| m.id.clone()).unwrap_or_default();
+        for p in &points {
+            samples.push(Sample { index: samples.len(), model: model.clone(), values: p.clone() });
+        }
+    }
+    let tables: BTreeMap<String, toml::Table> =
+        loader::read_models(&experiment_path)?.into_iter().map(|(_, t)| (model_of(&t), t)).collect();
+    let mut study = Study {
+        path: path.to_path_buf(),
+        id: s.id,
+        title: s.title,
+        description: s.description,
+        experiment_path,
+        base,
+        design,
+        vary,
+        set,
+        map,
+        samples,
+        tables,
+        dependencies: Vec::new(),
+        dependency_tables: BTreeMap::new(),
+    };
+    load_dependencies(&mut study, reference_dir)?;
+    Ok(study)
+}
+
+fn vary_entry(path: &Path, i: usize, v: RawVary) -> Result<Vary> {
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| {
+        Error::invalid(path, format!("vary[{i}].{key}"), value, msg)
+    };
+    if !v.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') || v.name.is_empty() {
+        return Err(bad("name", &format!("\"{}\"", v.name), "a column name: letters, digits and '_'"));
+    }
+    if matches!(
+        v.name.as_str(),
+        "sample" | "model" | "check" | "claim" | "reading" | "value" | "holds" | "bound" | "status"
+    ) {
+        return Err(bad(
+            "name",
+            &format!("\"{}\"", v.name),
+            "this name is a column of every study table; choose another",
+        ));
+    }
+    let key = KeyPath::parse(&v.key).map_err(|m| bad("key", &format!("\"{}\"", v.key), &m))?;
+    let domain = match (v.values, v.range) {
+        (Some(values), None) => {
+            if values.is_empty() || values.iter().any(|x| !x.is_finite()) {
+                return Err(bad("values", &format!("{values:?}"), "a non-empty list of finite numbers"));
+            }
+            Domain::Values(values)
+        }
+        (None, Some(r)) => {
+            let log = match r.scale.as_deref() {
+                None | Some("linear") => false,
+                Some("log") => true,
+                Some(other) => return Err(bad("range.scale", &format!("\"{other}\""), "\"linear\" or \"log\"")),
+            };
+            if !(r.start.is_finite() && r.stop.is_finite())
+                || r.start == r.stop
+                || (log && (r.start <= 0.0 || r.stop <= 0.0))
+            {
+                return Err(bad(
+                    "range",
+                    &format!("{} to {}", r.start, r.stop),
+                    "two different finite ends (both positive on a log scale)",
+                ));
+            }
+            let count = match r.count {
+                None => None,
+                Some(c) if (1..=MAX_SAMPLES as i64).contains(&c) => Some(c as usize),
+                Some(c) => return Err(bad("range.count", &c, &format!("from 1 to {MAX_SAMPLES}"))),
+            };
+            Domain::Range { start: r.start, stop: r.stop, count, log }
+        }
+        _ => {
+            return Err(bad(
+                "values",
+                &"(values and range)",
+                "give exactly one of `values = [...]` or `range = { start, stop, count }`",
+            ))
+        }
+    };
+    let label = v.label.unwrap_or_else(|| v.name.clone());
+    Ok(Vary { name: v.name, key, label, domain })
+}
+
+fn design_of(path: &Path, s: &RawStudy, vary: &[Vary]) -> Result<Design> {
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
+    let seed = match s.seed {
+        None => 1,
+        Some(x) if (0..=i64::from(u32::MAX)).contains(&x) => x as u32,
+        Some(x) => return Err(bad("study.seed", &x, "a whole number from 0 to 4294967295")),
+    };
+    let samples = |name: &str| -> Result<usize> {
+        match s.samples {
+            Some(n) if (1..=MAX_SAMPLES as i64).contains(&n) => Ok(n as usize),
+            Some(n) => Err(bad("study.samples", &n, &format!("from 1 to {MAX_SAMPLES}"))),
+            None => Err(bad("study.samples", &"(missing)", &format!("a {name} design needs the number of samples"))),
+        }
+    };
+    match s.design.as_deref().unwrap_or("grid") {
+        "grid" => {
+            if s.samples.is_some() || s.seed.is_some() {
+                return Err(bad(
+                    "study.samples",
+                    &"(given)",
+                    "a grid has one sample per combination: give no `samples` or `seed`",
+                ));
+            }
+            if let Some(i) = vary.iter().position(|v| v.domain.grid().is_none()) {
+                return Err(bad(
+                    &format!("vary[{i}].range.count"),
+                    &"(missing)",
+                    "a grid needs the number of points of each range",
+                ));
+            }
+            Ok(Design::Grid)
+        }
+        "sobol" => Ok(Design::Sobol { samples: samples("sobol")?, seed }),
+        "latin_hypercube" => Ok(Design::LatinHypercube { samples: samples("latin_hypercube")?, seed }),
+        other => Err(bad("study.design", &format!("\"{other}\""), "one of \"grid\", \"sobol\", \"latin_hypercube\"")),
+    }
+}
+
+/// Loads the experiments that the studied experiment takes values from (in its folder),
+/// recursively: their tables (to build them at each sample) and themselves (for references).
+fn load_dependencies(study: &mut Study, reference_dir: &Path) -> Result<()> {
+    let mut wanted: Vec<String> = study.base.iter().flat_map(|e| e.dependencies()).collect();
+    if wanted.is_empty() {
+        return Ok(());
+    }
+    let dir = study.experiment_path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mut files = BTreeMap::new();
+    for file in super::discover(&dir)? {
+        let t = loader::read_merged(&file)?;
+        if let Some(id) = t.get("experiment").and_then(|m| m.get("id")).and_then(|v| v.as_str()) {
+            files.insert(id.to_string(), file);
+        }
+    }
+    let mut done: Vec<String> = Vec::new();
+    while let Some(id) = wanted.pop() {
+        if done.contains(&id) {
+            continue;
+        }
+        let Some(file) = files.get(&id) else {
+            return Err(Error::invalid(
+                &study.experiment_path,
+                "(export reference)",
+                format!("@{id}"),
+                format!("no experiment with id \"{id}\" in {}", dir.display()),
+            ));
+        };
+        for e in super::load(file, reference_dir)? {
+            wanted.extend(e.dependencies());
+            study.dependencies.push(e);
+        }
+        for (_, t) in loader::read_models(file)? {
+            study.dependency_tables.insert((id.clone(), model_of(&t)), (file.clone(), t));
+        }
+        done.push(id);
+    }
+    Ok(())
+}
+
+/// Whether a varied or set key reaches the experiments the studied one depends on: values of
+/// the structure and the excitation do; the rest are the studied experiment's own.
+fn carries_over(key: &KeyPath) -> bool {
+    matches!(key.root(), "structure" | "excitation" | "model")
+}
+
+/// The model id of a merged table (`""` without one).
+fn model_of(table: &toml::Table) -> String {
+    table.get("model").and_then(|m| m.get("id")).and_then(|v| v.as_str()).unwrap_or("").to_string()
+}
+
+impl Study {
+    /// The experiment at one sample: the model's merged table with `[study.set]` and the
+    /// sample's values set, validated.
+    pub fn experiment(&self, sample: &Sample, reference_dir: &Path) -> Result<Experiment> {
+        let table = self.tables.get(&sample.model).cloned().ok_or_else(|| {
+            Error::invalid(&self.path, "study.models", &sample.model, "not a model of the experiment")
+        })?;
+        self.build(&self.experiment_path, table, sample, reference_dir, |_| true)
+    }
+
+    /// Experiment `id` (a dependency) at one sample: only values under `structure` and
+    /// `excitation` carry over (the other keys are the studied experiment's own).
+    pub fn dependency(&self, id: &str, sample: &Sample, reference_dir: &Path) -> Result<Experiment> {
+        let (file, table) = self.dependency_tables.get(&(id.to_string(), sample.model.clone())).ok_or_else(|| {
+            Error::invalid(
+                &self.experiment_path,
+                "(export reference)",
+                format!("@{id}"),
+                format!("experiment \"{id}\" does not run on model \"{}\"", sample.model),
+            )
+        })?;
+        self.build(file, table.clone(), sample, reference_dir, carries_over)
+    }
+
+    /// The values of the sample that reach its dependencies (those of `carries_over` keys).
+    pub fn dependency_values(&self, sample: &Sample) -> Vec<f64> {
+        self.vary.iter().zip(&sample.values).filter(|(v, _)| carries_over(&v.key)).map(|(_, x)| *x).collect()
+    }
+
+    fn build(
+        &self,
+        file: &Path,
+        mut table: toml::Table,
+        sample: &Sample,
+        reference_dir: &Path,
+        applies: impl Fn(&KeyPath) -> bool,
+    ) -> Result<Experiment> {
+        let on = |key: String, value: &dyn std::fmt::Display, m: String| {
+            Error::invalid(&self.path, key, value, format!("cannot be set in {}: {m}", file.display()))
+        };
+        for (i, (k, v)) in self.set.iter().enumerate() {
+            if applies(k) {
+                k.set(&mut table, v).map_err(|m| on(format!("study.set.\"{}\" (entry {i})", k.as_str()), v, m))?;
+            }
+        }
+        for (i, (v, x)) in self.vary.iter().zip(&sample.values).enumerate() {
+            if applies(&v.key) {
+                let value = toml::Value::Float(*x);
+                v.key
+                    .set(&mut table, &value)
+                    .map_err(|m| on(format!("vary[{i}].key (\"{}\")", v.key.as_str()), x, m))?;
+            }
+        }
+        let raw = loader::read_raw(file, table).map_err(|e| self.at_sample(e, sample))?;
+        let mut exp = validate(file, raw, reference_dir).map_err(|e| self.at_sample(e, sample))?;
+        exp.models = self.base.iter().filter_map(|e| e.model.clone()).collect();
+        Ok(exp)
+    }
+
+    /// An error of a sample's experiment, with the sample's values.
+    fn at_sample(&self, e: Error, sample: &Sample) -> Error {
+        let values = self.describe(sample);
+        match e {
+            Error::Invalid { file, key, value, message } => Error::Invalid {
+                file: format!("{} (sample {} of study {}: {values})", file, sample.index, self.path.display()),
+                key,
+                value,
+                message,
+            },
+            Error::Parse { file, message } => Error::Parse {
+                file: format!("{} (sample {} of study {}: {values})", file, sample.index, self.path.display()),
+                message,
+            },
+            other => other,
+        }
+    }
+
+    /// The sample's model and values in words, e.g. `model stated, damping 0.005`.
+    pub fn describe(&self, sample: &Sample) -> String {
+        let mut parts = Vec::new();
+        if !sample.model.is_empty() {
+            parts.push(format!("model {}", sample.model));
+        }
+        for (v, x) in self.vary.iter().zip(&sample.values) {
+            parts.push(format!("{} {}", v.name, crate::number::fmt_num(*x)));
+        }
+        parts.join(", ")
+    }
+
+    /// The model ids studied, in order (`""` when the experiment has none).
+    pub fn models(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for s in &self.samples {
+            if !out.contains(&s.model) {
+                out.push(s.model.clone());
+            }
+        }
+        out
+    }
+}

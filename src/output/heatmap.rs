@@ -1,0 +1,312 @@
+//! Heat maps of a study: a claimed quantity over two varied values, one panel per model (and
+//! per combination of any further varied values), the samples where the claim holds outlined.
+//! A full grid draws cells; a quasi-random design draws coloured dots.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use crate::analysis::study::ClaimRow;
+use crate::error::{Error, Result};
+use crate::number::fmt_num;
+
+use super::study::Manifest;
+
+/// One panel: its title and its samples as (x, y, value, holds).
+#[derive(Debug, Clone)]
+pub struct MapPanel {
+    pub title: String,
+    pub points: Vec<(f64, f64, f64, bool)>,
+}
+
+/// A heat map of one claim.
+#[derive(Debug, Clone)]
+pub struct HeatMap {
+    pub id: String,
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub x_log: bool,
+    pub y_log: bool,
+    pub grid: bool,
+    pub panels: Vec<MapPanel>,
+}
+
+/// Most panels drawn per map (further combinations of other varied values are left out, and
+/// the title says so).
+const MAX_PANELS: usize = 12;
+const PANEL_W: u32 = 420;
+const PANEL_H: u32 = 400;
+const BAR_W: u32 = 130;
+
+/// The heat maps of a study's rows: one per claim check.
+pub fn maps(manifest: &Manifest, rows: &[ClaimRow]) -> Vec<HeatMap> {
+    let Some((xi, yi)) = manifest.map else { return Vec::new() };
+    let n_checks = rows.iter().map(|r| r.check + 1).max().unwrap_or(0);
+    let others: Vec<usize> = (0..manifest.vary.len()).filter(|&k| k != xi && k != yi).collect();
+    let mut out = Vec::new();
+    for check in 0..n_checks {
+        let of: Vec<&ClaimRow> = rows.iter().filter(|r| r.check == check).collect();
+        let Some(first) = of.first() else { continue };
+        let mut panels: Vec<(String, MapPanel)> = Vec::new();
+        for r in &of {
+            let label = manifest.models.iter().find(|m| m.0 == r.model).map(|m| m.1.clone()).unwrap_or_default();
+            let rest: Vec<String> =
+                others.iter().map(|&k| format!("{} {}", manifest.vary[k].name, fmt_num(r.values[k]))).collect();
+            let key = [label.clone()].into_iter().chain(rest).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(", ");
+            let point = (r.values[xi], r.values[yi], r.value, r.holds);
+            match panels.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, p)) => p.points.push(point),
+                None => panels.push((key.clone(), MapPanel { title: key, points: vec![point] })),
+            }
+        }
+        let total = panels.len();
+        let shown: Vec<MapPanel> = panels.into_iter().take(MAX_PANELS).map(|(_, p)| p).collect();
+        let more =
+            if total > shown.len() { format!(" (first {} of {total} panels)", shown.len()) } else { String::new() };
+        out.push(HeatMap {
+            id: format!("{}_check-{check}", manifest.study),
+            title: format!("{}: {} ({}); outlined: the claim holds{more}", manifest.figure, first.claim, first.bound),
+            x_label: manifest.vary[xi].label.clone(),
+            y_label: manifest.vary[yi].label.clone(),
+            x_log: manifest.vary[xi].log,
+            y_log: manifest.vary[yi].log,
+            grid: manifest.grid,
+            panels: shown,
+        });
+    }
+    out
+}
+
+fn size(map: &HeatMap) -> (u32, u32) {
+    let cols = map.panels.len().clamp(1, 3) as u32;
+    let rows = map.panels.len().div_ceil(3).max(1) as u32;
+    (cols * PANEL_W + BAR_W, rows * PANEL_H + 50)
+}
+
+/// Writes the map as PNG and SVG into `dir`.
+pub fn write(map: &HeatMap, dir: &Path) -> Result<()> {
+    super::plot::register_font()?;
+    let (w, h) = size(map);
+    let png = dir.join(format!("{}.png", map.id));
+    draw(map, BitMapBackend::new(&png, (w, h)).into_drawing_area())?;
+    let mut svg = String::new();
+    draw(map, SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area())?;
+    super::study::write_atomic(&dir.join(format!("{}.svg", map.id)), svg.as_bytes())
+}
+
+fn err(map: &HeatMap, e: impl std::fmt::Display) -> Error {
+    Error::Render { what: format!("heat map {}", map.id), message: e.to_string() }
+}
+
+/// Viridis, by five control points.
+fn viridis(t: f64) -> RGBColor {
+    const C: [(f64, f64, f64); 5] =
+        [(68.0, 1.0, 84.0), (59.0, 82.0, 139.0), (33.0, 145.0, 140.0), (94.0, 201.0, 98.0), (253.0, 231.0, 37.0)];
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let s = t * 4.0;
+    let i = (s.floor() as usize).min(3);
+    let f = s - i as f64;
+    let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
+    RGBColor(mix(C[i].0, C[i + 1].0), mix(C[i].1, C[i + 1].1), mix(C[i].2, C[i + 1].2))
+}
+
+/// The colour scale: value range and whether it is logarithmic.
+struct Scale {
+    lo: f64,
+    hi: f64,
+    log: bool,
+}
+
+impl Scale {
+    fn of(map: &HeatMap) -> Scale {
+        let v: Vec<f64> =
+            map.panels.iter().flat_map(|p| p.points.iter().map(|q| q.2)).filter(|x| x.is_finite()).collect();
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !lo.is_finite() {
+            return Scale { lo: 0.0, hi: 1.0, log: false };
+        }
+        let log = lo > 0.0 && hi / lo > 3.0;
+        let hi = if hi > lo { hi } else { lo + 1.0 };
+        Scale { lo, hi, log }
+    }
+
+    fn t(&self, v: f64) -> f64 {
+        if self.log {
+            (v / self.lo).ln() / (self.hi / self.lo).ln()
+        } else {
+            (v - self.lo) / (self.hi - self.lo)
+        }
+    }
+
+    fn value(&self, t: f64) -> f64 {
+        if self.log {
+            self.lo * (self.hi / self.lo).powf(t)
+        } else {
+            self.lo + (self.hi - self.lo) * t
+        }
+    }
+}
+
+/// Three significant digits.
+fn short(v: f64) -> String {
+    if v != 0.0 && !(0.01..1000.0).contains(&v.abs()) {
+        format!("{v:.2e}")
+    } else {
+        let digits = (2 - v.abs().max(1e-300).log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{v:.digits$}")
+    }
+}
+
+/// Distinct sorted values.
+fn distinct(v: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut out: Vec<f64> = v.collect();
+    out.sort_by(f64::total_cmp);
+    out.dedup();
+    out
+}
+
+fn draw<DB: DrawingBackend>(map: &HeatMap, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<()> {
+    root.fill(&WHITE).map_err(|e| err(map, e))?;
+    let (w, _) = size(map);
+    let (body, bar) = root.split_horizontally(w - BAR_W);
+    let (title, body) = body.split_vertically(50);
+    title.draw_text(&map.title, &("sans-serif", 16).into_font().color(&BLACK), (12, 16)).map_err(|e| err(map, e))?;
+    let scale = Scale::of(map);
+    let rows = map.panels.len().div_ceil(3).max(1);
+    let cols = map.panels.len().clamp(1, 3);
+    let areas = body.split_evenly((rows, cols));
+    for (panel, area) in map.panels.iter().zip(areas.iter()) {
+        draw_panel(map, panel, area, &scale)?;
+    }
+    draw_bar(map, &bar, &scale)?;
+    root.present().map_err(|e| err(map, e))
+}
+
+fn draw_panel<DB: DrawingBackend>(
+    map: &HeatMap,
+    panel: &MapPanel,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    scale: &Scale,
+) -> Result<()> {
+    let xs = distinct(panel.points.iter().map(|p| p.0));
+    let ys = distinct(panel.points.iter().map(|p| p.1));
+    // Plot coordinates: the grid index (cells), or the value (log10 on a log axis).
+    let tx = |v: f64, log: bool, all: &[f64]| -> f64 {
+        if map.grid {
+            all.iter().position(|a| *a == v).unwrap_or(0) as f64
+        } else if log {
+            v.log10()
+        } else {
+            v
+        }
+    };
+    let range = |all: &[f64], log: bool| -> (f64, f64) {
+        if map.grid {
+            (-0.5, all.len() as f64 - 0.5)
+        } else {
+            let lo = tx(all[0], log, all);
+            let hi = tx(all[all.len() - 1], log, all);
+            let pad = ((hi - lo) * 0.05).max(1e-9);
+            (lo - pad, hi + pad)
+        }
+    };
+    let (x0, x1) = range(&xs, map.x_log);
+    let (y0, y1) = range(&ys, map.y_log);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 15).into_font())
+        .margin(8)
+        .x_label_area_size(40)
+        .y_label_area_size(56)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| err(map, e))?;
+    let label = |all: Vec<f64>, log: bool, grid: bool| {
+        move |v: &f64| {
+            if grid {
+                let i = v.round();
+                if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < all.len() {
+                    fmt_num(all[i as usize])
+                } else {
+                    String::new()
+                }
+            } else if log {
+                fmt_num(10f64.powf(*v))
+            } else {
+                fmt_num(*v)
+            }
+        }
+    };
+    let fx = label(xs.clone(), map.x_log, map.grid);
+    let fy = label(ys.clone(), map.y_log, map.grid);
+    let mut mesh = chart.configure_mesh();
+    mesh.disable_mesh()
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .x_desc(map.x_label.as_str())
+        .y_desc(map.y_label.as_str())
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy);
+    if map.grid {
+        mesh.x_labels(xs.len().min(12)).y_labels(ys.len().min(12));
+    }
+    mesh.draw().map_err(|e| err(map, e))?;
+    let colour = |v: f64| if v.is_finite() { viridis(scale.t(v)) } else { RGBColor(200, 200, 200) };
+    if map.grid {
+        let cells = panel.points.iter().map(|&(x, y, v, _)| {
+            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
+            Rectangle::new([(i - 0.5, j - 0.5), (i + 0.5, j + 0.5)], colour(v).filled())
+        });
+        chart.draw_series(cells).map_err(|e| err(map, e))?;
+        let held = panel.points.iter().filter(|p| p.3).map(|&(x, y, _, _)| {
+            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
+            Rectangle::new([(i - 0.45, j - 0.45), (i + 0.45, j + 0.45)], ShapeStyle::from(&BLACK).stroke_width(3))
+        });
+        chart.draw_series(held).map_err(|e| err(map, e))?;
+    } else {
+        let dots = panel
+            .points
+            .iter()
+            .map(|&(x, y, v, _)| Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 5, colour(v).filled()));
+        chart.draw_series(dots).map_err(|e| err(map, e))?;
+        let rings = panel.points.iter().filter(|p| p.3).map(|&(x, y, _, _)| {
+            Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 7, ShapeStyle::from(&BLACK).stroke_width(2))
+        });
+        chart.draw_series(rings).map_err(|e| err(map, e))?;
+    }
+    Ok(())
+}
+
+fn draw_bar<DB: DrawingBackend>(
+    map: &HeatMap,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    scale: &Scale,
+) -> Result<()> {
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(70)
+        .margin_bottom(50)
+        .margin_right(10)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..1.0, 0.0..1.0)
+        .map_err(|e| err(map, e))?;
+    let steps = 64;
+    chart
+        .draw_series((0..steps).map(|k| {
+            let (a, b) = (k as f64 / steps as f64, (k + 1) as f64 / steps as f64);
+            Rectangle::new([(0.0, a), (1.0, b)], viridis(0.5 * (a + b)).filled())
+        }))
+        .map_err(|e| err(map, e))?;
+    let fy = |t: &f64| short(scale.value(*t));
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(6)
+        .y_label_formatter(&fy)
+        .y_label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .y_desc(if scale.log { "value (log colour scale)" } else { "value" })
+        .draw()
+        .map_err(|e| err(map, e))?;
+    Ok(())
+}

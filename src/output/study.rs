@@ -1,0 +1,378 @@
+//! A study's folder: its manifest, the Parquet part of each shard (written in atomic batches
+//! so that a stopped shard resumes), and the merged table, summary and heat maps.
+//!
+//! ```text
+//! DIR/study.json                        what the study is (every shard checks it matches)
+//! DIR/parts/part-0002-of-0007.parquet   shard 2 of 7, complete
+//! DIR/parts/shard-0003-of-0007/*.parquet batches of a shard still running (or stopped)
+//! DIR/ID.csv, DIR/ID.parquet            the merged long table, sorted by sample and check
+//! DIR/ID_summary.csv                    per model and claim: where it holds
+//! DIR/figures/ID_check-K.png, .svg      heat maps
+//! ```
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use polars::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::study::ClaimRow;
+use crate::error::{Error, Result};
+use crate::output::table::{self, Table};
+
+/// A shard: `index` of `count` (0-based); sample `i` belongs to shard `i % count`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole study in one shard.
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// Whether sample `i` is this shard's.
+    pub fn owns(self, i: usize) -> bool {
+        i % self.count == self.index
+    }
+
+    fn part_name(self) -> String {
+        format!("part-{:04}-of-{:04}.parquet", self.index, self.count)
+    }
+
+    fn batch_dir(self) -> String {
+        format!("shard-{:04}-of-{:04}", self.index, self.count)
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+/// A varied key as the merged outputs need it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    pub name: String,
+    pub label: String,
+    pub log: bool,
+}
+
+/// What a study folder holds: written by the first shard, checked by every other.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    pub study: String,
+    pub title: String,
+    /// The study file, as given on the command line.
+    pub file: String,
+    pub experiment: String,
+    pub figure: String,
+    /// Changes whenever the samples or what is set in them change.
+    pub fingerprint: String,
+    pub samples: usize,
+    pub columns: Vec<String>,
+    pub vary: Vec<Axis>,
+    /// Indices into `vary` of the heat maps' axes.
+    pub map: Option<(usize, usize)>,
+    /// Model ids and labels, in order.
+    pub models: Vec<(String, String)>,
+    /// Whether the samples form a full grid (heat maps of cells; otherwise scatter maps).
+    pub grid: bool,
+}
+
+/// FNV-1a, 64 bits: a fingerprint that is the same on every machine and version.
+pub fn fingerprint(text: &str) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+const MANIFEST: &str = "study.json";
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |e| Error::io(path, e)
+}
+
+fn table_err(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Table { path: path.to_path_buf(), message: e.to_string() }
+}
+
+/// Writes `bytes` to `path` through a temporary file beside it and a rename: a reader sees
+/// the whole file or none.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = path.with_file_name(format!(
+        ".{}.tmp-{}",
+        path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+        std::process::id()
+    ));
+    std::fs::write(&tmp, bytes).map_err(io(&tmp))?;
+    std::fs::rename(&tmp, path).map_err(io(path))
+}
+
+/// Makes `dir` a folder of this study: creates it, or checks that it holds this study (the
+/// same fingerprint); a folder of other files is refused.
+pub fn prepare(dir: &Path, manifest: &Manifest) -> Result<()> {
+    let path = dir.join(MANIFEST);
+    if path.is_file() {
+        let theirs = read_manifest(dir)?;
+        if theirs.fingerprint != manifest.fingerprint || theirs.study != manifest.study {
+            return Err(Error::Destination {
+                path: dir.to_path_buf(),
+                message: format!(
+                    "holds parts of another study or of another version of it (study \"{}\", fingerprint {}; this one \"{}\", {}): give --out a new folder",
+                    theirs.study, theirs.fingerprint, manifest.study, manifest.fingerprint
+                ),
+            });
+        }
+    } else if dir.exists() {
+        let entries = std::fs::read_dir(dir).map_err(io(dir))?.count();
+        if !dir.is_dir() || entries > 0 {
+            return Err(Error::Destination {
+                path: dir.to_path_buf(),
+                message: "is not empty and holds no study (no study.json): give --out a new or empty folder".into(),
+            });
+        }
+    }
+    std::fs::create_dir_all(dir.join("parts")).map_err(io(dir))?;
+    let text = serde_json::to_string_pretty(manifest).map_err(|e| table_err(&path, e))?;
+    write_atomic(&path, text.as_bytes())
+}
+
+/// The manifest of a study folder.
+pub fn read_manifest(dir: &Path) -> Result<Manifest> {
+    let path = dir.join(MANIFEST);
+    if !path.is_file() {
+        return Err(Error::Destination {
+            path: dir.to_path_buf(),
+            message: "is not a study folder (no study.json): give the --out folder of `shotdamp study`".into(),
+        });
+    }
+    let text = crate::error::read_to_string(&path)?;
+    serde_json::from_str(&text).map_err(|e| Error::Parse { file: path.display().to_string(), message: e.to_string() })
+}
+
+fn read_parquet(path: &Path) -> Result<DataFrame> {
+    let file = std::fs::File::open(path).map_err(io(path))?;
+    ParquetReader::new(file).finish().map_err(|e| table_err(path, e))
+}
+
+fn samples_of(df: &DataFrame, path: &Path) -> Result<Vec<usize>> {
+    let col = df.column("sample").and_then(|c| c.i64().cloned()).map_err(|e| table_err(path, e))?;
+    Ok(col.iter().map(|v| v.unwrap_or(-1).max(0) as usize).collect())
+}
+
+/// The samples of `shard` already written (a complete part or batches).
+pub fn done(dir: &Path, shard: Shard) -> Result<(bool, Vec<usize>)> {
+    let part = dir.join("parts").join(shard.part_name());
+    if part.is_file() {
+        return Ok((true, samples_of(&read_parquet(&part)?, &part)?));
+    }
+    let mut out = Vec::new();
+    for p in batches(dir, shard)? {
+        out.extend(samples_of(&read_parquet(&p)?, &p)?);
+    }
+    out.sort_unstable();
+    out.dedup();
+    Ok((false, out))
+}
+
+fn batches(dir: &Path, shard: Shard) -> Result<Vec<PathBuf>> {
+    let folder = dir.join("parts").join(shard.batch_dir());
+    if !folder.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut out: Vec<PathBuf> = std::fs::read_dir(&folder)
+        .map_err(io(&folder))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "parquet") && !is_temporary(p))
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+fn is_temporary(p: &Path) -> bool {
+    p.file_name().is_some_and(|n| n.to_string_lossy().starts_with('.'))
+}
+
+/// Writes one batch of a shard's rows (atomically).
+pub fn write_batch(dir: &Path, shard: Shard, first_sample: usize, rows: &Table) -> Result<()> {
+    let folder = dir.join("parts").join(shard.batch_dir());
+    std::fs::create_dir_all(&folder).map_err(io(&folder))?;
+    write_atomic(&folder.join(format!("batch-{first_sample:08}.parquet")), &table::to_parquet(rows)?)
+}
+
+/// Joins a shard's batches into its part (sorted by sample and check) and removes them.
+pub fn finish_shard(dir: &Path, shard: Shard) -> Result<PathBuf> {
+    let part = dir.join("parts").join(shard.part_name());
+    let mut frames = Vec::new();
+    for p in batches(dir, shard)? {
+        frames.push(read_parquet(&p)?);
+    }
+    let mut df = stack(frames, &part)?;
+    let mut buf = Vec::new();
+    ParquetWriter::new(&mut buf).finish(&mut df).map_err(|e| table_err(&part, e))?;
+    write_atomic(&part, &buf)?;
+    let folder = dir.join("parts").join(shard.batch_dir());
+    std::fs::remove_dir_all(&folder).map_err(io(&folder))?;
+    Ok(part)
+}
+
+/// Frames stacked and sorted by sample, then check.
+fn stack(frames: Vec<DataFrame>, path: &Path) -> Result<DataFrame> {
+    let mut it = frames.into_iter();
+    let Some(mut df) = it.next() else {
+        return Err(table_err(path, "no rows to write"));
+    };
+    for f in it {
+        df.vstack_mut(&f).map_err(|e| table_err(path, e))?;
+    }
+    df.sort(["sample", "check"], SortMultipleOptions::default()).map_err(|e| table_err(path, e))
+}
+
+/// The merged table of a study folder, sorted by sample and check: every sample exactly once,
+/// or an error that names the shards still missing.
+pub fn merge(dir: &Path, manifest: &Manifest) -> Result<DataFrame> {
+    let parts_dir = dir.join("parts");
+    let mut parts: Vec<PathBuf> = std::fs::read_dir(&parts_dir)
+        .map_err(io(&parts_dir))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "parquet") && !is_temporary(p))
+        .collect();
+    parts.sort();
+    let mut owner: BTreeMap<usize, PathBuf> = BTreeMap::new();
+    let mut counts: Vec<usize> = Vec::new();
+    let mut frames = Vec::new();
+    for p in &parts {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        if let Some(n) =
+            name.strip_suffix(".parquet").and_then(|s| s.rsplit_once("-of-")).and_then(|(_, n)| n.parse().ok())
+        {
+            if !counts.contains(&n) {
+                counts.push(n);
+            }
+        }
+        let df = read_parquet(p)?;
+        let names: Vec<String> = df.get_column_names().iter().map(|c| c.to_string()).collect();
+        if names != manifest.columns {
+            return Err(table_err(p, format!("columns {names:?}, expected {:?}", manifest.columns)));
+        }
+        for s in samples_of(&df, p)? {
+            if s >= manifest.samples {
+                return Err(table_err(p, format!("sample {s}: the study has {} samples", manifest.samples)));
+            }
+            if let Some(other) = owner.get(&s).filter(|o| *o != p) {
+                return Err(Error::Destination {
+                    path: dir.to_path_buf(),
+                    message: format!(
+                        "sample {s} is in two parts, {} and {}: parts of two different shardings are mixed; remove one set",
+                        other.display(),
+                        p.display()
+                    ),
+                });
+            }
+            owner.insert(s, p.clone());
+        }
+        frames.push(df);
+    }
+    let missing: Vec<usize> = (0..manifest.samples).filter(|s| !owner.contains_key(s)).collect();
+    if !missing.is_empty() {
+        let shards = match counts.as_slice() {
+            [n] => {
+                let mut idx: Vec<usize> = missing.iter().map(|s| s % n).collect();
+                idx.dedup();
+                idx.sort_unstable();
+                idx.dedup();
+                let list: Vec<String> = idx.iter().map(|i| format!("{i}/{n}")).collect();
+                format!(
+                    "shards {} have not finished (run `shotdamp study {} --shard I/{n} --out {}` for each)",
+                    list.join(", "),
+                    manifest.file,
+                    dir.display()
+                )
+            }
+            [] => format!(
+                "no shard has finished (run `shotdamp study {} --shard I/N --out {}`)",
+                manifest.file,
+                dir.display()
+            ),
+            _ => format!("parts of several shardings are mixed ({counts:?} shards)"),
+        };
+        let first: Vec<String> = missing.iter().take(10).map(|s| s.to_string()).collect();
+        return Err(Error::Destination {
+            path: dir.to_path_buf(),
+            message: format!(
+                "{} of {} samples are missing (samples {}{}): {shards}",
+                missing.len(),
+                manifest.samples,
+                first.join(", "),
+                if missing.len() > 10 { ", ..." } else { "" }
+            ),
+        });
+    }
+    stack(frames, &parts_dir)
+}
+
+/// Writes the merged table as CSV and Parquet (atomically each).
+pub fn write_merged(dir: &Path, manifest: &Manifest, df: &mut DataFrame) -> Result<()> {
+    let csv = dir.join(format!("{}.csv", manifest.study));
+    let mut buf = Vec::new();
+    CsvWriter::new(&mut buf).include_header(true).finish(df).map_err(|e| table_err(&csv, e))?;
+    write_atomic(&csv, &buf)?;
+    let pq = dir.join(format!("{}.parquet", manifest.study));
+    let mut buf = Vec::new();
+    ParquetWriter::new(&mut buf).finish(df).map_err(|e| table_err(&pq, e))?;
+    write_atomic(&pq, &buf)
+}
+
+/// Writes a table as CSV beside the study (atomically).
+pub fn write_table(dir: &Path, t: &Table) -> Result<()> {
+    write_atomic(&dir.join(format!("{}.csv", t.name)), &table::to_csv(t)?)
+}
+
+/// The rows of a merged frame.
+pub fn rows(df: &DataFrame, manifest: &Manifest, path: &Path) -> Result<Vec<ClaimRow>> {
+    let e = |x: PolarsError| table_err(path, x);
+    let int = |name: &str| -> Result<Vec<i64>> {
+        Ok(df.column(name).and_then(|c| c.i64().cloned()).map_err(e)?.iter().map(|v| v.unwrap_or(0)).collect())
+    };
+    let float = |name: &str| -> Result<Vec<f64>> {
+        Ok(df.column(name).and_then(|c| c.f64().cloned()).map_err(e)?.iter().map(|v| v.unwrap_or(f64::NAN)).collect())
+    };
+    let text = |name: &str| -> Result<Vec<String>> {
+        Ok(df
+            .column(name)
+            .and_then(|c| c.str().cloned())
+            .map_err(e)?
+            .iter()
+            .map(|v| v.unwrap_or("").to_string())
+            .collect())
+    };
+    let (sample, model, check, claim, reading, value, bound, holds) = (
+        int("sample")?,
+        text("model")?,
+        int("check")?,
+        text("claim")?,
+        text("reading")?,
+        float("value")?,
+        text("bound")?,
+        int("holds")?,
+    );
+    let values: Vec<Vec<f64>> = manifest.vary.iter().map(|a| float(&a.name)).collect::<Result<_>>()?;
+    Ok((0..df.height())
+        .map(|i| ClaimRow {
+            sample: sample[i] as usize,
+            model: model[i].clone(),
+            values: values.iter().map(|v| v[i]).collect(),
+            check: check[i] as usize,
+            claim: claim[i].clone(),
+            reading: reading[i].clone(),
+            value: value[i],
+            bound: bound[i].clone(),
+            holds: holds[i] != 0,
+        })
+        .collect())
+}
