@@ -115,7 +115,7 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
             println!("resuming: {} of {} samples already written", done.len(), mine.len());
         }
         compute(&study, &todo, &refs, reference, &out, shard, &pool, mine.len(), done.len())?;
-        let part = folder::finish_shard(&out, shard)?;
+        let part = folder::finish_shard(&out, shard, &run::table(&study, &[]))?;
         println!("shard {shard}: {}", part.display());
     }
     if shard.count == 1 {

@@ -205,19 +205,25 @@ pub fn write_batch(dir: &Path, shard: Shard, first_sample: usize, rows: &Table) 
     write_atomic(&folder.join(format!("batch-{first_sample:08}.parquet")), &table::to_parquet(rows)?)
 }
 
-/// Joins a shard's batches into its part (sorted by sample and check) and removes them.
-pub fn finish_shard(dir: &Path, shard: Shard) -> Result<PathBuf> {
+/// Joins a shard's batches into its part (sorted by sample and check) and removes them; a
+/// shard without samples writes `empty` (the table's columns, no rows).
+pub fn finish_shard(dir: &Path, shard: Shard, empty: &Table) -> Result<PathBuf> {
     let part = dir.join("parts").join(shard.part_name());
     let mut frames = Vec::new();
     for p in batches(dir, shard)? {
         frames.push(read_parquet(&p)?);
+    }
+    if frames.is_empty() {
+        frames.push(empty.to_frame().map_err(|e| table_err(&part, e))?);
     }
     let mut df = stack(frames, &part)?;
     let mut buf = Vec::new();
     ParquetWriter::new(&mut buf).finish(&mut df).map_err(|e| table_err(&part, e))?;
     write_atomic(&part, &buf)?;
     let folder = dir.join("parts").join(shard.batch_dir());
-    std::fs::remove_dir_all(&folder).map_err(io(&folder))?;
+    if folder.exists() {
+        std::fs::remove_dir_all(&folder).map_err(io(&folder))?;
+    }
     Ok(part)
 }
 

@@ -73,3 +73,28 @@ pub fn ball_continuation(p_min: f64, p_max: f64) -> shotdamp::sim::continuation:
         newton: shotdamp::sim::periodic::NewtonOptions::default(),
     }
 }
+
+/// The rows of a CSV text (fields may be quoted, with commas inside), header first.
+pub fn csv_rows(text: &str) -> Vec<Vec<String>> {
+    text.lines()
+        .map(|line| {
+            let mut fields = Vec::new();
+            let mut field = String::new();
+            let mut quoted = false;
+            let mut chars = line.chars().peekable();
+            while let Some(c) = chars.next() {
+                match c {
+                    '"' if quoted && chars.peek() == Some(&'"') => {
+                        field.push('"');
+                        chars.next();
+                    }
+                    '"' => quoted = !quoted,
+                    ',' if !quoted => fields.push(std::mem::take(&mut field)),
+                    c => field.push(c),
+                }
+            }
+            fields.push(field);
+            fields
+        })
+        .collect()
+}
