@@ -113,6 +113,19 @@ fn dependency_exports(
     Ok(exports)
 }
 
+/// Every sample of a study, in parallel (on the caller's pool), rows in sample order: the
+/// same rows whatever the number of threads.
+pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path) -> Result<Vec<ClaimRow>> {
+    use rayon::prelude::*;
+    let cache = DependencyCache::default();
+    let rows: Vec<Vec<ClaimRow>> = study
+        .samples
+        .par_iter()
+        .map(|s| run_sample(study, s, refs, reference_dir, &cache))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(rows.into_iter().flatten().collect())
+}
+
 /// Column names of a study's long table, in order.
 pub fn columns(study: &Study) -> Vec<String> {
     let mut out: Vec<String> = vec!["sample".into(), "model".into()];
@@ -121,19 +134,22 @@ pub fn columns(study: &Study) -> Vec<String> {
     out
 }
 
-/// The long table of some rows: a row per sample and claim.
+/// The long table of some rows of `study`: a row per sample and claim.
 pub fn table(study: &Study, rows: &[ClaimRow]) -> Table {
+    let names: Vec<String> = study.vary.iter().map(|v| v.name.clone()).collect();
+    rows_table(&study.id, &names, rows)
+}
+
+/// The long table of study `id` (`names`: its varied keys), in the order of [`columns`].
+pub fn rows_table(id: &str, names: &[String], rows: &[ClaimRow]) -> Table {
     let mut t = Table::new(
-        study.id.clone(),
-        format!(
-            "study {}: a row per sample and claim of experiment {} (value: the claimed quantity; holds: 1 when the claim holds)",
-            study.id, study.base[0].meta.id
-        ),
+        id.to_string(),
+        format!("study {id}: a row per sample and claim (value: the claimed quantity; holds: 1 when the claim holds)"),
     )
     .i64("sample", rows.iter().map(|r| r.sample as i64).collect())
     .str("model", rows.iter().map(|r| r.model.clone()).collect());
-    for (k, v) in study.vary.iter().enumerate() {
-        t = t.f64(v.name.clone(), rows.iter().map(|r| r.values[k]).collect());
+    for (k, n) in names.iter().enumerate() {
+        t = t.f64(n.clone(), rows.iter().map(|r| r.values[k]).collect());
     }
     t.i64("check", rows.iter().map(|r| r.check as i64).collect())
         .str("claim", rows.iter().map(|r| r.claim.clone()).collect())
@@ -233,6 +249,50 @@ pub fn region_words(s: &ClaimSummary, names: &[String]) -> String {
     } else {
         format!("{head}, within {}", parts.join(", "))
     }
+}
+
+/// One sentence per claim over every model, e.g. "peak ratio single / triple, m2 (within
+/// [2.5, 4]): stated chain: holds at 2/9 (damping 0.005, clearance_mm 0.3-0.4); ...".
+/// `models`: (id, label) in order; `names`: the varied keys.
+pub fn claim_sentences(models: &[(String, String)], names: &[String], summaries: &[ClaimSummary]) -> Vec<String> {
+    let fmt = crate::number::fmt_num;
+    let n_checks = summaries.iter().map(|s| s.check + 1).max().unwrap_or(0);
+    (0..n_checks)
+        .filter_map(|check| {
+            let of: Vec<&ClaimSummary> = summaries.iter().filter(|s| s.check == check).collect();
+            let first = of.first()?;
+            let parts: Vec<String> = of
+                .iter()
+                .map(|s| {
+                    let label = models.iter().find(|m| m.0 == s.model).map_or(s.model.as_str(), |m| m.1.as_str());
+                    let region = if s.holds == 0 || s.holds == s.samples {
+                        format!("value {}-{}", fmt(s.min), fmt(s.max))
+                    } else {
+                        names
+                            .iter()
+                            .zip(&s.region)
+                            .map(|(n, (lo, hi))| {
+                                if lo == hi {
+                                    format!("{n} {}", fmt(*lo))
+                                } else {
+                                    format!("{n} {}-{}", fmt(*lo), fmt(*hi))
+                                }
+                            })
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    };
+                    if s.holds == s.samples {
+                        format!("{label}: holds everywhere ({}/{})", s.holds, s.samples)
+                    } else if s.holds == 0 {
+                        format!("{label}: holds nowhere (0/{}; {region})", s.samples)
+                    } else {
+                        format!("{label}: holds at {}/{} ({region})", s.holds, s.samples)
+                    }
+                })
+                .collect();
+            Some(format!("{} ({}): {}", first.claim, first.bound, parts.join("; ")))
+        })
+        .collect()
 }
 
 /// The summary table of study `id` (`names`: the varied keys).

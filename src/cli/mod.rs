@@ -17,9 +17,11 @@ use crate::checks::baseline;
 use crate::checks::digitised::{self, ImportInfo};
 use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::checks::Status;
+use crate::experiment::study::Study;
 use crate::experiment::{self, Experiment, Exports};
 use crate::model::modal::modal_summary;
 use crate::model::sdof::EquivalentSdof;
+use crate::output::study::{Manifest, StudyRun};
 use crate::output::ReportWriter;
 
 /// Replicates Araki et al. (1997), "Impact damper with granular materials for multibody
@@ -33,6 +35,9 @@ pub struct Cli {
     /// Folder of reference data.
     #[arg(long, global = true, default_value = "reference")]
     pub reference: PathBuf,
+    /// Folder of study files (`shotdamp report` runs those marked `report = true`).
+    #[arg(long, global = true, default_value = "studies")]
+    pub studies: PathBuf,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -221,7 +226,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         }
         Command::Run { files, out, jobs, templates } => {
             let exps = experiment::load_all(files, &cli.reference)?;
-            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), BaselineMode::Optional)
+            run_and_write(&exps, &[], &cli.reference, out, *jobs, templates.as_deref(), BaselineMode::Optional)
         }
         Command::Reference { command: ReferenceCommand::Import { .. } } => {
             import(&cli.command, &cli.reference)?;
@@ -239,8 +244,9 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
             }
             let exps = experiment::load_all(&files, &cli.reference)?;
+            let studies = report_studies(&cli.studies, &cli.reference)?;
             let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
-            run_and_write(&exps, &cli.reference, out, *jobs, templates.as_deref(), mode)
+            run_and_write(&exps, &studies, &cli.reference, out, *jobs, templates.as_deref(), mode)
         }
     }
 }
@@ -512,10 +518,27 @@ impl Progress for Bars {
     }
 }
 
+/// The studies `shotdamp report` runs: those of `dir` marked `report = true` (none when the
+/// folder does not exist).
+fn report_studies(dir: &Path, reference: &Path) -> anyhow::Result<Vec<Study>> {
+    if !dir.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::new();
+    for file in experiment::discover(dir)? {
+        let s = experiment::study::load(&file, reference)?;
+        if s.report {
+            out.push(s);
+        }
+    }
+    Ok(out)
+}
+
 /// Runs experiments in waves (those that use another's exports after it), each wave in
 /// parallel; writes the report; prints a summary.
 fn run_and_write(
     exps: &[Experiment],
+    studies: &[Study],
     reference: &Path,
     out: &Path,
     jobs: Option<usize>,
@@ -533,58 +556,21 @@ fn run_and_write(
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };
     let log = tty || std::env::var_os("CI").is_some();
-    let mut exports = Exports::new();
-    let mut slots: Vec<Option<ExperimentResult>> = vec![None; exps.len()];
-    for wave in waves {
-        let outcome: crate::Result<Vec<(usize, ExperimentResult)>> = wave
-            .iter()
-            .map(|&i| exps[i].resolve(&exports).map(|e| (i, e)))
-            .collect::<crate::Result<Vec<_>>>()
-            .and_then(|resolved| {
-                pool.install(|| {
-                    resolved
-                        .par_iter()
-                        .map(|(i, exp)| {
-                            let started = std::time::Instant::now();
-                            let tick = bars.start(&exp.key(), analysis::work(exp, &refs));
-                            let r = analysis::run(exp, &refs, &*tick)?;
-                            writer.write_experiment(&r, &exp.path.display().to_string())?;
-                            let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
-                            if log {
-                                let mark = if n_fail > 0 { "FAIL" } else { "ok" };
-                                let msg = format!(
-                                    "{mark:>4} {:<36} {} checks, {n_fail} failed ({:.2} s)",
-                                    exp.key(),
-                                    r.checks.len(),
-                                    started.elapsed().as_secs_f64()
-                                );
-                                match &bars.multi {
-                                    Some(m) => {
-                                        let _ = m.println(msg);
-                                    }
-                                    None => eprintln!("{msg}"),
-                                }
-                            }
-                            Ok((*i, r))
-                        })
-                        .collect()
-                })
-            });
-        match outcome {
-            Ok(done) => {
-                for (i, r) in done {
-                    exports.insert(r.experiment.key(), r.exports.clone());
-                    slots[i] = Some(r);
-                }
-            }
-            Err(e) => {
-                writer.abandon();
-                return Err(e.into());
-            }
+    // Studies need no exports: they run beside the waves of experiments, on the same pool.
+    let (results, study_runs) = pool.install(|| {
+        rayon::join(
+            || run_waves(exps, waves, &refs, &writer, &pool, &bars, log),
+            || run_studies(studies, &refs, reference, log),
+        )
+    });
+    let (results, study_runs) = match (results, study_runs) {
+        (Ok(r), Ok(s)) => (r, s),
+        (Err(e), _) | (_, Err(e)) => {
+            writer.abandon();
+            return Err(e.into());
         }
-    }
-    let results: Vec<ExperimentResult> = slots.into_iter().flatten().collect();
-    let dest = writer.finish(&results)?;
+    };
+    let dest = writer.finish(&results, &study_runs)?;
     if baseline_mode == BaselineMode::Off {
         let dir = reference.join("baseline");
         for r in &results {
@@ -621,4 +607,83 @@ fn run_and_write(
         }
         Ok(false)
     }
+}
+
+/// Runs experiments in waves (those that use another's exports after it), each wave in
+/// parallel, writing each experiment's folder as it finishes.
+fn run_waves(
+    exps: &[Experiment],
+    waves: Vec<Vec<usize>>,
+    refs: &ReferenceStore,
+    writer: &ReportWriter,
+    pool: &rayon::ThreadPool,
+    bars: &Bars,
+    log: bool,
+) -> crate::Result<Vec<ExperimentResult>> {
+    let mut exports = Exports::new();
+    let mut slots: Vec<Option<ExperimentResult>> = vec![None; exps.len()];
+    for wave in waves {
+        let outcome: crate::Result<Vec<(usize, ExperimentResult)>> = wave
+            .iter()
+            .map(|&i| exps[i].resolve(&exports).map(|e| (i, e)))
+            .collect::<crate::Result<Vec<_>>>()
+            .and_then(|resolved| {
+                pool.install(|| {
+                    resolved
+                        .par_iter()
+                        .map(|(i, exp)| {
+                            let started = std::time::Instant::now();
+                            let tick = bars.start(&exp.key(), analysis::work(exp, refs));
+                            let r = analysis::run(exp, refs, &*tick)?;
+                            writer.write_experiment(&r, &exp.path.display().to_string())?;
+                            let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
+                            if log {
+                                let mark = if n_fail > 0 { "FAIL" } else { "ok" };
+                                let msg = format!(
+                                    "{mark:>4} {:<36} {} checks, {n_fail} failed ({:.2} s)",
+                                    exp.key(),
+                                    r.checks.len(),
+                                    started.elapsed().as_secs_f64()
+                                );
+                                match &bars.multi {
+                                    Some(m) => {
+                                        let _ = m.println(msg);
+                                    }
+                                    None => eprintln!("{msg}"),
+                                }
+                            }
+                            Ok((*i, r))
+                        })
+                        .collect()
+                })
+            });
+        for (i, r) in outcome? {
+            exports.insert(r.experiment.key(), r.exports.clone());
+            slots[i] = Some(r);
+        }
+    }
+    Ok(slots.into_iter().flatten().collect())
+}
+
+/// Runs the report's studies, each over its samples in parallel.
+fn run_studies(studies: &[Study], refs: &ReferenceStore, reference: &Path, log: bool) -> crate::Result<Vec<StudyRun>> {
+    let mut out = Vec::new();
+    for s in studies {
+        let started = std::time::Instant::now();
+        let rows = analysis::study::run_all(s, refs, reference)?;
+        if log {
+            eprintln!(
+                "  ok {:<36} study: {} samples ({:.2} s)",
+                s.id,
+                s.samples.len(),
+                started.elapsed().as_secs_f64()
+            );
+        }
+        out.push(StudyRun {
+            manifest: Manifest::of(s, &s.path.display().to_string()),
+            description: s.description.clone().unwrap_or_default(),
+            rows,
+        });
+    }
+    Ok(out)
 }

@@ -12,7 +12,7 @@ use crate::checks::reference::ReferenceStore;
 use crate::error::Error;
 use crate::experiment::study::{self, Design, Study};
 use crate::output::heatmap;
-use crate::output::study::{self as folder, Axis, Manifest, Shard};
+use crate::output::study::{self as folder, Manifest, Shard};
 
 /// Nominal cost of one simulated point on one core, for the estimate printed before a run
 /// (BENCHMARKS.md: the Fig. 8 sweep, 521 points in ~0.28 s on 2 cores).
@@ -103,7 +103,7 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         print_samples(&study, shard);
         return Ok(true);
     }
-    let manifest = manifest(&study, file);
+    let manifest = Manifest::of(&study, &file.display().to_string());
     folder::prepare(&out, &manifest)?;
     let (complete, done) = folder::done(&out, shard)?;
     if complete {
@@ -248,38 +248,6 @@ fn merge(dir: &Path) -> anyhow::Result<()> {
         println!("  {} | {} ({}): {}", s.model, s.claim, s.bound, run::region_words(s, &names));
     }
     Ok(())
-}
-
-fn manifest(study: &Study, file: &Path) -> Manifest {
-    let mut text = format!("{}\n{}\n", study.id, study.experiment_path.display());
-    for v in &study.vary {
-        text.push_str(&format!("vary {} {}\n", v.name, v.key.as_str()));
-    }
-    for (k, v) in &study.set {
-        text.push_str(&format!("set {} = {v}\n", k.as_str()));
-    }
-    for s in &study.samples {
-        let bits: Vec<String> = s.values.iter().map(|x| format!("{:016x}", x.to_bits())).collect();
-        text.push_str(&format!("{} {} {}\n", s.index, s.model, bits.join(" ")));
-    }
-    Manifest {
-        study: study.id.clone(),
-        title: study.title.clone(),
-        file: file.display().to_string(),
-        experiment: study.base[0].meta.id.clone(),
-        figure: study.base[0].meta.figure.clone(),
-        fingerprint: folder::fingerprint(&text),
-        samples: study.samples.len(),
-        columns: run::columns(study),
-        vary: study.vary.iter().map(|v| Axis { name: v.name.clone(), label: v.label.clone(), log: v.log() }).collect(),
-        map: study.map,
-        models: study
-            .base
-            .iter()
-            .map(|e| e.model.as_ref().map(|m| (m.id.clone(), m.label.clone())).unwrap_or_default())
-            .collect(),
-        grid: study.design == Design::Grid,
-    }
 }
 
 fn size_words(study: &Study) -> String {

@@ -9,6 +9,7 @@ pub mod junit;
 pub mod models_page;
 pub mod plot;
 pub mod report;
+pub mod robustness;
 pub mod study;
 pub mod table;
 pub mod view;
@@ -91,13 +92,14 @@ impl ReportWriter {
     }
 
     /// Writes the index, the stylesheet and `checks.json`, then moves the report into place.
-    pub fn finish(self, results: &[ExperimentResult]) -> Result<PathBuf> {
+    /// `studies`: the studies run with the report, shown on their experiment's page.
+    pub fn finish(self, results: &[ExperimentResult], studies: &[study::StudyRun]) -> Result<PathBuf> {
         let dir = self.staging.dir();
         for runs in by_experiment(results) {
-            self.write_models(&runs)?;
+            self.write_models(&runs, studies)?;
         }
         write(&dir.join("style.css"), report::STYLE_CSS.as_bytes())?;
-        let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
+        let index = report::render(&self.tera, "index.html", &report::index_view(results, studies))?;
         write(&dir.join("index.html"), index.as_bytes())?;
         write(&dir.join("checks.json"), &checks_json(results)?)?;
         write(&dir.join("junit.xml"), junit::render(results).as_bytes())?;
@@ -106,7 +108,7 @@ impl ReportWriter {
 
     /// Writes the page of one experiment run on several models (`ID/index.html`) with the
     /// figures that overlay them.
-    fn write_models(&self, runs: &[&ExperimentResult]) -> Result<()> {
+    fn write_models(&self, runs: &[&ExperimentResult], studies: &[study::StudyRun]) -> Result<()> {
         let id = &runs[0].experiment.meta.id;
         let dir = self.staging.dir().join(id);
         mkdir_below(self.staging.dir(), Path::new(id))?;
@@ -115,7 +117,12 @@ impl ReportWriter {
             plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
             write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
         }
-        let view = models_page::models_view(runs, &overlays);
+        let mut view = models_page::models_view(runs, &overlays);
+        for s in studies.iter().filter(|s| &s.manifest.experiment == id) {
+            mkdir_below(self.staging.dir(), &Path::new(id).join("robustness"))?;
+            mkdir_below(self.staging.dir(), &Path::new(id).join("data"))?;
+            view.robustness.push(robustness::write(&dir, s, &write)?);
+        }
         let html = report::render(&self.tera, "models.html", &view)?;
         write(&dir.join("index.html"), html.as_bytes())
     }

@@ -57,6 +57,8 @@ pub struct ModelsView {
     pub matrix: Vec<MatrixRow>,
     /// Conclusions (checks against the paper) whose outcome differs between models.
     pub dependence: Vec<String>,
+    /// The studies of this experiment: where its claims hold over unstated values.
+    pub robustness: Vec<super::robustness::RobustnessView>,
 }
 
 /// Builds the page of `runs` (one experiment, one run per model) with the overlaid figures.
@@ -145,5 +147,6 @@ pub fn models_view(runs: &[&ExperimentResult], overlays: &[Figure]) -> ModelsVie
         side_by_side,
         matrix,
         dependence: dependence(runs),
+        robustness: Vec::new(),
     }
 }

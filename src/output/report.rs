@@ -226,6 +226,9 @@ pub struct FigureRow {
     pub cells: Vec<ModelCell>,
     /// Names of the checks against the paper that hold on some models only.
     pub dependence: Vec<String>,
+    /// Where each claim holds over the values the paper leaves unstated (the figure's studies),
+    /// a sentence per claim.
+    pub robustness: Vec<String>,
     /// (title, link) of each experiment.
     pub experiments: Vec<(String, String)>,
     pub paper_checks: String,
@@ -250,7 +253,7 @@ pub struct IndexView {
 }
 
 /// Builds the index view.
-pub fn index_view(results: &[ExperimentResult]) -> IndexView {
+pub fn index_view(results: &[ExperimentResult], studies: &[super::study::StudyRun]) -> IndexView {
     let all: Vec<CheckOutcome> = results.iter().flat_map(|r| r.checks.iter().cloned()).collect();
     let (overall, class, words) = counts(&all);
     let mut assumptions: Vec<String> = Vec::new();
@@ -263,7 +266,7 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
     }
     let models = model_list(results);
     IndexView {
-        figures: figure_rows(results, &models),
+        figures: figure_rows(results, &models, studies),
         models: models.iter().map(|m| m.label.clone()).collect(),
         title: "shotdamp: replication of Araki et al. (1997)".into(),
         generated_by: format!("shotdamp {}", env!("CARGO_PKG_VERSION")),
@@ -309,7 +312,11 @@ fn model_list(results: &[ExperimentResult]) -> Vec<ModelInfo> {
 }
 
 /// One row per paper figure, in the paper's order.
-fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<FigureRow> {
+fn figure_rows(
+    results: &[ExperimentResult],
+    models: &[ModelInfo],
+    studies: &[super::study::StudyRun],
+) -> Vec<FigureRow> {
     let mut groups: Vec<String> = results.iter().map(|r| figure_group(&r.experiment.meta.figure)).collect();
     groups.sort_by_key(|g| figure_order(g));
     groups.dedup();
@@ -388,6 +395,11 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                 verdict_class: v.class().to_string(),
                 cells,
                 dependence,
+                robustness: studies
+                    .iter()
+                    .filter(|s| members.iter().any(|r| r.experiment.meta.id == s.manifest.experiment))
+                    .flat_map(super::robustness::sentences)
+                    .collect(),
                 experiments: titles,
                 paper_checks: count(true),
                 other_checks: count(false),

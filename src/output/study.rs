@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::study::ClaimRow;
 use crate::error::{Error, Result};
+use crate::experiment::study::{Design, Study};
 use crate::output::table::{self, Table};
 
 /// A shard: `index` of `count` (0-based); sample `i` belongs to shard `i % count`.
@@ -51,6 +52,14 @@ impl std::fmt::Display for Shard {
     }
 }
 
+/// A study run whole (as `shotdamp report` runs it): what it is and its rows, in sample order.
+#[derive(Debug, Clone)]
+pub struct StudyRun {
+    pub manifest: Manifest,
+    pub description: String,
+    pub rows: Vec<ClaimRow>,
+}
+
 /// A varied key as the merged outputs need it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
@@ -79,6 +88,45 @@ pub struct Manifest {
     pub models: Vec<(String, String)>,
     /// Whether the samples form a full grid (heat maps of cells; otherwise scatter maps).
     pub grid: bool,
+}
+
+impl Manifest {
+    /// The manifest of `study`, read from `file`.
+    pub fn of(study: &Study, file: &str) -> Manifest {
+        let mut text = format!("{}\n{}\n", study.id, study.experiment_path.display());
+        for v in &study.vary {
+            text.push_str(&format!("vary {} {}\n", v.name, v.key.as_str()));
+        }
+        for (k, v) in &study.set {
+            text.push_str(&format!("set {} = {v}\n", k.as_str()));
+        }
+        for s in &study.samples {
+            let bits: Vec<String> = s.values.iter().map(|x| format!("{:016x}", x.to_bits())).collect();
+            text.push_str(&format!("{} {} {}\n", s.index, s.model, bits.join(" ")));
+        }
+        Manifest {
+            study: study.id.clone(),
+            title: study.title.clone(),
+            file: file.to_string(),
+            experiment: study.base[0].meta.id.clone(),
+            figure: study.base[0].meta.figure.clone(),
+            fingerprint: fingerprint(&text),
+            samples: study.samples.len(),
+            columns: crate::analysis::study::columns(study),
+            vary: study
+                .vary
+                .iter()
+                .map(|v| Axis { name: v.name.clone(), label: v.label.clone(), log: v.log() })
+                .collect(),
+            map: study.map,
+            models: study
+                .base
+                .iter()
+                .map(|e| e.model.as_ref().map(|m| (m.id.clone(), m.label.clone())).unwrap_or_default())
+                .collect(),
+            grid: study.design == Design::Grid,
+        }
+    }
 }
 
 /// FNV-1a, 64 bits: a fingerprint that is the same on every machine and version.

@@ -146,7 +146,7 @@ mod tests {
 
     #[test]
     fn latin_hypercube_uses_every_stratum_once_and_repeats_with_its_seed() {
-        let d = [Domain::Range { start: 0.0, stop: 1.0, count: None, log: false }; 2];
+        let d = vec![Domain::Range { start: 0.0, stop: 1.0, count: None, log: false }; 2];
         let p = points(Design::LatinHypercube { samples: 10, seed: 7 }, &d);
         for k in 0..2 {
             let mut strata: Vec<usize> = p.iter().map(|x| (x[k] * 10.0) as usize).collect();
@@ -159,7 +159,7 @@ mod tests {
 
     #[test]
     fn sobol_fills_each_half_evenly() {
-        let d = [Domain::Range { start: 0.0, stop: 1.0, count: None, log: false }; 3];
+        let d = vec![Domain::Range { start: 0.0, stop: 1.0, count: None, log: false }; 3];
         let p = points(Design::Sobol { samples: 64, seed: 1 }, &d);
         for k in 0..3 {
             // A (0, m, s)-net in base 2: each half (and quarter) of every axis holds exactly its share.

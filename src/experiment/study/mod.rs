@@ -55,6 +55,8 @@ pub struct Study {
     pub id: String,
     pub title: String,
     pub description: Option<String>,
+    /// Whether `shotdamp report` runs it (sized for the report's time budget).
+    pub report: bool,
     /// The experiment file it re-runs.
     pub experiment_path: PathBuf,
     /// The experiment as it stands, once per model studied (for ids, figure, references).
@@ -101,6 +103,8 @@ struct RawStudy {
     seed: Option<i64>,
     #[serde(default)]
     map: Option<Vec<String>>,
+    #[serde(default)]
+    report: bool,
     #[serde(default)]
     set: toml::Table,
 }
@@ -256,6 +260,7 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
         id: s.id,
         title: s.title,
         description: s.description,
+        report: s.report,
         experiment_path,
         base,
         design,

@@ -1,0 +1,74 @@
+//! The "Robustness" section of a figure's page: each study of its experiment, with where
+//! every claim holds on each model, the heat maps and the long table.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::analysis::study::{claim_sentences, rows_table, summarise, summary_table};
+use crate::error::Result;
+
+use super::heatmap;
+use super::study::StudyRun;
+use super::table;
+
+/// One study on a figure's page.
+#[derive(Debug, Serialize)]
+pub struct RobustnessView {
+    pub id: String,
+    pub title: String,
+    pub description: String,
+    pub file: String,
+    /// "27 samples, 3 claims each".
+    pub size: String,
+    /// One sentence per claim.
+    pub claims: Vec<String>,
+    /// (title, PNG, SVG), relative to the page.
+    pub maps: Vec<(String, String, String)>,
+    /// Links to the long table (CSV, Parquet) and the summary (CSV).
+    pub tables: Vec<(String, String)>,
+}
+
+/// The sentences of a study, for the index.
+pub fn sentences(run: &StudyRun) -> Vec<String> {
+    let m = &run.manifest;
+    let models: Vec<String> = m.models.iter().map(|x| x.0.clone()).collect();
+    let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
+    claim_sentences(&m.models, &names, &summarise(&models, &run.rows))
+}
+
+/// Writes a study's heat maps (into `dir/robustness/`) and tables (into `dir/data/`; both
+/// folders exist) and returns its view. `write` writes a file of the report.
+pub fn write(dir: &Path, run: &StudyRun, write: &dyn Fn(&Path, &[u8]) -> Result<()>) -> Result<RobustnessView> {
+    let m = &run.manifest;
+    let maps_dir = dir.join("robustness");
+    let mut maps = Vec::new();
+    for map in heatmap::maps(m, &run.rows) {
+        heatmap::write(&map, &maps_dir)?;
+        maps.push((map.title.clone(), format!("robustness/{}.png", map.id), format!("robustness/{}.svg", map.id)));
+    }
+    let models: Vec<String> = m.models.iter().map(|x| x.0.clone()).collect();
+    let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
+    let summaries = summarise(&models, &run.rows);
+    let long = rows_table(&m.study, &names, &run.rows);
+    let summary = summary_table(&m.study, &names, &summaries);
+    let data = dir.join("data");
+    write(&data.join(format!("{}.csv", long.name)), &table::to_csv(&long)?)?;
+    write(&data.join(format!("{}.parquet", long.name)), &table::to_parquet(&long)?)?;
+    write(&data.join(format!("{}.csv", summary.name)), &table::to_csv(&summary)?)?;
+    let n_claims = run.rows.iter().map(|r| r.check + 1).max().unwrap_or(0);
+    Ok(RobustnessView {
+        id: m.study.clone(),
+        title: m.title.clone(),
+        description: run.description.clone(),
+        file: m.file.clone(),
+        size: format!("{} samples, {n_claims} claims each", m.samples),
+        claims: claim_sentences(&m.models, &names, &summaries),
+        maps,
+        tables: vec![
+            (format!("{}.csv", long.name), format!("data/{}.csv", long.name)),
+            (format!("{}.parquet", long.name), format!("data/{}.parquet", long.name)),
+            (format!("{}.csv", summary.name), format!("data/{}.csv", summary.name)),
+        ],
+    })
+}
