@@ -35,9 +35,10 @@ pub struct Cli {
     /// Folder of reference data.
     #[arg(long, global = true, default_value = "reference")]
     pub reference: PathBuf,
-    /// Folder of study files (`shotdamp report` runs those marked `report = true`).
-    #[arg(long, global = true, default_value = "studies")]
-    pub studies: PathBuf,
+    /// Folder of study files (`shotdamp report` runs those marked `report = true`; default:
+    /// `studies` beside the experiments folder).
+    #[arg(long, global = true)]
+    pub studies: Option<PathBuf>,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -244,7 +245,11 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
             }
             let exps = experiment::load_all(&files, &cli.reference)?;
-            let studies = report_studies(&cli.studies, &cli.reference)?;
+            let dir = cli
+                .studies
+                .clone()
+                .unwrap_or_else(|| cli.experiments.parent().unwrap_or(Path::new("")).join("studies"));
+            let studies = report_studies(&dir, &cli.reference)?;
             let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
             run_and_write(&exps, &studies, &cli.reference, out, *jobs, templates.as_deref(), mode)
         }
