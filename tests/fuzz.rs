@@ -180,6 +180,32 @@ proptest! {
     }
 
     #[test]
+    fn mutated_study_files_load_or_fail_with_their_name(
+        pick in 0usize..64,
+        muts in proptest::collection::vec(mutation(), 1..4),
+    ) {
+        let files = ["fig05_report.toml", "fig08_report.toml", "fig10b_report.toml"];
+        let name = files[pick % files.len()];
+        let text = String::from_utf8(repo_file(&format!("studies/{name}"))).unwrap();
+        let experiments = common::repo().join("experiments");
+        let text = text.replace("\"../experiments", &format!("\"{}", experiments.display()));
+        let dir = tempfile::tempdir().unwrap();
+        let p = scratch(dir.path(), name, &apply(text.as_bytes(), &muts));
+        let reference = common::repo().join("reference");
+        match shotdamp::experiment::study::load(&p, &reference) {
+            Err(e) => prop_assert!(names(&e, &p), "{e}"),
+            // Every sample's experiment builds, or the error names the study.
+            Ok(study) => {
+                for sample in &study.samples {
+                    if let Err(e) = study.experiment(sample, &reference) {
+                        prop_assert!(names(&e, &p), "{e}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn mutated_reference_curves_load_or_fail_with_their_name(
         pick in 0usize..64,
         muts in proptest::collection::vec(mutation(), 1..4),

@@ -237,15 +237,20 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
     };
 
     let domains: Vec<Domain> = vary.iter().map(|v| v.domain.clone()).collect();
-    let points = design::points(design, &domains);
-    let per_model = points.len().max(1);
-    if per_model * base.len() > MAX_SAMPLES {
+    // The size before the samples are made: a grid grows as the product of its keys.
+    let per_model = match design {
+        Design::Grid => domains.iter().map(|d| d.grid().map_or(0, |g| g.len())).fold(1usize, usize::saturating_mul),
+        Design::Sobol { samples, .. } | Design::LatinHypercube { samples, .. } => samples,
+    };
+    let total = per_model.saturating_mul(base.len());
+    if total > MAX_SAMPLES {
         return Err(bad(
             "vary",
-            &format!("{} samples", per_model * base.len()),
+            &format!("{total} samples"),
             &format!("a study may have at most {MAX_SAMPLES} samples; split it"),
         ));
     }
+    let points = design::points(design, &domains);
     let mut samples = Vec::new();
     for e in &base {
         let model = e.model.as_ref().map(|m| m.id.clone()).unwrap_or_default();
