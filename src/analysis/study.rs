@@ -175,17 +175,6 @@ pub struct ClaimSummary {
     pub region: Vec<(f64, f64)>,
 }
 
-impl ClaimSummary {
-    /// The fraction of samples where the claim holds.
-    pub fn fraction(&self) -> f64 {
-        if self.samples == 0 {
-            0.0
-        } else {
-            self.holds as f64 / self.samples as f64
-        }
-    }
-}
-
 /// Summaries of rows, by model (in the order of `models`) then check.
 pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
     let mut out: Vec<ClaimSummary> = Vec::new();
@@ -223,31 +212,47 @@ pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
     out
 }
 
-/// Where a claim holds, in words: "holds at 12 of 112 samples (10.7 %), within damping
-/// 0.003-0.006, clearance_mm 0.25-0.55" (the box around them).
-pub fn region_words(s: &ClaimSummary, names: &[String]) -> String {
-    let fmt = crate::number::fmt_num;
-    let head = format!("holds at {} of {} samples ({:.1} %)", s.holds, s.samples, 100.0 * s.fraction());
-    if s.holds == 0 {
-        return format!("{head}; the claimed quantity ranges {} to {}", fmt(s.min), fmt(s.max));
+impl ClaimSummary {
+    /// The fraction of samples where the claim holds.
+    pub fn fraction(&self) -> f64 {
+        if self.samples == 0 {
+            0.0
+        } else {
+            self.holds as f64 / self.samples as f64
+        }
     }
-    let parts: Vec<String> = names
-        .iter()
-        .zip(&s.region)
-        .map(
-            |(n, (lo, hi))| {
-                if lo == hi {
-                    format!("{n} {}", fmt(*lo))
-                } else {
-                    format!("{n} {}-{}", fmt(*lo), fmt(*hi))
-                }
-            },
-        )
-        .collect();
-    if parts.is_empty() {
-        head
-    } else {
-        format!("{head}, within {}", parts.join(", "))
+
+    /// The box around the samples where the claim holds, e.g. "damping 0.003-0.006,
+    /// clearance_mm 0.25-0.55" (`names`: the varied keys).
+    pub fn region_box(&self, names: &[String]) -> String {
+        let fmt = crate::number::fmt_num;
+        names
+            .iter()
+            .zip(&self.region)
+            .map(
+                |(n, (lo, hi))| {
+                    if lo == hi {
+                        format!("{n} {}", fmt(*lo))
+                    } else {
+                        format!("{n} {}-{}", fmt(*lo), fmt(*hi))
+                    }
+                },
+            )
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// Where the claim holds, in words: "holds at 12/112 (damping 0.003-0.006, clearance_mm
+    /// 0.25-0.55)", "holds everywhere (9/9)", "holds nowhere (0/9; value 1.1-1.9)".
+    pub fn words(&self, names: &[String]) -> String {
+        let fmt = crate::number::fmt_num;
+        if self.holds == self.samples {
+            format!("holds everywhere ({}/{})", self.holds, self.samples)
+        } else if self.holds == 0 {
+            format!("holds nowhere (0/{}; value {}-{})", self.samples, fmt(self.min), fmt(self.max))
+        } else {
+            format!("holds at {}/{} ({})", self.holds, self.samples, self.region_box(names))
+        }
     }
 }
 
@@ -255,7 +260,6 @@ pub fn region_words(s: &ClaimSummary, names: &[String]) -> String {
 /// [2.5, 4]): stated chain: holds at 2/9 (damping 0.005, clearance_mm 0.3-0.4); ...".
 /// `models`: (id, label) in order; `names`: the varied keys.
 pub fn claim_sentences(models: &[(String, String)], names: &[String], summaries: &[ClaimSummary]) -> Vec<String> {
-    let fmt = crate::number::fmt_num;
     let n_checks = summaries.iter().map(|s| s.check + 1).max().unwrap_or(0);
     (0..n_checks)
         .filter_map(|check| {
@@ -265,29 +269,7 @@ pub fn claim_sentences(models: &[(String, String)], names: &[String], summaries:
                 .iter()
                 .map(|s| {
                     let label = models.iter().find(|m| m.0 == s.model).map_or(s.model.as_str(), |m| m.1.as_str());
-                    let region = if s.holds == 0 || s.holds == s.samples {
-                        format!("value {}-{}", fmt(s.min), fmt(s.max))
-                    } else {
-                        names
-                            .iter()
-                            .zip(&s.region)
-                            .map(|(n, (lo, hi))| {
-                                if lo == hi {
-                                    format!("{n} {}", fmt(*lo))
-                                } else {
-                                    format!("{n} {}-{}", fmt(*lo), fmt(*hi))
-                                }
-                            })
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    };
-                    if s.holds == s.samples {
-                        format!("{label}: holds everywhere ({}/{})", s.holds, s.samples)
-                    } else if s.holds == 0 {
-                        format!("{label}: holds nowhere (0/{}; {region})", s.samples)
-                    } else {
-                        format!("{label}: holds at {}/{} ({region})", s.holds, s.samples)
-                    }
+                    format!("{label}: {}", s.words(names))
                 })
                 .collect();
             Some(format!("{} ({}): {}", first.claim, first.bound, parts.join("; ")))

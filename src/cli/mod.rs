@@ -2,6 +2,27 @@
 //!
 //! Exit codes: 0 every check passed, 1 a check failed, 2 bad input or an I/O error.
 
+/// `println!` that ends the process quietly with exit code 2 (an I/O error) when standard
+/// output is closed early (as by `| head`), instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if writeln!(std::io::stdout().lock(), $($arg)*).is_err() {
+            std::process::exit(2);
+        }
+    }};
+}
+
+/// `print!` with the same rule as [`say!`].
+macro_rules! say_part {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if write!(std::io::stdout().lock(), $($arg)*).is_err() {
+            std::process::exit(2);
+        }
+    }};
+}
+
 mod study;
 
 use std::io::IsTerminal;
@@ -205,13 +226,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 let Some(exp) = exps.first() else { continue };
                 let models: Vec<&str> = exps.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.as_str())).collect();
                 let on = if models.is_empty() { String::new() } else { format!(" [models: {}]", models.join(", ")) };
-                println!(
-                    "{:<28} {:<12} {:<12} {}{on}",
-                    exp.meta.id,
-                    exp.meta.figure,
-                    exp.analysis.kind(),
-                    exp.meta.title
-                );
+                say!("{:<28} {:<12} {:<12} {}{on}", exp.meta.id, exp.meta.figure, exp.analysis.kind(), exp.meta.title);
             }
             Ok(true)
         }
@@ -236,7 +251,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         Command::Study(args) => study::dispatch(args, &cli.reference),
         Command::Compare { a, b, out } => {
             let dest = crate::output::compare::write(a, b, out)?;
-            println!("comparison: {}", dest.display());
+            say!("comparison: {}", dest.display());
             Ok(true)
         }
         Command::Report { out, jobs, templates, bless } => {
@@ -324,7 +339,7 @@ fn import(command: &Command, reference: &Path) -> anyhow::Result<()> {
     );
     std::fs::write(&dest, header + &body).map_err(|e| crate::Error::io(&dest, e))?;
     let points: usize = parsed.curve.iter().map(|c| c.x.len()).sum();
-    println!(
+    say!(
         "{}: {} curves, {points} points; one pixel = {} along x, {} along y",
         dest.display(),
         parsed.curve.len(),
@@ -351,37 +366,42 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
     let modes = modal_summary(&exp.structure, &[]);
     let n = modes.len();
     let on = exp.model.as_ref().map(|m| format!(", model \"{}\" ({})", m.id, m.label)).unwrap_or_default();
-    println!("{} ({}{on}): modes of the bare structure", exp.meta.id, exp.path.display());
+    say!("{} ({}{on}): modes of the bare structure", exp.meta.id, exp.path.display());
     if let Some(fit) = &exp.fit {
         print_fit(fit);
     }
-    print!("{:>4} {:>12} {:>10}", "mode", "omega rad/s", "f Hz");
+    say_part!("{:>4} {:>12} {:>10}", "mode", "omega rad/s", "f Hz");
     for r in 0..n {
-        print!(" {:>9}", format!("phi_m{}", r + 1));
+        say_part!(" {:>9}", format!("phi_m{}", r + 1));
     }
-    println!(" {:>10} {:>12} {:>11} {:>8}", "M_i kg", "K_i N/m", "C_i N s/m", "zeta_i");
+    say!(" {:>10} {:>12} {:>11} {:>8}", "M_i kg", "K_i N/m", "C_i N s/m", "zeta_i");
     for m in &modes {
-        print!("{:>4} {:>12.3} {:>10.4}", m.number, m.omega, m.freq_hz);
+        say_part!("{:>4} {:>12.3} {:>10.4}", m.number, m.omega, m.freq_hz);
         for v in &m.shape {
-            print!(" {v:>9.4}");
+            say_part!(" {v:>9.4}");
         }
-        println!(
-            " {:>10.5} {:>12.2} {:>11.5} {:>8.5}",
-            m.modal_mass, m.modal_stiffness, m.modal_damping, m.damping_ratio
-        );
+        say!(" {:>10.5} {:>12.2} {:>11.5} {:>8.5}", m.modal_mass, m.modal_stiffness, m.modal_damping, m.damping_ratio);
     }
     for c in cases {
-        println!();
-        println!("case {} ({}): equivalent SDOF model of each mode (paper section 2.2, Eq. 12-13)", c.id, c.label);
-        println!(
+        say!();
+        say!("case {} ({}): equivalent SDOF model of each mode (paper section 2.2, Eq. 12-13)", c.id, c.label);
+        say!(
             "{:>4} {:>8} {:>10} {:>12} {:>11} {:>10} {:>9} {:>10} {:>8}",
-            "mode", "q at", "M_i kg", "K_i N/m", "C_i N s/m", "F_i N", "mu_i", "m_d,i kg", "d mm"
+            "mode",
+            "q at",
+            "M_i kg",
+            "K_i N/m",
+            "C_i N s/m",
+            "F_i N",
+            "mu_i",
+            "m_d,i kg",
+            "d mm"
         );
         for i in 0..n {
             let e = EquivalentSdof::new(&exp.structure, &c.dampers, i, exp.excitation.mass, exp.excitation.force);
             let m = &e.mode;
             let d = if e.clearance.is_finite() { format!("{:.3}", e.clearance * 1e3) } else { "inf".into() };
-            println!(
+            say!(
                 "{:>4} {:>8} {:>10.5} {:>12.2} {:>11.5} {:>10.4} {:>9.5} {:>10.5} {:>8}",
                 m.number,
                 format!("m{}", m.reference_mass + 1),
@@ -427,7 +447,7 @@ fn calibrate_damping(file: &Path, curve: &Path, model: Option<&str>, reference: 
         return Err(crate::Error::invalid("--model", "model", model.unwrap_or(""), format!("one of {ids:?}")).into());
     }
     let points: usize = data.iter().map(|d| d.freq_hz.len()).sum();
-    println!(
+    say!(
         "{}: {} curves, {points} points; fitted: ln|x/F| at the points within {:.0} % of each natural frequency",
         curve.display(),
         data.len(),
@@ -437,14 +457,14 @@ fn calibrate_damping(file: &Path, curve: &Path, model: Option<&str>, reference: 
         let fit = fit_modal_damping(&exp.structure, exp.excitation.mass, &data)
             .map_err(|e| crate::Error::invalid(curve, "curve", exp.meta.id.clone(), e.to_string()))?;
         let name = exp.model.as_ref().map(|m| m.label.clone()).unwrap_or_else(|| exp.meta.id.clone());
-        println!("{name}: rms residual of ln(compliance) {:.4}", fit.rms_log_residual);
-        println!("{:>4} {:>10} {:>8} {:>12}", "mode", "zeta", "points", "half-power");
+        say!("{name}: rms residual of ln(compliance) {:.4}", fit.rms_log_residual);
+        say!("{:>4} {:>10} {:>8} {:>12}", "mode", "zeta", "points", "half-power");
         for (k, z) in fit.ratios.iter().enumerate() {
             let hp = fit.half_power[k].map(|v| format!("{v:.5}")).unwrap_or_else(|| "-".into());
-            println!("{:>4} {:>10.5} {:>8} {:>12}", k + 1, z, fit.points[k], hp);
+            say!("{:>4} {:>10.5} {:>8} {:>12}", k + 1, z, fit.points[k], hp);
         }
         let list: Vec<String> = fit.ratios.iter().map(|z| format!("{z:.5}")).collect();
-        println!("  in a model file: [structure.damping] modal_ratios = [{}]", list.join(", "));
+        say!("  in a model file: [structure.damping] modal_ratios = [{}]", list.join(", "));
     }
     Ok(())
 }
@@ -452,12 +472,12 @@ fn calibrate_damping(file: &Path, curve: &Path, model: Option<&str>, reference: 
 /// The stiffness fitted to measured modes: the matrix, its condition, the residuals.
 fn print_fit(fit: &crate::model::fit::StiffnessFit) {
     let n = fit.omegas.len();
-    println!("stiffness fitted to the measured modes (N/m):");
+    say!("stiffness fitted to the measured modes (N/m):");
     for i in 0..n {
         let row: Vec<String> = (0..n).map(|j| format!("{:>12.1}", fit.stiffness[(i, j)])).collect();
-        println!("  [{}]", row.join(" "));
+        say!("  [{}]", row.join(" "));
     }
-    println!(
+    say!(
         "  condition {:.2}; {} of {} starts reached the best fit{}; measured shapes mass-orthogonal to {:.3}",
         fit.condition,
         fit.starts_at_best,
@@ -469,15 +489,18 @@ fn print_fit(fit: &crate::model::fit::StiffnessFit) {
         },
         fit.orthogonality
     );
-    println!(
+    say!(
         "{:>4} {:>14} {:>14} {:>12}   shape (model), residual per element",
-        "mode", "omega rad/s", "residual", "relative"
+        "mode",
+        "omega rad/s",
+        "residual",
+        "relative"
     );
     for i in 0..n {
         let measured = fit.omegas[i] - fit.frequency_residuals[i];
         let shape: Vec<String> =
             fit.shapes[i].iter().zip(&fit.shape_residuals[i]).map(|(v, r)| format!("{v:.4} ({r:+.4})")).collect();
-        println!(
+        say!(
             "{:>4} {:>14.6} {:>14.3e} {:>12.3e}   {}",
             i + 1,
             fit.omegas[i],
@@ -487,7 +510,7 @@ fn print_fit(fit: &crate::model::fit::StiffnessFit) {
         );
     }
     let worst = fit.shape_residuals.iter().flatten().fold(0.0_f64, |a, r| a.max(r.abs()));
-    println!("  largest shape residual {worst:.4}");
+    say!("  largest shape residual {worst:.4}");
 }
 
 fn pool(jobs: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
@@ -581,7 +604,7 @@ fn run_and_write(
         for r in &results {
             crate::output::write_baseline(&dir, &r.experiment.key(), &baseline::sample(&r.tables))?;
         }
-        println!("blessed: {} experiments sampled into {} (review the diff, commit it)", results.len(), dir.display());
+        say!("blessed: {} experiments sampled into {} (review the diff, commit it)", results.len(), dir.display());
     }
     let failed: Vec<String> = results
         .iter()
@@ -601,14 +624,14 @@ fn run_and_write(
         })
         .collect();
     let total: usize = results.iter().map(|r| r.checks.len()).sum();
-    println!("report: {}", dest.join("index.html").display());
+    say!("report: {}", dest.join("index.html").display());
     if failed.is_empty() {
-        println!("{total} checks: none failed");
+        say!("{total} checks: none failed");
         Ok(true)
     } else {
-        println!("{total} checks: {} failed", failed.len());
+        say!("{total} checks: {} failed", failed.len());
         for f in failed {
-            println!("{f}");
+            say!("{f}");
         }
         Ok(false)
     }

@@ -84,7 +84,7 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         })
         .sum();
     let estimate = points as f64 * SECONDS_PER_POINT / threads as f64;
-    println!(
+    say!(
         "study {}: {} samples ({}; {}), {} claims each; shard {shard}: {} samples, {points} simulated points, roughly {} on {threads} threads{}",
         study.id,
         study.samples.len(),
@@ -107,21 +107,21 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
     folder::prepare(&out, &manifest)?;
     let (complete, done) = folder::done(&out, shard)?;
     if complete {
-        println!("shard {shard} is already complete in {}", out.display());
+        say!("shard {shard} is already complete in {}", out.display());
     } else {
         let todo: Vec<&study::Sample> =
             mine.iter().copied().filter(|s| done.binary_search(&s.index).is_err()).collect();
         if !done.is_empty() {
-            println!("resuming: {} of {} samples already written", done.len(), mine.len());
+            say!("resuming: {} of {} samples already written", done.len(), mine.len());
         }
         compute(&study, &todo, &refs, reference, &out, shard, &pool, mine.len(), done.len())?;
         let part = folder::finish_shard(&out, shard, &run::table(&study, &[]))?;
-        println!("shard {shard}: {}", part.display());
+        say!("shard {shard}: {}", part.display());
     }
     if shard.count == 1 {
         merge(&out)?;
     } else {
-        println!("when every shard is done: shotdamp study merge {}", out.display());
+        say!("when every shard is done: shotdamp study merge {}", out.display());
     }
     Ok(true)
 }
@@ -237,7 +237,7 @@ fn merge(dir: &Path) -> anyhow::Result<()> {
     for map in heatmap::maps(&manifest, &rows) {
         heatmap::write(&map, &figures)?;
     }
-    println!(
+    say!(
         "study {} ({}): {} rows in {}",
         manifest.study,
         manifest.figure,
@@ -245,7 +245,7 @@ fn merge(dir: &Path) -> anyhow::Result<()> {
         dir.join(format!("{}.csv", manifest.study)).display()
     );
     for s in &summaries {
-        println!("  {} | {} ({}): {}", s.model, s.claim, s.bound, run::region_words(s, &names));
+        say!("  {} | {} ({}): {}", s.model, s.claim, s.bound, s.words(&names));
     }
     Ok(())
 }
