@@ -373,6 +373,11 @@ fn design_of(path: &Path, s: &RawStudy, vary: &[Vary]) -> Result<Design> {
             }
             Ok(Design::Grid)
         }
+        "sobol" if vary.len() > 256 => Err(bad(
+            "vary",
+            &format!("{} keys", vary.len()),
+            "a Sobol design varies at most 256 keys (use latin_hypercube)",
+        )),
         "sobol" => Ok(Design::Sobol { samples: samples("sobol")?, seed }),
         "latin_hypercube" => Ok(Design::LatinHypercube { samples: samples("latin_hypercube")?, seed }),
         other => Err(bad("study.design", &format!("\"{other}\""), "one of \"grid\", \"sobol\", \"latin_hypercube\"")),
