@@ -576,6 +576,7 @@ fn run_and_write(
     let waves = experiment::waves(exps)?;
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, baseline_mode)?;
+    let study_refs = studies.iter().map(|s| study::references(s, reference)).collect::<crate::Result<Vec<_>>>()?;
     // The handler is in place before the staging folder exists: an interrupt at any moment
     // removes it.
     remove_on_interrupt(crate::output::destination::staging_path(out)?);
@@ -588,7 +589,7 @@ fn run_and_write(
     let (results, study_runs) = pool.install(|| {
         rayon::join(
             || run_waves(exps, waves, &refs, &writer, &pool, &bars, log),
-            || run_studies(studies, &refs, reference, log),
+            || run_studies(studies, &study_refs, reference, log),
         )
     });
     let (results, study_runs) = match (results, study_runs) {
@@ -693,10 +694,16 @@ fn run_waves(
     Ok(slots.into_iter().flatten().collect())
 }
 
-/// Runs the report's studies, each over its samples in parallel.
-fn run_studies(studies: &[Study], refs: &ReferenceStore, reference: &Path, log: bool) -> crate::Result<Vec<StudyRun>> {
+/// Runs the report's studies, each over its samples in parallel, with its references
+/// (`refs`, one store per study, without baselines).
+fn run_studies(
+    studies: &[Study],
+    refs: &[ReferenceStore],
+    reference: &Path,
+    log: bool,
+) -> crate::Result<Vec<StudyRun>> {
     let mut out = Vec::new();
-    for s in studies {
+    for (s, refs) in studies.iter().zip(refs) {
         let started = std::time::Instant::now();
         let rows = analysis::study::run_all(s, refs, reference)?;
         if log {

@@ -74,7 +74,7 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
     // Every sample's experiment is built once before anything runs: a bad value stops here.
     let exps =
         pool.install(|| mine.par_iter().map(|s| study.experiment(s, reference)).collect::<crate::Result<Vec<_>>>())?;
-    let refs = ReferenceStore::load(reference, &[study.base.clone(), study.dependencies.clone()].concat())?;
+    let refs = references(&study, reference)?;
     let points: u64 = exps
         .iter()
         .map(|e| {
@@ -124,6 +124,12 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         say!("when every shard is done: shotdamp study merge {}", out.display());
     }
     Ok(true)
+}
+
+/// The references of a study's experiment and of those it takes values from, without the
+/// baseline (it holds the experiments' own values, not a sample's).
+pub(super) fn references(study: &Study, reference: &Path) -> crate::Result<ReferenceStore> {
+    ReferenceStore::load(reference, &[study.base.clone(), study.dependencies.clone()].concat())
 }
 
 /// The shard from the command line or the job's environment.
