@@ -64,7 +64,7 @@ fn fig08_sweep(c: &mut Criterion) {
 /// seeded at 49.66 Hz and continued both ways over 44-56 Hz.
 fn fig09_branch(c: &mut Criterion) {
     use shotdamp::model::sdof::EquivalentSdof;
-    use shotdamp::sim::continuation::{continue_branch, ContinuationOptions};
+    use shotdamp::sim::continuation::{continue_branch, ContinuationOptions, Parameter};
     use shotdamp::sim::periodic::{seed, NewtonOptions};
     let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
     let e = EquivalentSdof::new(&s, &[Damper { host: 1, mass: 0.071, clearance: 0.5e-3 }], 2, 0, 2.6);
@@ -83,6 +83,7 @@ fn fig09_branch(c: &mut Criterion) {
         ds_max: 0.05,
         max_points: 600,
         newton: NewtonOptions { tol: 1e-10, ..NewtonOptions::default() },
+        parameter: Parameter::FrequencyHz,
     };
     let run = || {
         let down = continue_branch(&family, problem, 49.66, &u, false, &opts).expect("down");

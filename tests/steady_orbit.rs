@@ -225,3 +225,32 @@ fn impact_section_jacobian_equals_central_differences() {
         );
     }
 }
+
+/// The impact section's exact derivative in the forcing frequency (what continuation in
+/// frequency needs beside the Jacobian) against central differences in omega at fixed start.
+#[test]
+fn impact_section_frequency_derivative_equals_central_differences() {
+    use shotdamp::model::sdof::EquivalentSdof;
+    let e = EquivalentSdof::new(&paper(0.01), &[Damper { host: 1, mass: 0.071, clearance: 0.5e-3 }], 2, 0, 2.6);
+    let sdof = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
+    for (name, d, bounce) in [
+        ("3-mass, d = 0.4 mm", Dynamics::new(&system(&[1], 0.4e-3, 0.01), 2.0 * PI * 49.0).unwrap(), false),
+        ("3-mass, d = 0.4 mm, 47 Hz", Dynamics::new(&system(&[1], 0.4e-3, 0.01), 2.0 * PI * 47.0).unwrap(), false),
+        ("SDOF, d = 0.5 mm", Dynamics::new(&sdof, 2.0 * PI * 49.66).unwrap(), false),
+        ("ball, e = 0.5, Gamma = 1.3", bouncing_ball(1.3, 0.5).unwrap(), true),
+        ("plastic ball leaving at once, Gamma = 3.5", ball(3.5).unwrap(), false),
+    ] {
+        let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
+        assert!(st.converged, "{name}: {:?}", st.failure);
+        let length = st.amplitude.iter().copied().fold(0.0, f64::max);
+        let (problem, u) = seed(&d, &st.final_state, st.period, length, d.omega, bounce).unwrap();
+        let exact = problem.map(&d, &u).unwrap().d_omega.expect("the impact section's map gives dP/domega");
+        let h = 1e-6 * d.omega;
+        let image = |w: f64| problem.image(&d.at_omega(w).unwrap(), &u).unwrap();
+        let fd = (image(d.omega + h) - image(d.omega - h)) / (2.0 * h);
+        let diff = (&exact - &fd).amax();
+        assert!(diff < 1e-6 * exact.amax(), "{name}: |dP/dw - fd| = {diff:e} against {:e}\n{exact}{fd}", exact.amax());
+        // Not trivially zero: the phase row alone is about t_return.
+        assert!(exact.amax() > 1e-3, "{name}: {exact}");
+    }
+}

@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use crate::output::figure::{Dash, Marker, Series};
 use crate::output::table::Table;
-use crate::sim::continuation::{continue_branch, BranchEnd, ContinuationOptions, Special};
+use crate::sim::continuation::{continue_branch, BranchEnd, ContinuationOptions, Parameter, Special};
 use crate::sim::periodic::NewtonOptions;
 use crate::sim::{Dynamics, Steady, System};
 
@@ -57,6 +57,7 @@ pub fn continue_orbit(
         ds_max: 0.05,
         max_points: 600,
         newton: NewtonOptions { tol: 1e-10, ..NewtonOptions::default() },
+        parameter: Parameter::FrequencyHz,
     };
     let (mut p0, mut dir) = (seed_hz, up);
     let mut ends = Vec::new();

@@ -13,7 +13,7 @@ use crate::experiment::{Case, Experiment};
 use crate::model::modal::ModeSummary;
 use crate::model::sdof::EquivalentSdof;
 use crate::model::Damper;
-use crate::sim::continuation::{continue_branch, BranchEnd, BranchPoint, ContinuationOptions, Special};
+use crate::sim::continuation::{continue_branch, BranchEnd, BranchPoint, ContinuationOptions, Parameter, Special};
 use crate::sim::periodic::{seed, solve, summarize, NewtonOptions};
 use crate::sim::sweep::{self, SweepPoint};
 use crate::sim::{steady_state, Dynamics, State, SteadyOptions, System};
@@ -131,6 +131,7 @@ fn options(freq_hz: &[f64]) -> ContinuationOptions {
         // 1e-10 of the amplitude: near a grazing impact the map's derivatives grow large and
         // rounding keeps the residual near 1e-10.
         newton: NewtonOptions { tol: 1e-10, ..NewtonOptions::default() },
+        parameter: Parameter::FrequencyHz,
     }
 }
 
@@ -242,9 +243,9 @@ pub fn run(
     let reference = modes[mode].reference_mass;
     // Candidate clearances: the SDOF branch of each, and the types within its resonance.
     let scan = matches!(case.clearances.first(), Some(crate::experiment::Clearance::Scan));
-    let (chosen_mm, clearance_rows, clearance_note) = match (scan, clearances_mm) {
+    let (chosen_mm, clearance_rows, clearance_note, mut branches) = match (scan, clearances_mm) {
         (true, Some(list)) => {
-            let rows: Vec<ClearanceRow> = list
+            let (rows, branches): (Vec<ClearanceRow>, Vec<OrbitBranch>) = list
                 .par_iter()
                 .map(|&mm| {
                     let dampers = vec![Damper { clearance: mm * 1e-3, ..case.dampers[0] }];
@@ -260,9 +261,9 @@ pub fn run(
                     kinds.sort();
                     kinds.dedup();
                     let only_type_ii = !kinds.is_empty() && kinds.iter().all(|k| k == "II");
-                    ClearanceRow { clearance_mm: mm, peak, kinds, only_type_ii }
+                    (ClearanceRow { clearance_mm: mm, peak, kinds, only_type_ii }, b)
                 })
-                .collect();
+                .unzip();
             let best = |ok: bool| {
                 rows.iter().filter(|r| r.peak.is_some() && (!ok || r.only_type_ii)).min_by(|a, b| {
                     a.peak.map_or(f64::INFINITY, |p| p.1).total_cmp(&b.peak.map_or(f64::INFINITY, |p| p.1))
@@ -289,18 +290,22 @@ pub fn run(
                     None => (list[0], "No candidate clearance has an impacting SDOF orbit; the first is used.".into()),
                 },
             };
-            (pick, rows, note)
+            (pick, rows, note, branches)
         }
         _ => {
             let mm = case.dampers[0].clearance * 1e3;
-            (mm, Vec::new(), format!("The clearance is given: {} mm.", crate::checks::fmt_num(mm)))
+            (mm, Vec::new(), format!("The clearance is given: {} mm.", crate::checks::fmt_num(mm)), Vec::new())
         }
     };
     let mut case = case;
     case.dampers[0].clearance = chosen_mm * 1e-3;
     case.clearances = vec![crate::experiment::Clearance::Fixed];
     let (sdof_model, sdof_sys) = sdof_system(exp, &case.dampers, mode);
-    let sdof = branch("sdof", "equivalent SDOF", &sdof_sys, freq_hz, &seeds_hz, steady, &sdof_compliance(&sdof_model));
+    // The chosen candidate's branch is already there (the same system, computed the same way).
+    let sdof = match clearance_rows.iter().position(|r| r.clearance_mm == chosen_mm) {
+        Some(i) => OrbitBranch { label: "equivalent SDOF".into(), ..branches.swap_remove(i) },
+        None => branch("sdof", "equivalent SDOF", &sdof_sys, freq_hz, &seeds_hz, steady, &sdof_compliance(&sdof_model)),
+    };
     tick();
     let full = curves::system(exp, &case);
     let exact =

@@ -5,8 +5,9 @@
 //! The unknowns are the section coordinates `u` of [`super::periodic`] and the scaled
 //! parameter `q = p / p_scale`. Each step predicts along the unit tangent of the branch and
 //! corrects with Newton's method on `G(u, p) = 0` plus the arclength condition
-//! `t . (y - y_pred) = 0`; the derivative of `G` in `p` is a central difference like the
-//! others.
+//! `t . (y - y_pred) = 0`. When the parameter is the forcing frequency and the section's map
+//! carries the derivative in it through the linearised flow ([`super::periodic::Return::d_omega`]),
+//! the derivative of `G` in `p` is that exact column; otherwise a central difference.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -18,6 +19,17 @@ const KINK_REFINEMENT: f64 = 64.0;
 
 /// Dynamics at a parameter value.
 pub type Family<'a> = dyn Fn(f64) -> Result<Dynamics, SetupError> + Sync + 'a;
+
+/// What the continuation parameter is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Parameter {
+    /// The forcing frequency in Hz, and nothing else changes with it: the family is the same
+    /// system forced at `omega = 2 pi p`, so `dG/dp` is `2 pi dP/domega` from the map.
+    FrequencyHz,
+    /// Anything else (a force, a clearance, a dimensionless acceleration): `dG/dp` by
+    /// central differences.
+    Other,
+}
 
 /// Settings of a continuation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,6 +46,8 @@ pub struct ContinuationOptions {
     /// Most points on the branch.
     pub max_points: usize,
     pub newton: NewtonOptions,
+    /// What `p` is.
+    pub parameter: Parameter,
 }
 
 /// One point of a branch.
@@ -110,7 +124,22 @@ fn join(u: &DVector<f64>, q: f64) -> DVector<f64> {
 
 impl<S: Section> Solver<'_, S> {
     fn dynamics(&self, q: f64) -> Result<Dynamics, OrbitError> {
-        (self.family)(q * self.opts.p_scale).map_err(OrbitError::Setup)
+        let d = (self.family)(q * self.opts.p_scale).map_err(OrbitError::Setup)?;
+        debug_assert!(
+            self.opts.parameter != Parameter::FrequencyHz
+                || (d.omega - 2.0 * std::f64::consts::PI * q * self.opts.p_scale).abs() <= 1e-12 * d.omega,
+            "a frequency family forces at omega = 2 pi p"
+        );
+        Ok(d)
+    }
+
+    /// `dG/dq`: exact from the map's `dP/domega` when the parameter is the forcing frequency
+    /// and the map gives it, else by central differences.
+    fn g_q_of(&self, d_omega: Option<&DVector<f64>>, u: &DVector<f64>, q: f64) -> Result<DVector<f64>, OrbitError> {
+        match (self.opts.parameter, d_omega) {
+            (Parameter::FrequencyHz, Some(dw)) => Ok(dw * (2.0 * std::f64::consts::PI * self.opts.p_scale)),
+            _ => self.g_q(u, q),
+        }
     }
 
     /// `dG/dq` by central differences.
@@ -163,9 +192,17 @@ impl<S: Section> Solver<'_, S> {
             let (g, ret) = self.problem.residual(&d, &u)?;
             let arc = t.dot(&(&y - pred));
             let norm = g.amax().max(arc.abs());
+            // Newton's method near a solution shrinks the residual; one that has not shrunk
+            // over two iterations (typically a 2-cycle across a kink of the map, where an
+            // impact appears or vanishes between the iterate and the branch) will not
+            // converge: refuse at once, so that the step is shortened.
+            let stalled = residuals.len() >= 2 && norm >= residuals[residuals.len() - 2];
             residuals.push(norm);
+            if stalled {
+                return Err(OrbitError::NoConvergence(residuals));
+            }
             let (j, smooth) = self.problem.jacobian(&d, &u, &ret)?;
-            let gq = self.g_q(&u, q)?;
+            let gq = self.g_q_of(ret.d_omega.as_ref(), &u, q)?;
             if norm < self.opts.newton.tol {
                 return Ok((finish(&self.problem, &d, u, ret, residuals, j, smooth), q, gq, it));
             }
@@ -199,7 +236,7 @@ pub fn continue_branch<S: Section>(
     let q0 = p0 / opts.p_scale;
     let d0 = solver.dynamics(q0)?;
     let first = super::periodic::solve(&solver.problem, &d0, guess, &opts.newton)?;
-    let gq = solver.g_q(&first.u, q0)?;
+    let gq = solver.g_q_of(first.d_omega.as_ref(), &first.u, q0)?;
     let m = first.u.len();
     let mut dir = DVector::zeros(m + 1);
     dir[m] = if up { 1.0 } else { -1.0 };

@@ -107,6 +107,11 @@ pub trait Observer {
     /// The state just before and just after the events at one time, and the event functions
     /// that reached zero there (for the linearised flow: saltation at events).
     fn jump(&mut self, _d: &Dynamics, _before: &State, _after: &State, _hits: &[Watch]) {}
+    /// Whether the observer has seen what it waits for: [`Engine::advance`] then returns
+    /// right after the events that finished it (before `t_end`).
+    fn done(&self) -> bool {
+        false
+    }
 }
 
 /// An observer that ignores everything.
@@ -172,7 +177,8 @@ impl<'a> Engine<'a> {
         w
     }
 
-    /// Advances `s` to `t_end`, applying every event on the way.
+    /// Advances `s` to `t_end`, applying every event on the way, or to the first event after
+    /// which the observer is [`Observer::done`].
     pub fn advance(&self, s: &mut State, t_end: f64, obs: &mut impl Observer) -> Result<(), Stop> {
         let mut events = 0;
         while s.t < t_end {
@@ -200,6 +206,9 @@ impl<'a> Engine<'a> {
                     }
                     if let Some(before) = before {
                         obs.jump(self.d, &before, s, &hits);
+                    }
+                    if obs.done() {
+                        return Ok(());
                     }
                     events += 1;
                     if events > self.settings.max_events {

@@ -267,6 +267,9 @@ impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {
         self.0.jump(d, before, after, hits);
         self.1.jump(d, before, after, hits);
     }
+    fn done(&self) -> bool {
+        self.0.done() || self.1.done()
+    }
 }
 
 /// A state as a flat vector for distances: displacements, velocities / omega, and for each

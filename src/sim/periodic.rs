@@ -90,6 +90,8 @@ pub struct Return {
     /// The Jacobian of `P` at `u` when the map computes it exactly, and whether it is smooth
     /// there (no graze, no simultaneous impacts).
     pub jacobian: Option<(DMatrix<f64>, bool)>,
+    /// `dP/domega` at fixed `u` (omega the forcing frequency, rad/s), when the map computes it.
+    pub d_omega: Option<DVector<f64>>,
 }
 
 /// A Poincare section and its return map `P`: what Newton's method and continuation need.
@@ -176,6 +178,9 @@ impl Observer for Returns {
             }
         }
     }
+    fn done(&self) -> bool {
+        self.at.is_some()
+    }
 }
 
 /// The kinds of the events in order: what makes two runs "the same motion".
@@ -243,16 +248,29 @@ impl Section for Problem {
     /// The return map.
     fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
         let start = self.state(d, u);
-        let mut tangent = Tangent::new(d, self.embedding(d, &start)).until_impact(0, self.returns);
+        let m = u.len();
+        // The coordinates' columns and, last, the forcing frequency's: the start time
+        // `u_0 / omega` moves with it by `-t_0 / omega`: minus `t_0` times the phase column.
+        let e = self.embedding(d, &start);
+        let mut m0 = e.clone().insert_column(m, 0.0);
+        m0.set_column(m, &(e.column(0) * -start.t));
+        let mut tangent = Tangent::new(d, m0).until_impact(0, self.returns).with_omega_column(m);
         let (at, events) = self.run_to_return(d, start, &mut tangent)?;
-        let jacobian = tangent.dt.as_ref().map(|dt| {
-            let mut j = self.restriction(d) * &tangent.m;
-            j.set_row(0, &(dt * d.omega));
-            let smooth =
-                tangent.simultaneous == 0 && tangent.min_impact_speed > super::tangent::GRAZE * self.length * self.rate;
-            (j, smooth)
-        });
-        Ok(Return { image: self.coordinates(d, &at), events, jacobian })
+        let (jacobian, d_omega) = match tangent.dt.as_ref() {
+            Some(dt) => {
+                let full = self.restriction(d) * &tangent.m;
+                let mut j = full.columns(0, m).into_owned();
+                j.set_row(0, &(dt.columns(0, m) * d.omega));
+                let mut dw = full.column(m).into_owned();
+                // The image's phase is omega t_return.
+                dw[0] = dt[m] * d.omega + at.t;
+                let smooth = tangent.simultaneous == 0
+                    && tangent.min_impact_speed > super::tangent::GRAZE * self.length * self.rate;
+                (Some((j, smooth)), Some(dw))
+            }
+            None => (None, None),
+        };
+        Ok(Return { image: self.coordinates(d, &at), events, jacobian, d_omega })
     }
 
     /// The image without the linearised flow (the tangent only observes: the motion and the
@@ -279,11 +297,8 @@ impl Problem {
         let period = 2.0 * std::f64::consts::PI / d.omega;
         let limit = s.t + (self.periods as f64 + 1.0) * period;
         let mut rec = Returns { wanted: self.returns, seen: 0, events: Vec::new(), at: None };
-        let engine = Engine::new(d);
-        while rec.at.is_none() && s.t < limit {
-            let next = (s.t + period / 8.0).min(limit);
-            engine.advance(&mut s, next, &mut Both(&mut rec, extra)).map_err(OrbitError::Stopped)?;
-        }
+        // Stops at the return impact.
+        Engine::new(d).advance(&mut s, limit, &mut Both(&mut rec, extra)).map_err(OrbitError::Stopped)?;
         let at = rec.at.ok_or(OrbitError::NoReturn)?;
         Ok((at, rec.events))
     }
@@ -345,6 +360,8 @@ pub struct Orbit {
     pub stable: bool,
     /// The perturbed runs of the Jacobian kept the event sequence.
     pub smooth: bool,
+    /// `dP/domega` at the fixed point, when the map computes it (see [`Return::d_omega`]).
+    pub d_omega: Option<DVector<f64>>,
 }
 
 impl Orbit {
@@ -417,7 +434,17 @@ pub fn finish<S: Section + ?Sized>(
 ) -> Orbit {
     let multipliers = multipliers(&jacobian);
     let stable = multipliers.iter().all(|z| z.norm() < 1.0);
-    Orbit { state: problem.state(d, &u), u, events: ret.events, residuals, jacobian, multipliers, stable, smooth }
+    Orbit {
+        state: problem.state(d, &u),
+        u,
+        events: ret.events,
+        residuals,
+        jacobian,
+        multipliers,
+        stable,
+        smooth,
+        d_omega: ret.d_omega,
+    }
 }
 
 /// A section point from a state by running to the next bottom impact, and the number of
@@ -436,10 +463,7 @@ pub fn seed(
     let mut s = start.clone();
     let mut first = Returns { wanted: 1, seen: 0, events: Vec::new(), at: None };
     let limit = s.t + 2.0 * period;
-    while first.at.is_none() && s.t < limit {
-        let next = (s.t + period / 8.0).min(limit);
-        engine.advance(&mut s, next, &mut first).ok()?;
-    }
+    engine.advance(&mut s, limit, &mut first).ok()?;
     let at = first.at?;
     let mut u = probe.coordinates(d, &at);
     // The forcing is periodic: keep the phase in [0, 2 pi).

@@ -240,7 +240,7 @@ impl Section for Strobe {
         let image = self.coordinates(d, &s)?;
         let jacobian = self.restriction(d) * &tangent.m;
         let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
-        Ok(Return { image, events: log.0, jacobian: Some((jacobian, smooth)) })
+        Ok(Return { image, events: log.0, jacobian: Some((jacobian, smooth)), d_omega: None })
     }
 
     /// The image without the linearised flow (the tangent only observes).

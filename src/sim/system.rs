@@ -121,6 +121,9 @@ pub struct Config {
     /// Forced response coefficients.
     pub p: DVector<f64>,
     pub q: DVector<f64>,
+    /// Their derivatives in the forcing frequency, s.
+    pub dp: DVector<f64>,
+    pub dq: DVector<f64>,
     /// Static offset under the attached beds' weights.
     pub offset: DVector<f64>,
     /// `M` and `M^-1` (accelerations at events).
@@ -161,20 +164,28 @@ impl Dynamics {
         let mut d = self.clone();
         let n = self.system.dof();
         for cfg in &mut d.configs {
-            let (p, q) = if self.system.force != 0.0 {
+            let (x, dx) = if self.system.force != 0.0 {
                 let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
                     Complex64::new(self.k[(i, j)] - omega * omega * cfg.mass[(i, j)], omega * self.c[(i, j)])
                 });
                 let mut rhs = DVector::<Complex64>::zeros(n);
                 rhs[self.system.driven] = Complex64::new(self.system.force, 0.0);
-                let x = z.lu().solve(&rhs).ok_or(SetupError::Singular { mask: cfg.mask })?;
-                (x.map(|v| v.im), x.map(|v| v.re))
+                let lu = z.lu();
+                let x = lu.solve(&rhs).ok_or(SetupError::Singular { mask: cfg.mask })?;
+                // Z X = F e_k  =>  Z dX/domega = -(dZ/domega) X, dZ/domega = -2 omega M + i C.
+                let dz = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
+                    Complex64::new(-2.0 * omega * cfg.mass[(i, j)], self.c[(i, j)])
+                });
+                let dx = lu.solve(&(-(dz * &x))).ok_or(SetupError::Singular { mask: cfg.mask })?;
+                (x, dx)
             } else {
                 (DVector::zeros(n), DVector::zeros(n))
             };
-            cfg.amp = DVector::from_fn(n, |i, _| p[i].hypot(q[i]));
-            cfg.p = p;
-            cfg.q = q;
+            cfg.p = x.map(|v| v.im);
+            cfg.q = x.map(|v| v.re);
+            cfg.dp = dx.map(|v| v.im);
+            cfg.dq = dx.map(|v| v.re);
+            cfg.amp = DVector::from_fn(n, |i, _| cfg.p[i].hypot(cfg.q[i]));
         }
         let max_rate = d.configs.iter().map(|c| c.max_rate).fold(omega, f64::max);
         d.omega = omega;
@@ -246,6 +257,8 @@ impl Dynamics {
                 amp: DVector::zeros(n),
                 p: DVector::zeros(n),
                 q: DVector::zeros(n),
+                dp: DVector::zeros(n),
+                dq: DVector::zeros(n),
                 offset,
                 mass: m,
                 mass_inv: m_inv,
@@ -271,6 +284,17 @@ impl Dynamics {
         let (s, c) = (self.omega * t).sin_cos();
         let x = &cfg.p * c + &cfg.q * s + &cfg.offset;
         let v = (&cfg.q * c - &cfg.p * s) * self.omega;
+        (x, v)
+    }
+
+    /// The derivatives of [`Dynamics::particular`] in the forcing frequency at fixed `t`.
+    pub fn particular_d_omega(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
+        let cfg = &self.configs[mask];
+        let w = self.omega;
+        let (s, c) = (w * t).sin_cos();
+        // x_p = P cos(w t) + Q sin(w t) + s, v_p = w (Q cos(w t) - P sin(w t)).
+        let x = &cfg.dp * c + &cfg.dq * s + (&cfg.q * c - &cfg.p * s) * t;
+        let v = (&cfg.q * c - &cfg.p * s) + (&cfg.dq * c - &cfg.dp * s) * w - (&cfg.p * c + &cfg.q * s) * (w * t);
         (x, v)
     }
 

@@ -48,6 +48,9 @@ pub struct Tangent {
     seen: usize,
     /// Once frozen: the derivative of the event time with respect to the coordinates, s.
     pub dt: Option<nalgebra::RowDVector<f64>>,
+    /// The column that is the derivative in the forcing frequency (at fixed start state and
+    /// time), if any: between events it gains the frequency derivative of the forced response.
+    omega_column: Option<usize>,
     n: usize,
 }
 
@@ -66,6 +69,7 @@ impl Tangent {
             until: None,
             seen: 0,
             dt: None,
+            omega_column: None,
             n: d.system.dof(),
         }
     }
@@ -74,6 +78,16 @@ impl Tangent {
     /// it, at its own (moving) time, and of that time ([`Tangent::dt`]).
     pub fn until_impact(mut self, bed: usize, count: usize) -> Tangent {
         self.until = Some((bed, count));
+        self
+    }
+
+    /// Column `col` of the start's derivative is the derivative in the forcing frequency
+    /// `omega`: in each segment `z = Phi(tau) (z_a - z_p(t_a)) + z_p(t)`, so that column gains
+    /// `dz_p(t_b)/domega - Phi(tau) dz_p(t_a)/domega` (the forced response `z_p` is the only
+    /// part of the flow that depends on `omega`; the event functions do not, so the saltation
+    /// at events is the same as for a change of the start state).
+    pub fn with_omega_column(mut self, col: usize) -> Tangent {
+        self.omega_column = Some(col);
         self
     }
 
@@ -173,8 +187,18 @@ impl Observer for Tangent {
         }
         let n = self.n;
         let phi = transition(d, seg.mask, tau);
-        let top = phi * self.m.rows(0, 2 * n);
+        let top = &phi * self.m.rows(0, 2 * n);
         self.m.rows_mut(0, 2 * n).copy_from(&top);
+        if let Some(c) = self.omega_column {
+            let (xa, va) = d.particular_d_omega(seg.mask, t_a);
+            let (xb, vb) = d.particular_d_omega(seg.mask, t_b);
+            let za = DVector::from_fn(2 * n, |i, _| if i < n { xa[i] } else { va[i - n] });
+            let moved = &phi * za;
+            for i in 0..n {
+                self.m[(i, c)] += xb[i] - moved[i];
+                self.m[(n + i, c)] += vb[i] - moved[n + i];
+            }
+        }
         for (j, b) in beds.iter().enumerate() {
             if !b.attached() {
                 let r = bed_row(n, j);

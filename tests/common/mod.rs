@@ -71,6 +71,7 @@ pub fn ball_continuation(p_min: f64, p_max: f64) -> shotdamp::sim::continuation:
         ds_max: 0.02,
         max_points: 400,
         newton: shotdamp::sim::periodic::NewtonOptions::default(),
+        parameter: shotdamp::sim::continuation::Parameter::Other,
     }
 }
 
