@@ -155,9 +155,9 @@ impl<'a> Engine<'a> {
         Engine { d, settings: Settings::default() }
     }
 
-    /// The functions to watch in the state's configuration.
-    fn watches(&self, s: &State) -> Vec<Watch> {
-        let mut w = Vec::new();
+    /// The functions to watch in the state's configuration, into `w` (cleared first).
+    fn watches(&self, s: &State, w: &mut Vec<Watch>) {
+        w.clear();
         for (j, bed) in s.beds.iter().enumerate() {
             let dm = &self.d.system.dampers[j];
             let host = dm.host;
@@ -174,32 +174,28 @@ impl<'a> Engine<'a> {
                 }
             }
         }
-        w
     }
 
     /// Advances `s` to `t_end`, applying every event on the way, or to the first event after
     /// which the observer is [`Observer::done`].
     pub fn advance(&self, s: &mut State, t_end: f64, obs: &mut impl Observer) -> Result<(), Stop> {
         let mut events = 0;
+        let mut watches = Vec::new();
         while s.t < t_end {
             let seg = Segment::start(self.d, s.mask(), s.t, &s.x, &s.v);
-            let watches = self.watches(s);
+            self.watches(s, &mut watches);
             match self.next_event(&seg, &watches, s.t, t_end) {
                 None => {
                     obs.segment(self.d, &seg, &s.beds, s.t, t_end);
                     let pt = seg.point(self.d, t_end);
-                    let (x, v) = seg.state(self.d, &pt);
+                    seg.state_into(self.d, &pt, &mut s.x, &mut s.v);
                     s.t = t_end;
-                    s.x = x;
-                    s.v = v;
                 }
                 Some((te, hits)) => {
                     obs.segment(self.d, &seg, &s.beds, s.t, te);
                     let pt = seg.point(self.d, te);
-                    let (x, v) = seg.state(self.d, &pt);
+                    seg.state_into(self.d, &pt, &mut s.x, &mut s.v);
                     s.t = te;
-                    s.x = x;
-                    s.v = v;
                     let before = obs.wants_jumps().then(|| s.clone());
                     for ev in self.apply(s, &hits) {
                         obs.event(&ev, s);
@@ -229,26 +225,35 @@ impl<'a> Engine<'a> {
         let step = d.min_period * self.settings.step_fraction;
         let eval = |w: &Watch, t: f64| w.taylor(seg, d, &seg.point(d, t));
         // Where each watch's search starts: just past a fresh zero, or at t_a.
-        let mut starts = Vec::with_capacity(watches.len());
+        let mut on_stack = [0.0; 2 * super::system::MAX_TERMS];
+        let mut on_heap = Vec::new();
+        let starts: &mut [f64] = if watches.len() <= on_stack.len() {
+            &mut on_stack
+        } else {
+            on_heap.resize(watches.len(), 0.0);
+            &mut on_heap
+        };
+        let mut n_starts = 0;
         let pt = seg.point(d, t_a);
         for w in watches {
             let ta = w.taylor(seg, d, &pt);
             let tol = fresh_tol(w, d.omega);
             if ta.h[0] <= tol[0] {
                 match fresh_window(&ta, TIME_TOL, tol, step.min(t_b - t_a)) {
-                    Some(win) => starts.push(t_a + win),
+                    Some(win) => starts[n_starts] = t_a + win,
                     None => return Some((t_a, vec![*w])),
                 }
             } else {
-                starts.push(t_a);
+                starts[n_starts] = t_a;
             }
+            n_starts += 1;
         }
         let mut best: Option<(f64, Vec<Watch>)> = None;
         let mut a = t_a;
         while a < t_b {
             let b = (a + step).min(t_b);
             let pt = seg.point(d, a);
-            for (w, &start) in watches.iter().zip(&starts) {
+            for (w, &start) in watches.iter().zip(&starts[..n_starts]) {
                 let lo = a.max(start);
                 if lo >= b {
                     continue;

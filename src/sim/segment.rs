@@ -35,11 +35,14 @@ impl Segment {
     pub fn start(d: &Dynamics, mask: usize, t0: f64, x0: &DVector<f64>, v0: &DVector<f64>) -> Segment {
         let n = x0.len();
         let cfg = &d.configs[mask];
-        let (xp, vp) = d.particular(mask, t0);
+        // The start's departure from the forced response (`Dynamics::particular`, inline).
+        let (sn, cs) = (d.omega * t0).sin_cos();
         let mut z = [0.0; MAX_TERMS];
         for i in 0..n {
-            z[i] = x0[i] - xp[i];
-            z[n + i] = v0[i] - vp[i];
+            let xp = cfg.p[i] * cs + cfg.q[i] * sn + cfg.offset[i];
+            let vp = (cfg.q[i] * cs - cfg.p[i] * sn) * d.omega;
+            z[i] = x0[i] - xp;
+            z[n + i] = v0[i] - vp;
         }
         let len = cfg.lambda.len();
         let mut c = [Complex64::new(0.0, 0.0); MAX_TERMS];
@@ -115,6 +118,14 @@ impl Segment {
     pub fn state(&self, d: &Dynamics, pt: &Point) -> (DVector<f64>, DVector<f64>) {
         let n = d.system.dof();
         (DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 0)), DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 1)))
+    }
+
+    /// The same as [`Segment::state`], written into `x` and `v` (of the right length).
+    pub fn state_into(&self, d: &Dynamics, pt: &Point, x: &mut DVector<f64>, v: &mut DVector<f64>) {
+        for i in 0..x.len() {
+            x[i] = self.deriv(d, pt, i, 0);
+            v[i] = self.deriv(d, pt, i, 1);
+        }
     }
 }
 
