@@ -100,6 +100,13 @@ fn negative_clearance() {
 }
 
 #[test]
+fn more_beds_than_the_simulator_decomposes() {
+    // 2^13 configurations: refused before any is decomposed, with the limit named.
+    let beds = vec!["{ mass = 1, mass_ratio = 0.01, clearance_mm = \"inf\" }"; 13].join(", ");
+    fails_with("dampers = []", &format!("dampers = [{beds}]"), &["cases[0].dampers = 13 dampers", "at most 12"]);
+}
+
+#[test]
 fn missing_reference_file() {
     fails_with(
         "reference = \"paper-text.toml#omega_1\"",

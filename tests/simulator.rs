@@ -8,7 +8,7 @@ use nalgebra::DVector;
 use shotdamp::model::frf::compliance_curve;
 use shotdamp::model::{Damper, Damping, Structure, GRAVITY};
 use shotdamp::sim::{
-    steady_state, Bed, Dynamics, Engine, Event, EventKind, Observer, State, SteadyOptions, Stop, System,
+    steady_state, Bed, Dynamics, Engine, Event, EventKind, Observer, SetupError, State, SteadyOptions, Stop, System,
 };
 
 fn paper() -> Structure {
@@ -389,4 +389,19 @@ fn chatter_stops_with_a_flag() {
     let (x, v) = d.particular(1, 0.0);
     let mut s = State { t: 0.0, x, v, beds: vec![Bed::Bottom] };
     Engine::new(&d).advance(&mut s, 50.0 * 2.0 * PI / d.omega, &mut shotdamp::sim::Quiet).unwrap();
+}
+
+#[test]
+fn more_beds_than_the_limit_are_refused_before_any_decomposition() {
+    use shotdamp::sim::system::MAX_BEDS;
+    let ok = System::plastic(paper(), dampers(&[0; MAX_BEDS], f64::INFINITY), 0, 2.6);
+    assert!(Dynamics::new(&ok, 2.0 * PI * 20.0).is_ok());
+    let many = System::plastic(paper(), dampers(&[0; MAX_BEDS + 1], f64::INFINITY), 0, 2.6);
+    match Dynamics::new(&many, 2.0 * PI * 20.0) {
+        Err(e @ SetupError::TooManyBeds { beds }) => {
+            assert_eq!(beds, MAX_BEDS + 1);
+            assert!(e.to_string().contains("at most 12"), "{e}");
+        }
+        other => panic!("expected TooManyBeds, got {:?}", other.map(|_| ())),
+    }
 }

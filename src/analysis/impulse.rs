@@ -10,7 +10,7 @@ use crate::model::modal::{symmetric_modes, ModeSummary};
 use crate::model::GRAVITY;
 use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::output::table::Table;
-use crate::signal::{decay_time, envelope, falling_envelope, log_decrements, spectrum, Decrement};
+use crate::signal::{decay_time, envelope, falling_envelope, log_decrements, spectra, Decrement};
 use crate::sim::impulse::{free_response, ImpulseOptions, ImpulseRun, Kick};
 use crate::sim::{EventKind, Stop};
 
@@ -77,7 +77,8 @@ pub fn run(
         let t = &s.times[..s.a.len()];
         let accelerations: Vec<Vec<f64>> = (0..n).map(|i| s.a.iter().map(|r| r[i]).collect()).collect();
         let envelopes: Vec<Vec<(f64, f64)>> = accelerations.iter().map(|a| envelope(t, a)).collect();
-        let spectra = accelerations.iter().map(|a| spectrum(options.dt, a, spectrum_hz)).collect();
+        let signals: Vec<&[f64]> = accelerations.iter().map(Vec::as_slice).collect();
+        let spectra = spectra(options.dt, &signals, spectrum_hz);
         let decay_times = envelopes.iter().map(|env| levels.iter().map(|&l| decay_time(env, l)).collect()).collect();
         // Modal coordinates of the bare structure about the rest state, scaled to the
         // displacement of the mass of largest modal amplitude.

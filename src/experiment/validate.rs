@@ -8,6 +8,7 @@ use nalgebra::DMatrix;
 use crate::error::{Error, Result};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 use crate::model::{Damper, Damping, Structure};
+use crate::sim::system::MAX_BEDS;
 
 use super::analysis::{analysis, export_ref};
 use super::checks::check;
@@ -306,6 +307,14 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
                 format!("cases[{ci}].id"),
                 format!("\"{}\"", c.id),
                 "case ids must be unique",
+            ));
+        }
+        if c.dampers.len() > MAX_BEDS {
+            return Err(Error::invalid(
+                path,
+                format!("cases[{ci}].dampers"),
+                format!("{} dampers", c.dampers.len()),
+                format!("at most {MAX_BEDS} dampers per case (every one of the 2^N configurations is decomposed)"),
             ));
         }
         let mut dampers = Vec::with_capacity(c.dampers.len());

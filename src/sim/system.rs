@@ -18,6 +18,10 @@ pub const ORDERS: usize = 7;
 /// Largest condition number (max |V| max |V^-1|) of a configuration's eigenvectors.
 const MAX_CONDITION: f64 = 1e12;
 
+/// Most beds one system may carry: every one of the `2^N` configurations (each bed attached or
+/// not) is decomposed up front, 4096 at this limit.
+pub const MAX_BEDS: usize = 12;
+
 /// What the simulator integrates: the structure, its dampers, the force.
 #[derive(Debug, Clone)]
 pub struct System {
@@ -77,6 +81,8 @@ pub enum SetupError {
     Singular { mask: usize },
     /// More masses than the closed form supports.
     TooLarge { masses: usize },
+    /// More beds than [`MAX_BEDS`].
+    TooManyBeds { beds: usize },
     /// The decomposition cannot be trusted: an eigenvalue grows (a passive structure has
     /// none) or the eigenvectors are nearly dependent (condition number given).
     IllConditioned { mask: usize, condition: f64 },
@@ -97,6 +103,9 @@ impl std::fmt::Display for SetupError {
             ),
             SetupError::TooLarge { masses } => {
                 write!(f, "{masses} masses: the simulator supports at most {}", MAX_TERMS / 2)
+            }
+            SetupError::TooManyBeds { beds } => {
+                write!(f, "{beds} beds: the simulator supports at most {MAX_BEDS} (it decomposes all 2^N configurations)")
             }
         }
     }
@@ -201,6 +210,9 @@ impl Dynamics {
         let n = system.dof();
         if 2 * n > MAX_TERMS {
             return Err(SetupError::TooLarge { masses: n });
+        }
+        if system.dampers.len() > MAX_BEDS {
+            return Err(SetupError::TooManyBeds { beds: system.dampers.len() });
         }
         let k = system.structure.stiffness.clone();
         let c = system.structure.damping.clone();
