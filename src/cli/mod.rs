@@ -23,6 +23,7 @@ macro_rules! say_part {
     }};
 }
 
+mod schedule;
 mod study;
 
 use std::io::IsTerminal;
@@ -31,15 +32,13 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
-use rayon::prelude::*;
 
-use crate::analysis::{self, ExperimentResult, Progress, Tick};
+use crate::analysis::{self, Progress, Tick};
 use crate::checks::baseline;
 use crate::checks::digitised::{self, ImportInfo};
 use crate::checks::reference::{BaselineMode, ReferenceStore};
-use crate::checks::Status;
 use crate::experiment::study::Study;
-use crate::experiment::{self, Experiment, Exports};
+use crate::experiment::{self, Experiment};
 use crate::model::modal::modal_summary;
 use crate::model::sdof::EquivalentSdof;
 use crate::output::study::{Manifest, StudyRun};
@@ -529,6 +528,21 @@ struct Bars {
     multi: Option<indicatif::MultiProgress>,
 }
 
+impl Bars {
+    /// Prints a line of the run's log (when `log`) above the bars, or to stderr without them.
+    fn log(&self, log: bool, msg: String) {
+        if !log {
+            return;
+        }
+        match &self.multi {
+            Some(m) => {
+                let _ = m.println(msg);
+            }
+            None => eprintln!("{msg}"),
+        }
+    }
+}
+
 impl Progress for Bars {
     fn start(&self, id: &str, total: u64) -> Box<Tick> {
         let Some(multi) = &self.multi else { return Box::new(|| {}) };
@@ -562,7 +576,7 @@ fn report_studies(dir: &Path, reference: &Path) -> anyhow::Result<Vec<Study>> {
     Ok(out)
 }
 
-/// Runs experiments in waves (those that use another's exports after it), each wave in
+/// Runs the experiments, each as soon as those whose exports it uses have finished, in
 /// parallel; writes the report; prints a summary.
 fn run_and_write(
     exps: &[Experiment],
@@ -573,7 +587,7 @@ fn run_and_write(
     templates: Option<&Path>,
     baseline_mode: BaselineMode,
 ) -> anyhow::Result<bool> {
-    let waves = experiment::waves(exps)?;
+    experiment::dependency_graph(exps)?;
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, baseline_mode)?;
     let study_refs = studies.iter().map(|s| study::references(s, reference)).collect::<crate::Result<Vec<_>>>()?;
@@ -585,10 +599,10 @@ fn run_and_write(
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };
     let log = tty || std::env::var_os("CI").is_some();
-    // Studies need no exports: they run beside the waves of experiments, on the same pool.
+    // Studies need no exports: they run beside the experiments, on the same pool.
     let (results, study_runs) = pool.install(|| {
         rayon::join(
-            || run_waves(exps, waves, &refs, &writer, &pool, &bars, log),
+            || schedule::run(exps, &refs, &writer, &pool, &bars, &|msg| bars.log(log, msg)),
             || run_studies(studies, &study_refs, reference, log),
         )
     });
@@ -636,62 +650,6 @@ fn run_and_write(
         }
         Ok(false)
     }
-}
-
-/// Runs experiments in waves (those that use another's exports after it), each wave in
-/// parallel, writing each experiment's folder as it finishes.
-fn run_waves(
-    exps: &[Experiment],
-    waves: Vec<Vec<usize>>,
-    refs: &ReferenceStore,
-    writer: &ReportWriter,
-    pool: &rayon::ThreadPool,
-    bars: &Bars,
-    log: bool,
-) -> crate::Result<Vec<ExperimentResult>> {
-    let mut exports = Exports::new();
-    let mut slots: Vec<Option<ExperimentResult>> = vec![None; exps.len()];
-    for wave in waves {
-        let outcome: crate::Result<Vec<(usize, ExperimentResult)>> = wave
-            .iter()
-            .map(|&i| exps[i].resolve(&exports).map(|e| (i, e)))
-            .collect::<crate::Result<Vec<_>>>()
-            .and_then(|resolved| {
-                pool.install(|| {
-                    resolved
-                        .par_iter()
-                        .map(|(i, exp)| {
-                            let started = std::time::Instant::now();
-                            let tick = bars.start(&exp.key(), analysis::work(exp, refs));
-                            let r = analysis::run(exp, refs, &*tick)?;
-                            writer.write_experiment(&r, &exp.path.display().to_string())?;
-                            let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
-                            if log {
-                                let mark = if n_fail > 0 { "FAIL" } else { "ok" };
-                                let msg = format!(
-                                    "{mark:>4} {:<36} {} checks, {n_fail} failed ({:.2} s)",
-                                    exp.key(),
-                                    r.checks.len(),
-                                    started.elapsed().as_secs_f64()
-                                );
-                                match &bars.multi {
-                                    Some(m) => {
-                                        let _ = m.println(msg);
-                                    }
-                                    None => eprintln!("{msg}"),
-                                }
-                            }
-                            Ok((*i, r))
-                        })
-                        .collect()
-                })
-            });
-        for (i, r) in outcome? {
-            exports.insert(r.experiment.key(), r.exports.clone());
-            slots[i] = Some(r);
-        }
-    }
-    Ok(slots.into_iter().flatten().collect())
 }
 
 /// Runs the report's studies, each over its samples in parallel, with its references

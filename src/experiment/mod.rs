@@ -437,13 +437,13 @@ pub fn clearance_key(case: &str, mm: f64) -> String {
 /// Values experiments export, by run key ([`Experiment::key`]) and value name.
 pub type Exports = std::collections::BTreeMap<String, std::collections::BTreeMap<String, f64>>;
 
-/// Groups experiments into waves: each wave depends only on earlier ones. Fails on an
-/// unknown experiment id or a cycle.
-pub fn waves(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
+/// Which experiments each experiment uses the exports of, as indices into `exps` (each list in
+/// the order of first use). Fails on a duplicate run key, an unknown experiment id or a cycle.
+pub fn dependency_graph(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
     let keys: Vec<String> = exps.iter().map(|e| e.key()).collect();
-    let ids: Vec<&str> = keys.iter().map(|k| k.as_str()).collect();
+    let mut graph = Vec::with_capacity(exps.len());
     for (i, e) in exps.iter().enumerate() {
-        if let Some(j) = ids.iter().position(|id| *id == e.key()).filter(|&j| j != i) {
+        if let Some(j) = keys.iter().position(|k| *k == keys[i]).filter(|&j| j != i) {
             return Err(Error::invalid(
                 &e.path,
                 "experiment.id",
@@ -451,45 +451,46 @@ pub fn waves(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
                 format!("the same id as {}", exps[j].path.display()),
             ));
         }
+        let mut deps = Vec::new();
         for dep in e.dependencies() {
-            if !ids.contains(&e.key_of(&dep).as_str()) {
+            let Some(j) = keys.iter().position(|k| *k == e.key_of(&dep)) else {
                 let on = e.model.as_ref().map(|m| format!(" on model \"{}\"", m.id)).unwrap_or_default();
                 return Err(Error::invalid(
                     &e.path,
                     "(export reference)",
                     format!("@{dep}"),
-                    format!("no experiment with id \"{dep}\" runs{on}; the runs are {ids:?}"),
+                    format!("no experiment with id \"{dep}\" runs{on}; the runs are {keys:?}"),
                 ));
+            };
+            deps.push(j);
+        }
+        graph.push(deps);
+    }
+    // Kahn: whatever cannot be ordered lies on a cycle.
+    let mut missing: Vec<usize> = graph.iter().map(Vec::len).collect();
+    let mut ready: Vec<usize> = (0..exps.len()).filter(|&i| missing[i] == 0).collect();
+    let mut ordered = 0;
+    while let Some(i) = ready.pop() {
+        ordered += 1;
+        for (j, deps) in graph.iter().enumerate() {
+            for _ in deps.iter().filter(|&&d| d == i) {
+                missing[j] -= 1;
+                if missing[j] == 0 {
+                    ready.push(j);
+                }
             }
         }
     }
-    let mut done: Vec<bool> = vec![false; exps.len()];
-    let mut out = Vec::new();
-    while done.iter().any(|d| !d) {
-        let wave: Vec<usize> = (0..exps.len())
-            .filter(|&i| {
-                !done[i]
-                    && exps[i]
-                        .dependencies()
-                        .iter()
-                        .all(|dep| ids.iter().position(|id| *id == exps[i].key_of(dep)).is_some_and(|j| done[j]))
-            })
-            .collect();
-        if wave.is_empty() {
-            let stuck = (0..exps.len()).find(|&i| !done[i]).unwrap_or(0);
-            return Err(Error::invalid(
-                &exps[stuck].path,
-                "(export reference)",
-                format!("{:?}", exps[stuck].dependencies()),
-                "experiments depend on each other in a cycle",
-            ));
-        }
-        for &i in &wave {
-            done[i] = true;
-        }
-        out.push(wave);
+    if ordered < exps.len() {
+        let stuck = (0..exps.len()).find(|&i| missing[i] > 0).unwrap_or(0);
+        return Err(Error::invalid(
+            &exps[stuck].path,
+            "(export reference)",
+            format!("{:?}", exps[stuck].dependencies()),
+            "experiments depend on each other in a cycle",
+        ));
     }
-    Ok(out)
+    Ok(graph)
 }
 
 /// Loads and validates one experiment file: one experiment per model it runs on (one when it
