@@ -587,7 +587,7 @@ fn run_and_write(
     templates: Option<&Path>,
     baseline_mode: BaselineMode,
 ) -> anyhow::Result<bool> {
-    experiment::dependency_graph(exps)?;
+    let graph = experiment::dependency_graph(exps)?;
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, baseline_mode)?;
     let study_refs = studies.iter().map(|s| study::references(s, reference)).collect::<crate::Result<Vec<_>>>()?;
@@ -602,7 +602,7 @@ fn run_and_write(
     // Studies need no exports: they run beside the experiments, on the same pool.
     let (results, study_runs) = pool.install(|| {
         rayon::join(
-            || schedule::run(exps, &refs, &writer, &pool, &bars, &|msg| bars.log(log, msg)),
+            || schedule::run(exps, &graph, &refs, &writer, &pool, &bars, &|msg| bars.log(log, msg)),
             || run_studies(studies, &study_refs, reference, log),
         )
     });

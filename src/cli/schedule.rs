@@ -9,7 +9,7 @@ use std::sync::{Mutex, MutexGuard};
 use crate::analysis::{self, ExperimentResult, Progress};
 use crate::checks::reference::ReferenceStore;
 use crate::checks::Status;
-use crate::experiment::{self, Experiment, Exports};
+use crate::experiment::{Experiment, Exports};
 use crate::output::ReportWriter;
 
 /// An experiment whose dependencies have finished, ordered so that the heap pops the longest
@@ -56,16 +56,17 @@ impl Plan<'_> {
 }
 
 /// Runs every experiment on `pool`, writing each one's folder as it finishes; the results in
-/// the order of `exps`. The first error stops new experiments from starting and is returned.
+/// the order of `exps`. `graph` is [`crate::experiment::dependency_graph`] of `exps`. The
+/// first error stops new experiments from starting and is returned.
 pub fn run(
     exps: &[Experiment],
+    graph: &[Vec<usize>],
     refs: &ReferenceStore,
     writer: &ReportWriter,
     pool: &rayon::ThreadPool,
     progress: &dyn Progress,
     log: &(dyn Fn(String) + Sync),
 ) -> crate::Result<Vec<ExperimentResult>> {
-    let graph = experiment::dependency_graph(exps)?;
     let mut dependents = vec![Vec::new(); exps.len()];
     for (i, deps) in graph.iter().enumerate() {
         for &d in deps {
@@ -107,7 +108,7 @@ pub fn run(
 }
 
 /// Longest chain of dependents below each experiment (0: nothing uses its exports). The graph
-/// is acyclic ([`experiment::dependency_graph`] checked it).
+/// is acyclic ([`crate::experiment::dependency_graph`] checked it).
 fn chain_lengths(dependents: &[Vec<usize>]) -> Vec<usize> {
     fn length(i: usize, dependents: &[Vec<usize>], memo: &mut [Option<usize>]) -> usize {
         if let Some(l) = memo[i] {
@@ -138,7 +139,7 @@ fn next<'s>(s: &rayon::Scope<'s>, plan: &'s Plan<'s>) {
             }
         }
     };
-    let outcome = run_one(plan, &exp);
+    let outcome = run_one(plan, &exp, plan.work[i]);
     let mut board = plan.board();
     let r = match outcome {
         Ok(r) => r,
@@ -164,10 +165,10 @@ fn next<'s>(s: &rayon::Scope<'s>, plan: &'s Plan<'s>) {
     }
 }
 
-/// Runs one experiment and writes its folder.
-fn run_one(plan: &Plan<'_>, exp: &Experiment) -> crate::Result<ExperimentResult> {
+/// Runs one experiment (`work` points for its progress bar) and writes its folder.
+fn run_one(plan: &Plan<'_>, exp: &Experiment, work: u64) -> crate::Result<ExperimentResult> {
     let started = std::time::Instant::now();
-    let tick = plan.progress.start(&exp.key(), analysis::work(exp, plan.refs));
+    let tick = plan.progress.start(&exp.key(), work);
     let r = analysis::run(exp, plan.refs, &*tick)?;
     plan.writer.write_experiment(&r, &exp.path.display().to_string())?;
     let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
