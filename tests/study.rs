@@ -244,3 +244,17 @@ fn bad_studies_are_named() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("holds parts of another study"), "{err}");
 }
+
+#[test]
+fn the_experiments_own_values_are_read_from_its_file_and_the_exports_it_uses() {
+    let root = repo();
+    let s =
+        shotdamp::experiment::study::load(&root.join("studies/fig05_report.toml"), &root.join("reference")).unwrap();
+    // Damping from the model file; the clearance from the scan's export on the same model.
+    let mut exports = shotdamp::experiment::Exports::new();
+    exports.insert("fig05_clearance_scan/fitted".into(), [("best_clearance_mm".to_string(), 0.35)].into());
+    assert_eq!(s.assumed("fitted", &exports), vec![Some(0.01), Some(0.35)]);
+    // The scan of another model does not stand in for this one's.
+    assert_eq!(s.assumed("stated", &exports), vec![Some(0.01), None]);
+    assert_eq!(s.assumed("no such model", &exports), vec![None, None]);
+}

@@ -606,13 +606,18 @@ fn run_and_write(
             || run_studies(studies, &study_refs, reference, log),
         )
     });
-    let (results, study_runs) = match (results, study_runs) {
+    let (results, mut study_runs) = match (results, study_runs) {
         (Ok(r), Ok(s)) => (r, s),
         (Err(e), _) | (_, Err(e)) => {
             writer.abandon();
             return Err(e.into());
         }
     };
+    // Where the experiments themselves sit on the studies' maps (exported clearances included).
+    let exports: experiment::Exports = results.iter().map(|r| (r.experiment.key(), r.exports.clone())).collect();
+    for (run, s) in study_runs.iter_mut().zip(studies) {
+        run.assumed = run.manifest.models.iter().map(|(model, _)| s.assumed(model, &exports)).collect();
+    }
     let dest = writer.finish(&results, &study_runs)?;
     if baseline_mode == BaselineMode::Off {
         let dir = reference.join("baseline");
@@ -676,6 +681,7 @@ fn run_studies(
             manifest: Manifest::of(s, &s.path.display().to_string()),
             description: s.description.clone().unwrap_or_default(),
             rows,
+            assumed: Vec::new(),
         });
     }
     Ok(out)

@@ -240,7 +240,7 @@ fn merge(dir: &Path) -> anyhow::Result<()> {
     folder::write_table(dir, &run::summary_table(&manifest.study, &names, &summaries))?;
     let figures = dir.join("figures");
     std::fs::create_dir_all(&figures).map_err(|e| Error::io(&figures, e))?;
-    for map in heatmap::maps(&manifest, &rows) {
+    for map in heatmap::maps(&manifest, &rows, &[]) {
         heatmap::write(&map, &figures)?;
     }
     say!(

@@ -12,11 +12,14 @@ use crate::number::fmt_num;
 
 use super::study::Manifest;
 
-/// One panel: its title and its samples as (x, y, value, holds).
+/// One panel: its title, its samples as (x, y, value, holds), and where the experiment itself
+/// sits (its own values of the two axes; none when unknown or when another varied value of the
+/// panel is not the experiment's own).
 #[derive(Debug, Clone)]
 pub struct MapPanel {
     pub title: String,
     pub points: Vec<(f64, f64, f64, bool)>,
+    pub assumed: Option<(f64, f64)>,
 }
 
 /// A heat map of one claim.
@@ -39,8 +42,9 @@ const PANEL_W: u32 = 420;
 const PANEL_H: u32 = 400;
 const BAR_W: u32 = 130;
 
-/// The heat maps of a study's rows: one per claim check.
-pub fn maps(manifest: &Manifest, rows: &[ClaimRow]) -> Vec<HeatMap> {
+/// The heat maps of a study's rows: one per claim check. `assumed`: per model of the manifest,
+/// the experiment's own value of each varied key (may be empty), marked on the panels.
+pub fn maps(manifest: &Manifest, rows: &[ClaimRow], assumed: &[Vec<Option<f64>>]) -> Vec<HeatMap> {
     let Some((xi, yi)) = manifest.map else { return Vec::new() };
     let n_checks = rows.iter().map(|r| r.check + 1).max().unwrap_or(0);
     let others: Vec<usize> = (0..manifest.vary.len()).filter(|&k| k != xi && k != yi).collect();
@@ -57,16 +61,31 @@ pub fn maps(manifest: &Manifest, rows: &[ClaimRow]) -> Vec<HeatMap> {
             let point = (r.values[xi], r.values[yi], r.value, r.holds);
             match panels.iter_mut().find(|(k, _)| *k == key) {
                 Some((_, p)) => p.points.push(point),
-                None => panels.push((key.clone(), MapPanel { title: key, points: vec![point] })),
+                None => {
+                    let own = manifest.models.iter().position(|m| m.0 == r.model).and_then(|m| assumed.get(m));
+                    let at = own.and_then(|own| {
+                        let same = others.iter().all(|&k| own.get(k).copied().flatten() == Some(r.values[k]));
+                        match (own.get(xi).copied().flatten(), own.get(yi).copied().flatten()) {
+                            (Some(x), Some(y)) if same => Some((x, y)),
+                            _ => None,
+                        }
+                    });
+                    panels.push((key.clone(), MapPanel { title: key, points: vec![point], assumed: at }))
+                }
             }
         }
         let total = panels.len();
         let shown: Vec<MapPanel> = panels.into_iter().take(MAX_PANELS).map(|(_, p)| p).collect();
         let more =
             if total > shown.len() { format!(" (first {} of {total} panels)", shown.len()) } else { String::new() };
+        let marked =
+            if shown.iter().any(|p| p.assumed.is_some()) { "; red cross: the experiment's own values" } else { "" };
         out.push(HeatMap {
             id: format!("{}_check-{check}", manifest.study),
-            title: format!("{}: {} ({}); outlined: the claim holds{more}", manifest.figure, first.claim, first.bound),
+            title: format!(
+                "{}: {} ({}); outlined: the claim holds{marked}{more}",
+                manifest.figure, first.claim, first.bound
+            ),
             x_label: manifest.vary[xi].label.clone(),
             y_label: manifest.vary[yi].label.clone(),
             x_log: manifest.vary[xi].log,
@@ -274,7 +293,34 @@ fn draw_panel<DB: DrawingBackend>(
         });
         chart.draw_series(rings).map_err(|e| err(map, e))?;
     }
+    let at = panel.assumed.and_then(|(x, y)| {
+        if map.grid {
+            Some((grid_position(x, &xs, map.x_log)?, grid_position(y, &ys, map.y_log)?))
+        } else {
+            let (x, y) = (tx(x, map.x_log, &xs), tx(y, map.y_log, &ys));
+            (x0 <= x && x <= x1 && y0 <= y && y <= y1).then_some((x, y))
+        }
+    });
+    if let Some(at) = at {
+        // A white cross under a red one: visible on every colour of the scale.
+        for (colour, width) in [(WHITE, 6), (RED, 3)] {
+            chart
+                .draw_series(std::iter::once(Cross::new(at, 8, ShapeStyle::from(&colour).stroke_width(width))))
+                .map_err(|e| err(map, e))?;
+        }
+    }
     Ok(())
+}
+
+/// Where `v` falls on a grid axis of the distinct values `all` (cell `i` at `i`), interpolated
+/// between neighbouring values (in logarithms on a log axis); `None` outside the grid.
+fn grid_position(v: f64, all: &[f64], log: bool) -> Option<f64> {
+    let f = |a: f64| if log { a.ln() } else { a };
+    if let Some(i) = all.iter().position(|a| *a == v) {
+        return Some(i as f64);
+    }
+    let j = all.windows(2).position(|w| w[0] < v && v < w[1])?;
+    Some(j as f64 + (f(v) - f(all[j])) / (f(all[j + 1]) - f(all[j])))
 }
 
 fn draw_bar<DB: DrawingBackend>(
@@ -309,4 +355,21 @@ fn draw_bar<DB: DrawingBackend>(
         .draw()
         .map_err(|e| err(map, e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::grid_position;
+
+    #[test]
+    fn grid_positions_interpolate_between_cells_and_stop_at_the_edges() {
+        let d = [0.2, 0.3, 0.4];
+        assert_eq!(grid_position(0.3, &d, false), Some(1.0));
+        assert!((grid_position(0.35, &d, false).unwrap() - 1.5).abs() < 1e-12);
+        // On a log axis the geometric middle is half way.
+        assert!((grid_position(0.01, &[0.005, 0.02], true).unwrap() - 0.5).abs() < 1e-12);
+        assert_eq!(grid_position(0.5, &d, false), None);
+        assert_eq!(grid_position(0.1, &d, false), None);
+        assert_eq!(grid_position(0.7, &[0.7], false), Some(0.0));
+    }
 }

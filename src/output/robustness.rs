@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use crate::analysis::study::{claim_sentences, rows_table, summarise, summary_table};
 use crate::error::Result;
+use crate::number::fmt_num;
 
 use super::heatmap;
 use super::study::StudyRun;
@@ -23,6 +24,9 @@ pub struct RobustnessView {
     pub size: String,
     /// One sentence per claim.
     pub claims: Vec<String>,
+    /// Per model: the experiment's own values of the varied keys, e.g. "stated chain: damping
+    /// 0.01, clearance_mm 0.3" (empty when not known).
+    pub assumed: Vec<String>,
     /// (title, PNG, SVG), relative to the page.
     pub maps: Vec<(String, String, String)>,
     /// Links to the long table (CSV, Parquet) and the summary (CSV).
@@ -43,7 +47,7 @@ pub fn write(dir: &Path, run: &StudyRun, write: &dyn Fn(&Path, &[u8]) -> Result<
     let m = &run.manifest;
     let maps_dir = dir.join("robustness");
     let mut maps = Vec::new();
-    for map in heatmap::maps(m, &run.rows) {
+    for map in heatmap::maps(m, &run.rows, &run.assumed) {
         heatmap::write(&map, &maps_dir)?;
         maps.push((map.title.clone(), format!("robustness/{}.png", map.id), format!("robustness/{}.svg", map.id)));
     }
@@ -64,6 +68,21 @@ pub fn write(dir: &Path, run: &StudyRun, write: &dyn Fn(&Path, &[u8]) -> Result<
         file: m.file.clone(),
         size: format!("{} samples, {n_claims} claims each", m.samples),
         claims: claim_sentences(&m.models, &names, &summaries),
+        assumed: m
+            .models
+            .iter()
+            .zip(&run.assumed)
+            .map(|((_, label), own)| {
+                let values: Vec<String> = names
+                    .iter()
+                    .zip(own)
+                    .map(|(n, v)| {
+                        format!("{n} {}", v.map_or_else(|| "(differs between elements)".to_string(), fmt_num))
+                    })
+                    .collect();
+                format!("{label}: {}", values.join(", "))
+            })
+            .collect(),
         maps,
         tables: vec![
             (format!("{}.csv", long.name), format!("data/{}.csv", long.name)),

@@ -58,6 +58,9 @@ pub struct StudyRun {
     pub manifest: Manifest,
     pub description: String,
     pub rows: Vec<ClaimRow>,
+    /// Per model of the manifest: the experiment's own value of each varied key, as the report
+    /// ran it (`None`: no single value; empty: not known, as in `shotdamp study`).
+    pub assumed: Vec<Vec<Option<f64>>>,
 }
 
 /// A varied key as the merged outputs need it.

@@ -524,6 +524,35 @@ impl Study {
         parts.join(", ")
     }
 
+    /// The experiment's own value of each varied key on `model`, as the report runs it (before
+    /// `[study.set]`): `None` where the key has no single value (elements that differ) or takes
+    /// it from an experiment missing from `exports`.
+    pub fn assumed(&self, model: &str, exports: &super::Exports) -> Vec<Option<f64>> {
+        let Some(table) = self.tables.get(model) else { return vec![None; self.vary.len()] };
+        let base = self.base.iter().find(|e| e.model.as_ref().map_or("", |m| m.id.as_str()) == model);
+        let number = |v: &toml::Value| -> Option<f64> {
+            match v {
+                toml::Value::Float(x) => Some(*x),
+                toml::Value::Integer(i) => Some(*i as f64),
+                toml::Value::String(s) => {
+                    let r = super::analysis::export_ref(s)?;
+                    let run = base.map_or_else(|| r.experiment.clone(), |e| e.key_of(&r.experiment));
+                    exports.get(&run)?.get(&r.key).copied()
+                }
+                _ => None,
+            }
+        };
+        self.vary
+            .iter()
+            .map(|v| {
+                let values: Option<Vec<f64>> = v.key.get(table).into_iter().map(number).collect();
+                let values = values?;
+                let first = *values.first()?;
+                values.iter().all(|x| *x == first).then_some(first)
+            })
+            .collect()
+    }
+
     /// The model ids studied, in order (`""` when the experiment has none).
     pub fn models(&self) -> Vec<String> {
         let mut out: Vec<String> = Vec::new();

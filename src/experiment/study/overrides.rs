@@ -86,6 +86,38 @@ impl KeyPath {
     }
 }
 
+impl KeyPath {
+    /// The values the path points at in `table`, as [`KeyPath::set`] would set them: a list of
+    /// numbers at the end of the path gives its elements. Empty when the path selects nothing.
+    pub fn get<'a>(&self, table: &'a toml::Table) -> Vec<&'a toml::Value> {
+        let mut out = Vec::new();
+        get_in(table, &self.segments, &mut out);
+        out
+    }
+}
+
+fn get_in<'a>(table: &'a toml::Table, segments: &[Segment], out: &mut Vec<&'a toml::Value>) {
+    let Some((seg, rest)) = segments.split_first() else { return };
+    let Some(slot) = table.get(&seg.name) else { return };
+    let targets: Vec<&toml::Value> = match (&seg.selector, slot) {
+        (None, v) => vec![v],
+        (Some(Selector::All), toml::Value::Array(items)) => items.iter().collect(),
+        (Some(Selector::Index(i)), toml::Value::Array(items)) => items.get(*i).into_iter().collect(),
+        (Some(Selector::Id(id)), toml::Value::Array(items)) => {
+            items.iter().filter(|v| v.get("id").and_then(|x| x.as_str()) == Some(id)).take(1).collect()
+        }
+        (Some(_), _) => Vec::new(),
+    };
+    for t in targets {
+        match (rest.is_empty(), t) {
+            (true, toml::Value::Array(items)) => out.extend(items.iter()),
+            (true, v) => out.push(v),
+            (false, toml::Value::Table(inner)) => get_in(inner, rest, out),
+            (false, _) => {}
+        }
+    }
+}
+
 fn set_in(table: &mut toml::Table, segments: &[Segment], value: &toml::Value) -> Result<usize, String> {
     let (seg, rest) = segments.split_first().ok_or("empty path")?;
     let last = rest.is_empty();
@@ -223,5 +255,26 @@ mod tests {
         assert!(KeyPath::parse("a..b").is_err());
         assert!(KeyPath::parse("a[").is_err());
         assert!(KeyPath::parse("a[b c]").is_err());
+    }
+
+    #[test]
+    fn gets_what_set_would_set() {
+        let t = table(
+            "[structure.damping]\nmodal_ratios = [0.01, 0.02, 0.03]\n[excitation]\nforce_n = 2.6\n[[cases]]\nid = \"one\"\ndampers = [{ mass = 2, clearance_mm = \"@scan.best\" }]\n[[cases]]\nid = \"three\"\ndampers = [{ mass = 1, clearance_mm = 0.3 }, { mass = 2, clearance_mm = 0.4 }]",
+        );
+        let get =
+            |path: &str| -> Vec<toml::Value> { KeyPath::parse(path).unwrap().get(&t).into_iter().cloned().collect() };
+        let f = toml::Value::Float;
+        assert_eq!(get("structure.damping.modal_ratios"), vec![f(0.01), f(0.02), f(0.03)]);
+        assert_eq!(get("excitation.force_n"), vec![f(2.6)]);
+        assert_eq!(
+            get("cases[*].dampers[*].clearance_mm"),
+            vec![toml::Value::String("@scan.best".into()), f(0.3), f(0.4)]
+        );
+        assert_eq!(get("cases[three].dampers[1].clearance_mm"), vec![f(0.4)]);
+        assert!(get("cases[two].dampers[0].clearance_mm").is_empty());
+        assert!(get("cases[5].label").is_empty());
+        assert!(get("excitation.force_n.x").is_empty());
+        assert!(get("nowhere").is_empty());
     }
 }
