@@ -212,9 +212,10 @@ fn deviation_text_for_an_unknown_model_is_named() {
     fails_with("deviation = { stated =", "deviation = { chained =", &["experiment.deviation", "chained", "model id"]);
 }
 
-/// Two copies of the Fig. 5 third-mode file, `a` and `b`, whose clearances come from each other's
-/// exports (or from `b` and an experiment that does not run).
-fn export_pair(a_uses: &str, b_uses: &str) -> (tempfile::TempDir, PathBuf) {
+/// `shotdamp report` over two copies of the Fig. 5 third-mode file, `a` and `b`, whose
+/// clearances come from the exports named (each other's, or an experiment that does not run):
+/// its exit code and stderr, and whether a report folder was left.
+fn report_of_export_pair(a_uses: &str, b_uses: &str) -> (Option<i32>, String, bool) {
     let dir = tempfile::tempdir().expect("tempdir");
     let exps = dir.path().join("experiments");
     common::copy_shared(&exps);
@@ -225,39 +226,23 @@ fn export_pair(a_uses: &str, b_uses: &str) -> (tempfile::TempDir, PathBuf) {
             .replace("@fig05_clearance_scan", uses);
         std::fs::write(exps.join(format!("{id}.toml")), t).unwrap();
     }
-    (dir, exps)
+    let out_dir = dir.path().join("r");
+    let out = shotdamp().arg("--experiments").arg(&exps).arg("report").arg("--out").arg(&out_dir).output().unwrap();
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned(), out_dir.exists())
 }
 
 #[test]
 fn experiments_that_use_each_others_exports_are_a_cycle_and_an_input_error() {
-    let (dir, exps) = export_pair("@b", "@a");
-    let out = shotdamp()
-        .arg("--experiments")
-        .arg(&exps)
-        .arg("report")
-        .arg("--out")
-        .arg(dir.path().join("r"))
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let (code, stderr, left) = report_of_export_pair("@b", "@a");
+    assert_eq!(code, Some(2), "{stderr}");
     assert!(stderr.contains("cycle") && stderr.contains("toml"), "{stderr}");
-    assert!(!dir.path().join("r").exists(), "no report folder: {stderr}");
+    assert!(!left, "no report folder: {stderr}");
 }
 
 #[test]
 fn an_export_of_an_experiment_that_does_not_run_is_named() {
-    let (dir, exps) = export_pair("@b", "@nowhere");
-    let out = shotdamp()
-        .arg("--experiments")
-        .arg(&exps)
-        .arg("report")
-        .arg("--out")
-        .arg(dir.path().join("r"))
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let (code, stderr, _) = report_of_export_pair("@b", "@nowhere");
+    assert_eq!(code, Some(2), "{stderr}");
     assert!(
         stderr.contains("b.toml") && stderr.contains("@nowhere") && stderr.contains("no experiment with id"),
         "{stderr}"
