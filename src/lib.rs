@@ -14,6 +14,7 @@ pub mod experiment;
 pub mod model;
 pub mod number;
 pub mod output;
+pub mod reference;
 pub mod signal;
 pub mod sim;
 

@@ -9,8 +9,9 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
-use shotdamp::checks::digitised::{import_wpd_csv, import_wpd_json, ImportInfo};
-use shotdamp::checks::reference::{Curve, ValueFile};
+use shotdamp::checks::reference::Curve;
+use shotdamp::reference::digitised::{import_wpd_csv, import_wpd_json, ImportInfo};
+use shotdamp::reference::values::ValueFile;
 
 /// One change to a file.
 #[derive(Debug, Clone)]

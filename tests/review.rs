@@ -6,7 +6,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::{experiments, repo, shotdamp};
-use shotdamp::checks::digitised::{import_wpd_json, ImportInfo};
+use shotdamp::reference::digitised::{import_wpd_json, ImportInfo};
 
 /// A WebPlotDigitizer 4 project: X1 (100, 500) = 10 Hz, X2 (600, 500) = 60 Hz; Y1 (100, 500) =
 /// 1e-6, Y2 (100, 100) = 1e-3 (log if `y_log`, else 0 and 1e-3); two points of one dataset.
@@ -56,7 +56,7 @@ fn reference_import_writes_a_digitised_file_with_provenance() {
         .output()
         .unwrap();
     assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
-    let f = shotdamp::checks::digitised::load(&out).unwrap();
+    let f = shotdamp::reference::digitised::load(&out).unwrap();
     assert_eq!(f.meta.provenance, "digitised figure");
     assert_eq!(f.meta.digitised_by, "a reviewer");
     assert_eq!(f.meta.imported_from, "fig8.json");

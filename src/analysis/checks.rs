@@ -1,7 +1,8 @@
 //! Evaluates an experiment's checks against pre-loaded references.
 
-use crate::checks::reference::{Curve as RefCurve, ReferenceStore, ValueFile};
+use crate::checks::reference::{Curve as RefCurve, ReferenceStore};
 use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Source, Subject};
+use crate::reference::values::ValueFile;
 
 use std::collections::BTreeMap;
 
@@ -86,7 +87,7 @@ pub fn evaluate(
         };
         let known = spec.known_deviation.as_deref();
         match &spec.kind {
-            CheckKind::NaturalFrequency { mode } => match file.for_check(spec) {
+            CheckKind::NaturalFrequency { mode } => match spec.quantity(file) {
                 Some(q) => {
                     let subject = Subject::new(
                         format!("omega_{}", mode + 1),
@@ -101,7 +102,7 @@ pub fn evaluate(
                 None => out.push(CheckOutcome::missing(spec, "no such quantity")),
             },
             CheckKind::ModeShape { mode, elements } => {
-                match file.for_check(spec).and_then(|q| q.values.as_ref().map(|v| (q, v))) {
+                match spec.quantity(file).and_then(|q| q.values.as_ref().map(|v| (q, v))) {
                     Some((q, values)) => {
                         for (r, (&c, &e)) in
                             modes[*mode].shape.iter().zip(values).enumerate().filter(|(r, _)| elements.contains(r))
@@ -132,7 +133,7 @@ pub fn evaluate(
                     *reading,
                 ));
             }
-            CheckKind::MotionTypes { case, present, absent } => match file.for_check(spec) {
+            CheckKind::MotionTypes { case, present, absent } => match spec.quantity(file) {
                 Some(q) => out.push(claim_checks::motion_types(
                     spec,
                     file,
@@ -156,12 +157,12 @@ pub fn evaluate(
                 ));
             }
             CheckKind::DecayRatio { case, over_case, mass, level } => {
-                match (file.for_check(spec), computed.decays.get(case), computed.decays.get(over_case)) {
+                match (spec.quantity(file), computed.decays.get(case), computed.decays.get(over_case)) {
                     (Some(q), Some(a), Some(b)) => out.push(decay_checks::ratio(spec, file, q, a, b, *mass, *level)),
                     _ => out.push(CheckOutcome::missing(spec, "bound or impulse runs missing")),
                 }
             }
-            CheckKind::SdofVsSimulation => match (file.for_check(spec), computed.orbits) {
+            CheckKind::SdofVsSimulation => match (spec.quantity(file), computed.orbits) {
                 (Some(q), Some(r)) => out.push(orbit_checks::sdof_vs_simulation(spec, file, q, r, modes)),
                 _ => out.push(CheckOutcome::missing(spec, "claim or periodic orbits missing")),
             },

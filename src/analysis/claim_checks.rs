@@ -1,9 +1,9 @@
 //! Claims of the paper's text about ratios of resonance peaks, each checked as a number with
 //! the value shown: a ratio within a range or beyond a bound, and an ordering of two ratios.
 
-use crate::checks::reference::ValueFile;
 use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::{Bound, CheckSpec, Reading};
+use crate::reference::values::{Quantity, ValueFile};
 
 use super::curves::Curves;
 
@@ -99,7 +99,7 @@ pub fn peak_ratio(
     window: Option<(f64, f64)>,
     reading: Reading,
 ) -> CheckOutcome {
-    let Some(first) = file.for_check(spec) else { return CheckOutcome::missing(spec, "bound not found") };
+    let Some(first) = spec.quantity(file) else { return CheckOutcome::missing(spec, "bound not found") };
     let computed = match reading {
         Reading::PeakOverPeak => ratio(curves, cases, mass, window),
         Reading::AtResonance => at_resonance(curves, cases, mass, window),
@@ -190,7 +190,7 @@ pub fn ratio_order(
     window: (f64, f64),
     than: (f64, f64),
 ) -> CheckOutcome {
-    let Some(claim) = file.for_check(spec) else { return CheckOutcome::missing(spec, "claim not found") };
+    let Some(claim) = spec.quantity(file) else { return CheckOutcome::missing(spec, "claim not found") };
     let (Some((a, wa)), Some((b, wb))) =
         (ratio(curves, cases, mass, Some(window)), ratio(curves, cases, mass, Some(than)))
     else {
@@ -231,7 +231,7 @@ pub fn ratio_order(
 pub fn motion_types(
     spec: &CheckSpec,
     file: &ValueFile,
-    claim: &crate::checks::reference::Quantity,
+    claim: &Quantity,
     case: &str,
     seen: Option<&Vec<String>>,
     present: &[String],

@@ -2,9 +2,10 @@
 //! decay times against those of a reference history (the same estimator on both), and the
 //! paper's claim that three dampers decay faster, as a number.
 
-use crate::checks::reference::{Curve as RefCurve, Quantity, ValueFile};
+use crate::checks::reference::Curve as RefCurve;
 use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
+use crate::reference::values::{Quantity, ValueFile};
 
 use super::impulse::{decay_times, Decay};
 

@@ -2,10 +2,10 @@
 //! curve, and the frequency and height of a resonance peak, with tolerances in pixels of the
 //! digitised figure (its calibration gives their size) plus the check's own tolerance.
 
-use crate::checks::digitised::{DigitisedCurve, DigitisedFile};
 use crate::checks::tube::{peak, tube, AxisTol};
 use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
+use crate::reference::digitised::{DigitisedCurve, DigitisedFile};
 
 use super::curves::Curve;
 

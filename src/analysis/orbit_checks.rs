@@ -2,10 +2,10 @@
 //! structure (a second method), and the paper's "close agreement" of the SDOF solution with
 //! the simulation, as a number.
 
-use crate::checks::reference::{Quantity, ValueFile};
 use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
 use crate::model::modal::ModeSummary;
+use crate::reference::values::{Quantity, ValueFile};
 
 use super::orbits::OrbitsResult;
 

@@ -2,7 +2,6 @@
 //! pass, fail, or a known deviation (an expected difference with a written reason).
 
 pub mod baseline;
-pub mod digitised;
 pub mod reference;
 pub mod tube;
 pub mod verdict;

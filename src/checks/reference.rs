@@ -1,100 +1,12 @@
-//! Reference data: values stated in the paper's text, and curves from other sources.
-//! A reference is data + tolerance (given by the check) + provenance.
+//! The reference data an experiment's checks need, loaded once: value files and digitised
+//! curves (formats in [`crate::reference`]) and reference curves (CSV). A reference is data +
+//! tolerance (given by the check) + provenance.
 
 use std::path::Path;
 
-use serde::Deserialize;
-
-use crate::error::{read_to_string, Error, Result};
-
-/// A file of reference values, such as `reference/paper-text.toml`.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ValueFile {
-    pub meta: ValueFileMeta,
-    #[serde(rename = "quantity")]
-    pub quantities: Vec<Quantity>,
-}
-
-/// Where a value file's numbers come from.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ValueFileMeta {
-    /// Kind of source: "paper text", "digitised figure", "independent solver".
-    pub provenance: String,
-    /// The document the numbers come from.
-    pub source: String,
-}
-
-/// One stated quantity, scalar or vector.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Quantity {
-    pub id: String,
-    #[serde(default)]
-    pub value: Option<f64>,
-    #[serde(default)]
-    pub values: Option<Vec<f64>>,
-    pub unit: String,
-    /// Section of the source that states it.
-    pub section: String,
-    /// The source's words.
-    pub quote: String,
-    #[serde(default)]
-    pub note: Option<String>,
-}
-
-impl ValueFile {
-    /// The quantity a check names with `FILE#ID`.
-    pub fn for_check(&self, spec: &crate::experiment::CheckSpec) -> Option<&Quantity> {
-        spec.reference_id.as_deref().and_then(|id| self.get(id))
-    }
-
-    /// Reads, parses and validates a value file: ids are unique; a quantity has a finite
-    /// `value`, a non-empty list of finite `values`, or neither (a claim in words).
-    pub fn load(path: &Path) -> Result<ValueFile> {
-        let text = read_to_string(path)?;
-        let file: ValueFile = toml::from_str(&text).map_err(|e| Error::Parse {
-            file: path.display().to_string(),
-            message: e.to_string().trim_end().to_string(),
-        })?;
-        for (k, q) in file.quantities.iter().enumerate() {
-            let key = |what: &str| format!("quantity[{k}] (id \"{}\").{what}", q.id);
-            if file.quantities[..k].iter().any(|p| p.id == q.id) {
-                return Err(Error::invalid(path, key("id"), &q.id, "ids are unique within a file"));
-            }
-            match (q.value, &q.values) {
-                (Some(v), None) if !v.is_finite() => {
-                    return Err(Error::invalid(path, key("value"), v, "a finite number"))
-                }
-                (None, Some(vs)) if vs.is_empty() => {
-                    return Err(Error::invalid(path, key("values"), "[]", "at least one finite number"))
-                }
-                (None, Some(vs)) => {
-                    if let Some((i, v)) = vs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-                        return Err(Error::invalid(path, key(&format!("values[{i}]")), v, "a finite number"));
-                    }
-                }
-                (Some(_), Some(_)) => {
-                    return Err(Error::invalid(path, key("value"), "(both value and values)", "give one of them"))
-                }
-                // A number, or a claim stated in words (its check says how it is judged).
-                _ => {}
-            }
-        }
-        Ok(file)
-    }
-
-    /// The quantity with this id.
-    pub fn get(&self, id: &str) -> Option<&Quantity> {
-        self.quantities.iter().find(|q| q.id == id)
-    }
-
-    /// A human-readable provenance line for a quantity.
-    pub fn provenance(&self, q: &Quantity) -> String {
-        format!("{}: {}, section {} (\"{}\")", self.meta.provenance, self.meta.source, q.section, q.quote)
-    }
-}
+use crate::error::{Error, Result};
+use crate::reference::digitised::{self, DigitisedFile};
+use crate::reference::values::ValueFile;
 
 /// A reference curve file (CSV): every numeric column as f64, by name.
 #[derive(Debug, Clone)]
@@ -244,7 +156,7 @@ pub enum BaselineMode {
 pub struct ReferenceStore {
     values: std::collections::BTreeMap<String, ValueFile>,
     curves: std::collections::BTreeMap<String, Curve>,
-    digitised: std::collections::BTreeMap<String, super::digitised::DigitisedFile>,
+    digitised: std::collections::BTreeMap<String, DigitisedFile>,
     baselines: std::collections::BTreeMap<String, Vec<super::baseline::Value>>,
     pub baseline_mode: BaselineMode,
 }
@@ -261,7 +173,7 @@ impl ReferenceStore {
                     crate::experiment::CheckKind::Tube { .. } | crate::experiment::CheckKind::Peak { .. }
                 ) {
                     if !store.digitised.contains_key(file) {
-                        store.digitised.insert(file.clone(), super::digitised::load(&dir.join(file))?);
+                        store.digitised.insert(file.clone(), digitised::load(&dir.join(file))?);
                     }
                     continue;
                 }
@@ -312,7 +224,7 @@ impl ReferenceStore {
     }
 
     /// A loaded digitised file.
-    pub fn digitised(&self, file: &str) -> Option<&super::digitised::DigitisedFile> {
+    pub fn digitised(&self, file: &str) -> Option<&DigitisedFile> {
         self.digitised.get(file)
     }
 

@@ -35,7 +35,6 @@ use clap::{Parser, Subcommand};
 
 use crate::analysis::{self, Progress, Tick};
 use crate::checks::baseline;
-use crate::checks::digitised::{self, ImportInfo};
 use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::experiment::study::Study;
 use crate::experiment::{self, Experiment};
@@ -43,6 +42,7 @@ use crate::model::modal::modal_summary;
 use crate::model::sdof::EquivalentSdof;
 use crate::output::study::{Manifest, StudyRun};
 use crate::output::ReportWriter;
+use crate::reference::digitised::{self, ImportInfo};
 
 /// Replicates Araki et al. (1997), "Impact damper with granular materials for multibody
 /// system", figure by figure, and checks every result against references.

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use crate::checks::reference::ValueFile;
 use crate::error::{Error, Result};
+use crate::reference::values::ValueFile;
 
 use super::fields::mass_index;
 use super::raw::RawCheck;
@@ -417,7 +417,7 @@ fn digitised(
     let Some(reference) = c.reference.as_deref() else {
         return Err(Error::invalid(path, key("reference"), "(missing)", "name the digitised file under reference/"));
     };
-    let file = crate::checks::digitised::load(&reference_dir.join(reference)).map_err(|e| {
+    let file = crate::reference::digitised::load(&reference_dir.join(reference)).map_err(|e| {
         Error::invalid(
             path,
             key("reference"),

@@ -16,6 +16,7 @@ use crate::error::{Error, Result};
 use crate::model::fit::StiffnessFit;
 use crate::model::{Damper, Structure};
 use crate::number::Tolerance;
+use crate::reference::values::{Quantity, ValueFile};
 use crate::sim::impulse::ImpulseOptions;
 use crate::sim::SteadyOptions;
 
@@ -327,6 +328,13 @@ pub struct CheckSpec {
     pub reference_id: Option<String>,
     pub tolerance: Tolerance,
     pub known_deviation: Option<String>,
+}
+
+impl CheckSpec {
+    /// The quantity of `file` this check names with `FILE#ID`.
+    pub fn quantity<'a>(&self, file: &'a ValueFile) -> Option<&'a Quantity> {
+        self.reference_id.as_deref().and_then(|id| file.get(id))
+    }
 }
 
 /// A validated experiment.
