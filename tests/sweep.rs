@@ -3,9 +3,9 @@
 
 use shotdamp::analysis::curves::{self, from_sweep};
 use shotdamp::model::{Damper, Damping, Structure};
-use shotdamp::output::table::to_csv;
 use shotdamp::sim::sweep::{self, Direction};
 use shotdamp::sim::{SteadyOptions, System};
+use shotdamp::table::to_csv;
 
 fn system(hosts: &[usize], clearance: f64) -> System {
     let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));

@@ -4,11 +4,11 @@
 
 use std::f64::consts::PI;
 
-use crate::output::figure::{Dash, Marker, Series};
-use crate::output::table::Table;
+use crate::figure::{Dash, Marker, Series};
 use crate::sim::continuation::{continue_branch, BranchEnd, ContinuationOptions, Parameter, Special};
 use crate::sim::periodic::NewtonOptions;
 use crate::sim::{Dynamics, Steady, System};
+use crate::table::Table;
 
 /// Most times a branch is moved to a new section when an event reaches the old one.
 const MAX_SECTIONS: usize = 6;

@@ -7,10 +7,10 @@ use std::collections::BTreeMap;
 use crate::checks::fmt_num;
 use crate::checks::reference::ReferenceStore;
 use crate::experiment::{clearance_key, Case, Experiment, PlotKind};
-use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
-use crate::output::table::Table;
+use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::sim::sweep;
 use crate::sim::SteadyOptions;
+use crate::table::Table;
 
 use super::curves::{self, Curve};
 use super::sweep::check_frequencies;

@@ -5,9 +5,9 @@ use std::collections::BTreeMap;
 use crate::experiment::{Case, Experiment};
 use crate::model::frf::compliance_curve;
 use crate::model::structure::added_masses;
-use crate::output::table::Table;
 use crate::sim::sweep::SweepPoint;
 use crate::sim::{Stop, System};
+use crate::table::Table;
 
 /// Compliance of every mass at each frequency of one case (or one direction or clearance of
 /// it), with how each point ended.

@@ -2,8 +2,8 @@
 //! Points that did not settle or are not period-1 are drawn as crosses, never hidden.
 
 use crate::experiment::{Experiment, PlotKind, PlotSpec, Scale};
+use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::modal::ModeSummary;
-use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 
 use super::branches::{self, OrbitCurve};
 use super::curves::Curve;
@@ -187,6 +187,6 @@ fn residual_panel(overlays: &[Overlay], shown: &[&Curve], masses: &[usize], rang
     let lo = all.iter().copied().fold(f64::INFINITY, f64::min).min(tols.first().copied().unwrap_or(1e-3)).max(1e-16);
     let hi = all.iter().copied().fold(0.0, f64::max).max(tols.last().copied().unwrap_or(1e-3));
     panel.y_range = Some((lo / 3.0, hi * 3.0));
-    panel.legend = crate::output::figure::Corner::LowerRight;
+    panel.legend = crate::figure::Corner::LowerRight;
     Some(panel)
 }

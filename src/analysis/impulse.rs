@@ -6,13 +6,13 @@ use std::collections::BTreeMap;
 
 use crate::checks::fmt_num;
 use crate::experiment::{Experiment, PlotKind};
+use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::modal::{symmetric_modes, ModeSummary};
 use crate::model::GRAVITY;
-use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
-use crate::output::table::Table;
 use crate::signal::{decay_time, envelope, falling_envelope, log_decrements, spectra, Decrement};
 use crate::sim::impulse::{free_response, ImpulseOptions, ImpulseRun, Kick};
 use crate::sim::{EventKind, Stop};
+use crate::table::Table;
 
 use super::curves;
 use super::Tick;

@@ -2,9 +2,9 @@
 
 use crate::checks::reference::ReferenceStore;
 use crate::experiment::{Experiment, PlotSpec};
+use crate::figure::Figure;
 use crate::model::modal::{modal_summary, ModeSummary};
-use crate::output::figure::Figure;
-use crate::output::table::Table;
+use crate::table::Table;
 
 use super::curves::{self, union_grid, Curve};
 use super::figures::{self, Extras};

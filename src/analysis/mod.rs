@@ -27,10 +27,10 @@ use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::checks::{fmt_num, CheckOutcome};
 use crate::error::Result;
 use crate::experiment::{Analysis, Experiment};
+use crate::figure::Figure;
 use crate::model::modal::{modal_summary, ModeSummary};
 use crate::model::Damping;
-use crate::output::figure::Figure;
-use crate::output::table::Table;
+use crate::table::Table;
 
 /// Everything an experiment produced, ready to be written and rendered.
 #[derive(Debug, Clone)]

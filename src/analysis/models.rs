@@ -2,7 +2,7 @@
 //! models (docs/model.md section 1.2). Nothing here runs a solver: it reads finished results.
 
 use crate::experiment::{Analysis, PlotKind, Scale};
-use crate::output::figure::{Corner, Dash, Figure, Panel, Series};
+use crate::figure::{Corner, Dash, Figure, Panel, Series};
 
 use super::ExperimentResult;
 

@@ -4,10 +4,10 @@
 
 use crate::checks::fmt_num;
 use crate::experiment::{Experiment, PlotKind};
+use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::modal::ModeSummary;
-use crate::output::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
-use crate::output::table::Table;
 use crate::sim::continuation::Special;
+use crate::table::Table;
 
 use super::curves::{self, Curve};
 use super::orbits::{OrbitBranch, OrbitPoint, OrbitsResult};

@@ -11,7 +11,7 @@ use crate::checks::Status;
 use crate::error::Result;
 use crate::experiment::study::{is_claim, Sample, Study};
 use crate::experiment::{CheckKind, Experiment, Exports};
-use crate::output::table::Table;
+use crate::table::Table;
 
 /// One claim at one sample.
 #[derive(Debug, Clone, PartialEq)]

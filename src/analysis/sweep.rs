@@ -6,11 +6,11 @@ use std::collections::BTreeMap;
 use crate::checks::fmt_num;
 use crate::checks::reference::ReferenceStore;
 use crate::experiment::{round_hz, CheckKind, Experiment, Linear, PlotSpec, Start};
+use crate::figure::{Figure, VLine};
 use crate::model::modal::ModeSummary;
-use crate::output::figure::{Figure, VLine};
-use crate::output::table::Table;
 use crate::sim::sweep::{self, Direction};
 use crate::sim::SteadyOptions;
+use crate::table::Table;
 
 use super::branches::{self, OrbitCurve};
 use super::curves::{self, union_grid, Curve};

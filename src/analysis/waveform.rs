@@ -5,10 +5,10 @@ use std::f64::consts::PI;
 
 use crate::checks::fmt_num;
 use crate::experiment::{Experiment, Number, PlotKind};
-use crate::output::figure::{Corner, Dash, Figure, Panel, Series};
-use crate::output::table::Table;
+use crate::figure::{Corner, Dash, Figure, Panel, Series};
 use crate::sim::observe::Sampler;
 use crate::sim::{steady_state, Dynamics, Engine, EventKind, State, SteadyOptions};
+use crate::table::Table;
 
 use super::curves;
 use super::Tick;

@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::output::table::{ColumnData, Table};
+use crate::table::{ColumnData, Table};
 
 use super::{fmt_num, status, CheckOutcome, Source};
 
@@ -124,7 +124,7 @@ pub fn to_table(values: &[Value]) -> Table {
 pub fn load(path: &Path) -> Result<Vec<Value>> {
     use polars::prelude::*;
     let err = |m: String| Error::Table { path: path.to_path_buf(), message: m };
-    let df = crate::output::table::read_csv(path)?;
+    let df = crate::table::read_csv(path)?;
     let text = |name: &str| -> Result<Vec<String>> {
         let c = df.column(name).map_err(|e| err(e.to_string()))?;
         let c = c.cast(&DataType::String).map_err(|e| err(e.to_string()))?;

@@ -33,7 +33,7 @@ impl Curve {
         let bad = |line: usize, name: &str, value: String, what: &str| {
             Error::invalid(path, format!("line {line}, column {name}"), value, what.to_string())
         };
-        let df = crate::output::table::read_csv(path)?;
+        let df = crate::table::read_csv(path)?;
         if df.height() == 0 {
             return Err(err("no rows: a reference curve needs at least one".into()));
         }

@@ -3,7 +3,6 @@
 
 pub mod compare;
 pub mod destination;
-pub mod figure;
 pub mod heatmap;
 pub mod junit;
 pub mod models_page;
@@ -11,7 +10,6 @@ pub mod plot;
 pub mod report;
 pub mod robustness;
 pub mod study;
-pub mod table;
 pub mod view;
 
 use std::path::{Path, PathBuf};
@@ -21,6 +19,7 @@ use serde::Serialize;
 use crate::analysis::ExperimentResult;
 use crate::checks::CheckOutcome;
 use crate::error::{Error, Result};
+use crate::table;
 
 /// Writes a report into a fresh staging folder next to the destination and renames it into
 /// place only when everything is written: a failed run leaves the previous report intact

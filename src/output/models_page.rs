@@ -6,7 +6,7 @@ use serde::Serialize;
 use crate::analysis::ExperimentResult;
 use crate::checks::fmt_num;
 use crate::checks::verdict::verdict;
-use crate::output::figure::Figure;
+use crate::figure::Figure;
 
 use super::view::{counts, dependence, status_class, FigureView};
 

@@ -10,7 +10,7 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 
-use super::figure::{Corner, Dash, Figure, Marker, Panel, Series};
+use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series};
 
 /// Width of a figure, pixels.
 pub const WIDTH: u32 = 1100;

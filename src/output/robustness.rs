@@ -11,7 +11,7 @@ use crate::number::fmt_num;
 
 use super::heatmap;
 use super::study::StudyRun;
-use super::table;
+use crate::table;
 
 /// One study on a figure's page.
 #[derive(Debug, Serialize)]

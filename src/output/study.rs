@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::study::ClaimRow;
 use crate::error::{Error, Result};
 use crate::experiment::study::{Design, Study};
-use crate::output::table::{self, Table};
+use crate::table::{self, Table};
 
 /// A shard: `index` of `count` (0-based); sample `i` belongs to shard `i % count`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,4 +1,5 @@
-//! Result tables: a plain column store built by the analyses, written through polars.
+//! Tables: a plain column store built by the analyses, written through polars (CSV, Parquet);
+//! reference and baseline CSV files are read through it too.
 
 use polars::prelude::*;
 
