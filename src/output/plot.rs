@@ -9,7 +9,6 @@ use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
-
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series};
 
 /// Width of a figure, pixels.

@@ -8,10 +8,10 @@ use serde::Serialize;
 use crate::analysis::study::{claim_sentences, rows_table, summarise, summary_table};
 use crate::error::Result;
 use crate::number::fmt_num;
+use crate::table;
 
 use super::heatmap;
 use super::study::StudyRun;
-use crate::table;
 
 /// One study on a figure's page.
 #[derive(Debug, Serialize)]
