@@ -305,3 +305,92 @@ fn extreme_physics_ends_every_point_with_a_result_or_a_reason() {
         }
     }
 }
+
+/// `compare A B --out A` (or a folder inside A, or one that contains A) would write into one
+/// of its own inputs: refused before anything is written, A left byte for byte.
+#[test]
+fn no_command_writes_into_its_own_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps = linear_experiments(dir.path());
+    let a = dir.path().join("a");
+    let out = shotdamp().arg("--experiments").arg(&exps).arg("report").arg("--out").arg(&a).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let snapshot = |d: &Path| {
+        let mut v: Vec<(String, Vec<u8>)> = Vec::new();
+        let mut stack = vec![d.to_path_buf()];
+        while let Some(p) = stack.pop() {
+            for e in std::fs::read_dir(&p).unwrap() {
+                let e = e.unwrap().path();
+                if e.is_dir() {
+                    stack.push(e);
+                } else {
+                    v.push((e.display().to_string(), std::fs::read(&e).unwrap()));
+                }
+            }
+        }
+        v.sort();
+        v
+    };
+    let before = snapshot(&a);
+    let spelled_otherwise = dir.path().join("a/../a");
+    for target in [a.clone(), a.join("sub"), spelled_otherwise, dir.path().to_path_buf()] {
+        let out = shotdamp().arg("compare").arg(&a).arg(&a).arg("--out").arg(&target).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{}: {}", target.display(), stderr(&out));
+        assert!(
+            stderr(&out).contains("REPORT_A") && stderr(&out).contains("never writes into its own inputs"),
+            "{}",
+            stderr(&out)
+        );
+        assert_eq!(snapshot(&a), before, "{} left A as it was", target.display());
+    }
+    // A report into the experiments folder it reads, or into the reference folder.
+    for target in [exps.join("out"), common::repo().join("reference/out")] {
+        let out = shotdamp().arg("--experiments").arg(&exps).arg("report").arg("--out").arg(&target).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains("lies inside"), "{}", stderr(&out));
+        assert!(!target.exists());
+    }
+}
+
+/// A study value that makes an export impossible (m1 = 0.2 kg on the fitted model at damping
+/// 0.003: the Fig. 5 clearance scan then finds no best clearance) stops the study before any sample runs, naming the first such
+/// sample and its values, the same for one thread and two.
+#[test]
+fn a_study_value_that_breaks_an_export_is_named_up_front_for_any_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("masses.toml");
+    std::fs::write(
+        &file,
+        format!(
+            r#"[study]
+id = "masses"
+title = "Fig. 5 over the first mass"
+experiment = "{}"
+models = ["fitted"]
+
+[study.set]
+"analysis.freq_hz" = {{ start = 46.0, stop = 48.0, step = 0.5 }}
+"structure.damping.modal_ratios" = 0.003
+
+[[vary]]
+name = "m1"
+key = "structure.masses_kg[0]"
+values = [0.74, 0.2, 0.5]
+"#,
+            common::repo().join("experiments/fig05_third_mode.toml").display()
+        ),
+    )
+    .unwrap();
+    let mut messages = Vec::new();
+    for jobs in ["1", "2"] {
+        let out_dir = dir.path().join(format!("out{jobs}"));
+        let out =
+            shotdamp().args(["study", file.to_str().unwrap(), "--jobs", jobs, "--out"]).arg(&out_dir).output().unwrap();
+        let msg = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{msg}");
+        assert!(msg.contains("sample 1 of study") && msg.contains("m1 0.2"), "{msg}");
+        assert!(!out_dir.exists(), "nothing written: {msg}");
+        messages.push(msg);
+    }
+    assert_eq!(messages[0], messages[1]);
+}

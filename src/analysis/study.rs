@@ -31,8 +31,57 @@ pub struct ClaimRow {
     pub value: f64,
     /// What the paper claims, in words (e.g. "within [2.5, 4]").
     pub bound: String,
+    /// Whether the claim holds at this sample, or why it cannot be evaluated there.
+    pub outcome: Verdict,
+    /// Why the claim cannot be evaluated at this sample (empty when it can).
+    pub reason: String,
+}
+
+impl ClaimRow {
     /// Whether the claim holds at this sample.
-    pub holds: bool,
+    pub fn holds(&self) -> bool {
+        self.outcome == Verdict::Holds
+    }
+}
+
+/// A claim at one sample: it holds, it does not, or it cannot be evaluated there (the claimed
+/// quantity is not a number, or the check has nothing to compare it with): never counted as
+/// "does not hold".
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    Holds,
+    Fails,
+    NotEvaluable,
+}
+
+impl Verdict {
+    /// The word in the tables (`outcome` column).
+    pub fn word(self) -> &'static str {
+        match self {
+            Verdict::Holds => "holds",
+            Verdict::Fails => "fails",
+            Verdict::NotEvaluable => "not evaluable",
+        }
+    }
+
+    /// The verdict of a word of the tables.
+    pub fn from_word(word: &str) -> Option<Verdict> {
+        [Verdict::Holds, Verdict::Fails, Verdict::NotEvaluable].into_iter().find(|v| v.word() == word)
+    }
+}
+
+/// The verdict of a claim check's outcome, and the reason when it cannot be evaluated.
+fn verdict(outcome: &crate::checks::CheckOutcome) -> (Verdict, String) {
+    if !outcome.computed.is_finite() || outcome.tolerance.is_empty() {
+        let why = outcome.detail.clone().unwrap_or_else(|| outcome.description.clone());
+        let what = if outcome.computed.is_finite() { "nothing to compare it with" } else { "no value" };
+        return (Verdict::NotEvaluable, format!("{what}: {why}"));
+    }
+    if matches!(outcome.status, Status::Pass | Status::KnownDeviationPasses) {
+        (Verdict::Holds, String::new())
+    } else {
+        (Verdict::Fails, String::new())
+    }
 }
 
 /// Exports of dependencies already run, by (experiment id, model, carried-over values).
@@ -46,6 +95,40 @@ pub fn claims(exp: &Experiment) -> Vec<crate::experiment::CheckSpec> {
     exp.checks.iter().filter(|c| is_claim(&c.kind)).cloned().collect()
 }
 
+/// A sample's experiment ready to run: built from the study with the sample's values, its
+/// exports resolved from its dependencies (run at the sample, cached), only its claim checks.
+/// Errors name the sample and its values.
+pub fn prepare(
+    study: &Study,
+    sample: &Sample,
+    refs: &ReferenceStore,
+    reference_dir: &Path,
+    cache: &DependencyCache,
+) -> Result<Experiment> {
+    let exp = study.experiment(sample, reference_dir)?;
+    let exports =
+        dependency_exports(study, &exp, sample, refs, reference_dir, cache).map_err(|e| study.at_sample(e, sample))?;
+    let mut exp = exp.resolve(&exports).map_err(|e| study.at_sample(e, sample))?;
+    exp.checks = claims(&exp);
+    Ok(exp)
+}
+
+/// Every sample of `samples` prepared (in parallel, on the caller's pool) before any runs: a
+/// bad value, or one that makes an export impossible, stops the study here. The error is that
+/// of the first such sample in sample order, whatever the number of threads.
+pub fn prepare_all(
+    study: &Study,
+    samples: &[&Sample],
+    refs: &ReferenceStore,
+    reference_dir: &Path,
+    cache: &DependencyCache,
+) -> Result<Vec<Experiment>> {
+    use rayon::prelude::*;
+    let all: Vec<Result<Experiment>> =
+        samples.par_iter().map(|s| prepare(study, s, refs, reference_dir, cache)).collect();
+    all.into_iter().collect()
+}
+
 /// Evaluates one sample: its claim rows, in check order.
 pub fn run_sample(
     study: &Study,
@@ -54,29 +137,35 @@ pub fn run_sample(
     reference_dir: &Path,
     cache: &DependencyCache,
 ) -> Result<Vec<ClaimRow>> {
-    let mut exp = study.experiment(sample, reference_dir)?;
-    let exports = dependency_exports(study, &exp, sample, refs, reference_dir, cache)?;
-    exp = exp.resolve(&exports)?;
-    exp.checks = claims(&exp);
-    let result = super::run(&exp, refs, &|| {})?;
+    let exp = prepare(study, sample, refs, reference_dir, cache)?;
+    run_prepared(&exp, sample, refs)
+}
+
+/// Evaluates one prepared sample ([`prepare`]): its claim rows, in check order.
+pub fn run_prepared(exp: &Experiment, sample: &Sample, refs: &ReferenceStore) -> Result<Vec<ClaimRow>> {
+    let result = super::run(exp, refs, &|| {})?;
     Ok(exp
         .checks
         .iter()
         .zip(&result.checks)
         .enumerate()
-        .map(|(check, (spec, outcome))| ClaimRow {
-            sample: sample.index,
-            model: sample.model.clone(),
-            values: sample.values.clone(),
-            check,
-            claim: outcome.name.clone(),
-            reading: match &spec.kind {
-                CheckKind::PeakRatio { reading, .. } => reading.name().to_string(),
-                _ => String::new(),
-            },
-            value: outcome.computed,
-            bound: outcome.tolerance.clone(),
-            holds: matches!(outcome.status, Status::Pass | Status::KnownDeviationPasses),
+        .map(|(check, (spec, outcome))| {
+            let (verdict, reason) = verdict(outcome);
+            ClaimRow {
+                sample: sample.index,
+                model: sample.model.clone(),
+                values: sample.values.clone(),
+                check,
+                claim: outcome.name.clone(),
+                reading: match &spec.kind {
+                    CheckKind::PeakRatio { reading, .. } => reading.name().to_string(),
+                    _ => String::new(),
+                },
+                value: outcome.computed,
+                bound: outcome.tolerance.clone(),
+                outcome: verdict,
+                reason,
+            }
         })
         .collect())
 }
@@ -118,11 +207,11 @@ fn dependency_exports(
 pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path) -> Result<Vec<ClaimRow>> {
     use rayon::prelude::*;
     let cache = DependencyCache::default();
-    let rows: Vec<Vec<ClaimRow>> = study
-        .samples
-        .par_iter()
-        .map(|s| run_sample(study, s, refs, reference_dir, &cache))
-        .collect::<Result<Vec<_>>>()?;
+    let samples: Vec<&Sample> = study.samples.iter().collect();
+    let exps = prepare_all(study, &samples, refs, reference_dir, &cache)?;
+    let rows: Vec<Result<Vec<ClaimRow>>> =
+        exps.par_iter().zip(&samples).map(|(e, s)| run_prepared(e, s, refs)).collect();
+    let rows: Vec<Vec<ClaimRow>> = rows.into_iter().collect::<Result<_>>()?;
     Ok(rows.into_iter().flatten().collect())
 }
 
@@ -130,7 +219,7 @@ pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path) -> Re
 pub fn columns(study: &Study) -> Vec<String> {
     let mut out: Vec<String> = vec!["sample".into(), "model".into()];
     out.extend(study.vary.iter().map(|v| v.name.clone()));
-    out.extend(["check", "claim", "reading", "value", "bound", "holds"].map(String::from));
+    out.extend(["check", "claim", "reading", "value", "bound", "outcome", "reason"].map(String::from));
     out
 }
 
@@ -144,7 +233,9 @@ pub fn table(study: &Study, rows: &[ClaimRow]) -> Table {
 pub fn rows_table(id: &str, names: &[String], rows: &[ClaimRow]) -> Table {
     let mut t = Table::new(
         id.to_string(),
-        format!("study {id}: a row per sample and claim (value: the claimed quantity; holds: 1 when the claim holds)"),
+        format!(
+            "study {id}: a row per sample and claim (value: the claimed quantity; outcome: holds, fails or not evaluable, with the reason)"
+        ),
     )
     .i64("sample", rows.iter().map(|r| r.sample as i64).collect())
     .str("model", rows.iter().map(|r| r.model.clone()).collect());
@@ -156,7 +247,8 @@ pub fn rows_table(id: &str, names: &[String], rows: &[ClaimRow]) -> Table {
         .str("reading", rows.iter().map(|r| r.reading.clone()).collect())
         .f64("value", rows.iter().map(|r| r.value).collect())
         .str("bound", rows.iter().map(|r| r.bound.clone()).collect())
-        .i64("holds", rows.iter().map(|r| i64::from(r.holds)).collect())
+        .str("outcome", rows.iter().map(|r| r.outcome.word().to_string()).collect())
+        .str("reason", rows.iter().map(|r| r.reason.clone()).collect())
 }
 
 /// Per model and claim: how many samples, in how many it holds, the range of the value.
@@ -168,6 +260,8 @@ pub struct ClaimSummary {
     pub bound: String,
     pub samples: usize,
     pub holds: usize,
+    /// Samples where the claim cannot be evaluated (counted apart: neither holds nor fails).
+    pub not_evaluable: usize,
     pub min: f64,
     pub max: f64,
     /// Per varied key: the smallest and largest value among the samples where the claim
@@ -183,7 +277,8 @@ pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
         let n_checks = mine.iter().map(|r| r.check + 1).max().unwrap_or(0);
         for check in 0..n_checks {
             let of: Vec<&&ClaimRow> = mine.iter().filter(|r| r.check == check).collect();
-            let Some(first) = of.first() else { continue };
+            // The claim's name and bound from a sample where it could be evaluated.
+            let Some(first) = of.iter().find(|r| r.outcome != Verdict::NotEvaluable).or(of.first()) else { continue };
             let finite = of.iter().map(|r| r.value).filter(|v| v.is_finite());
             out.push(ClaimSummary {
                 model: model.clone(),
@@ -191,12 +286,13 @@ pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
                 claim: first.claim.clone(),
                 bound: first.bound.clone(),
                 samples: of.len(),
-                holds: of.iter().filter(|r| r.holds).count(),
+                holds: of.iter().filter(|r| r.holds()).count(),
+                not_evaluable: of.iter().filter(|r| r.outcome == Verdict::NotEvaluable).count(),
                 min: finite.clone().fold(f64::INFINITY, f64::min),
                 max: finite.fold(f64::NEG_INFINITY, f64::max),
                 region: (0..first.values.len())
                     .map(|k| {
-                        let held = of.iter().filter(|r| r.holds).map(|r| r.values[k]);
+                        let held = of.iter().filter(|r| r.holds()).map(|r| r.values[k]);
                         let lo = held.clone().fold(f64::INFINITY, f64::min);
                         let hi = held.fold(f64::NEG_INFINITY, f64::max);
                         if lo.is_finite() {
@@ -213,12 +309,17 @@ pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
 }
 
 impl ClaimSummary {
-    /// The fraction of samples where the claim holds.
+    /// Samples where the claim can be evaluated.
+    pub fn evaluable(&self) -> usize {
+        self.samples - self.not_evaluable
+    }
+
+    /// The fraction of the evaluable samples where the claim holds (NaN when none is).
     pub fn fraction(&self) -> f64 {
-        if self.samples == 0 {
-            0.0
+        if self.evaluable() == 0 {
+            f64::NAN
         } else {
-            self.holds as f64 / self.samples as f64
+            self.holds as f64 / self.evaluable() as f64
         }
     }
 
@@ -243,15 +344,24 @@ impl ClaimSummary {
     }
 
     /// Where the claim holds, in words: "holds at 12/112 (damping 0.003-0.006, clearance_mm
-    /// 0.25-0.55)", "holds everywhere (9/9)", "holds nowhere (0/9; value 1.1-1.9)".
+    /// 0.25-0.55)", "holds everywhere (9/9)", "holds nowhere (0/9; value 1.1-1.9)"; the counts
+    /// are of the samples where it can be evaluated, the others named after them ("; 3 not
+    /// evaluable").
     pub fn words(&self, names: &[String]) -> String {
         let fmt = crate::number::fmt_num;
-        if self.holds == self.samples {
-            format!("holds everywhere ({}/{})", self.holds, self.samples)
+        let n = self.evaluable();
+        let apart =
+            if self.not_evaluable > 0 { format!("; {} not evaluable", self.not_evaluable) } else { String::new() };
+        if n == 0 {
+            format!("not evaluable at any of {} samples", self.samples)
+        } else if self.holds == n && self.not_evaluable == 0 {
+            format!("holds everywhere ({}/{n})", self.holds)
+        } else if self.holds == n {
+            format!("holds wherever evaluable ({}/{n}{apart})", self.holds)
         } else if self.holds == 0 {
-            format!("holds nowhere (0/{}; value {}-{})", self.samples, fmt(self.min), fmt(self.max))
+            format!("holds nowhere (0/{n}; value {}-{}{apart})", fmt(self.min), fmt(self.max))
         } else {
-            format!("holds at {}/{} ({})", self.holds, self.samples, self.region_box(names))
+            format!("holds at {}/{n} ({}{apart})", self.holds, self.region_box(names))
         }
     }
 }
@@ -289,6 +399,7 @@ pub fn summary_table(id: &str, names: &[String], summaries: &[ClaimSummary]) -> 
     .str("bound", summaries.iter().map(|s| s.bound.clone()).collect())
     .i64("samples", summaries.iter().map(|s| s.samples as i64).collect())
     .i64("holds", summaries.iter().map(|s| s.holds as i64).collect())
+    .i64("not_evaluable", summaries.iter().map(|s| s.not_evaluable as i64).collect())
     .f64("fraction", summaries.iter().map(|s| s.fraction()).collect())
     .f64("min", summaries.iter().map(|s| s.min).collect())
     .f64("max", summaries.iter().map(|s| s.max).collect());

@@ -202,6 +202,11 @@ fn remove_on_interrupt(staging: PathBuf) {
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else { return };
     std::thread::spawn(move || {
         if let Some(sig) = signals.forever().next() {
+            let committed = crate::output::destination::commit_lock();
+            if *committed {
+                // The new report is in place: the run ends by itself in a moment.
+                return;
+            }
             eprintln!("interrupted: removing {}", staging.display());
             // Workers may still be writing into it (they cannot recreate it once it is gone):
             // retry while a removal races with a file being created.
@@ -249,6 +254,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         }
         Command::Study(args) => study::dispatch(args, &cli.reference),
         Command::Compare { a, b, out } => {
+            crate::output::destination::refuse_overlap(out, &[("REPORT_A", a), ("REPORT_B", b)])?;
             let dest = crate::output::compare::write(a, b, out)?;
             say!("comparison: {}", dest.display());
             Ok(true)
@@ -265,6 +271,10 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 .unwrap_or_else(|| cli.experiments.parent().unwrap_or(Path::new("")).join("studies"));
             let studies = report_studies(&dir, &cli.reference)?;
             let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
+            crate::output::destination::refuse_overlap(
+                out,
+                &[("the experiments folder", &cli.experiments), ("the studies folder", &dir)],
+            )?;
             run_and_write(&exps, &studies, &cli.reference, out, *jobs, templates.as_deref(), mode)
         }
     }
@@ -591,6 +601,11 @@ fn run_and_write(
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, baseline_mode)?;
     let study_refs = studies.iter().map(|s| study::references(s, reference)).collect::<crate::Result<Vec<_>>>()?;
+    let mut inputs: Vec<(&str, &Path)> = vec![("the reference folder", reference)];
+    inputs.extend(templates.map(|t| ("the templates folder", t)));
+    inputs.extend(exps.iter().map(|e| ("an experiment file", e.path.as_path())));
+    inputs.extend(studies.iter().map(|s| ("a study file", s.path.as_path())));
+    crate::output::destination::refuse_overlap(out, &inputs)?;
     // The handler is in place before the staging folder exists: an interrupt at any moment
     // removes it.
     remove_on_interrupt(crate::output::destination::staging_path(out)?);

@@ -66,15 +66,20 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         return Err(Error::invalid("(command line)", "FILE", "(missing)", "give a study file, or `merge DIR`").into());
     };
     let study = study::load(file, reference)?;
-    let shard = shard(args)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("study-runs").join(&study.id));
+    let mut inputs: Vec<(&str, &Path)> = vec![("the study file", file.as_path()), ("the reference folder", reference)];
+    inputs.extend(study.base.iter().map(|e| ("the study's experiment file", e.path.as_path())));
+    crate::output::destination::refuse_overlap(&out, &inputs)?;
+    let manifest = Manifest::of(&study, &file.display().to_string());
+    let shard = shard(args, &out, &manifest)?;
     let pool = super::pool(args.jobs)?;
     let threads = pool.current_num_threads();
     let mine: Vec<&study::Sample> = study.samples.iter().filter(|s| shard.owns(s.index)).collect();
-    // Every sample's experiment is built once before anything runs: a bad value stops here.
-    let exps =
-        pool.install(|| mine.par_iter().map(|s| study.experiment(s, reference)).collect::<crate::Result<Vec<_>>>())?;
     let refs = references(&study, reference)?;
+    // Every sample's experiment is built before anything runs: a bad value stops here.
+    let built =
+        pool.install(|| mine.par_iter().map(|s| study.experiment(s, reference)).collect::<Vec<crate::Result<_>>>());
+    let exps: Vec<crate::experiment::Experiment> = built.into_iter().collect::<crate::Result<_>>()?;
     let points: u64 = exps
         .iter()
         .map(|e| {
@@ -84,6 +89,7 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         })
         .sum();
     let estimate = points as f64 * SECONDS_PER_POINT / threads as f64;
+    let dependent = !exps.iter().all(|e| e.dependencies().is_empty());
     say!(
         "study {}: {} samples ({}; {}), {} claims each; shard {shard}: {} samples, {points} simulated points, roughly {} on {threads} threads{}",
         study.id,
@@ -93,29 +99,30 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         run::claims(&study.base[0]).len(),
         mine.len(),
         duration(estimate),
-        if exps.iter().all(|e| e.dependencies().is_empty()) {
-            ""
-        } else {
-            " (plus the experiments it takes values from, once per model and structure)"
-        }
+        if dependent { " (plus the experiments it takes values from, once per model and structure)" } else { "" }
     );
     if args.dry_run {
         print_samples(&study, shard);
         return Ok(true);
     }
-    let manifest = Manifest::of(&study, &file.display().to_string());
-    folder::prepare(&out, &manifest)?;
-    let (complete, done) = folder::done(&out, shard)?;
+    // The values the experiments take from others (run at each sample's structure, cached),
+    // checked for every sample before any sample runs.
+    let cache = DependencyCache::default();
+    let prepared = pool.install(|| run::prepare_all(&study, &mine, &refs, reference, &cache))?;
+    let manifest = folder::prepare(&out, &manifest, shard.count)?;
+    let _lock = take_lock(&out, shard)?;
+    let (complete, done) = folder::done(&out, &manifest, shard)?;
     if complete {
         say!("shard {shard} is already complete in {}", out.display());
     } else {
-        let todo: Vec<&study::Sample> =
-            mine.iter().copied().filter(|s| done.binary_search(&s.index).is_err()).collect();
+        let todo: Vec<(&study::Sample, &crate::experiment::Experiment)> =
+            mine.iter().copied().zip(&prepared).filter(|(s, _)| done.binary_search(&s.index).is_err()).collect();
         if !done.is_empty() {
             say!("resuming: {} of {} samples already written", done.len(), mine.len());
         }
-        compute(&study, &todo, &refs, reference, &out, shard, &pool, mine.len(), done.len())?;
-        let part = folder::finish_shard(&out, shard, &run::table(&study, &[]))?;
+        let at = Progress { out: &out, shard, total: mine.len(), done: done.len() };
+        compute(&study, &manifest, &todo, &refs, &pool, &at)?;
+        let part = folder::finish_shard(&out, &manifest, shard, &run::table(&study, &[]))?;
         say!("shard {shard}: {}", part.display());
     }
     if shard.count == 1 {
@@ -126,14 +133,40 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
     Ok(true)
 }
 
+/// Takes the shard's lock, waiting while another live process computes the same shard (a
+/// requeued task whose first run still ends, a second terminal): when it ends, this run finds
+/// the shard complete, or resumes it.
+fn take_lock(out: &Path, shard: Shard) -> anyhow::Result<folder::ShardLock> {
+    let mut told = false;
+    loop {
+        match folder::lock(out, shard)? {
+            Ok(lock) => return Ok(lock),
+            Err(holder) => {
+                if !told {
+                    eprintln!(
+                        "shard {shard} is being computed by another process ({holder}); waiting for it to end (its lock {} is taken over once its process has ended, or after {} s without a heartbeat)",
+                        out.join("parts").display(),
+                        crate::output::files::STALE_AFTER.as_secs()
+                    );
+                    told = true;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(500));
+            }
+        }
+    }
+}
+
 /// The references of a study's experiment and of those it takes values from, without the
 /// baseline (it holds the experiments' own values, not a sample's).
 pub(super) fn references(study: &Study, reference: &Path) -> crate::Result<ReferenceStore> {
     ReferenceStore::load(reference, &[study.base.clone(), study.dependencies.clone()].concat())
 }
 
-/// The shard from the command line or the job's environment.
-fn shard(args: &StudyArgs) -> anyhow::Result<Shard> {
+/// The shard from the command line or the job's environment. On Slurm the array task id is
+/// the shard's index; the number of shards comes from `--shards`, else from the study folder
+/// (recorded by its first shard: `sbatch --array=3` reruns shard 3 of the folder's 7), else
+/// from an array numbered 0 to N-1 (`SLURM_ARRAY_TASK_MIN`, `_MAX`, `_STEP`, `_COUNT`).
+fn shard(args: &StudyArgs, out: &Path, manifest: &Manifest) -> anyhow::Result<Shard> {
     let bad = |key: &str, value: &str, msg: &str| Error::invalid("(command line)", key, value, msg);
     let parse = |key: &str, i: &str, n: &str| -> anyhow::Result<Shard> {
         match (i.trim().parse::<usize>(), n.trim().parse::<usize>()) {
@@ -148,11 +181,59 @@ fn shard(args: &StudyArgs) -> anyhow::Result<Shard> {
         return parse("--shard", i, n);
     }
     let env = |k: &str| std::env::var(k).ok();
-    if let (Some(i), Some(n)) = (env("SLURM_ARRAY_TASK_ID"), env("SLURM_ARRAY_TASK_COUNT")) {
-        return parse("SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT", &i, &n);
+    // The count the folder was started with, when it is this study's.
+    let recorded = || {
+        folder::read_manifest(out)
+            .ok()
+            .filter(|m| m.fingerprint == manifest.fingerprint && m.shards > 0)
+            .map(|m| m.shards.to_string())
+    };
+    let count = |from_env: Option<String>| -> anyhow::Result<Option<String>> {
+        Ok(match (args.shards, recorded()) {
+            (Some(n), _) => Some(n.to_string()),
+            (None, Some(n)) => Some(n),
+            (None, None) => from_env,
+        })
+    };
+    if let Some(i) = env("SLURM_ARRAY_TASK_ID") {
+        let n = match count(None)? {
+            Some(n) => n,
+            None => {
+                let (min, max, step, total) = (
+                    env("SLURM_ARRAY_TASK_MIN"),
+                    env("SLURM_ARRAY_TASK_MAX"),
+                    env("SLURM_ARRAY_TASK_STEP"),
+                    env("SLURM_ARRAY_TASK_COUNT"),
+                );
+                let whole = min.as_deref().is_none_or(|m| m.trim() == "0")
+                    && step.as_deref().is_none_or(|s| s.trim() == "1")
+                    && match (&max, &total) {
+                        (Some(m), Some(t)) => m.trim().parse::<usize>().ok().map(|m| m + 1) == t.trim().parse().ok(),
+                        _ => true,
+                    };
+                match total {
+                    Some(t) if whole => t,
+                    _ => {
+                        return Err(bad(
+                            "SLURM_ARRAY_TASK_*",
+                            &format!(
+                                "min {}, max {}, step {}, count {}",
+                                min.as_deref().unwrap_or("-"),
+                                max.as_deref().unwrap_or("-"),
+                                step.as_deref().unwrap_or("-"),
+                                total.as_deref().unwrap_or("-")
+                            ),
+                            "the array is not 0 to N-1 in steps of 1 and the study folder records no number of shards: give it with --shards N (the sbatch script's third argument)",
+                        )
+                        .into())
+                    }
+                }
+            }
+        };
+        return parse("SLURM_ARRAY_TASK_ID/shards", &i, &n);
     }
     if let Some(i) = env("JOB_COMPLETION_INDEX") {
-        let Some(n) = args.shards else {
+        let Some(n) = count(None)? else {
             return Err(bad(
                 "--shards",
                 "(missing)",
@@ -160,65 +241,76 @@ fn shard(args: &StudyArgs) -> anyhow::Result<Shard> {
             )
             .into());
         };
-        return parse("JOB_COMPLETION_INDEX/--shards", &i, &n.to_string());
+        return parse("JOB_COMPLETION_INDEX/--shards", &i, &n);
     }
     if args.shards.is_some() {
-        return Err(bad("--shards", "(given)", "only with JOB_COMPLETION_INDEX; otherwise use --shard I/N").into());
+        return Err(bad(
+            "--shards",
+            "(given)",
+            "only with SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX; otherwise use --shard I/N",
+        )
+        .into());
     }
     Ok(Shard::WHOLE)
 }
 
+/// Where a shard's computation writes and how far it is.
+struct Progress<'a> {
+    out: &'a Path,
+    shard: Shard,
+    total: usize,
+    done: usize,
+}
+
 /// Computes `todo` in batches, each written atomically (so a stopped shard resumes).
-#[allow(clippy::too_many_arguments)]
 fn compute(
     study: &Study,
-    todo: &[&study::Sample],
+    manifest: &Manifest,
+    todo: &[(&study::Sample, &crate::experiment::Experiment)],
     refs: &ReferenceStore,
-    reference: &Path,
-    out: &Path,
-    shard: Shard,
     pool: &rayon::ThreadPool,
-    total: usize,
-    done_before: usize,
+    at: &Progress,
 ) -> anyhow::Result<()> {
-    let cache = DependencyCache::default();
+    let shard = at.shard;
     let batch = 4 * pool.current_num_threads();
     let bar = std::io::stderr().is_terminal().then(|| {
-        let bar = indicatif::ProgressBar::new(total as u64);
+        let bar = indicatif::ProgressBar::new(at.total as u64);
         if let Ok(style) = indicatif::ProgressStyle::with_template(
             "{prefix} [{bar:30}] {pos}/{len} samples, {elapsed} elapsed, ~{eta} left",
         ) {
             bar.set_style(style.progress_chars("=> "));
         }
         bar.set_prefix(format!("{} {shard}", study.id));
-        bar.set_position(done_before as u64);
+        bar.set_position(at.done as u64);
         bar
     });
     let started = Instant::now();
-    let mut done = done_before;
+    let mut done = at.done;
     for chunk in todo.chunks(batch) {
-        let rows: Vec<Vec<ClaimRow>> = pool.install(|| {
+        let rows: Vec<crate::Result<Vec<ClaimRow>>> = pool.install(|| {
             chunk
                 .par_iter()
-                .map(|s| {
-                    let r = run::run_sample(study, s, refs, reference, &cache);
+                .map(|(s, e)| {
+                    let r = run::run_prepared(e, s, refs).map_err(|err| study.at_sample(err, s));
                     if let Some(b) = &bar {
                         b.inc(1);
                     }
                     r
                 })
-                .collect::<crate::Result<Vec<_>>>()
-        })?;
+                .collect()
+        });
+        let rows: Vec<Vec<ClaimRow>> = rows.into_iter().collect::<crate::Result<_>>()?;
         let rows: Vec<ClaimRow> = rows.into_iter().flatten().collect();
-        folder::write_batch(out, shard, chunk[0].index, &run::table(study, &rows))?;
+        folder::write_batch(at.out, manifest, shard, chunk[0].0.index, &run::table(study, &rows))?;
         done += chunk.len();
         if bar.is_none() {
-            let per = started.elapsed().as_secs_f64() / (done - done_before) as f64;
+            let per = started.elapsed().as_secs_f64() / (done - at.done) as f64;
             eprintln!(
-                "{} {shard}: {done}/{total} samples, {} elapsed, ~{} left",
+                "{} {shard}: {done}/{} samples, {} elapsed, ~{} left",
                 study.id,
+                at.total,
                 duration(started.elapsed().as_secs_f64()),
-                duration(per * (total - done) as f64)
+                duration(per * (at.total - done) as f64)
             );
         }
     }
@@ -273,7 +365,8 @@ fn size_words(study: &Study) -> String {
     parts.join(" x ")
 }
 
-/// The sample list (a pipe closed early, as by `head`, ends the listing quietly).
+/// The sample list (a pipe closed early, as by `head`, ends the process quietly with exit 2,
+/// as every command's closed standard output does).
 fn print_samples(study: &Study, shard: Shard) {
     use std::fmt::Write as _;
     let mut text = format!("{:>7} {:>7} {:<8}", "sample", "shard", "model");
@@ -289,7 +382,9 @@ fn print_samples(study: &Study, shard: Shard) {
         }
         text.push('\n');
     }
-    let _ = std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes());
+    if std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes()).is_err() {
+        std::process::exit(2);
+    }
 }
 
 fn duration(seconds: f64) -> String {

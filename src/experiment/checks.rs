@@ -11,6 +11,9 @@ use super::raw::RawCheck;
 use super::{clearance_key, Analysis, CheckKind, CheckSpec, Start};
 use crate::number::Tolerance;
 
+/// The largest relative tolerance a check may state.
+pub const MAX_REL_TOL: f64 = 10.0;
+
 /// The case a check names.
 fn case_ref(path: &Path, key: String, v: &Option<String>, case_ids: &[String]) -> Result<String> {
     match v {
@@ -48,6 +51,18 @@ pub fn check(
             if !(v.is_finite() && v >= 0.0) {
                 return Err(Error::invalid(path, key(k), v, "a tolerance must be >= 0 and finite"));
             }
+        }
+    }
+    // A relative tolerance above 10 (1000 %) accepts any value of the same sign; the plots
+    // draw it on a log axis of residuals, which it would stretch over hundreds of decades.
+    for (k, v) in [("rel_tol", c.rel_tol), ("rel_tol_all", c.rel_tol_all)] {
+        if let Some(v) = v.filter(|v| *v > MAX_REL_TOL) {
+            return Err(Error::invalid(
+                path,
+                key(k),
+                v,
+                format!("a relative tolerance lies in [0, {MAX_REL_TOL}] (1000 %); to drop a check, delete it"),
+            ));
         }
     }
     let kind =

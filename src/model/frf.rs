@@ -5,13 +5,27 @@ use num_complex::Complex64;
 
 use super::structure::Structure;
 
+/// Relative size of the smallest eigenvalue of an undamped dynamic stiffness below which the
+/// response counts as unbounded (a few hundred roundings of its largest).
+pub const UNBOUNDED: f64 = 1e-13;
+
 /// Complex receptance `(K - omega^2 M + i omega C)^-1 e_k` of all masses, m/N.
 ///
 /// `mass` is the mass matrix to use: `M0` for the bare structure, `M_all` for the
-/// "stuck" structure with damper masses rigidly added. Returns `None` only when the
-/// dynamic stiffness is singular (undamped structure exactly at resonance).
+/// "stuck" structure with damper masses rigidly added. Returns `None` when the response is
+/// unbounded: an undamped structure at a natural frequency, where the dynamic stiffness is
+/// singular to within rounding (its smallest eigenvalue below `UNBOUNDED` times its largest);
+/// a solve there would return a number set by rounding alone.
 pub fn receptance(structure: &Structure, mass: &DMatrix<f64>, driven: usize, omega: f64) -> Option<DVector<Complex64>> {
     let n = structure.dof();
+    if structure.damping.iter().all(|c| *c == 0.0) {
+        let d = &structure.stiffness - mass * (omega * omega);
+        let eig = d.clone().symmetric_eigen().eigenvalues;
+        let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), e| (lo.min(e.abs()), hi.max(e.abs())));
+        if lo <= UNBOUNDED * hi {
+            return None;
+        }
+    }
     let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
         Complex64::new(structure.stiffness[(i, j)] - omega * omega * mass[(i, j)], omega * structure.damping[(i, j)])
     });
@@ -21,7 +35,7 @@ pub fn receptance(structure: &Structure, mass: &DMatrix<f64>, driven: usize, ome
 }
 
 /// Compliance magnitudes `|x_r / F|` (m/N) of every mass at each frequency (rad/s).
-/// Rows follow `omegas`; a singular point gives infinities.
+/// Rows follow `omegas`; an unbounded point ([`receptance`]) gives infinities.
 pub fn compliance_curve(structure: &Structure, mass: &DMatrix<f64>, driven: usize, omegas: &[f64]) -> Vec<Vec<f64>> {
     omegas
         .iter()
@@ -40,6 +54,20 @@ mod tests {
 
     fn paper() -> Structure {
         Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
+    }
+
+    #[test]
+    fn an_undamped_structure_at_a_natural_frequency_is_unbounded() {
+        let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.0; 3]));
+        let m = s.mass_matrix();
+        let modes = symmetric_modes(&m, &s.stiffness);
+        for &wn in &modes.omegas {
+            assert!(receptance(&s, &m, 0, wn).is_none(), "unbounded at {wn}");
+            assert!(compliance_curve(&s, &m, 0, &[wn])[0].iter().all(|c| c.is_infinite()));
+            // 1e-6 off resonance the response is finite and large.
+            let h = receptance(&s, &m, 0, wn * (1.0 + 1e-6)).unwrap();
+            assert!(h.iter().any(|c| c.norm() > 1.0), "{h}");
+        }
     }
 
     #[test]

@@ -7,9 +7,78 @@
 //! Staging folders are `.NAME.tmp-PID` beside the destination; the next run into the same
 //! destination removes those of processes that no longer run (never a live one).
 
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
 
 use crate::error::{Error, Result};
+
+/// `true` once a report of this process has been moved into place. Held while a report is
+/// moved into place, and by an interrupt handler while it removes a staging folder, so that a
+/// signal comes either before the commit (the staging folder goes, the previous report stays)
+/// or after it (the new report stays and the run ends by itself).
+static COMMITTED: Mutex<bool> = Mutex::new(false);
+
+/// The commit lock (see [`COMMITTED`]); a poisoned lock is taken as it is.
+pub fn commit_lock() -> MutexGuard<'static, bool> {
+    COMMITTED.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// `path` made absolute with every symbolic link of its existing part resolved, and `..` of
+/// the part that does not exist yet folded: two spellings of one place give one path.
+pub fn resolved(path: &Path) -> Result<PathBuf> {
+    let abs = absolute(path)?;
+    let mut existing = abs.clone();
+    let mut rest: Vec<std::ffi::OsString> = Vec::new();
+    loop {
+        if let Ok(c) = std::fs::canonicalize(&existing) {
+            let mut out = c;
+            for r in rest.iter().rev() {
+                match Path::new(r).components().next() {
+                    Some(Component::ParentDir) => {
+                        out.pop();
+                    }
+                    Some(Component::CurDir) | None => {}
+                    _ => out.push(r),
+                }
+            }
+            return Ok(out);
+        }
+        match (existing.file_name().map(|n| n.to_os_string()), existing.parent()) {
+            (Some(name), Some(parent)) => {
+                rest.push(name);
+                existing = parent.to_path_buf();
+            }
+            _ => return Ok(abs),
+        }
+    }
+}
+
+/// Refuses an output folder that is, contains or lies inside one of the command's inputs
+/// (`(what, path)`: e.g. `("REPORT_A", a)`), before anything runs: no command writes into
+/// what it reads.
+pub fn refuse_overlap(out: &Path, inputs: &[(&str, &Path)]) -> Result<()> {
+    let o = resolved(out)?;
+    for (what, input) in inputs {
+        let i = resolved(input)?;
+        let relation = if o == i {
+            "is"
+        } else if i.starts_with(&o) {
+            "contains"
+        } else if o.starts_with(&i) {
+            "lies inside"
+        } else {
+            continue;
+        };
+        return Err(Error::Destination {
+            path: out.to_path_buf(),
+            message: format!(
+                "{relation} {what} ({}), one of this command's inputs: shotdamp never writes into its own inputs. Give --out a folder outside them",
+                input.display()
+            ),
+        });
+    }
+    Ok(())
+}
 
 /// `out` made absolute (against the working directory).
 fn absolute(out: &Path) -> Result<PathBuf> {
@@ -164,6 +233,11 @@ impl Staging {
     /// during the run) is removed only after the new one is there.
     pub fn commit(self) -> Result<PathBuf> {
         // (`self` is dropped at the end: its staging folder is gone by then, or abandoned.)
+        let mut committed = commit_lock();
+        if !self.dir.is_dir() {
+            // An interrupt removed it before the lock was taken: the process is ending.
+            return Err(Error::Destination { path: self.dir.clone(), message: "removed by an interrupt".into() });
+        }
         check(&self.out)?;
         let backup = sibling(&self.out, "old", std::process::id());
         let had_old = self.out.exists();
@@ -176,6 +250,7 @@ impl Staging {
             }
             return Err(Error::io(&self.out, e));
         }
+        *committed = true;
         if had_old {
             std::fs::remove_dir_all(&backup).map_err(io(&backup))?;
         }

@@ -6,19 +6,19 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::analysis::study::ClaimRow;
+use crate::analysis::study::{ClaimRow, Verdict};
 use crate::error::{Error, Result};
 use crate::number::fmt_num;
 
 use super::study::Manifest;
 
-/// One panel: its title, its samples as (x, y, value, holds), and where the experiment itself
+/// One panel: its title, its samples as (x, y, value, verdict), and where the experiment itself
 /// sits (its own values of the two axes; none when unknown or when another varied value of the
 /// panel is not the experiment's own).
 #[derive(Debug, Clone)]
 pub struct MapPanel {
     pub title: String,
-    pub points: Vec<(f64, f64, f64, bool)>,
+    pub points: Vec<(f64, f64, f64, Verdict)>,
     pub assumed: Option<(f64, f64)>,
 }
 
@@ -51,14 +51,14 @@ pub fn maps(manifest: &Manifest, rows: &[ClaimRow], assumed: &[Vec<Option<f64>>]
     let mut out = Vec::new();
     for check in 0..n_checks {
         let of: Vec<&ClaimRow> = rows.iter().filter(|r| r.check == check).collect();
-        let Some(first) = of.first() else { continue };
+        let Some(first) = of.iter().find(|r| r.outcome != Verdict::NotEvaluable).or(of.first()) else { continue };
         let mut panels: Vec<(String, MapPanel)> = Vec::new();
         for r in &of {
             let label = manifest.models.iter().find(|m| m.0 == r.model).map(|m| m.1.clone()).unwrap_or_default();
             let rest: Vec<String> =
                 others.iter().map(|&k| format!("{} {}", manifest.vary[k].name, fmt_num(r.values[k]))).collect();
             let key = [label.clone()].into_iter().chain(rest).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(", ");
-            let point = (r.values[xi], r.values[yi], r.value, r.holds);
+            let point = (r.values[xi], r.values[yi], r.value, r.outcome);
             match panels.iter_mut().find(|(k, _)| *k == key) {
                 Some((_, p)) => p.points.push(point),
                 None => {
@@ -78,8 +78,12 @@ pub fn maps(manifest: &Manifest, rows: &[ClaimRow], assumed: &[Vec<Option<f64>>]
         let shown: Vec<MapPanel> = panels.into_iter().take(MAX_PANELS).map(|(_, p)| p).collect();
         let more =
             if total > shown.len() { format!(" (first {} of {total} panels)", shown.len()) } else { String::new() };
-        let marked =
-            if shown.iter().any(|p| p.assumed.is_some()) { "; red cross: the experiment's own values" } else { "" };
+        let mut marked =
+            if shown.iter().any(|p| p.assumed.is_some()) { "; red cross: the experiment's own values" } else { "" }
+                .to_string();
+        if of.iter().any(|r| r.outcome == Verdict::NotEvaluable) {
+            marked.push_str("; hatched: not evaluable");
+        }
         out.push(HeatMap {
             id: format!("{}_check-{check}", manifest.study),
             title: format!(
@@ -277,21 +281,34 @@ fn draw_panel<DB: DrawingBackend>(
             Rectangle::new([(i - 0.5, j - 0.5), (i + 0.5, j + 0.5)], colour(v).filled())
         });
         chart.draw_series(cells).map_err(|e| err(map, e))?;
-        let held = panel.points.iter().filter(|p| p.3).map(|&(x, y, _, _)| {
+        let held = panel.points.iter().filter(|p| p.3 == Verdict::Holds).map(|&(x, y, _, _)| {
             let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
             Rectangle::new([(i - 0.45, j - 0.45), (i + 0.45, j + 0.45)], ShapeStyle::from(&BLACK).stroke_width(3))
         });
         chart.draw_series(held).map_err(|e| err(map, e))?;
+        // Not evaluable: three diagonal strokes across the cell.
+        let hatch = panel.points.iter().filter(|p| p.3 == Verdict::NotEvaluable).flat_map(|&(x, y, _, _)| {
+            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
+            [-0.5, 0.0, 0.5].map(|o: f64| {
+                let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
+                PathElement::new(vec![(i + a, j + a - o), (i + b, j + b - o)], ShapeStyle::from(&WHITE).stroke_width(2))
+            })
+        });
+        chart.draw_series(hatch).map_err(|e| err(map, e))?;
     } else {
         let dots = panel
             .points
             .iter()
             .map(|&(x, y, v, _)| Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 5, colour(v).filled()));
         chart.draw_series(dots).map_err(|e| err(map, e))?;
-        let rings = panel.points.iter().filter(|p| p.3).map(|&(x, y, _, _)| {
+        let rings = panel.points.iter().filter(|p| p.3 == Verdict::Holds).map(|&(x, y, _, _)| {
             Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 7, ShapeStyle::from(&BLACK).stroke_width(2))
         });
         chart.draw_series(rings).map_err(|e| err(map, e))?;
+        let crossed = panel.points.iter().filter(|p| p.3 == Verdict::NotEvaluable).map(|&(x, y, _, _)| {
+            Cross::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 5, ShapeStyle::from(&WHITE).stroke_width(2))
+        });
+        chart.draw_series(crossed).map_err(|e| err(map, e))?;
     }
     let at = panel.assumed.and_then(|(x, y)| {
         if map.grid {

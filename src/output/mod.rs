@@ -3,6 +3,7 @@
 
 pub mod compare;
 pub mod destination;
+pub mod files;
 pub mod heatmap;
 pub mod junit;
 pub mod models_page;

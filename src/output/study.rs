@@ -16,10 +16,13 @@ use std::path::{Path, PathBuf};
 use polars::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::study::ClaimRow;
+use crate::analysis::study::{ClaimRow, Verdict};
 use crate::error::{Error, Result};
 use crate::experiment::study::{Design, Study};
 use crate::table::{self, Table};
+
+use super::files::{sync_dir, temporary, write_synced};
+pub use super::files::{write_atomic, ShardLock};
 
 /// A shard: `index` of `count` (0-based); sample `i` belongs to shard `i % count`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,12 +40,23 @@ impl Shard {
         i % self.count == self.index
     }
 
-    fn part_name(self) -> String {
-        format!("part-{:04}-of-{:04}.parquet", self.index, self.count)
+    /// The name of the shard's complete part: it carries the study's fingerprint, so that a
+    /// part of another version of the study is never merged.
+    fn part_name(self, fingerprint: &str) -> String {
+        format!("part-{:04}-of-{:04}-{fingerprint}.parquet", self.index, self.count)
     }
 
-    fn batch_dir(self) -> String {
-        format!("shard-{:04}-of-{:04}", self.index, self.count)
+    fn batch_dir(self, fingerprint: &str) -> String {
+        format!("shard-{:04}-of-{:04}-{fingerprint}", self.index, self.count)
+    }
+
+    fn lock_name(self) -> String {
+        format!("shard-{:04}-of-{:04}.lock", self.index, self.count)
+    }
+
+    /// How many of a study's `samples` belong to this shard.
+    pub fn size(self, samples: usize) -> usize {
+        (0..samples).filter(|&i| self.owns(i)).count()
     }
 }
 
@@ -91,12 +105,18 @@ pub struct Manifest {
     pub models: Vec<(String, String)>,
     /// Whether the samples form a full grid (heat maps of cells; otherwise scatter maps).
     pub grid: bool,
+    /// The number of shards the folder is computed as, recorded by its first shard (0: not
+    /// recorded, as for a study run by the report).
+    #[serde(default)]
+    pub shards: usize,
 }
 
 impl Manifest {
-    /// The manifest of `study`, read from `file`.
+    /// The manifest of `study`, read from `file`. Its fingerprint depends on what the study
+    /// computes (its id, the experiment's content on every model, what it varies and sets,
+    /// every sample's values), never on how the study's path is spelled.
     pub fn of(study: &Study, file: &str) -> Manifest {
-        let mut text = format!("{}\n{}\n", study.id, study.experiment_path.display());
+        let mut text = format!("{}\n{}\n{}", study.id, study.base[0].meta.id, study.content());
         for v in &study.vary {
             text.push_str(&format!("vary {} {}\n", v.name, v.key.as_str()));
         }
@@ -128,6 +148,7 @@ impl Manifest {
                 .map(|e| e.model.as_ref().map(|m| (m.id.clone(), m.label.clone())).unwrap_or_default())
                 .collect(),
             grid: study.design == Design::Grid,
+            shards: 0,
         }
     }
 }
@@ -152,45 +173,91 @@ fn table_err(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Table { path: path.to_path_buf(), message: e.to_string() }
 }
 
-/// Writes `bytes` to `path` through a temporary file beside it and a rename: a reader sees
-/// the whole file or none.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_file_name(format!(
-        ".{}.tmp-{}",
-        path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
-        std::process::id()
-    ));
-    std::fs::write(&tmp, bytes).map_err(io(&tmp))?;
-    std::fs::rename(&tmp, path).map_err(io(path))
+/// Whether an entry of a study folder can be there before its `study.json` is: the parts
+/// folder, the temporary manifests of shards that set the folder up at this moment, and the
+/// `logs` folder a cluster job writes its logs into.
+fn part_of_setup(name: &str) -> bool {
+    name == "parts" || name == "logs" || name.starts_with(&format!(".{MANIFEST}.tmp-"))
 }
 
-/// Makes `dir` a folder of this study: creates it, or checks that it holds this study (the
-/// same fingerprint); a folder of other files is refused.
-pub fn prepare(dir: &Path, manifest: &Manifest) -> Result<()> {
+/// Makes `dir` the folder of this study computed as `shards` shards, safe when any number of
+/// shards on any number of hosts start at once: the first to arrive creates `study.json` (an
+/// exclusive create, through a hard link of a complete file), every other reads it and checks
+/// that it is this study (the same fingerprint) computed as as many shards. A folder of other
+/// files is refused. Returns the folder's manifest.
+pub fn prepare(dir: &Path, manifest: &Manifest, shards: usize) -> Result<Manifest> {
     let path = dir.join(MANIFEST);
-    if path.is_file() {
-        let theirs = read_manifest(dir)?;
-        if theirs.fingerprint != manifest.fingerprint || theirs.study != manifest.study {
+    if !path.is_file() && dir.exists() {
+        if !dir.is_dir() {
+            return Err(Error::Destination {
+                path: dir.to_path_buf(),
+                message: "is a file, not a folder: give --out a new or empty folder".into(),
+            });
+        }
+        let foreign: Vec<String> = std::fs::read_dir(dir)
+            .map_err(io(dir))?
+            .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+            .filter(|n| !part_of_setup(n) && n != MANIFEST)
+            .collect();
+        if !foreign.is_empty() && !path.is_file() {
             return Err(Error::Destination {
                 path: dir.to_path_buf(),
                 message: format!(
-                    "holds parts of another study or of another version of it (study \"{}\", fingerprint {}; this one \"{}\", {}): give --out a new folder",
-                    theirs.study, theirs.fingerprint, manifest.study, manifest.fingerprint
+                    "is not empty and holds no study (no study.json; it has {}): give --out a new or empty folder",
+                    foreign.iter().take(3).cloned().collect::<Vec<_>>().join(", ")
                 ),
-            });
-        }
-    } else if dir.exists() {
-        let entries = std::fs::read_dir(dir).map_err(io(dir))?.count();
-        if !dir.is_dir() || entries > 0 {
-            return Err(Error::Destination {
-                path: dir.to_path_buf(),
-                message: "is not empty and holds no study (no study.json): give --out a new or empty folder".into(),
             });
         }
     }
     std::fs::create_dir_all(dir.join("parts")).map_err(io(dir))?;
-    let text = serde_json::to_string_pretty(manifest).map_err(|e| table_err(&path, e))?;
-    write_atomic(&path, text.as_bytes())
+    let mine = Manifest { shards, ..manifest.clone() };
+    if !path.is_file() {
+        let text = serde_json::to_string_pretty(&mine).map_err(|e| table_err(&path, e))?;
+        let tmp = temporary(&path);
+        write_synced(&tmp, text.as_bytes())?;
+        // Exclusive: fails when another shard's manifest is there first.
+        let linked = std::fs::hard_link(&tmp, &path);
+        let _ = std::fs::remove_file(&tmp);
+        match linked {
+            Ok(()) => {
+                sync_dir(dir);
+                return Ok(mine);
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(_) => {
+                // A file system without hard links: an exclusive create of the manifest
+                // itself (a reader that finds it half-written reads it again).
+                if let Ok(mut f) = std::fs::OpenOptions::new().write(true).create_new(true).open(&path) {
+                    use std::io::Write as _;
+                    f.write_all(text.as_bytes()).and_then(|()| f.sync_all()).map_err(io(&path))?;
+                    return Ok(mine);
+                }
+            }
+        }
+    }
+    let theirs = read_manifest(dir)?;
+    if theirs.fingerprint != manifest.fingerprint || theirs.study != manifest.study {
+        return Err(Error::Destination {
+            path: dir.to_path_buf(),
+            message: format!(
+                "holds parts of another study or of another version of it (study \"{}\", fingerprint {}; this one \"{}\", {}): give --out a new folder",
+                theirs.study, theirs.fingerprint, manifest.study, manifest.fingerprint
+            ),
+        });
+    }
+    if theirs.shards != 0 && theirs.shards != shards {
+        return Err(Error::Destination {
+            path: dir.to_path_buf(),
+            message: format!(
+                "is computed as {} shard{} (recorded in {MANIFEST} by its first shard), not {shards}: run this study with --shard I/{} (or --shards {}), or give --out a new folder",
+                theirs.shards,
+                if theirs.shards == 1 { "" } else { "s" },
+                theirs.shards,
+                theirs.shards
+            ),
+        });
+    }
+    Ok(theirs)
 }
 
 /// The manifest of a study folder.
@@ -202,28 +269,65 @@ pub fn read_manifest(dir: &Path) -> Result<Manifest> {
             message: "is not a study folder (no study.json): give the --out folder of `shotdamp study`".into(),
         });
     }
-    let text = crate::error::read_to_string(&path)?;
-    serde_json::from_str(&text).map_err(|e| Error::Parse { file: path.display().to_string(), message: e.to_string() })
+    // A manifest written without hard links may be read half-written: read it again then.
+    let mut last = None;
+    for _ in 0..50 {
+        let text = crate::error::read_to_string(&path)?;
+        match serde_json::from_str(&text) {
+            Ok(m) => return Ok(m),
+            Err(e) => last = Some(e),
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    Err(Error::Parse { file: path.display().to_string(), message: last.map(|e| e.to_string()).unwrap_or_default() })
 }
 
 fn read_parquet(path: &Path) -> Result<DataFrame> {
     let file = std::fs::File::open(path).map_err(io(path))?;
-    ParquetReader::new(file).finish().map_err(|e| table_err(path, e))
+    ParquetReader::new(file).finish().map_err(|e| damaged(path, &e.to_string()))
+}
+
+/// A part or batch that cannot be read, named with the command that removes it.
+fn damaged(path: &Path, why: &str) -> Error {
+    let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    Error::Table {
+        path: path.to_path_buf(),
+        message: format!(
+            "is damaged ({size} bytes: {why}), probably written by a shard that was stopped or crashed: remove it with `rm '{}'` and run its shard again (its samples are computed again)",
+            path.display()
+        ),
+    }
 }
 
 fn samples_of(df: &DataFrame, path: &Path) -> Result<Vec<usize>> {
-    let col = df.column("sample").and_then(|c| c.i64().cloned()).map_err(|e| table_err(path, e))?;
+    let col = df.column("sample").and_then(|c| c.i64().cloned()).map_err(|e| damaged(path, &e.to_string()))?;
     Ok(col.iter().map(|v| v.unwrap_or(-1).max(0) as usize).collect())
 }
 
-/// The samples of `shard` already written (a complete part or batches).
-pub fn done(dir: &Path, shard: Shard) -> Result<(bool, Vec<usize>)> {
-    let part = dir.join("parts").join(shard.part_name());
+/// Takes the shard's lock (one writer per shard at a time): `Ok(Err(holder))` when another
+/// live process holds it.
+pub fn lock(dir: &Path, shard: Shard) -> Result<std::result::Result<ShardLock, super::files::Holder>> {
+    ShardLock::try_take(&dir.join("parts").join(shard.lock_name()))
+}
+
+/// The samples of `shard` already written (a complete part or batches). A complete part must
+/// hold exactly the samples its shard owns; one that does not is named as damaged.
+pub fn done(dir: &Path, manifest: &Manifest, shard: Shard) -> Result<(bool, Vec<usize>)> {
+    let part = dir.join("parts").join(shard.part_name(&manifest.fingerprint));
     if part.is_file() {
-        return Ok((true, samples_of(&read_parquet(&part)?, &part)?));
+        let mut got = samples_of(&read_parquet(&part)?, &part)?;
+        got.dedup();
+        let owned: Vec<usize> = (0..manifest.samples).filter(|&i| shard.owns(i)).collect();
+        if got != owned {
+            return Err(damaged(
+                &part,
+                &format!("it holds {} samples of the {} of shard {shard}", got.len(), owned.len()),
+            ));
+        }
+        return Ok((true, got));
     }
     let mut out = Vec::new();
-    for p in batches(dir, shard)? {
+    for p in batches(dir, manifest, shard)? {
         out.extend(samples_of(&read_parquet(&p)?, &p)?);
     }
     out.sort_unstable();
@@ -231,8 +335,8 @@ pub fn done(dir: &Path, shard: Shard) -> Result<(bool, Vec<usize>)> {
     Ok((false, out))
 }
 
-fn batches(dir: &Path, shard: Shard) -> Result<Vec<PathBuf>> {
-    let folder = dir.join("parts").join(shard.batch_dir());
+fn batches(dir: &Path, manifest: &Manifest, shard: Shard) -> Result<Vec<PathBuf>> {
+    let folder = dir.join("parts").join(shard.batch_dir(&manifest.fingerprint));
     if !folder.is_dir() {
         return Ok(Vec::new());
     }
@@ -250,28 +354,38 @@ fn is_temporary(p: &Path) -> bool {
 }
 
 /// Writes one batch of a shard's rows (atomically).
-pub fn write_batch(dir: &Path, shard: Shard, first_sample: usize, rows: &Table) -> Result<()> {
-    let folder = dir.join("parts").join(shard.batch_dir());
+pub fn write_batch(dir: &Path, manifest: &Manifest, shard: Shard, first_sample: usize, rows: &Table) -> Result<()> {
+    let folder = dir.join("parts").join(shard.batch_dir(&manifest.fingerprint));
     std::fs::create_dir_all(&folder).map_err(io(&folder))?;
     write_atomic(&folder.join(format!("batch-{first_sample:08}.parquet")), &table::to_parquet(rows)?)
 }
 
 /// Joins a shard's batches into its part (sorted by sample and check) and removes them; a
-/// shard without samples writes `empty` (the table's columns, no rows).
-pub fn finish_shard(dir: &Path, shard: Shard, empty: &Table) -> Result<PathBuf> {
-    let part = dir.join("parts").join(shard.part_name());
+/// shard without samples writes `empty` (the table's columns, no rows). The part must hold
+/// every sample of the shard.
+pub fn finish_shard(dir: &Path, manifest: &Manifest, shard: Shard, empty: &Table) -> Result<PathBuf> {
+    let part = dir.join("parts").join(shard.part_name(&manifest.fingerprint));
     let mut frames = Vec::new();
-    for p in batches(dir, shard)? {
+    for p in batches(dir, manifest, shard)? {
         frames.push(read_parquet(&p)?);
     }
     if frames.is_empty() {
         frames.push(empty.to_frame().map_err(|e| table_err(&part, e))?);
     }
     let mut df = stack(frames, &part)?;
+    let mut got = samples_of(&df, &part)?;
+    got.dedup();
+    let owned = shard.size(manifest.samples);
+    if got.len() != owned {
+        return Err(table_err(
+            &part,
+            format!("shard {shard} has {} of its {owned} samples written: run it again to compute the rest", got.len()),
+        ));
+    }
     let mut buf = Vec::new();
     ParquetWriter::new(&mut buf).finish(&mut df).map_err(|e| table_err(&part, e))?;
     write_atomic(&part, &buf)?;
-    let folder = dir.join("parts").join(shard.batch_dir());
+    let folder = dir.join("parts").join(shard.batch_dir(&manifest.fingerprint));
     if folder.exists() {
         std::fs::remove_dir_all(&folder).map_err(io(&folder))?;
     }
@@ -305,12 +419,32 @@ pub fn merge(dir: &Path, manifest: &Manifest) -> Result<DataFrame> {
     let mut frames = Vec::new();
     for p in &parts {
         let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        if let Some(n) =
-            name.strip_suffix(".parquet").and_then(|s| s.rsplit_once("-of-")).and_then(|(_, n)| n.parse().ok())
-        {
-            if !counts.contains(&n) {
-                counts.push(n);
-            }
+        // part-IIII-of-NNNN-FINGERPRINT.parquet
+        let Some((n, print)) = name
+            .strip_suffix(".parquet")
+            .and_then(|s| s.rsplit_once("-of-"))
+            .and_then(|(_, rest)| rest.split_once('-'))
+            .and_then(|(n, f)| Some((n.parse::<usize>().ok()?, f.to_string())))
+        else {
+            return Err(Error::Destination {
+                path: p.clone(),
+                message: "is not a part of a study (parts are named part-I-of-N-FINGERPRINT.parquet): move it out of the parts folder".into(),
+            });
+        };
+        if print != manifest.fingerprint {
+            return Err(Error::Destination {
+                path: dir.to_path_buf(),
+                message: format!(
+                    "holds parts of two versions of study \"{}\": {} has fingerprint {print}, the folder's study.json {}: remove the parts of the version you do not want (`rm {}/parts/*-{print}.parquet`), then run its shards again",
+                    manifest.study,
+                    p.display(),
+                    manifest.fingerprint,
+                    dir.display()
+                ),
+            });
+        }
+        if !counts.contains(&n) {
+            counts.push(n);
         }
         let df = read_parquet(p)?;
         let names: Vec<String> = df.get_column_names().iter().map(|c| c.to_string()).collect();
@@ -340,7 +474,6 @@ pub fn merge(dir: &Path, manifest: &Manifest) -> Result<DataFrame> {
         let shards = match counts.as_slice() {
             [n] => {
                 let mut idx: Vec<usize> = missing.iter().map(|s| s % n).collect();
-                idx.dedup();
                 idx.sort_unstable();
                 idx.dedup();
                 let list: Vec<String> = idx.iter().map(|i| format!("{i}/{n}")).collect();
@@ -408,7 +541,7 @@ pub fn rows(df: &DataFrame, manifest: &Manifest, path: &Path) -> Result<Vec<Clai
             .map(|v| v.unwrap_or("").to_string())
             .collect())
     };
-    let (sample, model, check, claim, reading, value, bound, holds) = (
+    let (sample, model, check, claim, reading, value, bound, outcome, reason) = (
         int("sample")?,
         text("model")?,
         int("check")?,
@@ -416,8 +549,17 @@ pub fn rows(df: &DataFrame, manifest: &Manifest, path: &Path) -> Result<Vec<Clai
         text("reading")?,
         float("value")?,
         text("bound")?,
-        int("holds")?,
+        text("outcome")?,
+        text("reason")?,
     );
+    let verdicts = outcome
+        .iter()
+        .map(|w| {
+            Verdict::from_word(w).ok_or_else(|| {
+                table_err(path, format!("outcome = \"{w}\": one of \"holds\", \"fails\", \"not evaluable\""))
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
     let values: Vec<Vec<f64>> = manifest.vary.iter().map(|a| float(&a.name)).collect::<Result<_>>()?;
     Ok((0..df.height())
         .map(|i| ClaimRow {
@@ -429,7 +571,8 @@ pub fn rows(df: &DataFrame, manifest: &Manifest, path: &Path) -> Result<Vec<Clai
             reading: reading[i].clone(),
             value: value[i],
             bound: bound[i].clone(),
-            holds: holds[i] != 0,
+            outcome: verdicts[i],
+            reason: reason[i].clone(),
         })
         .collect())
 }

@@ -204,7 +204,7 @@ impl<S: Section> Solver<'_, S> {
             let (j, smooth) = self.problem.jacobian(&d, &u, &ret)?;
             let gq = self.g_q_of(ret.d_omega.as_ref(), &u, q)?;
             if norm < self.opts.newton.tol {
-                return Ok((finish(&self.problem, &d, u, ret, residuals, j, smooth), q, gq, it));
+                return Ok((finish(&self.problem, &d, u, ret, residuals, j, smooth)?, q, gq, it));
             }
             let a = self.augmented(&j, &gq, t);
             let mut rhs = join(&g, arc);

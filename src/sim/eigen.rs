@@ -1,9 +1,77 @@
 //! Eigendecomposition of a real, non-symmetric matrix with complex eigenvalues and
 //! eigenvectors: eigenvalues from nalgebra's Schur form, eigenvectors by inverse iteration,
 //! each eigenpair refined and its residual measured.
+//!
+//! Every call is bounded. nalgebra's implicit double-shift QR has no exceptional shifts and,
+//! without a limit, can cycle for ever (a Floquet Jacobian whose zero multipliers carry
+//! off-diagonal noise above its absolute deflation threshold did, at one point of Fig. 8's
+//! sweep). [`eigenvalues`] runs it with at most [`SWEEPS_PER_ROW`] QR sweeps per row, and when
+//! that is not enough on the matrix itself, on two similar matrices whose spectrum is the same
+//! (a shift by half the matrix's norm, which moves zero eigenvalues off zero where the relative
+//! deflation test works; then a fixed orthogonal reflection), at most
+//! `3 * SWEEPS_PER_ROW * n` sweeps in all. When every attempt is used up it says so: the
+//! caller then records a stated reason instead of a value.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Schur};
 use num_complex::Complex64;
+
+/// QR sweeps allowed per row of the matrix in one attempt (LAPACK's `dlahqr` allows 30; its
+/// exceptional shifts make it converge where nalgebra's plain shifts may need more).
+pub const SWEEPS_PER_ROW: usize = 60;
+
+/// Why a matrix has no eigenvalues here.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EigenError {
+    /// An element is NaN or infinite.
+    NotFinite,
+    /// The QR iteration did not converge within its bound on any of the three similar
+    /// matrices: the bound per attempt, in sweeps.
+    NoConvergence { sweeps: usize },
+}
+
+impl std::fmt::Display for EigenError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EigenError::NotFinite => write!(f, "the matrix has a NaN or infinite element"),
+            EigenError::NoConvergence { sweeps } => write!(
+                f,
+                "the eigenvalue iteration did not converge within {sweeps} QR sweeps on the matrix and two similar ones"
+            ),
+        }
+    }
+}
+
+/// The eigenvalues of a square real matrix, in the order the Schur form gives them; bounded
+/// (see the module documentation). On a matrix where the first attempt converges (every one
+/// met so far but one), the values are those of nalgebra's `complex_eigenvalues` bit for bit.
+pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, EigenError> {
+    let n = a.nrows();
+    if a.iter().any(|x| !x.is_finite()) {
+        return Err(EigenError::NotFinite);
+    }
+    let sweeps = SWEEPS_PER_ROW * n.max(1);
+    let run = |m: DMatrix<f64>| {
+        Schur::try_new(m, f64::EPSILON, sweeps).map(|s| s.complex_eigenvalues().iter().copied().collect::<Vec<_>>())
+    };
+    if let Some(l) = run(a.clone()) {
+        return Ok(l);
+    }
+    // A shift by half the norm: the spectrum moves by the same amount, and eigenvalues at
+    // zero (where the deflation test is absolute, eps^2) come to where it is relative.
+    let shift = 0.5 * a.norm().max(f64::MIN_POSITIVE);
+    let shifted = a + DMatrix::identity(n, n) * shift;
+    if let Some(l) = run(shifted) {
+        return Ok(l.into_iter().map(|z| z - shift).collect());
+    }
+    // A fixed Householder reflection H = I - 2 w w^T / w^T w (H = H^T = H^-1): H A H is similar
+    // to A with other rounding and another Hessenberg form.
+    let w = DVector::<f64>::from_fn(n, |i, _| 1.0 + (i as f64 * 0.7548776662466927).fract());
+    let h = DMatrix::identity(n, n) - &w * w.transpose() * (2.0 / w.norm_squared());
+    if let Some(l) = run(&h * a * &h) {
+        return Ok(l);
+    }
+    Err(EigenError::NoConvergence { sweeps })
+}
 
 /// `A = V diag(lambda) V^-1`, with complex eigenvalues in exact conjugate pairs.
 #[derive(Debug, Clone)]
@@ -53,12 +121,13 @@ fn eigenpair(ac: &DMatrix<Complex64>, lambda: Complex64, norm_a: f64) -> Option<
 }
 
 /// Decomposes `a`. Returns `None` when `a` is defective (eigenvectors not independent), which
-/// a damped mechanical system with distinct modes never is.
+/// a damped mechanical system with distinct modes never is, or when its eigenvalues cannot be
+/// computed within the bound of [`eigenvalues`].
 pub fn decompose(a: &DMatrix<f64>) -> Option<Eigen> {
     let n = a.nrows();
     let ac: DMatrix<Complex64> = a.map(|v| Complex64::new(v, 0.0));
     let norm_a = a.norm().max(f64::MIN_POSITIVE);
-    let mut schur: Vec<Complex64> = a.clone().complex_eigenvalues().iter().copied().collect();
+    let mut schur: Vec<Complex64> = eigenvalues(a).ok()?;
     // Deterministic order: by imaginary part (descending), then real part.
     schur.sort_by(|x, y| y.im.total_cmp(&x.im).then(x.re.total_cmp(&y.re)));
     let mut values = Vec::with_capacity(n);

@@ -20,6 +20,7 @@
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
+use super::eigen::{self, EigenError};
 use super::engine::{Bed, Engine, Event, EventKind, Observer, State, Stop};
 use super::observe::Both;
 use super::system::{Dynamics, SetupError};
@@ -46,6 +47,8 @@ pub enum OrbitError {
     NoConvergence(Vec<f64>),
     /// A bed is not where the stroboscopic section says it is: an event crossed the section.
     PatternChanged,
+    /// The orbit was found but its multipliers could not be computed within their bound.
+    Multipliers(EigenError),
 }
 
 impl std::fmt::Display for OrbitError {
@@ -61,6 +64,7 @@ impl std::fmt::Display for OrbitError {
                 write!(f, "Newton did not converge (residuals {})", r.join(", "))
             }
             OrbitError::PatternChanged => write!(f, "an event crossed the section (the motion's pattern changed)"),
+            OrbitError::Multipliers(e) => write!(f, "no Floquet multipliers: {e}"),
         }
     }
 }
@@ -387,11 +391,12 @@ impl Default for NewtonOptions {
     }
 }
 
-/// The orbit's multipliers from a Jacobian.
-pub fn multipliers(j: &DMatrix<f64>) -> Vec<Complex64> {
-    let mut l: Vec<Complex64> = j.clone().complex_eigenvalues().iter().copied().collect();
+/// The orbit's multipliers from a Jacobian, largest modulus first (bounded: see
+/// [`eigen::eigenvalues`]).
+pub fn multipliers(j: &DMatrix<f64>) -> Result<Vec<Complex64>, OrbitError> {
+    let mut l = eigen::eigenvalues(j).map_err(OrbitError::Multipliers)?;
     l.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
-    l
+    Ok(l)
 }
 
 /// Finds the fixed point of `problem` near `guess` at the dynamics `d`.
@@ -409,7 +414,7 @@ pub fn solve<S: Section + ?Sized>(
         residuals.push(norm);
         let (j, smooth) = problem.jacobian(d, &u, &ret)?;
         if norm < opts.tol {
-            return Ok(finish(problem, d, u, ret, residuals, j, smooth));
+            return finish(problem, d, u, ret, residuals, j, smooth);
         }
         let a = &j - DMatrix::identity(u.len(), u.len());
         let mut du = a.lu().solve(&(-g)).ok_or(OrbitError::Singular)?;
@@ -431,10 +436,10 @@ pub fn finish<S: Section + ?Sized>(
     residuals: Vec<f64>,
     jacobian: DMatrix<f64>,
     smooth: bool,
-) -> Orbit {
-    let multipliers = multipliers(&jacobian);
+) -> Result<Orbit, OrbitError> {
+    let multipliers = multipliers(&jacobian)?;
     let stable = multipliers.iter().all(|z| z.norm() < 1.0);
-    Orbit {
+    Ok(Orbit {
         state: problem.state(d, &u),
         u,
         events: ret.events,
@@ -444,7 +449,7 @@ pub fn finish<S: Section + ?Sized>(
         stable,
         smooth,
         d_omega: ret.d_omega,
-    }
+    })
 }
 
 /// A section point from a state by running to the next bottom impact, and the number of

@@ -495,7 +495,7 @@ impl Study {
     }
 
     /// An error of a sample's experiment, with the sample's values.
-    fn at_sample(&self, e: Error, sample: &Sample) -> Error {
+    pub fn at_sample(&self, e: Error, sample: &Sample) -> Error {
         let values = self.describe(sample);
         match e {
             Error::Invalid { file, key, value, message } => Error::Invalid {
@@ -510,6 +510,20 @@ impl Study {
             },
             other => other,
         }
+    }
+
+    /// What the study computes from, as text: the merged tables of its experiment on every
+    /// model and of the experiments it takes values from (for the fingerprint of its folder;
+    /// independent of how any path is spelled).
+    pub fn content(&self) -> String {
+        let mut text = String::new();
+        for (model, table) in &self.tables {
+            text.push_str(&format!("[experiment on {model}]\n{}\n", toml::to_string(table).unwrap_or_default()));
+        }
+        for ((id, model), (_, table)) in &self.dependency_tables {
+            text.push_str(&format!("[dependency {id} on {model}]\n{}\n", toml::to_string(table).unwrap_or_default()));
+        }
+        text
     }
 
     /// The sample's model and values in words, e.g. `model stated, damping 0.005`.
