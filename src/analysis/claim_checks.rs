@@ -86,6 +86,16 @@ fn band_max(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<
     ))
 }
 
+/// The name of a ratio claim under a reading.
+fn claim_name(reading: Reading, cases: (&str, &str), mass: usize, window: Option<(f64, f64)>) -> String {
+    let (a, b, m, w) = (cases.0, cases.1, mass + 1, window_words(window));
+    match reading {
+        Reading::PeakOverPeak => format!("peak ratio {a} / {b}, m{m}{w}"),
+        Reading::AtResonance => format!("ratio {a} / {b} at {a}'s resonance, m{m}{w}"),
+        Reading::BandMax => format!("largest ratio {a} / {b} over {a}'s resonance band, m{m}{w}"),
+    }
+}
+
 /// A ratio of two responses, read as `reading`, against a bound (a range, at most or at least
 /// a value; `rel_tol` is slack).
 #[allow(clippy::too_many_arguments)]
@@ -106,7 +116,19 @@ pub fn peak_ratio(
         Reading::BandMax => band_max(curves, cases, mass, window),
     };
     let Some((r, words)) = computed else {
-        return CheckOutcome::missing(spec, "curves not computed");
+        // Not evaluable here (a study's sample may have no settled point where the reading
+        // looks): named as the claim, with the reason.
+        let mut o = CheckOutcome::missing(spec, "");
+        o.name = claim_name(reading, cases, mass, window);
+        o.description = format!(
+            "not evaluable: the reading ({}) needs settled period-1 points of {} and {} at m{}{}, and there are none where it looks",
+            reading.name(),
+            cases.0,
+            cases.1,
+            mass + 1,
+            window_words(window)
+        );
+        return o;
     };
     let v = first.value.unwrap_or(f64::NAN);
     let slack = spec.tolerance.rel;
@@ -126,41 +148,21 @@ pub fn peak_ratio(
         Bound::AtLeast => (r >= v * (1.0 - slack), v, format!("at least {}", fmt_num(v)), format!("computed {r:.3}")),
     };
     let tolerance = if slack > 0.0 { format!("{tolerance} +/- {:.1} %", 100.0 * slack) } else { tolerance };
-    let (name, description) = match reading {
-        Reading::PeakOverPeak => (
-            format!("peak ratio {} / {}, m{}{}", cases.0, cases.1, mass + 1, window_words(window)),
-            format!("peak compliance of m{}{} (reading: peak over peak): {words}", mass + 1, window_words(window)),
+    let name = claim_name(reading, cases, mass, window);
+    let description = match reading {
+        Reading::PeakOverPeak => {
+            format!("peak compliance of m{}{} (reading: peak over peak): {words}", mass + 1, window_words(window))
+        }
+        Reading::AtResonance => format!(
+            "compliance of m{}{} (reading: both at {}'s resonance): {words}",
+            mass + 1,
+            window_words(window),
+            cases.0
         ),
-        Reading::AtResonance => (
-            format!(
-                "ratio {} / {} at {}'s resonance, m{}{}",
-                cases.0,
-                cases.1,
-                cases.0,
-                mass + 1,
-                window_words(window)
-            ),
-            format!(
-                "compliance of m{}{} (reading: both at {}'s resonance): {words}",
-                mass + 1,
-                window_words(window),
-                cases.0
-            ),
-        ),
-        Reading::BandMax => (
-            format!(
-                "largest ratio {} / {} over {}'s resonance band, m{}{}",
-                cases.0,
-                cases.1,
-                cases.0,
-                mass + 1,
-                window_words(window)
-            ),
-            format!(
-                "compliance of m{}{} (reading: the largest reduction at one frequency around resonance): {words}",
-                mass + 1,
-                window_words(window)
-            ),
+        Reading::BandMax => format!(
+            "compliance of m{}{} (reading: the largest reduction at one frequency around resonance): {words}",
+            mass + 1,
+            window_words(window)
         ),
     };
     CheckOutcome {

@@ -74,6 +74,7 @@ impl Verdict {
 fn verdict(outcome: &crate::checks::CheckOutcome) -> (Verdict, String) {
     if !outcome.computed.is_finite() || outcome.tolerance.is_empty() {
         let why = outcome.detail.clone().unwrap_or_else(|| outcome.description.clone());
+        let why = why.strip_prefix("not evaluable: ").unwrap_or(&why).to_string();
         let what = if outcome.computed.is_finite() { "nothing to compare it with" } else { "no value" };
         return (Verdict::NotEvaluable, format!("{what}: {why}"));
     }

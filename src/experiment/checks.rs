@@ -60,7 +60,7 @@ pub fn check(
             return Err(Error::invalid(
                 path,
                 key(k),
-                v,
+                crate::number::fmt_num(v),
                 format!("a relative tolerance lies in [0, {MAX_REL_TOL}] (1000 %); to drop a check, delete it"),
             ));
         }
