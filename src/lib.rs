@@ -10,6 +10,7 @@
 pub mod analysis;
 pub mod checks;
 pub mod cli;
+pub mod design;
 pub mod error;
 pub mod experiment;
 pub mod figure;

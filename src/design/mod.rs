@@ -1,0 +1,195 @@
+//! Damper design (docs/design.md): which masses carry a container, how a budget of shot is
+//! split among them and what clearance each gets, chosen to lower the largest (or the RMS)
+//! compliance of chosen masses over frequency bands. The paper's conclusion is a claim of this
+//! kind: "multi-unit dampers with properly selected mass ratios and clearances effectively
+//! suppress the resonant peaks over a wide frequency range".
+//!
+//! [`evaluate`] computes the objective of one [`Layout`] with the exact simulator; the search
+//! over layouts is in [`search`]. No I/O.
+
+pub mod search;
+
+use crate::model::{Damper, Structure};
+use crate::sim::sweep::{self, Direction, SweepPoint};
+use crate::sim::{SteadyOptions, System};
+
+/// A frequency band and the masses whose compliance counts in it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Band {
+    /// Name for tables, e.g. "mode 3".
+    pub name: String,
+    /// Frequencies, Hz, ascending.
+    pub freq_hz: Vec<f64>,
+    /// 0-based masses.
+    pub masses: Vec<usize>,
+}
+
+/// How a band's compliances become one number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measure {
+    /// The largest compliance of the band's masses over its frequencies.
+    Peak,
+    /// The root mean square over the band's frequencies, the largest over its masses.
+    Rms,
+}
+
+/// Which sweeps a band is computed by. Where stable motions coexist (Fig. 5's fold) the
+/// compliance at a frequency is the largest over the sweeps: a real structure may sit on any.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sweep {
+    /// Every frequency from rest.
+    Rest,
+    /// Continuation upward, each point from the previous one's final state.
+    Up,
+    /// Continuation downward.
+    Down,
+}
+
+/// What a design is asked to do: the structure, the force, the bands and how they count.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub structure: Structure,
+    /// 0-based driven mass.
+    pub driven: usize,
+    /// Force amplitude, N.
+    pub force: f64,
+    pub bands: Vec<Band>,
+    pub measure: Measure,
+    pub sweeps: Vec<Sweep>,
+    pub steady: SteadyOptions,
+}
+
+/// One design: the containers' hosts, their share of the shot and their clearances.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layout {
+    /// 0-based host masses, distinct.
+    pub hosts: Vec<usize>,
+    /// Bed masses, kg (one per host).
+    pub masses_kg: Vec<f64>,
+    /// Clearances, mm (one per host; infinite: no top).
+    pub clearances_mm: Vec<f64>,
+}
+
+impl Layout {
+    /// The dampers of this layout (a bed of zero mass is no damper).
+    pub fn dampers(&self) -> Vec<Damper> {
+        self.hosts
+            .iter()
+            .zip(&self.masses_kg)
+            .zip(&self.clearances_mm)
+            .filter(|((_, m), _)| **m > 0.0)
+            .map(|((&host, &mass), &d)| Damper { host, mass, clearance: d * 1e-3 })
+            .collect()
+    }
+
+    /// Total shot mass, kg.
+    pub fn shot_kg(&self) -> f64 {
+        self.masses_kg.iter().sum()
+    }
+}
+
+/// The objective of one layout and where it comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    /// Per band: the band's measure (compliance, m/N).
+    pub bands: Vec<f64>,
+    /// Per band: the measure of the bare structure (the same sweeps without dampers).
+    pub bare: Vec<f64>,
+    /// The objective: the worst band's measure relative to the bare structure's (1: no gain).
+    pub objective: f64,
+    /// The band, frequency (Hz) and mass of the largest compliance of the worst band.
+    pub worst: (usize, f64, usize),
+    /// Points without a settled stable periodic orbit (their compliance is the amplitude of the
+    /// motion over the recorded periods: see docs/design.md).
+    pub unsettled: usize,
+    /// Steady states computed.
+    pub points: usize,
+}
+
+/// Compliance of every mass at each frequency of `band` for `sys`, the largest over `sweeps`,
+/// and the number of unsettled points.
+pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &SteadyOptions) -> (Vec<Vec<f64>>, usize) {
+    let n = sys.dof();
+    let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
+    let mut unsettled = 0;
+    for s in sweeps {
+        let points: Vec<SweepPoint> = match s {
+            Sweep::Rest => sweep::from_rest(sys, &band.freq_hz, steady, &|| {}),
+            Sweep::Up => sweep::continued(sys, &band.freq_hz, Direction::Up, steady, &|| {}),
+            Sweep::Down => sweep::continued(sys, &band.freq_hz, Direction::Down, steady, &|| {}),
+        };
+        for p in points {
+            let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
+            match p.result {
+                Ok(st) => {
+                    if !st.converged {
+                        unsettled += 1;
+                    }
+                    for (w, a) in worst[i].iter_mut().zip(&st.amplitude) {
+                        *w = w.max(a / sys.force);
+                    }
+                }
+                Err(_) => {
+                    unsettled += 1;
+                    worst[i].iter_mut().for_each(|w| *w = f64::INFINITY);
+                }
+            }
+        }
+    }
+    (worst, unsettled)
+}
+
+/// The measure of a band's compliances, and the frequency index and mass of its largest one.
+pub fn measure(band: &Band, compliance: &[Vec<f64>], how: Measure) -> (f64, usize, usize) {
+    let mut peak = (f64::NEG_INFINITY, 0, band.masses.first().copied().unwrap_or(0));
+    for (i, row) in compliance.iter().enumerate() {
+        for &m in &band.masses {
+            if row[m] > peak.0 {
+                peak = (row[m], i, m);
+            }
+        }
+    }
+    match how {
+        Measure::Peak => peak,
+        Measure::Rms => {
+            let n = compliance.len().max(1) as f64;
+            let (value, mass) = band
+                .masses
+                .iter()
+                .map(|&m| ((compliance.iter().map(|r| r[m] * r[m]).sum::<f64>() / n).sqrt(), m))
+                .fold((f64::NEG_INFINITY, 0), |a, b| if b.0 > a.0 { b } else { a });
+            (value, peak.1, mass)
+        }
+    }
+}
+
+/// The measure of every band for the bare structure.
+pub fn bare(problem: &Problem) -> Vec<f64> {
+    let sys = System::plastic(problem.structure.clone(), Vec::new(), problem.driven, problem.force);
+    problem
+        .bands
+        .iter()
+        .map(|b| measure(b, &band_compliance(&sys, b, &problem.sweeps, &problem.steady).0, problem.measure).0)
+        .collect()
+}
+
+/// Evaluates one layout (`bare`: the bands' measures without dampers, from [`bare`]).
+pub fn evaluate(problem: &Problem, bare: &[f64], layout: &Layout) -> Evaluation {
+    let sys = System::plastic(problem.structure.clone(), layout.dampers(), problem.driven, problem.force);
+    let mut bands = Vec::with_capacity(problem.bands.len());
+    let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
+    let mut unsettled = 0;
+    let mut points = 0;
+    for (k, band) in problem.bands.iter().enumerate() {
+        let (c, u) = band_compliance(&sys, band, &problem.sweeps, &problem.steady);
+        unsettled += u;
+        points += band.freq_hz.len() * problem.sweeps.len();
+        let (value, i, m) = measure(band, &c, problem.measure);
+        bands.push(value);
+        let relative = value / bare[k];
+        if relative > worst.0 || relative.is_nan() {
+            worst = (relative, (k, band.freq_hz[i], m));
+        }
+    }
+    Evaluation { bands, bare: bare.to_vec(), objective: worst.0, worst: worst.1, unsettled, points }
+}

@@ -1,0 +1,265 @@
+//! The search over layouts: every placement of containers (subsets of the candidate masses)
+//! enumerated; for each, the split of the shot and the clearances by Nelder-Mead (argmin) from
+//! several seeded starts in an unconstrained space that maps onto the bounds; and a brute-force
+//! grid for checking it. Every run is sequential and independent, and results are gathered in
+//! a fixed order: the same bytes for any number of threads.
+
+use argmin::core::{CostFunction, Executor, State};
+use argmin::solver::neldermead::NelderMead;
+use rayon::prelude::*;
+
+use super::{evaluate, Evaluation, Layout, Problem};
+
+/// What may vary, and within which bounds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Space {
+    /// Placements to try: each a set of distinct 0-based host masses.
+    pub placements: Vec<Vec<usize>>,
+    /// Total shot mass, kg, split among a placement's containers.
+    pub shot_kg: f64,
+    /// Bounds of the clearance, mm (`0 < lo < hi`, finite).
+    pub clearance_mm: (f64, f64),
+    /// One clearance for every container (else one each).
+    pub shared_clearance: bool,
+}
+
+/// Search settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Starts per placement: the first at an even split and the geometric middle of the
+    /// clearance bounds, the others seeded around it.
+    pub starts: usize,
+    /// Nelder-Mead iterations per start.
+    pub max_iters: u64,
+    /// Stop a start when the standard deviation of the simplex's objectives falls below this.
+    pub tolerance: f64,
+    pub seed: u64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { starts: 3, max_iters: 100, tolerance: 1e-6, seed: 1 }
+    }
+}
+
+/// Every non-empty subset of `masses` with at most `max` elements, smallest first, each in
+/// ascending order.
+pub fn placements(masses: &[usize], max: usize) -> Vec<Vec<usize>> {
+    let mut sorted = masses.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    let n = sorted.len();
+    let mut out: Vec<Vec<usize>> = (1u64..(1 << n))
+        .filter(|mask| (mask.count_ones() as usize) <= max)
+        .map(|mask| (0..n).filter(|i| mask & (1 << i) != 0).map(|i| sorted[i]).collect())
+        .collect();
+    out.sort_by(|a, b| a.len().cmp(&b.len()).then(a.cmp(b)));
+    out
+}
+
+/// The number of free coordinates of a placement of `k` containers.
+pub fn dimension(k: usize, space: &Space) -> usize {
+    (k - 1) + if space.shared_clearance { 1 } else { k }
+}
+
+fn sigmoid(z: f64) -> f64 {
+    1.0 / (1.0 + (-z).exp())
+}
+
+/// The layout of free coordinates `x` for `hosts`: shares by a softmax of `(0, x_1..x_{k-1})`,
+/// clearances `lo (hi/lo)^sigmoid(z)` (every coordinate maps into the bounds).
+pub fn layout(hosts: &[usize], x: &[f64], space: &Space) -> Layout {
+    let k = hosts.len();
+    let logits: Vec<f64> = std::iter::once(0.0).chain(x[..k - 1].iter().copied()).collect();
+    let top = logits.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let w: Vec<f64> = logits.iter().map(|l| (l - top).exp()).collect();
+    let sum: f64 = w.iter().sum();
+    let (lo, hi) = space.clearance_mm;
+    let clearance = |z: f64| lo * (hi / lo).powf(sigmoid(z));
+    let clearances_mm = if space.shared_clearance {
+        vec![clearance(x[k - 1]); k]
+    } else {
+        x[k - 1..].iter().map(|&z| clearance(z)).collect()
+    };
+    Layout { hosts: hosts.to_vec(), masses_kg: w.iter().map(|wi| space.shot_kg * wi / sum).collect(), clearances_mm }
+}
+
+/// The objective as Nelder-Mead minimises it (a point that cannot be computed is +1e300).
+struct Cost<'a> {
+    problem: &'a Problem,
+    bare: &'a [f64],
+    hosts: &'a [usize],
+    space: &'a Space,
+    /// Evaluations made (argmin's own count depends on how it wraps the problem).
+    count: std::sync::atomic::AtomicU64,
+}
+
+impl CostFunction for Cost<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
+        self.count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let e = evaluate(self.problem, self.bare, &layout(self.hosts, x, self.space));
+        Ok(if e.objective.is_finite() { e.objective } else { 1e300 })
+    }
+}
+
+/// The best layout found for one placement, and how it was found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    pub layout: Layout,
+    pub evaluation: Evaluation,
+    /// Free coordinates of the best point.
+    pub x: Vec<f64>,
+    /// Starts run and objective evaluations made.
+    pub starts: usize,
+    pub evaluations: u64,
+}
+
+/// SplitMix64: the seeded perturbations of the starts.
+fn splitmix(state: &mut u64) -> f64 {
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// The starting points of a placement (deterministic in the seed and the placement).
+fn starts(hosts: &[usize], space: &Space, opts: &Options) -> Vec<Vec<f64>> {
+    let d = dimension(hosts.len(), space);
+    let mut state = opts.seed ^ hosts.iter().fold(0u64, |h, m| h.wrapping_mul(31).wrapping_add(*m as u64 + 1));
+    (0..opts.starts.max(1))
+        .map(|s| if s == 0 { vec![0.0; d] } else { (0..d).map(|_| 4.0 * splitmix(&mut state) - 2.0).collect() })
+        .collect()
+}
+
+/// The end of one Nelder-Mead run: its best point, objective and evaluations.
+type Descent = (Vec<f64>, f64, u64);
+
+/// One Nelder-Mead run from `x0` (initial simplex: steps of 1 along each coordinate).
+fn descend(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
+    let d = x0.len();
+    let mut simplex = vec![x0.clone()];
+    for i in 0..d {
+        let mut v = x0.clone();
+        v[i] += 1.0;
+        simplex.push(v);
+    }
+    let solver = NelderMead::new(simplex).with_sd_tolerance(opts.tolerance).ok()?;
+    let res = Executor::new(cost, solver).configure(|s| s.max_iters(opts.max_iters)).run().ok()?;
+    let evaluations = res.problem.problem.as_ref().map_or(0, |c| c.count.load(std::sync::atomic::Ordering::Relaxed));
+    let state = res.state();
+    Some((state.get_best_param()?.clone(), state.get_best_cost(), evaluations))
+}
+
+/// The best layout for each placement of `space`, in the order of `space.placements` (every
+/// placement's starts run in parallel; each run is sequential).
+pub fn optimise(problem: &Problem, bare: &[f64], space: &Space, opts: &Options) -> Vec<Found> {
+    let runs: Vec<(usize, Vec<f64>)> = space
+        .placements
+        .iter()
+        .enumerate()
+        .flat_map(|(p, hosts)| starts(hosts, space, opts).into_iter().map(move |x| (p, x)))
+        .collect();
+    let results: Vec<(usize, Option<Descent>)> = runs
+        .into_par_iter()
+        .map(|(p, x0)| {
+            let hosts = &space.placements[p];
+            (p, descend(Cost { problem, bare, hosts, space, count: Default::default() }, x0, opts))
+        })
+        .collect();
+    space
+        .placements
+        .iter()
+        .enumerate()
+        .map(|(p, hosts)| {
+            let mine: Vec<&Descent> = results.iter().filter(|(q, _)| *q == p).filter_map(|(_, r)| r.as_ref()).collect();
+            let evaluations = mine.iter().map(|r| r.2).sum();
+            // The lowest objective; of equal ones the first start's.
+            let best = mine.iter().fold(None::<&&Descent>, |b, r| match b {
+                Some(b) if b.1 <= r.1 => Some(b),
+                _ => Some(r),
+            });
+            let x = best.map(|b| b.0.clone()).unwrap_or_else(|| vec![0.0; dimension(hosts.len(), space)]);
+            let layout = layout(hosts, &x, space);
+            let evaluation = evaluate(problem, bare, &layout);
+            Found { layout, evaluation, x, starts: mine.len(), evaluations }
+        })
+        .collect()
+}
+
+/// Every layout of a grid: for each placement, each clearance of `clearances_mm` (shared) and
+/// each split of `shares` (fractions of the shot for the first `k - 1` containers, the rest to
+/// the last; splits that do not leave the last a share of at least 0 are skipped). In order,
+/// computed in parallel.
+pub fn grid(
+    problem: &Problem,
+    bare: &[f64],
+    space: &Space,
+    clearances_mm: &[f64],
+    shares: &[f64],
+) -> Vec<(Layout, Evaluation)> {
+    let mut layouts = Vec::new();
+    for hosts in &space.placements {
+        let k = hosts.len();
+        let mut splits: Vec<Vec<f64>> = vec![Vec::new()];
+        for _ in 1..k {
+            splits =
+                splits.into_iter().flat_map(|s| shares.iter().map(move |&f| [s.clone(), vec![f]].concat())).collect();
+        }
+        for split in splits {
+            let used: f64 = split.iter().sum();
+            if used > 1.0 + 1e-12 {
+                continue;
+            }
+            let fractions: Vec<f64> = split.iter().copied().chain(std::iter::once((1.0 - used).max(0.0))).collect();
+            for &d in clearances_mm {
+                layouts.push(Layout {
+                    hosts: hosts.clone(),
+                    masses_kg: fractions.iter().map(|f| f * space.shot_kg).collect(),
+                    clearances_mm: vec![d; k],
+                });
+            }
+        }
+    }
+    layouts
+        .into_par_iter()
+        .map(|l| {
+            let e = evaluate(problem, bare, &l);
+            (l, e)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn placements_are_every_subset_up_to_the_limit_in_a_fixed_order() {
+        assert_eq!(
+            placements(&[2, 0, 1], 3),
+            vec![vec![0], vec![1], vec![2], vec![0, 1], vec![0, 2], vec![1, 2], vec![0, 1, 2]]
+        );
+        assert_eq!(placements(&[0, 1, 2], 1), vec![vec![0], vec![1], vec![2]]);
+    }
+
+    #[test]
+    fn free_coordinates_map_into_the_bounds_and_keep_the_shot() {
+        let space = Space { placements: vec![], shot_kg: 0.2, clearance_mm: (0.05, 2.0), shared_clearance: false };
+        for x in
+            [vec![0.0, 0.0, 0.0, 0.0, 0.0], vec![30.0, -30.0, 50.0, -50.0, 0.3], vec![-1.0, 2.0, -700.0, 700.0, 1.0]]
+        {
+            let l = layout(&[0, 1, 2], &x, &space);
+            assert!((l.shot_kg() - 0.2).abs() < 1e-15);
+            assert!(l.masses_kg.iter().all(|m| *m >= 0.0));
+            assert!(l.clearances_mm.iter().all(|d| (0.05..=2.0).contains(d)), "{:?}", l.clearances_mm);
+        }
+        // The origin: an even split and the geometric middle of the bounds.
+        let l = layout(&[0, 2], &[0.0, 0.0], &Space { shared_clearance: true, ..space });
+        assert_eq!(l.masses_kg, vec![0.1, 0.1]);
+        assert!((l.clearances_mm[0] - (0.05f64 * 2.0).sqrt()).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,133 @@
+//! The design search (src/design): its objective against closed forms and the ordinary
+//! experiment pipeline, the optimiser against a brute-force grid, and determinism for any
+//! number of threads.
+
+mod common;
+
+use shotdamp::design::search::{grid, optimise, placements, Options, Space};
+use shotdamp::design::{band_compliance, bare, evaluate, Band, Layout, Measure, Problem, Sweep};
+use shotdamp::model::frf::compliance_curve;
+use shotdamp::model::{Damping, Structure};
+use shotdamp::sim::{SteadyOptions, System};
+
+fn paper() -> Structure {
+    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
+}
+
+fn problem(bands: Vec<Band>, sweeps: Vec<Sweep>) -> Problem {
+    Problem {
+        structure: paper(),
+        driven: 0,
+        force: 2.6,
+        bands,
+        measure: Measure::Peak,
+        sweeps,
+        steady: SteadyOptions::default(),
+    }
+}
+
+fn grid_hz(start: f64, stop: f64, step: f64) -> Vec<f64> {
+    let n = ((stop - start) / step + 1e-9).floor() as usize + 1;
+    (0..n).map(|i| ((start + step * i as f64) * 1e9).round() / 1e9).collect()
+}
+
+/// No shot: the simulator's certified orbits are the exact linear response of the bare
+/// structure (a closed form), and the objective is 1.
+#[test]
+fn zero_shot_gives_the_bare_structures_exact_linear_response() {
+    let band = Band { name: "8-60 Hz".into(), freq_hz: grid_hz(8.0, 60.0, 1.0), masses: vec![0, 1, 2] };
+    let p = problem(vec![band.clone()], vec![Sweep::Rest, Sweep::Up]);
+    let sys = System::plastic(p.structure.clone(), Vec::new(), 0, 2.6);
+    let (c, unsettled) = band_compliance(&sys, &band, &p.sweeps, &p.steady);
+    assert_eq!(unsettled, 0);
+    let omegas: Vec<f64> = band.freq_hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
+    let exact = compliance_curve(&p.structure, &p.structure.mass_matrix(), 0, &omegas);
+    for (row, ex) in c.iter().zip(&exact) {
+        for m in 0..3 {
+            assert!((row[m] - ex[m]).abs() <= 1e-9 * ex[m], "{} vs {}", row[m], ex[m]);
+        }
+    }
+    let b = bare(&p);
+    let none = Layout { hosts: vec![0, 1], masses_kg: vec![0.0, 0.0], clearances_mm: vec![0.3, 0.3] };
+    let e = evaluate(&p, &b, &none);
+    assert_eq!(e.objective, 1.0);
+    assert_eq!(e.bands, b);
+}
+
+/// The paper's Fig. 8 case D (mu = 0.1 on m1, m2, m3, d = inf) as a layout: its band peak is
+/// the peak of the Fig. 8 experiment's own curve D on the stated chain, to 1e-9.
+#[test]
+fn an_infinite_clearance_layout_gives_the_fig08_sweep_of_case_d() {
+    let root = common::repo();
+    let exps =
+        shotdamp::experiment::load(&root.join("experiments/fig08_number_of_dampers.toml"), &root.join("reference"))
+            .unwrap();
+    let exp = exps.iter().find(|e| e.model.as_ref().is_some_and(|m| m.id == "stated")).unwrap();
+    let refs = shotdamp::checks::reference::ReferenceStore::load(&root.join("reference"), &exps).unwrap();
+    let result = shotdamp::analysis::run(exp, &refs, &|| {}).unwrap();
+    let d = result.curves.get("D").expect("curve D");
+    let peak = d.compliance.iter().flat_map(|r| r.iter().copied()).fold(0.0, f64::max);
+    let p = Problem {
+        structure: exp.structure.clone(),
+        ..problem(
+            vec![Band { name: "Fig. 8".into(), freq_hz: d.freq_hz.clone(), masses: vec![0, 1, 2] }],
+            vec![Sweep::Rest],
+        )
+    };
+    let masses: Vec<f64> = [0.74, 0.71, 0.64].iter().map(|m| 0.1 * m).collect();
+    let layout = Layout { hosts: vec![0, 1, 2], masses_kg: masses, clearances_mm: vec![f64::INFINITY; 3] };
+    let b = bare(&p);
+    let e = evaluate(&p, &b, &layout);
+    assert!((e.bands[0] - peak).abs() <= 1e-9 * peak, "{} vs {peak}", e.bands[0]);
+    assert!(e.objective < 1.0, "three dampers lower the worst peak of 8-60 Hz: {}", e.objective);
+}
+
+fn small() -> (Problem, Vec<f64>, Space) {
+    let band = Band { name: "mode 3".into(), freq_hz: grid_hz(46.0, 50.0, 0.5), masses: vec![1] };
+    let p = problem(vec![band], vec![Sweep::Up, Sweep::Down]);
+    let b = bare(&p);
+    let space = Space {
+        placements: vec![vec![1], vec![0, 1]],
+        shot_kg: 0.071,
+        clearance_mm: (0.05, 1.0),
+        shared_clearance: true,
+    };
+    (p, b, space)
+}
+
+/// On a small problem (two placements, a shared clearance and a shot split) the optimiser's best
+/// is never worse than a fine grid's best by more than 1 %.
+#[test]
+fn the_optimiser_matches_a_brute_force_grid() {
+    let (p, b, space) = small();
+    let clearances: Vec<f64> = (0..30).map(|i| 0.05 * (20.0f64).powf(i as f64 / 29.0)).collect();
+    let shares: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
+    let brute = grid(&p, &b, &space, &clearances, &shares);
+    let grid_best = brute.iter().map(|(_, e)| e.objective).fold(f64::INFINITY, f64::min);
+    let found = optimise(&p, &b, &space, &Options::default());
+    let best = found.iter().map(|f| f.evaluation.objective).fold(f64::INFINITY, f64::min);
+    assert!(best <= grid_best * 1.01, "optimiser {best} vs grid {grid_best}");
+    assert!(best < 1.0, "a damper lowers the 3rd resonance: {best}");
+    for f in &found {
+        assert!((f.layout.shot_kg() - 0.071).abs() < 1e-12);
+        assert!(f.evaluations > 0);
+    }
+}
+
+/// Seeded runs give the same bytes for one thread and two.
+#[test]
+fn the_search_is_the_same_for_any_number_of_threads() {
+    let (p, b, space) = small();
+    let opts = Options { starts: 2, max_iters: 15, ..Options::default() };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| optimise(&p, &b, &space, &opts))
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(format!("{one:?}"), format!("{two:?}"));
+}
+
+#[test]
+fn placements_of_the_paper_structure() {
+    assert_eq!(placements(&[0, 1, 2], 3).len(), 7);
+}
