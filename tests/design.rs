@@ -131,3 +131,46 @@ fn the_search_is_the_same_for_any_number_of_threads() {
 fn placements_of_the_paper_structure() {
     assert_eq!(placements(&[0, 1, 2], 3).len(), 7);
 }
+
+/// Bad design files are input errors naming the key, with exit 2 and nothing written.
+#[test]
+fn bad_design_files_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap();
+    for (from, to, key) in [
+        ("candidates = [1, 2, 3, 4, 5]", "candidates = []", "design.candidates"),
+        ("shot_mass_ratio = 0.05", "shot_mass_ratio = 0.0", "design.shot_mass_ratio"),
+        ("shot_mass_ratio = 0.05", "shot_mass_ratio = -1.0", "design.shot_mass_ratio"),
+        (
+            "freq_hz = { start = 5.0, stop = 8.0, step = 0.1 }",
+            "freq_hz = { start = 8.0, stop = 5.0, step = 0.1 }",
+            "design.bands[0].freq_hz.stop",
+        ),
+        ("masses = [5]\n\n[[design.bands]]", "masses = [6]\n\n[[design.bands]]", "design.bands[0].masses[0]"),
+        ("clearance_mm = [0.5, 50.0]", "clearance_mm = [50.0, 0.5]", "design.clearance_mm"),
+        ("max_beds = 2", "max_beds = 9", "design.max_beds"),
+        ("sweeps = [\"up\", \"down\"]", "sweeps = [\"sideways\"]", "design.sweeps[0]"),
+        ("kind = \"design\"", "kind = \"modal\"", "design"),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = dir.path().join("bad.toml");
+        std::fs::write(&bad, text.replacen(from, to, 1)).unwrap();
+        let out_dir = dir.path().join("out");
+        let out = common::shotdamp()
+            .args(["design", bad.to_str().unwrap(), "--out", out_dir.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{to}: {err}");
+        assert!(err.contains(key) && err.contains("bad.toml"), "{to}: {err}");
+        assert!(!out_dir.exists(), "nothing written for bad input");
+    }
+    // An experiment that is not a design, given to `shotdamp design`.
+    let out = common::shotdamp()
+        .args(["design", "experiments/fig04b_no_damper.toml", "--out"])
+        .arg(dir.path().join("o"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("analysis.kind"));
+}

@@ -7,6 +7,7 @@ mod claim_checks;
 mod clearance;
 pub mod curves;
 mod decay_checks;
+pub mod design;
 mod digitised_checks;
 mod figures;
 pub mod impulse;
@@ -93,6 +94,7 @@ pub fn work(exp: &Experiment, refs: &ReferenceStore) -> u64 {
         Analysis::SdofPeriodic { freq_hz, clearances_mm, .. } => {
             (clearances_mm.as_ref().map_or(0, |c| c.len()) + 2 + freq_hz.len()) as u64
         }
+        Analysis::Design { .. } => 2,
     }
 }
 
@@ -154,6 +156,12 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             tables.extend(out.tables);
             figures.extend(out.figures);
             decays = out.decays;
+        }
+        Analysis::Design { spec, steady } => {
+            let out = design::run(exp, spec, steady, tick);
+            tables.extend(out.tables);
+            figures.extend(out.figures);
+            exports = out.exports;
         }
         Analysis::SdofPeriodic { mode, freq_hz, clearances_mm, steady } => {
             if let Some(r) = orbits::run(exp, &modes, *mode, freq_hz, clearances_mm.as_deref(), steady, tick) {

@@ -121,6 +121,20 @@ pub enum Command {
         #[arg(long, default_value = "comparison")]
         out: PathBuf,
     },
+    /// Run a design file (analysis kind "design", docs/design.md): the best placements, shot
+    /// split and clearances, the reference layouts, the clearance profile and the Pareto front,
+    /// written as a report.
+    Design {
+        /// Design files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Report folder.
+        #[arg(long, default_value = "design-runs")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
     /// Run every experiment and regenerate the whole report.
     Report {
         /// Report folder.
@@ -247,6 +261,19 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         Command::Run { files, out, jobs, templates } => {
             let exps = experiment::load_all(files, &cli.reference)?;
             run_and_write(&exps, &[], &cli.reference, out, *jobs, templates.as_deref(), BaselineMode::Optional)
+        }
+        Command::Design { files, out, jobs } => {
+            let exps = experiment::load_all(files, &cli.reference)?;
+            if let Some(e) = exps.iter().find(|e| e.analysis.kind() != "design") {
+                return Err(crate::Error::invalid(
+                    &e.path,
+                    "analysis.kind",
+                    format!("\"{}\"", e.analysis.kind()),
+                    "`shotdamp design` runs design files (kind = \"design\"); run other experiments with `shotdamp run`",
+                )
+                .into());
+            }
+            run_and_write(&exps, &[], &cli.reference, out, *jobs, None, BaselineMode::Optional)
         }
         Command::Reference { command: ReferenceCommand::Import { .. } } => {
             import(&cli.command, &cli.reference)?;

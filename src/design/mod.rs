@@ -13,6 +13,25 @@ use crate::model::{Damper, Structure};
 use crate::sim::sweep::{self, Direction, SweepPoint};
 use crate::sim::{SteadyOptions, System};
 
+/// What a design file asks (`[design]`, validated): see docs/design.md.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spec {
+    /// 0-based masses that may carry a container.
+    pub candidates: Vec<usize>,
+    pub max_beds: usize,
+    /// Total shot mass, kg.
+    pub shot_kg: f64,
+    /// Bounds of the clearance, mm.
+    pub clearance_mm: (f64, f64),
+    pub shared_clearance: bool,
+    pub bands: Vec<Band>,
+    pub measure: Measure,
+    pub sweeps: Vec<Sweep>,
+    pub search: search::Options,
+    /// Total shot mass ratios of the Pareto front (may be empty).
+    pub pareto_mass_ratios: Vec<f64>,
+}
+
 /// A frequency band and the masses whose compliance counts in it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Band {

@@ -26,8 +26,8 @@ pub struct Space {
 /// Search settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
-    /// Starts per placement: the first at an even split and the geometric middle of the
-    /// clearance bounds, the others seeded around it.
+    /// Starts per placement: the first at an even split and the best clearance of a coarse
+    /// scan, the others seeded.
     pub starts: usize,
     /// Nelder-Mead iterations per start.
     pub max_iters: u64,
@@ -154,14 +154,48 @@ fn descend(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
     Some((state.get_best_param()?.clone(), state.get_best_cost(), evaluations))
 }
 
+/// Clearance coordinates of the coarse scan that places the first start: the objective is
+/// flat wherever the beds no longer reach the top (the clearance then acts as none), so a
+/// simplex started there may never see the clearances that matter.
+const COARSE: [f64; 7] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
+
+/// The first start of a placement: an even split and the best shared clearance of a coarse
+/// scan ([`COARSE`]).
+fn coarse_start(problem: &Problem, bare: &[f64], hosts: &[usize], space: &Space) -> Vec<f64> {
+    let d = dimension(hosts.len(), space);
+    let k = hosts.len();
+    let at = |z: f64| {
+        let mut x = vec![0.0; d];
+        x[k - 1..].iter_mut().for_each(|c| *c = z);
+        x
+    };
+    let scored: Vec<(f64, f64)> = COARSE
+        .par_iter()
+        .map(|&z| {
+            let e = evaluate(problem, bare, &layout(hosts, &at(z), space));
+            (z, if e.objective.is_finite() { e.objective } else { f64::INFINITY })
+        })
+        .collect();
+    // The lowest; of equal ones the first (the smallest clearance).
+    let best = scored.iter().fold((0.0, f64::INFINITY), |b, &(z, o)| if o < b.1 { (z, o) } else { b });
+    at(best.0)
+}
+
 /// The best layout for each placement of `space`, in the order of `space.placements` (every
-/// placement's starts run in parallel; each run is sequential).
+/// placement's starts run in parallel; each run is sequential). The first start of each
+/// placement comes from a coarse scan of the clearance ([`COARSE`]), the others are seeded.
 pub fn optimise(problem: &Problem, bare: &[f64], space: &Space, opts: &Options) -> Vec<Found> {
+    let firsts: Vec<Vec<f64>> =
+        space.placements.par_iter().map(|hosts| coarse_start(problem, bare, hosts, space)).collect();
     let runs: Vec<(usize, Vec<f64>)> = space
         .placements
         .iter()
         .enumerate()
-        .flat_map(|(p, hosts)| starts(hosts, space, opts).into_iter().map(move |x| (p, x)))
+        .flat_map(|(p, hosts)| {
+            let mut xs = starts(hosts, space, opts);
+            xs[0] = firsts[p].clone();
+            xs.into_iter().map(move |x| (p, x))
+        })
         .collect();
     let results: Vec<(usize, Option<Descent>)> = runs
         .into_par_iter()
@@ -176,7 +210,7 @@ pub fn optimise(problem: &Problem, bare: &[f64], space: &Space, opts: &Options) 
         .enumerate()
         .map(|(p, hosts)| {
             let mine: Vec<&Descent> = results.iter().filter(|(q, _)| *q == p).filter_map(|(_, r)| r.as_ref()).collect();
-            let evaluations = mine.iter().map(|r| r.2).sum();
+            let evaluations = mine.iter().map(|r| r.2).sum::<u64>() + COARSE.len() as u64;
             // The lowest objective; of equal ones the first start's.
             let best = mine.iter().fold(None::<&&Descent>, |b, r| match b {
                 Some(b) if b.1 <= r.1 => Some(b),

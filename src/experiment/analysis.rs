@@ -14,8 +14,7 @@ use super::{Analysis, Number, Start};
 const MAX_GRID_POINTS: usize = 100_000;
 
 /// The analysis kinds, for messages.
-const KINDS: &str =
-    "\"modal\", \"linear_frf\", \"sweep\", \"clearance_study\", \"waveform\", \"impulse\", \"sdof_periodic\"";
+const KINDS: &str = "\"modal\", \"linear_frf\", \"sweep\", \"clearance_study\", \"waveform\", \"impulse\", \"sdof_periodic\", \"design\"";
 
 /// A frequency grid in Hz, validated.
 pub fn grid(path: &Path, key: &str, g: &RawGrid) -> Result<Vec<f64>> {
@@ -150,7 +149,13 @@ fn number(path: &Path, key: &str, v: &toml::Value) -> Result<Number> {
 }
 
 /// Validates `[analysis]`; `n` is the number of masses, `case_ids` the cases of the file.
-pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> Result<Analysis> {
+pub fn analysis(
+    path: &Path,
+    a: RawAnalysis,
+    n: usize,
+    case_ids: &[String],
+    design: Option<crate::design::Spec>,
+) -> Result<Analysis> {
     let steady = steady(path, a.steady.as_ref())?;
     // Keys of [analysis] that each kind reads; any other key given is an error.
     let given: [(&str, bool); 18] = [
@@ -182,6 +187,7 @@ pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> R
         }
         "waveform" => &["frequencies_hz", "labels", "periods", "steady"],
         "sdof_periodic" => &["mode", "freq_hz", "clearances_mm", "steady"],
+        "design" => &["steady"],
         "impulse" => &[
             "struck_mass",
             "initial_velocity_m_s",
@@ -301,6 +307,10 @@ pub fn analysis(path: &Path, a: RawAnalysis, n: usize, case_ids: &[String]) -> R
             Ok(Analysis::Waveform { frequencies, labels, periods, steady })
         }
         "impulse" => impulse(path, &a, n),
+        "design" => match design {
+            Some(spec) => Ok(Analysis::Design { spec: Box::new(spec), steady }),
+            None => Err(Error::invalid(path, "design", "(missing)", "analysis kind \"design\" needs a [design] table")),
+        },
         "sdof_periodic" => {
             let mode = match a.mode {
                 Some(m) if m >= 1 && m as usize <= n => m as usize - 1,

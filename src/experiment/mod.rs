@@ -3,6 +3,7 @@
 
 mod analysis;
 mod checks;
+mod design;
 mod fields;
 mod load;
 mod outputs;
@@ -141,6 +142,9 @@ pub enum Analysis {
         clearances_mm: Option<Vec<f64>>,
         steady: SteadyOptions,
     },
+    /// A design search: placements, shot split and clearances lowering the compliance over
+    /// bands (`[design]`, docs/design.md), with the cases as reference layouts.
+    Design { spec: Box<crate::design::Spec>, steady: SteadyOptions },
     /// Free decay after an impulse: histories, envelopes, decay times, energy, spectrum.
     Impulse {
         options: ImpulseOptions,
@@ -162,6 +166,7 @@ impl Analysis {
             Analysis::Waveform { .. } => "waveform",
             Analysis::Impulse { .. } => "impulse",
             Analysis::SdofPeriodic { .. } => "sdof_periodic",
+            Analysis::Design { .. } => "design",
         }
     }
 }

@@ -11,7 +11,7 @@ use super::{Analysis, Linear, PlotKind, PlotSpec, Scale};
 /// Plot kinds each analysis kind can draw.
 fn plot_kinds(analysis: &Analysis) -> &'static [(&'static str, PlotKind)] {
     match analysis {
-        Analysis::Modal => &[],
+        Analysis::Modal | Analysis::Design { .. } => &[],
         Analysis::LinearFrf { .. } | Analysis::Sweep { .. } => {
             &[("compliance", PlotKind::Compliance), ("compliance_panels", PlotKind::CompliancePanels)]
         }

@@ -19,6 +19,9 @@ pub struct RawExperiment {
     pub structure: RawStructure,
     pub excitation: RawExcitation,
     pub analysis: RawAnalysis,
+    /// The design search of `kind = "design"` (docs/design.md).
+    #[serde(default)]
+    pub design: Option<RawDesign>,
     #[serde(default)]
     pub cases: Vec<RawCase>,
     #[serde(default)]
@@ -196,6 +199,55 @@ pub struct RawSteady {
     pub max_periods: Option<i64>,
     #[serde(default)]
     pub record_periods: Option<i64>,
+}
+
+/// `[design]`: what a design search may vary and what it lowers (docs/design.md).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDesign {
+    /// 1-based masses that may carry a container.
+    pub candidates: Vec<i64>,
+    /// Most containers in one layout (default: every candidate).
+    #[serde(default)]
+    pub max_beds: Option<i64>,
+    /// The shot budget: total shot mass over the structure's total mass ...
+    #[serde(default)]
+    pub shot_mass_ratio: Option<f64>,
+    /// ... or in kg.
+    #[serde(default)]
+    pub shot_kg: Option<f64>,
+    /// Bounds of the clearance, mm: `[min, max]`.
+    pub clearance_mm: Vec<f64>,
+    /// One clearance for every container (default) or one each.
+    #[serde(default)]
+    pub shared_clearance: Option<bool>,
+    /// "peak" (default) or "rms".
+    #[serde(default)]
+    pub measure: Option<String>,
+    /// Sweeps whose worst value counts: any of "rest", "up", "down" (default ["up", "down"]).
+    #[serde(default)]
+    pub sweeps: Option<Vec<String>>,
+    /// Nelder-Mead starts per placement (default 3), iterations per start (default 100).
+    #[serde(default)]
+    pub starts: Option<i64>,
+    #[serde(default)]
+    pub max_iters: Option<i64>,
+    #[serde(default)]
+    pub seed: Option<i64>,
+    /// Total shot mass ratios of the Pareto front (optional).
+    #[serde(default)]
+    pub pareto_mass_ratios: Option<Vec<f64>>,
+    pub bands: Vec<RawBand>,
+}
+
+/// One band of `[design]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBand {
+    pub name: String,
+    pub freq_hz: RawGrid,
+    /// 1-based masses whose compliance counts.
+    pub masses: Vec<i64>,
 }
 
 /// A frequency grid: `start`, `stop` and either `points` or `step`.

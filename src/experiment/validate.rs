@@ -53,7 +53,9 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
 
     let cases = cases(path, raw.cases, &structure)?;
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
-    let analysis = analysis(path, raw.analysis, n, &case_ids)?;
+    let total_mass = structure.mass_matrix().trace();
+    let design = super::design::design(path, raw.design, &raw.analysis.kind, n, total_mass)?;
+    let analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
     let scanning = matches!(analysis, Analysis::ClearanceStudy { .. });
     let may_scan = matches!(analysis, Analysis::SdofPeriodic { clearances_mm: Some(_), .. });
     for (ci, case) in cases.iter().enumerate() {
