@@ -6,14 +6,13 @@
 use std::collections::BTreeMap;
 
 use crate::design::search::{optimise, placements, Found, Space};
-use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Spec};
+use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec};
 use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
+use crate::model::{Damping, Structure};
 use crate::number::fmt_num;
 use crate::sim::{SteadyOptions, System};
 use crate::table::Table;
-
-use super::Tick;
 
 /// Clearances of the profile around the best layout.
 const PROFILE_POINTS: usize = 25;
@@ -28,16 +27,47 @@ pub struct DesignOutput {
     pub exports: BTreeMap<String, f64>,
 }
 
-/// The design problem of an experiment.
+/// The design problem of an experiment, with its scenarios (every combination of the
+/// damping ratios and forces of `[design.scenarios]`, the experiment's own value where a list
+/// is not given).
 pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem {
+    let s = &exp.structure;
+    let mut scenarios = Vec::new();
+    if !(spec.scenario_damping.is_empty() && spec.scenario_force_n.is_empty()) {
+        let dampings: Vec<Option<f64>> = if spec.scenario_damping.is_empty() {
+            vec![None]
+        } else {
+            spec.scenario_damping.iter().map(|z| Some(*z)).collect()
+        };
+        let forces: Vec<f64> =
+            if spec.scenario_force_n.is_empty() { vec![exp.excitation.force] } else { spec.scenario_force_n.clone() };
+        for z in &dampings {
+            for &f in &forces {
+                let (structure, zname) = match z {
+                    Some(z) => (
+                        Structure::from_matrices(
+                            &s.masses,
+                            s.stiffness.clone(),
+                            Damping::ModalRatios(vec![*z; s.dof()]),
+                        ),
+                        format!("damping {}", fmt_num(*z)),
+                    ),
+                    None => (s.clone(), "damping as the model".to_string()),
+                };
+                scenarios.push(Scenario { name: format!("{zname}, F {} N", fmt_num(f)), structure, force: f });
+            }
+        }
+    }
     Problem {
-        structure: exp.structure.clone(),
+        structure: s.clone(),
         driven: exp.excitation.mass,
         force: exp.excitation.force,
         bands: spec.bands.clone(),
         measure: spec.measure,
         sweeps: spec.sweeps.clone(),
         steady: *steady,
+        scenarios,
+        combine: spec.combine,
     }
 }
 
@@ -50,7 +80,13 @@ fn joined(v: &[f64]) -> String {
 }
 
 /// A table of layouts with their evaluations.
-fn layouts_table(name: &str, description: &str, spec: &Spec, rows: &[(String, Layout, Evaluation, u64)]) -> Table {
+fn layouts_table(
+    name: &str,
+    description: &str,
+    spec: &Spec,
+    scenarios: &[String],
+    rows: &[(String, Layout, Evaluation, u64)],
+) -> Table {
     let mass = |l: &Layout| -> Vec<f64> { l.masses_kg.clone() };
     let mut t = Table::new(name, description)
         .str("layout", rows.iter().map(|r| r.0.clone()).collect())
@@ -68,6 +104,7 @@ fn layouts_table(name: &str, description: &str, spec: &Spec, rows: &[(String, La
             .map(|r| format!("{} at {} Hz, m{}", spec.bands[r.2.worst.0].name, fmt_num(r.2.worst.1), r.2.worst.2 + 1))
             .collect(),
     )
+    .str("scenario", rows.iter().map(|r| scenarios.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
     .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
     .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
 }
@@ -82,9 +119,10 @@ fn case_layout(case: &crate::experiment::Case) -> Layout {
 }
 
 /// Runs the design of `exp`.
-pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &Tick) -> DesignOutput {
+pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn() + Sync)) -> DesignOutput {
     let p = problem(exp, spec, steady);
     let b = bare(&p);
+    let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
     let space = Space {
         placements: placements(&spec.candidates, spec.max_beds),
         shot_kg: spec.shot_kg,
@@ -115,6 +153,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &Tick) -
             fmt_num(spec.clearance_mm.1)
         ),
         spec,
+        &names,
         &rows,
     ));
     // The experiment's cases as reference layouts (the paper's, one container on the loop
@@ -135,6 +174,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &Tick) -
         "design_cases",
         "The experiment's cases as reference layouts, with the same objective",
         spec,
+        &names,
         &case_rows,
     ));
     let mut figures = Vec::new();
@@ -229,6 +269,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &Tick) -
             "design_pareto",
             "The best layout for each total shot mass ratio (the Pareto front of shot mass against the objective)",
             spec,
+            &names,
             &rows,
         ));
         let x: Vec<f64> = front.iter().map(|(r, _)| *r).collect();

@@ -188,15 +188,10 @@ fn shard(args: &StudyArgs, out: &Path, manifest: &Manifest) -> anyhow::Result<Sh
             .filter(|m| m.fingerprint == manifest.fingerprint && m.shards > 0)
             .map(|m| m.shards.to_string())
     };
-    let count = |from_env: Option<String>| -> anyhow::Result<Option<String>> {
-        Ok(match (args.shards, recorded()) {
-            (Some(n), _) => Some(n.to_string()),
-            (None, Some(n)) => Some(n),
-            (None, None) => from_env,
-        })
-    };
+    // The number of shards from --shards, else from the folder.
+    let count = || args.shards.map(|n| n.to_string()).or_else(recorded);
     if let Some(i) = env("SLURM_ARRAY_TASK_ID") {
-        let n = match count(None)? {
+        let n = match count() {
             Some(n) => n,
             None => {
                 let (min, max, step, total) = (
@@ -233,7 +228,7 @@ fn shard(args: &StudyArgs, out: &Path, manifest: &Manifest) -> anyhow::Result<Sh
         return parse("SLURM_ARRAY_TASK_ID/shards", &i, &n);
     }
     if let Some(i) = env("JOB_COMPLETION_INDEX") {
-        let Some(n) = count(None)? else {
+        let Some(n) = count() else {
             return Err(bad(
                 "--shards",
                 "(missing)",

@@ -30,6 +30,11 @@ pub struct Spec {
     pub search: search::Options,
     /// Total shot mass ratios of the Pareto front (may be empty).
     pub pareto_mass_ratios: Vec<f64>,
+    /// Modal damping ratios (every mode) and force amplitudes (N) of the scenarios: every
+    /// combination, the nominal value where a list is empty; no scenarios when both are.
+    pub scenario_damping: Vec<f64>,
+    pub scenario_force_n: Vec<f64>,
+    pub combine: Combine,
 }
 
 /// A frequency band and the masses whose compliance counts in it.
@@ -64,18 +69,53 @@ pub enum Sweep {
     Down,
 }
 
+/// One scenario of the values a design must cope with (the paper leaves the damping and the
+/// force that reaches m1 unstated): the structure and the force amplitude.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    /// Name for tables, e.g. "damping 0.005, F 2.6 N".
+    pub name: String,
+    pub structure: Structure,
+    /// Force amplitude, N.
+    pub force: f64,
+}
+
+/// How the objectives of the scenarios combine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Combine {
+    /// The worst scenario counts.
+    Worst,
+    /// The mean over the scenarios.
+    Mean,
+}
+
 /// What a design is asked to do: the structure, the force, the bands and how they count.
 #[derive(Debug, Clone)]
 pub struct Problem {
+    /// The nominal structure.
     pub structure: Structure,
     /// 0-based driven mass.
     pub driven: usize,
-    /// Force amplitude, N.
+    /// The nominal force amplitude, N.
     pub force: f64,
     pub bands: Vec<Band>,
     pub measure: Measure,
     pub sweeps: Vec<Sweep>,
     pub steady: SteadyOptions,
+    /// Scenarios the objective is taken over (empty: the nominal structure and force only).
+    pub scenarios: Vec<Scenario>,
+    pub combine: Combine,
+}
+
+impl Problem {
+    /// The scenarios evaluated: the given ones, or the nominal structure and force.
+    pub fn cases(&self) -> Vec<Scenario> {
+        if self.scenarios.is_empty() {
+            vec![Scenario { name: "nominal".into(), structure: self.structure.clone(), force: self.force }]
+        } else {
+            self.scenarios.clone()
+        }
+    }
 }
 
 /// One design: the containers' hosts, their share of the shot and their clearances.
@@ -114,8 +154,13 @@ pub struct Evaluation {
     pub bands: Vec<f64>,
     /// Per band: the measure of the bare structure (the same sweeps without dampers).
     pub bare: Vec<f64>,
-    /// The objective: the worst band's measure relative to the bare structure's (1: no gain).
+    /// The objective: the worst band's measure relative to the bare structure's (1: no gain),
+    /// combined over the scenarios (the worst, or the mean).
     pub objective: f64,
+    /// Per scenario: its objective. `bands`, `bare` and `worst` are those of the scenario
+    /// with the largest.
+    pub scenarios: Vec<f64>,
+    pub worst_scenario: usize,
     /// The band, frequency (Hz) and mass of the largest compliance of the worst band.
     pub worst: (usize, f64, usize),
     /// Points without a settled stable periodic orbit (their compliance is the amplitude of the
@@ -182,19 +227,30 @@ pub fn measure(band: &Band, compliance: &[Vec<f64>], how: Measure) -> (f64, usiz
     }
 }
 
-/// The measure of every band for the bare structure.
-pub fn bare(problem: &Problem) -> Vec<f64> {
-    let sys = System::plastic(problem.structure.clone(), Vec::new(), problem.driven, problem.force);
+/// The measure of every band for the bare structure, per scenario ([`Problem::cases`]).
+pub fn bare(problem: &Problem) -> Vec<Vec<f64>> {
     problem
-        .bands
+        .cases()
         .iter()
-        .map(|b| measure(b, &band_compliance(&sys, b, &problem.sweeps, &problem.steady).0, problem.measure).0)
+        .map(|sc| {
+            let sys = System::plastic(sc.structure.clone(), Vec::new(), problem.driven, sc.force);
+            problem
+                .bands
+                .iter()
+                .map(|b| measure(b, &band_compliance(&sys, b, &problem.sweeps, &problem.steady).0, problem.measure).0)
+                .collect()
+        })
         .collect()
 }
 
-/// Evaluates one layout (`bare`: the bands' measures without dampers, from [`bare`]).
-pub fn evaluate(problem: &Problem, bare: &[f64], layout: &Layout) -> Evaluation {
-    let sys = System::plastic(problem.structure.clone(), layout.dampers(), problem.driven, problem.force);
+/// One scenario of a layout: its bands' measures, its objective, where the worst is.
+fn scenario(
+    problem: &Problem,
+    sc: &Scenario,
+    bare: &[f64],
+    layout: &Layout,
+) -> (Vec<f64>, f64, (usize, f64, usize), usize, usize) {
+    let sys = System::plastic(sc.structure.clone(), layout.dampers(), problem.driven, sc.force);
     let mut bands = Vec::with_capacity(problem.bands.len());
     let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
     let mut unsettled = 0;
@@ -210,5 +266,29 @@ pub fn evaluate(problem: &Problem, bare: &[f64], layout: &Layout) -> Evaluation 
             worst = (relative, (k, band.freq_hz[i], m));
         }
     }
-    Evaluation { bands, bare: bare.to_vec(), objective: worst.0, worst: worst.1, unsettled, points }
+    (bands, worst.0, worst.1, unsettled, points)
+}
+
+/// Evaluates one layout (`bare`: per scenario, the bands' measures without dampers, from
+/// [`bare`]).
+pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evaluation {
+    let runs: Vec<_> = problem.cases().iter().zip(bare).map(|(sc, b)| scenario(problem, sc, b, layout)).collect();
+    let objectives: Vec<f64> = runs.iter().map(|r| r.1).collect();
+    let worst_scenario =
+        objectives.iter().enumerate().fold(0, |w, (i, o)| if *o > objectives[w] || o.is_nan() { i } else { w });
+    let objective = match problem.combine {
+        Combine::Worst => objectives[worst_scenario],
+        Combine::Mean => objectives.iter().sum::<f64>() / objectives.len() as f64,
+    };
+    let w = &runs[worst_scenario];
+    Evaluation {
+        bands: w.0.clone(),
+        bare: bare[worst_scenario].clone(),
+        objective,
+        scenarios: objectives,
+        worst_scenario,
+        worst: w.2,
+        unsettled: runs.iter().map(|r| r.3).sum(),
+        points: runs.iter().map(|r| r.4).sum(),
+    }
 }

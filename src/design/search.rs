@@ -87,7 +87,7 @@ pub fn layout(hosts: &[usize], x: &[f64], space: &Space) -> Layout {
 /// The objective as Nelder-Mead minimises it (a point that cannot be computed is +1e300).
 struct Cost<'a> {
     problem: &'a Problem,
-    bare: &'a [f64],
+    bare: &'a [Vec<f64>],
     hosts: &'a [usize],
     space: &'a Space,
     /// Evaluations made (argmin's own count depends on how it wraps the problem).
@@ -161,7 +161,7 @@ const COARSE: [f64; 7] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
 
 /// The first start of a placement: an even split and the best shared clearance of a coarse
 /// scan ([`COARSE`]).
-fn coarse_start(problem: &Problem, bare: &[f64], hosts: &[usize], space: &Space) -> Vec<f64> {
+fn coarse_start(problem: &Problem, bare: &[Vec<f64>], hosts: &[usize], space: &Space) -> Vec<f64> {
     let d = dimension(hosts.len(), space);
     let k = hosts.len();
     let at = |z: f64| {
@@ -184,7 +184,7 @@ fn coarse_start(problem: &Problem, bare: &[f64], hosts: &[usize], space: &Space)
 /// The best layout for each placement of `space`, in the order of `space.placements` (every
 /// placement's starts run in parallel; each run is sequential). The first start of each
 /// placement comes from a coarse scan of the clearance ([`COARSE`]), the others are seeded.
-pub fn optimise(problem: &Problem, bare: &[f64], space: &Space, opts: &Options) -> Vec<Found> {
+pub fn optimise(problem: &Problem, bare: &[Vec<f64>], space: &Space, opts: &Options) -> Vec<Found> {
     let firsts: Vec<Vec<f64>> =
         space.placements.par_iter().map(|hosts| coarse_start(problem, bare, hosts, space)).collect();
     let runs: Vec<(usize, Vec<f64>)> = space
@@ -230,7 +230,7 @@ pub fn optimise(problem: &Problem, bare: &[f64], space: &Space, opts: &Options) 
 /// computed in parallel.
 pub fn grid(
     problem: &Problem,
-    bare: &[f64],
+    bare: &[Vec<f64>],
     space: &Space,
     clearances_mm: &[f64],
     shares: &[f64],

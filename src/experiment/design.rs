@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::design::search::Options;
-use crate::design::{Band, Measure, Spec, Sweep};
+use crate::design::{Band, Combine, Measure, Spec, Sweep};
 use crate::error::{Error, Result};
 
 use super::analysis::grid;
@@ -117,6 +117,29 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
     {
         return Err(bad(&format!("pareto_mass_ratios[{i}]"), r, "total shot mass ratios in (0, 10]"));
     }
+    let (scenario_damping, scenario_force_n, combine) = match &raw.scenarios {
+        None => (Vec::new(), Vec::new(), Combine::Worst),
+        Some(sc) => {
+            let damping = sc.damping.clone().unwrap_or_default();
+            if let Some((i, z)) = damping.iter().enumerate().find(|(_, z)| !(z.is_finite() && **z >= 0.0 && **z < 1.0))
+            {
+                return Err(bad(&format!("scenarios.damping[{i}]"), z, "a modal damping ratio in [0, 1)"));
+            }
+            let force = sc.force_n.clone().unwrap_or_default();
+            if let Some((i, f)) = force.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
+                return Err(bad(&format!("scenarios.force_n[{i}]"), f, "a force amplitude in N, positive and finite"));
+            }
+            if damping.is_empty() && force.is_empty() {
+                return Err(bad("scenarios", &"(empty)", "give damping = [...] and/or force_n = [...]"));
+            }
+            let combine = match sc.combine.as_deref() {
+                None | Some("worst") => Combine::Worst,
+                Some("mean") => Combine::Mean,
+                Some(other) => return Err(bad("scenarios.combine", &format!("\"{other}\""), "\"worst\" or \"mean\"")),
+            };
+            (damping, force, combine)
+        }
+    };
     let defaults = Options::default();
     let search = Options {
         starts: whole(path, "design.starts", raw.starts, defaults.starts, 100)?,
@@ -139,5 +162,8 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
         sweeps,
         search,
         pareto_mass_ratios,
+        scenario_damping,
+        scenario_force_n,
+        combine,
     }))
 }

@@ -238,6 +238,24 @@ pub struct RawDesign {
     #[serde(default)]
     pub pareto_mass_ratios: Option<Vec<f64>>,
     pub bands: Vec<RawBand>,
+    /// Values the objective is taken over (the paper leaves them unstated).
+    #[serde(default)]
+    pub scenarios: Option<RawScenarios>,
+}
+
+/// `[design.scenarios]`: every combination of the lists.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScenarios {
+    /// Modal damping ratio of every mode.
+    #[serde(default)]
+    pub damping: Option<Vec<f64>>,
+    /// Force amplitudes, N.
+    #[serde(default)]
+    pub force_n: Option<Vec<f64>>,
+    /// "worst" (default) or "mean".
+    #[serde(default)]
+    pub combine: Option<String>,
 }
 
 /// One band of `[design]`.
