@@ -394,3 +394,28 @@ values = [0.74, 0.2, 0.5]
     }
     assert_eq!(messages[0], messages[1]);
 }
+
+/// A relative tolerance of 1e300 (a user "disabling" a check) used to hang the plotting of the
+/// residuals; tolerances are bounded where they are read.
+#[test]
+fn absurd_tolerances_are_input_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps = experiments(dir.path(), &["fig08_number_of_dampers.toml"]);
+    let file = exps.join("fig08_number_of_dampers.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    for (from, to, expect) in [
+        ("rel_tol = 1e-6", "rel_tol = 1e300", "checks[0].rel_tol = 1.00000e300: a relative tolerance lies in [0, 10]"),
+        ("rel_tol_all = 1e-2", "rel_tol_all = 1e295", "rel_tol_all = 1.00000e295: a relative tolerance lies in [0, 10]"),
+    ] {
+        std::fs::write(&file, text.replacen(from, to, 1)).unwrap();
+        let out = shotdamp()
+            .arg("--experiments")
+            .arg(&exps)
+            .args(["run", file.to_str().unwrap(), "--out"])
+            .arg(dir.path().join("o"))
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains(expect), "{}", stderr(&out));
+    }
+}

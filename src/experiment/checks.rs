@@ -14,6 +14,9 @@ use crate::number::Tolerance;
 /// The largest relative tolerance a check may state.
 pub const MAX_REL_TOL: f64 = 10.0;
 
+/// The largest tolerance in pixels of a digitised figure (wider than any figure).
+pub const MAX_PX: f64 = 1000.0;
+
 /// The case a check names.
 fn case_ref(path: &Path, key: String, v: &Option<String>, case_ids: &[String]) -> Result<String> {
     match v {
@@ -457,12 +460,13 @@ fn digitised(
         Some(m) => mass_index(path, &key("mass"), m, n)?,
         None => return Err(Error::invalid(path, key("mass"), "(missing)", format!("name the mass (1 to {n})"))),
     };
+    // A tube wider than a whole figure says nothing and would stretch the plot's axes.
     let px = |k: &str, v: Option<f64>| -> Result<f64> {
         let v = v.unwrap_or(2.0);
-        if v.is_finite() && v >= 0.0 {
+        if v.is_finite() && (0.0..=MAX_PX).contains(&v) {
             Ok(v)
         } else {
-            Err(Error::invalid(path, key(k), v, "a number of pixels >= 0"))
+            Err(Error::invalid(path, key(k), crate::number::fmt_num(v), format!("a number of pixels in [0, {MAX_PX}]")))
         }
     };
     let (x_px, y_px) = (px("x_tol_px", c.x_tol_px)?, px("y_tol_px", c.y_tol_px)?);
