@@ -153,6 +153,8 @@ fn bad_design_files_are_named() {
         ("max_beds = 2", "max_beds = 9", "design.max_beds"),
         ("sweeps = [\"up\", \"down\"]", "sweeps = [\"sideways\"]", "design.sweeps[0]"),
         ("kind = \"design\"", "kind = \"modal\"", "design"),
+        ("[[design.bands]]", "[design.sdof]\nmode = 9\nclearances_mm = [0.3]\n\n[[design.bands]]", "design.sdof.mode"),
+        ("[[design.bands]]", "[design.scenarios]\ndamping = [1.5]\n\n[[design.bands]]", "design.scenarios.damping[0]"),
     ] {
         assert!(text.contains(from), "{from}");
         let bad = dir.path().join("bad.toml");

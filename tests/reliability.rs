@@ -405,7 +405,11 @@ fn absurd_tolerances_are_input_errors() {
     let text = std::fs::read_to_string(&file).unwrap();
     for (from, to, expect) in [
         ("rel_tol = 1e-6", "rel_tol = 1e300", "checks[0].rel_tol = 1.00000e300: a relative tolerance lies in [0, 10]"),
-        ("rel_tol_all = 1e-2", "rel_tol_all = 1e295", "rel_tol_all = 1.00000e295: a relative tolerance lies in [0, 10]"),
+        (
+            "rel_tol_all = 1e-2",
+            "rel_tol_all = 1e295",
+            "rel_tol_all = 1.00000e295: a relative tolerance lies in [0, 10]",
+        ),
     ] {
         std::fs::write(&file, text.replacen(from, to, 1)).unwrap();
         let out = shotdamp()

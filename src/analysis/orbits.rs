@@ -222,6 +222,87 @@ fn seeds(freq_hz: &[f64], natural_hz: f64) -> Vec<f64> {
     s
 }
 
+/// The clearance the paper's SDOF technique picks (Fig. 9): of the candidate clearances (mm),
+/// those whose stable orbits of the equivalent SDOF model of `mode` (with `dampers`, the
+/// location effect of Eq. 12-13 included) are all Type II within the resonance (where the
+/// compliance of `reference` is at least 1/sqrt(2) of its peak), the one with the lowest SDOF
+/// peak; else the lowest SDOF peak. Every candidate's clearance replaces each damper's.
+pub struct SdofChoice {
+    pub clearance_mm: f64,
+    pub rows: Vec<ClearanceRow>,
+    /// How the clearance was chosen, in words.
+    pub note: String,
+    /// The SDOF branch of each candidate, in the order of the candidates.
+    pub branches: Vec<OrbitBranch>,
+}
+
+/// See [`SdofChoice`]. `list` must not be empty.
+#[allow(clippy::too_many_arguments)]
+pub fn sdof_choice(
+    exp: &Experiment,
+    dampers: &[Damper],
+    mode: usize,
+    reference: usize,
+    freq_hz: &[f64],
+    list: &[f64],
+    steady: &SteadyOptions,
+    tick: &(dyn Fn() + Sync),
+) -> SdofChoice {
+    let force = exp.excitation.force;
+    let natural = crate::model::modal::modal_summary(&exp.structure, &[])[mode].freq_hz;
+    let seeds_hz = seeds(freq_hz, natural);
+    let sdof_compliance = |e: &EquivalentSdof| {
+        let shape = e.mode.shape.clone();
+        move |a: &[f64]| shape.iter().map(|s| s.abs() * a[0] / force).collect::<Vec<f64>>()
+    };
+    let (rows, branches): (Vec<ClearanceRow>, Vec<OrbitBranch>) = list
+        .par_iter()
+        .map(|&mm| {
+            let dampers: Vec<Damper> = dampers.iter().map(|d| Damper { clearance: mm * 1e-3, ..*d }).collect();
+            let (e, sys) = sdof_system(exp, &dampers, mode);
+            let b = branch("sdof", "", &sys, freq_hz, &seeds_hz, steady, &sdof_compliance(&e));
+            tick();
+            let peak = b.peak(reference);
+            let mut kinds: Vec<String> = b
+                .points()
+                .filter(|p| p.stable && peak.is_some_and(|pk| p.compliance[reference] >= RESONANCE * pk.1))
+                .map(|p| p.kind.clone())
+                .collect();
+            kinds.sort();
+            kinds.dedup();
+            let only_type_ii = !kinds.is_empty() && kinds.iter().all(|k| k == "II");
+            (ClearanceRow { clearance_mm: mm, peak, kinds, only_type_ii }, b)
+        })
+        .unzip();
+    let best = |ok: bool| {
+        rows.iter()
+            .filter(|r| r.peak.is_some() && (!ok || r.only_type_ii))
+            .min_by(|a, b| a.peak.map_or(f64::INFINITY, |p| p.1).total_cmp(&b.peak.map_or(f64::INFINITY, |p| p.1)))
+    };
+    let (pick, note) = match best(true) {
+        Some(r) => (
+            r.clearance_mm,
+            format!(
+                "Of the {} candidate clearances, those whose stable SDOF orbits are all Type II within the resonance (where the compliance of m{} is at least 1/sqrt(2) of its peak); among them, the one with the lowest peak: {} mm.",
+                rows.len(),
+                reference + 1,
+                crate::checks::fmt_num(r.clearance_mm)
+            ),
+        ),
+        None => match best(false) {
+            Some(r) => (
+                r.clearance_mm,
+                format!(
+                    "No candidate clearance gives Type II alone within the resonance (where the compliance is at least 1/sqrt(2) of its peak: see the table of types); the one with the lowest peak is used: {} mm.",
+                    crate::checks::fmt_num(r.clearance_mm)
+                ),
+            ),
+            None => (list[0], "No candidate clearance has an impacting SDOF orbit; the first is used.".into()),
+        },
+    };
+    SdofChoice { clearance_mm: pick, rows, note, branches }
+}
+
 /// Runs the analysis for the (single) case with a damper.
 pub fn run(
     exp: &Experiment,
@@ -245,52 +326,8 @@ pub fn run(
     let scan = matches!(case.clearances.first(), Some(crate::experiment::Clearance::Scan));
     let (chosen_mm, clearance_rows, clearance_note, mut branches) = match (scan, clearances_mm) {
         (true, Some(list)) => {
-            let (rows, branches): (Vec<ClearanceRow>, Vec<OrbitBranch>) = list
-                .par_iter()
-                .map(|&mm| {
-                    let dampers = vec![Damper { clearance: mm * 1e-3, ..case.dampers[0] }];
-                    let (e, sys) = sdof_system(exp, &dampers, mode);
-                    let b = branch("sdof", "", &sys, freq_hz, &seeds_hz, steady, &sdof_compliance(&e));
-                    tick();
-                    let peak = b.peak(reference);
-                    let mut kinds: Vec<String> = b
-                        .points()
-                        .filter(|p| p.stable && peak.is_some_and(|pk| p.compliance[reference] >= RESONANCE * pk.1))
-                        .map(|p| p.kind.clone())
-                        .collect();
-                    kinds.sort();
-                    kinds.dedup();
-                    let only_type_ii = !kinds.is_empty() && kinds.iter().all(|k| k == "II");
-                    (ClearanceRow { clearance_mm: mm, peak, kinds, only_type_ii }, b)
-                })
-                .unzip();
-            let best = |ok: bool| {
-                rows.iter().filter(|r| r.peak.is_some() && (!ok || r.only_type_ii)).min_by(|a, b| {
-                    a.peak.map_or(f64::INFINITY, |p| p.1).total_cmp(&b.peak.map_or(f64::INFINITY, |p| p.1))
-                })
-            };
-            let (pick, note) = match best(true) {
-                Some(r) => (
-                    r.clearance_mm,
-                    format!(
-                        "Of the {} candidate clearances, those whose stable SDOF orbits are all Type II within the resonance (where the compliance of m{} is at least 1/sqrt(2) of its peak); among them, the one with the lowest peak: {} mm.",
-                        rows.len(),
-                        reference + 1,
-                        crate::checks::fmt_num(r.clearance_mm)
-                    ),
-                ),
-                None => match best(false) {
-                    Some(r) => (
-                        r.clearance_mm,
-                        format!(
-                            "No candidate clearance gives Type II alone within the resonance (where the compliance is at least 1/sqrt(2) of its peak: see the table of types); the one with the lowest peak is used: {} mm.",
-                            crate::checks::fmt_num(r.clearance_mm)
-                        ),
-                    ),
-                    None => (list[0], "No candidate clearance has an impacting SDOF orbit; the first is used.".into()),
-                },
-            };
-            (pick, rows, note, branches)
+            let choice = sdof_choice(exp, &case.dampers, mode, reference, freq_hz, list, steady, tick);
+            (choice.clearance_mm, choice.rows, choice.note, choice.branches)
         }
         _ => {
             let mm = case.dampers[0].clearance * 1e3;

@@ -35,6 +35,9 @@ pub struct Spec {
     pub scenario_damping: Vec<f64>,
     pub scenario_force_n: Vec<f64>,
     pub combine: Combine,
+    /// The paper's SDOF technique beside the search: the 0-based mode and the candidate
+    /// clearances (mm) of its rule (Fig. 9).
+    pub sdof: Option<(usize, Vec<f64>)>,
 }
 
 /// A frequency band and the masses whose compliance counts in it.

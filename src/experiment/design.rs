@@ -140,6 +140,21 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
             (damping, force, combine)
         }
     };
+    let sdof = match &raw.sdof {
+        None => None,
+        Some(sd) => {
+            if sd.mode < 1 || sd.mode as usize > n {
+                return Err(bad("sdof.mode", &sd.mode, &format!("modes are numbered 1 to {n}")));
+            }
+            if sd.clearances_mm.is_empty() {
+                return Err(bad("sdof.clearances_mm", &"[]", "the candidate clearances of the SDOF rule, mm"));
+            }
+            if let Some((i, d)) = sd.clearances_mm.iter().enumerate().find(|(_, d)| !(d.is_finite() && **d > 0.0)) {
+                return Err(bad(&format!("sdof.clearances_mm[{i}]"), d, "a clearance in mm, positive and finite"));
+            }
+            Some((sd.mode as usize - 1, sd.clearances_mm.clone()))
+        }
+    };
     let defaults = Options::default();
     let search = Options {
         starts: whole(path, "design.starts", raw.starts, defaults.starts, 100)?,
@@ -165,5 +180,6 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
         scenario_damping,
         scenario_force_n,
         combine,
+        sdof,
     }))
 }

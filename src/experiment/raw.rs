@@ -241,6 +241,18 @@ pub struct RawDesign {
     /// Values the objective is taken over (the paper leaves them unstated).
     #[serde(default)]
     pub scenarios: Option<RawScenarios>,
+    /// The paper's SDOF technique beside the search.
+    #[serde(default)]
+    pub sdof: Option<RawDesignSdof>,
+}
+
+/// `[design.sdof]`: the mode and the candidate clearances of the SDOF rule (Fig. 9).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDesignSdof {
+    /// 1-based mode.
+    pub mode: i64,
+    pub clearances_mm: Vec<f64>,
 }
 
 /// `[design.scenarios]`: every combination of the lists.
