@@ -104,6 +104,15 @@ fn layouts_table(
             .map(|r| format!("{} at {} Hz, m{}", spec.bands[r.2.worst.0].name, fmt_num(r.2.worst.1), r.2.worst.2 + 1))
             .collect(),
     )
+    .i64(
+        "worst_at_band_edge",
+        rows.iter()
+            .map(|r| {
+                let f = &spec.bands[r.2.worst.0].freq_hz;
+                i64::from(r.2.worst.1 == f[0] || r.2.worst.1 == f[f.len() - 1])
+            })
+            .collect(),
+    )
     .str("scenario", rows.iter().map(|r| scenarios.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
     .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
     .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
@@ -291,7 +300,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
         figures.push(Figure {
             id: "design_pareto".into(),
             title: format!("{}: shot mass against the objective", exp.meta.figure),
-            caption: "The best objective found for each total shot mass ratio (every placement, split and clearance searched again for each).".into(),
+            caption: "The best objective found for each total shot mass ratio (every placement, split and clearance searched again for each). Where the table's worst_at_band_edge is 1 the damped resonance has moved to the band's edge (more shot lowers it): that point is limited by the band, not the dampers.".into(),
             panels: vec![panel],
         });
     }
