@@ -177,3 +177,50 @@ fn the_sweep_point_that_hung_ends_with_a_stated_reason() {
     assert_eq!(row[col("converged")], "0");
     assert!(row[col("stop")].contains("only unstable orbits"), "{:?}", row[col("stop")]);
 }
+
+/// Random structures (one to three masses, chain stiffness, modal damping down to zero), random
+/// beds, clearances, forces and frequencies, each through the orbit search, whose every
+/// Newton solve computes Floquet multipliers: each call ends within its time limit.
+fn random_system() -> impl Strategy<Value = (shotdamp::sim::System, f64)> {
+    (1usize..4, any::<u64>()).prop_map(|(n, seed)| {
+        let mut x = seed | 1;
+        let mut u = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let masses: Vec<f64> = (0..n).map(|_| 0.2 + 2.0 * u()).collect();
+        let k: Vec<f64> = (0..n).map(|_| 5e3 + 5e4 * u()).collect();
+        let zeta = if u() < 0.2 { 0.0 } else { 0.03 * u() };
+        let s = shotdamp::model::Structure::chain(&masses, &k, shotdamp::model::Damping::ModalRatios(vec![zeta; n]));
+        let mut beds = Vec::new();
+        for host in 0..n {
+            if u() < 0.7 {
+                let mass = 0.02 + 0.2 * u();
+                let clearance = if u() < 0.3 { f64::INFINITY } else { 1e-4 + 2e-3 * u() };
+                beds.push(shotdamp::model::Damper { host, mass, clearance });
+            }
+        }
+        let omega_max = (k.iter().sum::<f64>() / masses.iter().copied().fold(f64::INFINITY, f64::min)).sqrt() * 2.0;
+        let f_hz = (0.1 + u()) * omega_max / (2.0 * std::f64::consts::PI);
+        (shotdamp::sim::System::plastic(s, beds, 0, 0.5 + 10.0 * u()), f_hz)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn steady_states_of_random_structures_end_within_their_bound((sys, f_hz) in random_system()) {
+        let run = move || {
+            let d = shotdamp::sim::Dynamics::new(&sys, 2.0 * std::f64::consts::PI * f_hz).ok()?;
+            let st = shotdamp::sim::steady_state(&d, shotdamp::sim::State::at_rest(&d), &shotdamp::sim::SteadyOptions::default());
+            Some(st.converged || st.failure.is_some() || st.stop.is_some())
+        };
+        // Every point ends with a result or a stated reason.
+        if let Some(ended) = within(Duration::from_secs(60), run) {
+            prop_assert!(ended);
+        }
+    }
+}
