@@ -5,6 +5,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use crate::design::search::{optimise, placements, Found, Space};
 use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec};
 use crate::experiment::Experiment;
@@ -87,12 +89,11 @@ fn layouts_table(
     scenarios: &[String],
     rows: &[(String, Layout, Evaluation, u64)],
 ) -> Table {
-    let mass = |l: &Layout| -> Vec<f64> { l.masses_kg.clone() };
     let mut t = Table::new(name, description)
         .str("layout", rows.iter().map(|r| r.0.clone()).collect())
         .str("hosts", rows.iter().map(|r| hosts_words(&r.1)).collect())
         .f64("shot_kg", rows.iter().map(|r| r.1.shot_kg()).collect())
-        .str("bed_kg", rows.iter().map(|r| joined(&mass(&r.1))).collect())
+        .str("bed_kg", rows.iter().map(|r| joined(&r.1.masses_kg)).collect())
         .str("clearance_mm", rows.iter().map(|r| joined(&r.1.clearances_mm)).collect())
         .f64("objective", rows.iter().map(|r| r.2.objective).collect());
     for (k, b) in spec.bands.iter().enumerate() {
@@ -169,7 +170,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
     // point, ...), evaluated with the same objective.
     let case_rows: Vec<(String, Layout, Evaluation, u64)> = exp
         .cases
-        .iter()
+        .par_iter()
         .map(|c| {
             let l = case_layout(c);
             let e = evaluate(&p, &b, &l);
@@ -197,7 +198,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
         let ds: Vec<f64> =
             (0..PROFILE_POINTS).map(|i| lo * (hi / lo).powf(i as f64 / (PROFILE_POINTS - 1) as f64)).collect();
         let profile: Vec<f64> = ds
-            .iter()
+            .par_iter()
             .map(|&d| {
                 let l = Layout { clearances_mm: vec![d; best.layout.hosts.len()], ..best.layout.clone() };
                 evaluate(&p, &b, &l).objective
