@@ -89,6 +89,18 @@ fn layouts_table(
     scenarios: &[String],
     rows: &[(String, Layout, Evaluation, u64)],
 ) -> Table {
+    let at_edge = |e: &Evaluation| {
+        let f = &spec.bands[e.worst.0].freq_hz;
+        e.worst.1 == f[0] || e.worst.1 == f[f.len() - 1]
+    };
+    let edges = rows.iter().filter(|r| at_edge(&r.2)).count();
+    let description = if edges > 0 {
+        format!(
+            "{description}. CAUTION: in {edges} row(s) the largest compliance lies at a band's first or last frequency (worst_at_band_edge = 1): the damped resonance has moved to the edge, and the band, not the dampers, limits that objective; widen the band"
+        )
+    } else {
+        description.to_string()
+    };
     let mut t = Table::new(name, description)
         .str("layout", rows.iter().map(|r| r.0.clone()).collect())
         .str("hosts", rows.iter().map(|r| hosts_words(&r.1)).collect())
@@ -105,15 +117,7 @@ fn layouts_table(
             .map(|r| format!("{} at {} Hz, m{}", spec.bands[r.2.worst.0].name, fmt_num(r.2.worst.1), r.2.worst.2 + 1))
             .collect(),
     )
-    .i64(
-        "worst_at_band_edge",
-        rows.iter()
-            .map(|r| {
-                let f = &spec.bands[r.2.worst.0].freq_hz;
-                i64::from(r.2.worst.1 == f[0] || r.2.worst.1 == f[f.len() - 1])
-            })
-            .collect(),
-    )
+    .i64("worst_at_band_edge", rows.iter().map(|r| i64::from(at_edge(&r.2))).collect())
     .str("scenario", rows.iter().map(|r| scenarios.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
     .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
     .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
