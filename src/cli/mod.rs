@@ -687,6 +687,22 @@ fn run_and_write(
         .collect();
     let total: usize = results.iter().map(|r| r.checks.len()).sum();
     say!("report: {}", dest.join("index.html").display());
+    // Designs: the answer in one line per model (the tables have the layouts).
+    for r in results.iter().filter(|r| r.experiment.analysis.kind() == "design") {
+        let e = &r.exports;
+        let num = |k: &str| e.get(k).map_or("-".to_string(), |v| crate::checks::fmt_num(*v));
+        let cases: Vec<String> = e
+            .iter()
+            .filter_map(|(k, v)| k.strip_prefix("objective_").map(|c| format!("{c} {}", crate::checks::fmt_num(*v))))
+            .collect();
+        say!(
+            "  {}: best {} of the bare structure's worst band (clearance {} mm); cases: {}",
+            r.experiment.key(),
+            num("best_objective"),
+            num("best_clearance_mm"),
+            if cases.is_empty() { "none".to_string() } else { cases.join(", ") }
+        );
+    }
     if failed.is_empty() {
         say!("{total} checks: none failed");
         Ok(true)
