@@ -132,6 +132,11 @@ fn case_layout(case: &crate::experiment::Case) -> Layout {
     }
 }
 
+/// The placement with the lowest objective; of equal ones the first.
+fn lowest(found: Vec<Found>) -> Option<Found> {
+    found.into_iter().reduce(|a, x| if a.evaluation.objective <= x.evaluation.objective { a } else { x })
+}
+
 /// Runs the design of `exp`.
 pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn() + Sync)) -> DesignOutput {
     let p = problem(exp, spec, steady);
@@ -145,13 +150,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
     };
     let found = optimise(&p, &b, &space, &spec.search);
     tick();
-    let best = found
-        .iter()
-        .fold(None::<&Found>, |a, f| match a {
-            Some(a) if a.evaluation.objective <= f.evaluation.objective => Some(a),
-            _ => Some(f),
-        })
-        .cloned();
+    let best = lowest(found.clone());
     let mut exports = BTreeMap::new();
     let total_mass = exp.structure.mass_matrix().trace();
     let mut tables = Vec::new();
@@ -272,10 +271,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
             .iter()
             .filter_map(|&r| {
                 let s = Space { shot_kg: r * total_mass, ..space.clone() };
-                let f = optimise(&p, &b, &s, &spec.search);
-                f.into_iter()
-                    .reduce(|a, x| if a.evaluation.objective <= x.evaluation.objective { a } else { x })
-                    .map(|f| (r, f))
+                lowest(optimise(&p, &b, &s, &spec.search)).map(|f| (r, f))
             })
             .collect();
         let rows: Vec<(String, Layout, Evaluation, u64)> = front
