@@ -10,7 +10,7 @@ use shotdamp::design::{bare, evaluate, Band, Combine, Layout, Measure, Problem, 
 use shotdamp::model::{Damping, Structure};
 use shotdamp::sim::SteadyOptions;
 
-fn problem() -> Problem {
+fn problem(steady: SteadyOptions) -> Problem {
     let structure =
         Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
     Problem {
@@ -24,20 +24,27 @@ fn problem() -> Problem {
         }],
         measure: Measure::Peak,
         sweeps: vec![Sweep::Up, Sweep::Down],
-        steady: SteadyOptions::default(),
+        steady,
         scenarios: Vec::new(),
         combine: Combine::Worst,
     }
 }
 
 fn design(c: &mut Criterion) {
-    let p = problem();
-    let b = bare(&p);
+    // The steady-state settings of design files: orbits followed from point to point,
+    // max_periods 500 (docs/design.md, "Cost").
+    let followed = problem(SteadyOptions { follow: true, max_periods: 500, ..SteadyOptions::default() });
+    let plain = problem(SteadyOptions::default());
+    let b = bare(&followed);
+    let p = followed;
     let paper = Layout { hosts: vec![0, 1, 2], masses_kg: vec![0.074, 0.071, 0.064], clearances_mm: vec![0.35; 3] };
     let mut group = c.benchmark_group("design");
     group.sample_size(10);
     group.bench_function("evaluate the paper's layout, Fig. 5 band, up + down (98 points)", |bench| {
         bench.iter(|| evaluate(&p, &b, &paper))
+    });
+    group.bench_function("the same without following the orbits (98 points)", |bench| {
+        bench.iter(|| evaluate(&plain, &b, &paper))
     });
     let space = Space {
         placements: placements(&[0, 1, 2], 3),

@@ -22,7 +22,7 @@ fn main() {
         bands: vec![Band { name: "mode 3 (44-56 Hz)".into(), freq_hz, masses: vec![1] }],
         measure: Measure::Peak,
         sweeps: vec![Sweep::Up, Sweep::Down],
-        steady: SteadyOptions::default(),
+        steady: SteadyOptions { follow: true, max_periods: 500, ..SteadyOptions::default() },
         scenarios: Vec::new(),
         combine: Combine::Worst,
     };

@@ -7,7 +7,10 @@ use std::collections::BTreeMap;
 
 use rayon::prelude::*;
 
+use crate::checks::reference::ReferenceStore;
+use crate::checks::{CheckOutcome, Source, Status};
 use crate::design::search::{optimise, placements, Found, Space};
+use crate::design::stored::{fingerprint, StoredDesign, StoredLayout, StoredPareto};
 use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec};
 use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
@@ -17,7 +20,7 @@ use crate::sim::{SteadyOptions, System};
 use crate::table::Table;
 
 /// Clearances of the profile around the best layout.
-const PROFILE_POINTS: usize = 25;
+const PROFILE_POINTS: usize = 11;
 
 /// A clearance is in the robust band when its objective is within this factor of the best.
 pub const ROBUST: f64 = 1.05;
@@ -27,6 +30,98 @@ pub struct DesignOutput {
     pub tables: Vec<Table>,
     pub figures: Vec<Figure>,
     pub exports: BTreeMap<String, f64>,
+    /// The search's answer, to store (`shotdamp design --store`).
+    pub stored: StoredDesign,
+    /// Replayed: the stored answer against the layouts evaluated now.
+    pub checks: Vec<CheckOutcome>,
+}
+
+/// A replayed objective must equal the stored one to this relative difference.
+pub const REPLAY_TOL: f64 = 1e-9;
+
+/// The stored answer of `exp` evaluated now: the placements' and the Pareto front's best
+/// layouts (as [`Found`], with the search's evaluation counts), and the checks that the stored
+/// objectives are what the layouts give now and that the problem is the one searched.
+fn replay(
+    exp: &Experiment,
+    spec: &Spec,
+    p: &Problem,
+    b: &[Vec<f64>],
+    refs: &ReferenceStore,
+) -> (Vec<Found>, Vec<(f64, Found)>, Vec<CheckOutcome>) {
+    let key = exp.key();
+    let rerun = format!("run `shotdamp design {} --store`", exp.path.display());
+    let Some(stored) = refs.design(&key) else {
+        let check = CheckOutcome::unavailable(
+            "stored_design".into(),
+            "the design search's stored answer, evaluated again".into(),
+            format!("reference/designs/{key}.json"),
+            Source::Internal,
+            Some(format!("no stored answer for {key}: {rerun}")),
+        );
+        return (Vec::new(), Vec::new(), vec![check]);
+    };
+    let again = |s: &StoredLayout| {
+        let layout = s.layout();
+        let evaluation = evaluate(p, b, &layout);
+        Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations }
+    };
+    let found: Vec<Found> = stored.placements.par_iter().map(again).collect();
+    let front: Vec<(f64, Found)> = stored.pareto.par_iter().map(|q| (q.mass_ratio, again(&q.best))).collect();
+    let pairs = stored
+        .placements
+        .iter()
+        .zip(&found)
+        .chain(stored.pareto.iter().map(|q| &q.best).zip(front.iter().map(|f| &f.1)));
+    let (mut worst, mut which) = (0.0f64, String::new());
+    for (s, f) in pairs {
+        let rel = (f.evaluation.objective - s.objective).abs() / s.objective.abs().max(f64::MIN_POSITIVE);
+        if rel > worst || rel.is_nan() {
+            worst = rel;
+            which = s.label.clone();
+        }
+    }
+    let status = |ok: bool| if ok { Status::Pass } else { Status::Fail };
+    let fp = fingerprint(p, spec);
+    let same = fp == stored.fingerprint;
+    let mut checks = vec![CheckOutcome {
+        name: "stored_objectives".into(),
+        description: format!(
+            "the {} stored layouts (best of each placement and of each Pareto point) evaluated now: largest relative difference from the objective the search stored",
+            stored.placements.len() + stored.pareto.len()
+        ),
+        computed: worst,
+        expected: 0.0,
+        unit: String::new(),
+        abs_diff: worst,
+        rel_diff: worst,
+        tolerance: format!("<= {REPLAY_TOL:e}"),
+        status: status(worst <= REPLAY_TOL),
+        provenance: stored.provenance.clone(),
+        source: Source::Internal,
+        reason: None,
+        detail: (!which.is_empty()).then(|| format!("largest at {which}; if the model changed on purpose, {rerun}")),
+    }];
+    checks.push(CheckOutcome {
+        name: "stored_problem".into(),
+        description: "the design problem (structure, bands, sweeps, steady settings, search space and settings) is the one the stored search solved: fingerprint".into(),
+        computed: if same { 0.0 } else { 1.0 },
+        expected: 0.0,
+        unit: String::new(),
+        abs_diff: if same { 0.0 } else { 1.0 },
+        rel_diff: if same { 0.0 } else { 1.0 },
+        tolerance: "equal".into(),
+        status: status(same),
+        provenance: stored.provenance.clone(),
+        source: Source::Internal,
+        reason: None,
+        detail: Some(if same {
+            format!("fingerprint {fp}")
+        } else {
+            format!("now {fp}, stored {}: the file changed since the search; {rerun}", stored.fingerprint)
+        }),
+    });
+    (found, front, checks)
 }
 
 /// The design problem of an experiment, with its scenarios (every combination of the
@@ -35,28 +130,43 @@ pub struct DesignOutput {
 pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem {
     let s = &exp.structure;
     let mut scenarios = Vec::new();
-    if !(spec.scenario_damping.is_empty() && spec.scenario_force_n.is_empty()) {
+    let any = !(spec.scenario_damping.is_empty() && spec.scenario_force_n.is_empty());
+    if any || !spec.model_structures.is_empty() {
+        // The structures the scenarios start from: every model's (models as scenarios), or
+        // the experiment's.
+        let bases: Vec<(String, Structure, f64)> = if spec.model_structures.is_empty() {
+            vec![(String::new(), s.clone(), exp.excitation.force)]
+        } else {
+            spec.model_structures.clone()
+        };
         let dampings: Vec<Option<f64>> = if spec.scenario_damping.is_empty() {
             vec![None]
         } else {
             spec.scenario_damping.iter().map(|z| Some(*z)).collect()
         };
-        let forces: Vec<f64> =
-            if spec.scenario_force_n.is_empty() { vec![exp.excitation.force] } else { spec.scenario_force_n.clone() };
-        for z in &dampings {
-            for &f in &forces {
-                let (structure, zname) = match z {
-                    Some(z) => (
-                        Structure::from_matrices(
-                            &s.masses,
-                            s.stiffness.clone(),
-                            Damping::ModalRatios(vec![*z; s.dof()]),
+        for (model, base, nominal_force) in &bases {
+            let forces: Vec<f64> =
+                if spec.scenario_force_n.is_empty() { vec![*nominal_force] } else { spec.scenario_force_n.clone() };
+            for z in &dampings {
+                for &f in &forces {
+                    let (structure, zname) = match z {
+                        Some(z) => (
+                            Structure::from_matrices(
+                                &base.masses,
+                                base.stiffness.clone(),
+                                Damping::ModalRatios(vec![*z; base.dof()]),
+                            ),
+                            format!("damping {}", fmt_num(*z)),
                         ),
-                        format!("damping {}", fmt_num(*z)),
-                    ),
-                    None => (s.clone(), "damping as the model".to_string()),
-                };
-                scenarios.push(Scenario { name: format!("{zname}, F {} N", fmt_num(f)), structure, force: f });
+                        None => (base.clone(), "damping as the model".to_string()),
+                    };
+                    let prefix = if model.is_empty() { String::new() } else { format!("{model}, ") };
+                    scenarios.push(Scenario {
+                        name: format!("{prefix}{zname}, F {} N", fmt_num(f)),
+                        structure,
+                        force: f,
+                    });
+                }
             }
         }
     }
@@ -138,9 +248,16 @@ fn lowest(found: Vec<Found>) -> Option<Found> {
 }
 
 /// Runs the design of `exp`.
-pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn() + Sync)) -> DesignOutput {
+pub fn run(
+    exp: &Experiment,
+    spec: &Spec,
+    steady: &SteadyOptions,
+    refs: &ReferenceStore,
+    tick: &(dyn Fn() + Sync),
+) -> DesignOutput {
     let p = problem(exp, spec, steady);
     let b = bare(&p);
+    let total_mass = exp.structure.mass_matrix().trace();
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
     let space = Space {
         placements: placements(&spec.candidates, spec.max_beds),
@@ -148,11 +265,45 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
         clearance_mm: spec.clearance_mm,
         shared_clearance: spec.shared_clearance,
     };
-    let found = optimise(&p, &b, &space, &spec.search);
+    let (found, front, checks) = if spec.replay {
+        replay(exp, spec, &p, &b, refs)
+    } else {
+        let found = optimise(&p, &b, &space, &spec.search);
+        // The Pareto front: every placement searched again for each shot budget.
+        let front: Vec<(f64, Found)> = spec
+            .pareto_mass_ratios
+            .iter()
+            .filter_map(|&r| {
+                let s = Space { shot_kg: r * total_mass, ..space.clone() };
+                lowest(optimise(&p, &b, &s, &spec.search)).map(|f| (r, f))
+            })
+            .collect();
+        (found, front, Vec::new())
+    };
     tick();
+    let stored = StoredDesign {
+        experiment: exp.key(),
+        fingerprint: fingerprint(&p, spec),
+        provenance: String::new(),
+        placements: found
+            .iter()
+            .map(|f| StoredLayout::of(hosts_words(&f.layout), &f.layout, f.evaluation.objective, f.evaluations))
+            .collect(),
+        pareto: front
+            .iter()
+            .map(|(r, f)| StoredPareto {
+                mass_ratio: *r,
+                best: StoredLayout::of(
+                    format!("mass ratio {}", fmt_num(*r)),
+                    &f.layout,
+                    f.evaluation.objective,
+                    f.evaluations,
+                ),
+            })
+            .collect(),
+    };
     let best = lowest(found.clone());
     let mut exports = BTreeMap::new();
-    let total_mass = exp.structure.mass_matrix().trace();
     let mut tables = Vec::new();
     let rows: Vec<(String, Layout, Evaluation, u64)> =
         found.iter().map(|f| (hosts_words(&f.layout), f.layout.clone(), f.evaluation.clone(), f.evaluations)).collect();
@@ -258,22 +409,20 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
             panels: vec![panel],
         });
         figures.push(compliance_figure(exp, spec, &p, best, &case_rows));
+        if let Some((table, figure)) =
+            super::design_near::near_optimum(spec, &p, &b, &best.layout, best.evaluation.objective, &exp.meta.figure)
+        {
+            tables.push(table);
+            figures.push(figure);
+        }
     }
     if let Some((mode, candidates)) = &spec.sdof {
-        let (table, sdof_exports) = sdof_method(exp, steady, &p, &b, &found, *mode, candidates, &names);
+        let (table, sdof_exports) = sdof_method(exp, steady, &p, &b, &found, *mode, candidates, &names, spec.replay);
         tables.push(table);
         exports.extend(sdof_exports);
     }
     tick();
-    if !spec.pareto_mass_ratios.is_empty() {
-        let front: Vec<(f64, Found)> = spec
-            .pareto_mass_ratios
-            .iter()
-            .filter_map(|&r| {
-                let s = Space { shot_kg: r * total_mass, ..space.clone() };
-                lowest(optimise(&p, &b, &s, &spec.search)).map(|f| (r, f))
-            })
-            .collect();
+    if !front.is_empty() {
         let rows: Vec<(String, Layout, Evaluation, u64)> = front
             .iter()
             .map(|(r, f)| {
@@ -305,7 +454,7 @@ pub fn run(exp: &Experiment, spec: &Spec, steady: &SteadyOptions, tick: &(dyn Fn
             panels: vec![panel],
         });
     }
-    DesignOutput { tables, figures, exports }
+    DesignOutput { tables, figures, exports, stored, checks }
 }
 
 /// The compliance over each band of the bare structure, the best layout and the cases (the
@@ -317,14 +466,19 @@ fn compliance_figure(
     best: &Found,
     cases: &[(String, Layout, Evaluation, u64)],
 ) -> Figure {
-    let mut layouts: Vec<(String, Layout)> =
-        vec![("bare".into(), Layout { hosts: vec![], masses_kg: vec![], clearances_mm: vec![] })];
-    layouts.push((format!("best: {}", hosts_words(&best.layout)), best.layout.clone()));
-    layouts.extend(cases.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), c.1.clone())));
+    // The curves the evaluations computed (the first scenario's); the bare structure's swept
+    // here.
+    let bare_sys = System::plastic(p.cases()[0].structure.clone(), Vec::new(), p.driven, p.cases()[0].force);
+    let bare: Vec<Vec<Vec<f64>>> =
+        spec.bands.iter().map(|band| band_compliance(&bare_sys, band, &p.sweeps, &p.steady).0).collect();
+    let mut layouts: Vec<(String, &Vec<Vec<Vec<f64>>>)> = vec![("bare".into(), &bare)];
+    layouts.push((format!("best: {}", hosts_words(&best.layout)), &best.evaluation.curves));
+    layouts.extend(cases.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.2.curves)));
     let panels = spec
         .bands
         .iter()
-        .map(|band| {
+        .enumerate()
+        .map(|(b, band)| {
             let mut panel = Panel::new(
                 format!(
                     "{}: compliance of m{}",
@@ -336,9 +490,8 @@ fn compliance_figure(
                 (band.freq_hz[0], band.freq_hz[band.freq_hz.len() - 1]),
             )
             .log_y();
-            for (k, (label, l)) in layouts.iter().enumerate() {
-                let sys = System::plastic(p.structure.clone(), l.dampers(), p.driven, p.force);
-                let (c, _) = band_compliance(&sys, band, &p.sweeps, &p.steady);
+            for (k, (label, curves)) in layouts.iter().enumerate() {
+                let Some(c) = curves.get(b) else { continue };
                 for &m in &band.masses {
                     let y: Vec<f64> = c.iter().map(|r| r[m]).collect();
                     let name = if band.masses.len() > 1 { format!("{label}, m{}", m + 1) } else { label.clone() };
@@ -349,10 +502,11 @@ fn compliance_figure(
             panel
         })
         .collect();
+    let first = p.cases()[0].name.clone();
     Figure {
         id: "design_compliance".into(),
         title: format!("{}: the best layout against the bare structure and the cases", exp.meta.figure),
-        caption: "Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either).".into(),
+        caption: format!("Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}."),
         panels,
     }
 }
@@ -370,12 +524,28 @@ fn sdof_method(
     mode: usize,
     candidates: &[f64],
     names: &[String],
+    replay: bool,
 ) -> (Table, BTreeMap<String, f64>) {
     let modes = crate::model::modal::modal_summary(&exp.structure, &[]);
     let reference = modes[mode].reference_mass;
     let band = &p.bands[0].freq_hz;
+    // In the report (replay) the best placement and the best one-container placement (Fig.
+    // 9's setting); a search run takes every placement.
+    let lowest_of = |one: bool| {
+        found
+            .iter()
+            .filter(|f| !one || f.layout.hosts.len() == 1)
+            .map(|f| f.evaluation.objective)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (best, best_single) = (lowest_of(false), lowest_of(true));
     let rows: Vec<(String, f64, Evaluation, f64)> = found
         .iter()
+        .filter(|f| {
+            !replay
+                || f.evaluation.objective == best
+                || (f.layout.hosts.len() == 1 && f.evaluation.objective == best_single)
+        })
         .map(|f| {
             let choice =
                 super::orbits::sdof_choice(exp, &f.layout.dampers(), mode, reference, band, candidates, steady, &|| {});
@@ -392,7 +562,7 @@ fn sdof_method(
     let table = Table::new(
         "design_sdof",
         format!(
-            "The paper's SDOF technique as a design method: for each placement and its best shot split, the clearance the equivalent SDOF model of mode {} picks by the rule of Fig. 9 (Type II alone within the resonance, the lowest SDOF peak; candidates {} mm; the SDOF model over the first band), evaluated on the full structure beside the optimiser's",
+            "The paper's SDOF technique as a design method: for each placement (in the report: the best placement and the best one-container placement) and its best shot split, the clearance the equivalent SDOF model of mode {} picks by the rule of Fig. 9 (Type II alone within the resonance, the lowest SDOF peak; candidates {} mm; the SDOF model over the first band), evaluated on the full structure beside the optimiser's",
             mode + 1,
             joined(candidates)
         ),

@@ -8,6 +8,7 @@ mod clearance;
 pub mod curves;
 mod decay_checks;
 pub mod design;
+mod design_near;
 mod digitised_checks;
 mod figures;
 pub mod impulse;
@@ -51,6 +52,8 @@ pub struct ExperimentResult {
     pub curves: curves::Curves,
     /// Values other experiments may use (`"@ID.KEY"`).
     pub exports: BTreeMap<String, f64>,
+    /// A design search's answer, to store (`shotdamp design --store`).
+    pub design: Option<crate::design::stored::StoredDesign>,
 }
 
 /// Counts one finished unit of work (a simulated point).
@@ -115,6 +118,8 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     let mut orbits_result = None;
     let mut motion_types = waveform::MotionTypes::new();
     let mut exports = BTreeMap::new();
+    let mut design_checks = Vec::new();
+    let mut design_answer = None;
     match &exp.analysis {
         Analysis::Modal => {}
         Analysis::LinearFrf { freq_hz } => {
@@ -158,10 +163,12 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             decays = out.decays;
         }
         Analysis::Design { spec, steady } => {
-            let out = design::run(exp, spec, steady, tick);
+            let out = design::run(exp, spec, steady, refs, tick);
             tables.extend(out.tables);
             figures.extend(out.figures);
             exports = out.exports;
+            design_checks = out.checks;
+            design_answer = Some(out.stored);
         }
         Analysis::SdofPeriodic { mode, freq_hz, clearances_mm, steady } => {
             if let Some(r) = orbits::run(exp, &modes, *mode, freq_hz, clearances_mm.as_deref(), steady, tick) {
@@ -183,6 +190,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         },
         refs,
     );
+    checks.extend(design_checks);
     let (id, figure) = (&exp.key(), &exp.meta.figure);
     match (refs.baseline(id), refs.baseline_mode) {
         (_, BaselineMode::Off) => {}
@@ -200,6 +208,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         figures,
         checks,
         curves,
+        design: design_answer,
     })
 }
 

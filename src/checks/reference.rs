@@ -151,6 +151,12 @@ pub enum BaselineMode {
     Required,
 }
 
+/// Where the stored answer of the design experiment `key` (`ID/MODEL`) lives under the
+/// reference folder `dir`.
+pub fn stored_design_path(dir: &Path, key: &str) -> std::path::PathBuf {
+    dir.join("designs").join(format!("{key}.json"))
+}
+
 /// Reference files loaded once, before any experiment runs (no I/O during analysis).
 #[derive(Debug, Clone, Default)]
 pub struct ReferenceStore {
@@ -159,6 +165,8 @@ pub struct ReferenceStore {
     digitised: std::collections::BTreeMap<String, DigitisedFile>,
     baselines: std::collections::BTreeMap<String, Vec<super::baseline::Value>>,
     pub baseline_mode: BaselineMode,
+    /// Stored answers of design searches, by experiment key (`dir/designs/ID/MODEL.json`).
+    designs: std::collections::BTreeMap<String, crate::design::stored::StoredDesign>,
 }
 
 impl ReferenceStore {
@@ -211,6 +219,34 @@ impl ReferenceStore {
             }
         }
         Ok(())
+    }
+
+    /// Loads the stored answer of each design experiment that has one
+    /// (`dir/designs/KEY.json`, KEY = `ID/MODEL`); a file that cannot be read is an error.
+    pub fn load_designs(&mut self, dir: &Path, experiments: &[crate::experiment::Experiment]) -> Result<()> {
+        for exp in experiments.iter().filter(|e| e.analysis.kind() == "design") {
+            let key = exp.key();
+            let path = stored_design_path(dir, &key);
+            if !path.is_file() {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).map_err(|e| crate::Error::io(&path, e))?;
+            let stored: crate::design::stored::StoredDesign = serde_json::from_str(&text).map_err(|e| {
+                crate::Error::invalid(
+                    &path,
+                    "(file)",
+                    format!("{e}"),
+                    "a stored design written by `shotdamp design --store`",
+                )
+            })?;
+            self.designs.insert(key, stored);
+        }
+        Ok(())
+    }
+
+    /// The stored answer of a design experiment.
+    pub fn design(&self, key: &str) -> Option<&crate::design::stored::StoredDesign> {
+        self.designs.get(key)
     }
 
     /// The blessed baseline of an experiment.

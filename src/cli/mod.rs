@@ -23,6 +23,7 @@ macro_rules! say_part {
     }};
 }
 
+mod designs;
 mod schedule;
 mod study;
 
@@ -59,6 +60,10 @@ pub struct Cli {
     /// `studies` beside the experiments folder).
     #[arg(long, global = true)]
     pub studies: Option<PathBuf>,
+    /// Folder of design files (`shotdamp report` evaluates the answers their searches stored
+    /// under the reference folder; default: `designs` beside the experiments folder).
+    #[arg(long, global = true)]
+    pub designs: Option<PathBuf>,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -134,6 +139,10 @@ pub enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
+        /// Also store each model's answer (the best layouts) under the reference folder's
+        /// designs/, where `shotdamp report` evaluates them again instead of searching.
+        #[arg(long)]
+        store: bool,
     },
     /// Run every experiment and regenerate the whole report.
     Report {
@@ -260,9 +269,19 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         }
         Command::Run { files, out, jobs, templates } => {
             let exps = experiment::load_all(files, &cli.reference)?;
-            run_and_write(&exps, &[], &cli.reference, out, *jobs, templates.as_deref(), BaselineMode::Optional)
+            Ok(run_and_write(
+                &exps,
+                &[],
+                &cli.reference,
+                out,
+                *jobs,
+                templates.as_deref(),
+                BaselineMode::Optional,
+                false,
+            )?
+            .0)
         }
-        Command::Design { files, out, jobs } => {
+        Command::Design { files, out, jobs, store } => {
             let exps = experiment::load_all(files, &cli.reference)?;
             if let Some(e) = exps.iter().find(|e| e.analysis.kind() != "design") {
                 return Err(crate::Error::invalid(
@@ -273,7 +292,15 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 )
                 .into());
             }
-            run_and_write(&exps, &[], &cli.reference, out, *jobs, None, BaselineMode::Optional)
+            let started = std::time::Instant::now();
+            // The report's baselines sample the replayed designs (docs/design.md): a search is
+            // not compared with them.
+            let (ok, results) = run_and_write(&exps, &[], &cli.reference, out, *jobs, None, BaselineMode::Off, false)?;
+            if *store {
+                let threads = pool(*jobs)?.current_num_threads();
+                designs::store_designs(&results, &cli.reference, started.elapsed().as_secs_f64(), threads)?;
+            }
+            Ok(ok)
         }
         Command::Reference { command: ReferenceCommand::Import { .. } } => {
             import(&cli.command, &cli.reference)?;
@@ -291,7 +318,12 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             if files.is_empty() {
                 anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
             }
-            let exps = experiment::load_all(&files, &cli.reference)?;
+            let mut exps = experiment::load_all(&files, &cli.reference)?;
+            let designs_dir = cli
+                .designs
+                .clone()
+                .unwrap_or_else(|| cli.experiments.parent().unwrap_or(Path::new("")).join("designs"));
+            exps.extend(designs::report_designs(&designs_dir, &cli.reference)?);
             let dir = cli
                 .studies
                 .clone()
@@ -300,9 +332,13 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
             crate::output::destination::refuse_overlap(
                 out,
-                &[("the experiments folder", &cli.experiments), ("the studies folder", &dir)],
+                &[
+                    ("the experiments folder", &cli.experiments),
+                    ("the studies folder", &dir),
+                    ("the designs folder", &designs_dir),
+                ],
             )?;
-            run_and_write(&exps, &studies, &cli.reference, out, *jobs, templates.as_deref(), mode)
+            Ok(run_and_write(&exps, &studies, &cli.reference, out, *jobs, templates.as_deref(), mode, *bless)?.0)
         }
     }
 }
@@ -615,6 +651,7 @@ fn report_studies(dir: &Path, reference: &Path) -> anyhow::Result<Vec<Study>> {
 
 /// Runs the experiments, each as soon as those whose exports it uses have finished, in
 /// parallel; writes the report; prints a summary.
+#[allow(clippy::too_many_arguments)]
 fn run_and_write(
     exps: &[Experiment],
     studies: &[Study],
@@ -623,10 +660,12 @@ fn run_and_write(
     jobs: Option<usize>,
     templates: Option<&Path>,
     baseline_mode: BaselineMode,
-) -> anyhow::Result<bool> {
+    bless: bool,
+) -> anyhow::Result<(bool, Vec<crate::analysis::ExperimentResult>)> {
     let graph = experiment::dependency_graph(exps)?;
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, baseline_mode)?;
+    refs.load_designs(reference, exps)?;
     let study_refs = studies.iter().map(|s| study::references(s, reference)).collect::<crate::Result<Vec<_>>>()?;
     let mut inputs: Vec<(&str, &Path)> = vec![("the reference folder", reference)];
     inputs.extend(templates.map(|t| ("the templates folder", t)));
@@ -661,7 +700,7 @@ fn run_and_write(
         run.assumed = run.manifest.models.iter().map(|(model, _)| s.assumed(model, &exports)).collect();
     }
     let dest = writer.finish(&results, &study_runs)?;
-    if baseline_mode == BaselineMode::Off {
+    if bless {
         let dir = reference.join("baseline");
         for r in &results {
             crate::output::write_baseline(&dir, &r.experiment.key(), &baseline::sample(&r.tables))?;
@@ -705,13 +744,13 @@ fn run_and_write(
     }
     if failed.is_empty() {
         say!("{total} checks: none failed");
-        Ok(true)
+        Ok((true, results))
     } else {
         say!("{total} checks: {} failed", failed.len());
         for f in failed {
             say!("{f}");
         }
-        Ok(false)
+        Ok((false, results))
     }
 }
 

@@ -8,6 +8,7 @@
 //! over layouts is in [`search`]. No I/O.
 
 pub mod search;
+pub mod stored;
 
 use crate::model::{Damper, Structure};
 use crate::sim::sweep::{self, Direction, SweepPoint};
@@ -38,6 +39,16 @@ pub struct Spec {
     /// The paper's SDOF technique beside the search: the 0-based mode and the candidate
     /// clearances (mm) of its rule (Fig. 9).
     pub sdof: Option<(usize, Vec<f64>)>,
+    /// `report = true`: `shotdamp report` shows this design.
+    pub report: bool,
+    /// `[design.scenarios] models = true`: the file's models are scenarios of one search.
+    pub scenario_models: bool,
+    /// With `scenario_models`, each model's label, structure and force (filled when the file
+    /// is loaded).
+    pub model_structures: Vec<(String, Structure, f64)>,
+    /// Evaluate the layouts a search stored ([`stored`]) instead of searching (what
+    /// `shotdamp report` does; never from the file).
+    pub replay: bool,
 }
 
 /// A frequency band and the masses whose compliance counts in it.
@@ -166,6 +177,9 @@ pub struct Evaluation {
     pub worst_scenario: usize,
     /// The band, frequency (Hz) and mass of the largest compliance of the worst band.
     pub worst: (usize, f64, usize),
+    /// The first scenario's compliance per band, frequency and mass (m/N; the nominal
+    /// structure when there are no scenarios), for figures.
+    pub curves: Vec<Vec<Vec<f64>>>,
     /// Points without a settled stable periodic orbit (their compliance is the amplitude of the
     /// motion over the recorded periods: see docs/design.md).
     pub unsettled: usize,
@@ -246,18 +260,28 @@ pub fn bare(problem: &Problem) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// One scenario of a layout.
+struct ScenarioRun {
+    /// Per band: its measure.
+    bands: Vec<f64>,
+    /// The worst band's measure relative to the bare structure's.
+    relative: f64,
+    /// Band, frequency (Hz) and mass of the worst band's largest compliance.
+    worst: (usize, f64, usize),
+    unsettled: usize,
+    points: usize,
+    /// Per band, frequency and mass: the compliance.
+    curves: Vec<Vec<Vec<f64>>>,
+}
+
 /// One scenario of a layout: its bands' measures, its objective, where the worst is.
-fn scenario(
-    problem: &Problem,
-    sc: &Scenario,
-    bare: &[f64],
-    layout: &Layout,
-) -> (Vec<f64>, f64, (usize, f64, usize), usize, usize) {
+fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> ScenarioRun {
     let sys = System::plastic(sc.structure.clone(), layout.dampers(), problem.driven, sc.force);
     let mut bands = Vec::with_capacity(problem.bands.len());
     let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
     let mut unsettled = 0;
     let mut points = 0;
+    let mut curves = Vec::with_capacity(problem.bands.len());
     for (k, band) in problem.bands.iter().enumerate() {
         let (c, u) = band_compliance(&sys, band, &problem.sweeps, &problem.steady);
         unsettled += u;
@@ -268,15 +292,16 @@ fn scenario(
         if relative > worst.0 || relative.is_nan() {
             worst = (relative, (k, band.freq_hz[i], m));
         }
+        curves.push(c);
     }
-    (bands, worst.0, worst.1, unsettled, points)
+    ScenarioRun { bands, relative: worst.0, worst: worst.1, unsettled, points, curves }
 }
 
 /// Evaluates one layout (`bare`: per scenario, the bands' measures without dampers, from
 /// [`bare`]).
 pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evaluation {
-    let runs: Vec<_> = problem.cases().iter().zip(bare).map(|(sc, b)| scenario(problem, sc, b, layout)).collect();
-    let objectives: Vec<f64> = runs.iter().map(|r| r.1).collect();
+    let mut runs: Vec<_> = problem.cases().iter().zip(bare).map(|(sc, b)| scenario(problem, sc, b, layout)).collect();
+    let objectives: Vec<f64> = runs.iter().map(|r| r.relative).collect();
     let worst_scenario =
         objectives.iter().enumerate().fold(0, |w, (i, o)| if *o > objectives[w] || o.is_nan() { i } else { w });
     let objective = match problem.combine {
@@ -285,13 +310,14 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
     };
     let w = &runs[worst_scenario];
     Evaluation {
-        bands: w.0.clone(),
+        bands: w.bands.clone(),
         bare: bare[worst_scenario].clone(),
         objective,
         scenarios: objectives,
         worst_scenario,
-        worst: w.2,
-        unsettled: runs.iter().map(|r| r.3).sum(),
-        points: runs.iter().map(|r| r.4).sum(),
+        worst: w.worst,
+        unsettled: runs.iter().map(|r| r.unsettled).sum(),
+        points: runs.iter().map(|r| r.points).sum(),
+        curves: std::mem::take(&mut runs[0].curves),
     }
 }

@@ -111,6 +111,9 @@ fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
     o.max_periods = positive_int(path, "analysis.steady.max_periods", s.max_periods, o.max_periods, 1_000_000)?;
     o.record_periods =
         positive_int(path, "analysis.steady.record_periods", s.record_periods, o.record_periods, 10_000)?;
+    if let Some(f) = s.follow {
+        o.follow = f;
+    }
     if o.min_periods > o.max_periods {
         return Err(Error::invalid(
             path,
@@ -121,6 +124,9 @@ fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
     }
     Ok(o)
 }
+
+/// The default `steady.max_periods` of design files (elsewhere 1500).
+pub const DESIGN_MAX_PERIODS: usize = 500;
 
 /// Parses `"@EXPERIMENT.KEY"`.
 pub fn export_ref(s: &str) -> Option<super::ExportRef> {
@@ -156,7 +162,17 @@ pub fn analysis(
     case_ids: &[String],
     design: Option<crate::design::Spec>,
 ) -> Result<Analysis> {
-    let steady = steady(path, a.steady.as_ref())?;
+    let mut steady = steady(path, a.steady.as_ref())?;
+    // Designs sweep thousands of bands by continuation: they follow certified orbits unless
+    // the file says otherwise (docs/design.md).
+    if design.is_some() && a.steady.as_ref().and_then(|s| s.follow).is_none() {
+        steady.follow = true;
+    }
+    // ... and a point without a stable orbit costs its whole budget, in every layout that
+    // has it: designs give up after DESIGN_MAX_PERIODS unless the file says otherwise.
+    if design.is_some() && a.steady.as_ref().and_then(|s| s.max_periods).is_none() {
+        steady.max_periods = DESIGN_MAX_PERIODS.max(steady.min_periods);
+    }
     // Keys of [analysis] that each kind reads; any other key given is an error.
     let given: [(&str, bool); 18] = [
         ("mode", a.mode.is_some()),

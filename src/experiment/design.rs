@@ -117,6 +117,7 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
     {
         return Err(bad(&format!("pareto_mass_ratios[{i}]"), r, "total shot mass ratios in (0, 10]"));
     }
+    let scenario_models = raw.scenarios.as_ref().and_then(|sc| sc.models).unwrap_or(false);
     let (scenario_damping, scenario_force_n, combine) = match &raw.scenarios {
         None => (Vec::new(), Vec::new(), Combine::Worst),
         Some(sc) => {
@@ -129,8 +130,8 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
             if let Some((i, f)) = force.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
                 return Err(bad(&format!("scenarios.force_n[{i}]"), f, "a force amplitude in N, positive and finite"));
             }
-            if damping.is_empty() && force.is_empty() {
-                return Err(bad("scenarios", &"(empty)", "give damping = [...] and/or force_n = [...]"));
+            if damping.is_empty() && force.is_empty() && !scenario_models {
+                return Err(bad("scenarios", &"(empty)", "give damping = [...], force_n = [...] and/or models = true"));
             }
             let combine = match sc.combine.as_deref() {
                 None | Some("worst") => Combine::Worst,
@@ -181,5 +182,9 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
         scenario_force_n,
         combine,
         sdof,
+        replay: false,
+        report: raw.report.unwrap_or(false),
+        scenario_models,
+        model_structures: Vec::new(),
     }))
 }

@@ -521,7 +521,36 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Vec<Experiment>> {
     for e in &mut exps {
         e.models = models.clone();
     }
-    Ok(exps)
+    models_as_scenarios(path, exps)
+}
+
+/// A design file with `[design.scenarios] models = true` becomes one experiment (on no single
+/// model) whose search takes every model's structure and force as scenarios.
+fn models_as_scenarios(path: &Path, mut exps: Vec<Experiment>) -> Result<Vec<Experiment>> {
+    let wanted = matches!(&exps[0].analysis, Analysis::Design { spec, .. } if spec.scenario_models);
+    if !wanted {
+        return Ok(exps);
+    }
+    if exps.len() < 2 || exps.iter().any(|e| e.model.is_none()) {
+        return Err(Error::invalid(
+            path,
+            "design.scenarios.models",
+            "true",
+            "the file must list two or more models (`models = [...]`) to take them as scenarios",
+        ));
+    }
+    let structures: Vec<(String, crate::model::Structure, f64)> = exps
+        .iter()
+        .map(|e| {
+            (e.model.as_ref().map(|m| m.label.clone()).unwrap_or_default(), e.structure.clone(), e.excitation.force)
+        })
+        .collect();
+    let mut one = exps.swap_remove(0);
+    one.model = None;
+    if let Analysis::Design { spec, .. } = &mut one.analysis {
+        spec.model_structures = structures;
+    }
+    Ok(vec![one])
 }
 
 /// An input error in the structure of an experiment merged with a model file names both

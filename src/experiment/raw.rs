@@ -199,6 +199,10 @@ pub struct RawSteady {
     pub max_periods: Option<i64>,
     #[serde(default)]
     pub record_periods: Option<i64>,
+    /// Continuation sweeps follow a certified orbit by Newton's method before any transient
+    /// (default false; true in designs).
+    #[serde(default)]
+    pub follow: Option<bool>,
 }
 
 /// `[design]`: what a design search may vary and what it lowers (docs/design.md).
@@ -237,6 +241,9 @@ pub struct RawDesign {
     /// Total shot mass ratios of the Pareto front (optional).
     #[serde(default)]
     pub pareto_mass_ratios: Option<Vec<f64>>,
+    /// `shotdamp report` shows this design (its stored answer evaluated again); default false.
+    #[serde(default)]
+    pub report: Option<bool>,
     pub bands: Vec<RawBand>,
     /// Values the objective is taken over (the paper leaves them unstated).
     #[serde(default)]
@@ -265,6 +272,9 @@ pub struct RawScenarios {
     /// Force amplitudes, N.
     #[serde(default)]
     pub force_n: Option<Vec<f64>>,
+    /// The file's models as scenarios of one search (instead of a search per model).
+    #[serde(default)]
+    pub models: Option<bool>,
     /// "worst" (default) or "mean".
     #[serde(default)]
     pub combine: Option<String>,

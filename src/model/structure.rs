@@ -19,7 +19,7 @@ pub enum Damping {
 }
 
 /// The bare primary structure: `M0 xddot + C xdot + K x = f`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Structure {
     /// Lumped masses `m_1..m_n`, kg.
     pub masses: Vec<f64>,

@@ -2,6 +2,7 @@
 //! owner of destinations; exporters render to bytes or draw to a path it gives them.
 
 pub mod compare;
+pub mod conclusion;
 pub mod destination;
 pub mod files;
 pub mod heatmap;

@@ -250,6 +250,8 @@ pub struct IndexView {
     pub rows: Vec<SummaryRow>,
     pub checks: Vec<CheckRow>,
     pub assumptions: Vec<String>,
+    /// The paper's conclusion tested by the design experiments, a sentence per model.
+    pub conclusions: Vec<super::conclusion::Conclusion>,
 }
 
 /// Builds the index view.
@@ -291,6 +293,7 @@ pub fn index_view(results: &[ExperimentResult], studies: &[super::study::StudyRu
             .collect(),
         checks: results.iter().flat_map(|r| r.checks.iter().map(|c| CheckRow::new(&r.experiment.key(), c))).collect(),
         assumptions,
+        conclusions: super::conclusion::conclusions(results),
     }
 }
 

@@ -17,7 +17,7 @@ use super::engine::{Engine, Event, State};
 use super::observe::EventLog;
 use super::periodic::{signature, solve, NewtonOptions, Orbit, OrbitError, Section};
 use super::steady::{amplitude_scale, finish, Certificate, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions};
-use super::strobe::{quiet_phase, Strobe};
+use super::strobe::{quiet_phase, Rest, Strobe};
 use super::system::Dynamics;
 
 /// One forcing period of the transient.
@@ -181,6 +181,56 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     finish(d, s, t_end, opts.energy, outcome)
 }
 
+/// A certified steady state and the dynamics it belongs to (a point of a continuation sweep).
+pub struct Known<'a> {
+    pub d: &'a Dynamics,
+    pub steady: &'a Steady,
+    /// Its forcing frequency, Hz.
+    pub freq_hz: f64,
+}
+
+/// The orbit of `prev` (a certified steady state) continued to the dynamics `d` (the same
+/// system forced at `freq_hz`): Newton's method on the section of `prev`'s orbit (same forcing
+/// phase, period and bed places). The first guess is `prev`'s section state, extrapolated along
+/// the secant through `before` when that point was on the same section. `None` unless the orbit
+/// found is stable and has `prev`'s events per cycle (so it is the same branch, not another
+/// orbit nearby); then the caller runs the transient search. Its `transient_periods` is 0.
+pub fn follow(
+    prev: &Known,
+    before: Option<&Known>,
+    d: &Dynamics,
+    freq_hz: f64,
+    opts: &SteadyOptions,
+) -> Option<Steady> {
+    let cert = prev.steady.certificate.as_ref()?;
+    if !prev.steady.converged || prev.steady.stop.is_some() {
+        return None;
+    }
+    let at = prev.steady.section_state(prev.d)?;
+    let length = prev.steady.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
+    let (strobe, mut u0) = Strobe::through(d, &at, prev.steady.period, length);
+    if let Some(b) = before {
+        let same = b.steady.certificate.as_ref().is_some_and(|c| c.phase == cert.phase && c.pattern == cert.pattern)
+            && b.steady.period == prev.steady.period;
+        if let Some(old) =
+            b.steady.section_state(b.d).filter(|s| same && s.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied()))
+        {
+            let r = (freq_hz - prev.freq_hz) / (prev.freq_hz - b.freq_hz);
+            if r.is_finite() && r.abs() <= 2.0 {
+                let u_old = strobe.coordinates_unchecked(d, &old);
+                u0 += (&u0 - u_old) * r;
+            }
+        }
+    }
+    let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
+    let orbit = solve(&strobe, d, &u0, &newton).ok()?;
+    if !orbit.stable || counts(&orbit.events) != cert.pattern {
+        return None;
+    }
+    let st = record(d, &strobe, &orbit, 0, 1, opts);
+    (st.converged && st.stop.is_none()).then_some(st)
+}
+
 /// Records one orbit from its section state and ends the record on a whole forcing period
 /// (where a continuation sweep restarts).
 fn record(
@@ -203,6 +253,8 @@ fn record(
         iterations: orbit.residuals.len().saturating_sub(1),
         attempts,
         phase: strobe.phase,
+        pattern: counts(&orbit.events),
+        section: start.clone(),
     };
     let outcome = Outcome {
         method: SteadyMethod::Orbit,

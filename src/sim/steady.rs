@@ -12,7 +12,7 @@ use num_complex::Complex64;
 
 use nalgebra::DVector;
 
-use super::engine::{Engine, Quiet, State, Stop};
+use super::engine::{Engine, State, Stop};
 use super::observe::{stored_energy, Both, Energy, Extrema};
 use super::strobe::Strobe;
 use super::system::Dynamics;
@@ -60,6 +60,12 @@ pub struct SteadyOptions {
     pub max_subharmonic: usize,
     /// Also integrate the energy balance over the recorded periods.
     pub energy: bool,
+    /// Continuation sweeps: where the previous point is a certified orbit, first solve for the
+    /// orbit at the new frequency by Newton's method from the previous orbit (same section
+    /// phase, period and bed places), and accept it when it is stable and has the same events
+    /// per cycle; otherwise (a fold, a bifurcation, a change of events) run the transient
+    /// search from the previous final state as without this option.
+    pub follow: bool,
 }
 
 impl Default for SteadyOptions {
@@ -76,6 +82,7 @@ impl Default for SteadyOptions {
             energy: false,
             orbit_tol: 1e-11,
             max_newton: 10,
+            follow: false,
         }
     }
 }
@@ -114,6 +121,11 @@ pub struct Certificate {
     pub attempts: usize,
     /// Forcing phase of the section, rad.
     pub phase: f64,
+    /// The orbit's events per cycle, counted per bed and kind (what a followed point must
+    /// keep, [`SteadyOptions::follow`]).
+    pub pattern: Vec<(usize, u8, usize)>,
+    /// The state on the orbit at the section (where a followed point starts from).
+    pub section: State,
 }
 
 impl Certificate {
@@ -184,12 +196,14 @@ pub struct Steady {
 impl Steady {
     /// The section through a steady state found as an orbit (at its certificate's phase).
     pub fn section(&self, d: &Dynamics) -> Option<(Strobe, DVector<f64>)> {
-        let cert = self.certificate.as_ref()?;
-        let mut s = self.final_state.clone();
-        let t = s.t + cert.phase / d.omega;
-        Engine::new(d).advance(&mut s, t, &mut Quiet).ok()?;
+        let s = self.section_state(d)?;
         let length = self.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
         Some(Strobe::through(d, &s, self.period, length))
+    }
+
+    /// The state on the orbit at its certificate's section phase.
+    pub fn section_state(&self, _d: &Dynamics) -> Option<State> {
+        self.certificate.as_ref().map(|c| c.section.clone())
     }
 }
 

@@ -121,7 +121,7 @@ impl Strobe {
     }
 
     /// The coordinates of a state (whose beds are where the section says).
-    fn coordinates_unchecked(&self, d: &Dynamics, s: &State) -> DVector<f64> {
+    pub(crate) fn coordinates_unchecked(&self, d: &Dynamics, s: &State) -> DVector<f64> {
         let n = d.system.dof();
         let (l, w) = (self.length, self.rate(d));
         let mut u = DVector::zeros(self.dim(n));

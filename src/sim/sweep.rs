@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 
 use super::engine::{Bed, State};
+use super::orbit_search::{follow, Known};
 use super::steady::{Steady, SteadyOptions};
 use super::steady_state;
 use super::system::{Dynamics, SetupError, System};
@@ -74,19 +75,51 @@ pub fn continued(
     if dir == Direction::Down {
         order.reverse();
     }
-    let mut prev: Option<State> = None;
+    // The points computed so far: dynamics, steady state, frequency.
+    let mut known: Vec<(Dynamics, Steady, f64)> = Vec::new();
     let mut out = Vec::with_capacity(order.len());
     let base = Dynamics::unforced(sys);
     for f in order {
         let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
-            let start = prev.as_ref().map(restart).unwrap_or_else(|| State::at_rest(&d));
-            steady_state(&d, start, opts)
+            let n = known.len();
+            let followed = match known.last() {
+                Some(p) if opts.follow => {
+                    let before = n.checked_sub(2).map(|i| known_point(&known[i]));
+                    follow(&known_point(p), before.as_ref(), &d, f, opts)
+                }
+                _ => None,
+            };
+            let st = followed.unwrap_or_else(|| {
+                match known.last() {
+                    // A followed sweep's fallback starts next to a settled motion: it is
+                    // judged as soon as its events have repeated (`consecutive` periods).
+                    Some((_, s, _)) if opts.follow => {
+                        let near = SteadyOptions { min_periods: opts.min_periods.min(opts.consecutive), ..*opts };
+                        steady_state(&d, restart(&s.final_state), &near)
+                    }
+                    Some((_, s, _)) => steady_state(&d, restart(&s.final_state), opts),
+                    None => steady_state(&d, State::at_rest(&d), opts),
+                }
+            });
+            (d, st)
         });
-        if let Ok(r) = &result {
-            prev = Some(r.final_state.clone());
-        }
+        let result = match result {
+            Ok((d, st)) => {
+                let r = Ok(st.clone());
+                if known.len() == 2 {
+                    known.remove(0);
+                }
+                known.push((d, st, f));
+                r
+            }
+            Err(e) => Err(e),
+        };
         tick();
         out.push(SweepPoint { freq_hz: f, result });
     }
     out
+}
+
+fn known_point((d, steady, f): &(Dynamics, Steady, f64)) -> Known<'_> {
+    Known { d, steady, freq_hz: *f }
 }

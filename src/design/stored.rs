@@ -1,0 +1,99 @@
+//! A design search's answer, stored: the best layout of every placement and of every point of
+//! the Pareto front, with the objective the search found for it (docs/design.md, "In the
+//! report"). `shotdamp design --store` writes it; `shotdamp report` evaluates the stored
+//! layouts again with the simulator instead of searching, and fails a check when a stored
+//! objective is not what the layout gives now or when the design problem has changed since
+//! the search (the fingerprint). Serialisation only; no I/O.
+
+use serde::{Deserialize, Serialize};
+
+use super::{Layout, Problem, Spec};
+
+/// One stored layout and what the search found for it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StoredLayout {
+    /// What it is the best of: the placement (e.g. "m1 m2") or the Pareto point.
+    pub label: String,
+    /// 0-based host masses.
+    pub hosts: Vec<usize>,
+    pub masses_kg: Vec<f64>,
+    pub clearances_mm: Vec<f64>,
+    /// The objective the search computed.
+    pub objective: f64,
+    /// Objective evaluations the search made for it.
+    pub evaluations: u64,
+}
+
+impl StoredLayout {
+    /// The layout.
+    pub fn layout(&self) -> Layout {
+        Layout {
+            hosts: self.hosts.clone(),
+            masses_kg: self.masses_kg.clone(),
+            clearances_mm: self.clearances_mm.clone(),
+        }
+    }
+
+    /// Stores a layout found by the search.
+    pub fn of(label: String, layout: &Layout, objective: f64, evaluations: u64) -> StoredLayout {
+        StoredLayout {
+            label,
+            hosts: layout.hosts.clone(),
+            masses_kg: layout.masses_kg.clone(),
+            clearances_mm: layout.clearances_mm.clone(),
+            objective,
+            evaluations,
+        }
+    }
+}
+
+/// A Pareto point: the total shot mass ratio and its best layout.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StoredPareto {
+    pub mass_ratio: f64,
+    pub best: StoredLayout,
+}
+
+/// The stored answer of one design experiment on one model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StoredDesign {
+    /// The experiment's key (`ID/MODEL`).
+    pub experiment: String,
+    /// [`fingerprint`] of the design problem searched.
+    pub fingerprint: String,
+    /// How it was computed: the command, shotdamp's version, the date, the time taken.
+    pub provenance: String,
+    pub placements: Vec<StoredLayout>,
+    pub pareto: Vec<StoredPareto>,
+}
+
+/// A fingerprint of everything a search's answer depends on: the structure and force (with
+/// the scenarios), the bands, measure, sweeps and steady-state settings, and the search space
+/// and settings (64-bit FNV-1a of their exact values, in hex).
+pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
+    let text = format!(
+        "{:?}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
+        problem.structure,
+        problem.driven,
+        problem.force,
+        problem.bands,
+        problem.measure,
+        problem.sweeps,
+        problem.steady,
+        problem.scenarios.iter().map(|s| (&s.name, &s.structure, s.force)).collect::<Vec<_>>(),
+        problem.combine,
+        spec.candidates,
+        spec.max_beds,
+        spec.shot_kg,
+        spec.clearance_mm,
+        spec.shared_clearance,
+        spec.search,
+        spec.pareto_mass_ratios,
+    );
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}

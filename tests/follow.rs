@@ -1,0 +1,61 @@
+//! Continuation sweeps that follow certified orbits (`steady.follow`, the default of designs)
+//! against the same sweeps without it (each point from the previous point's final state by
+//! the transient search): the same orbits, to 1e-9, at every point of Fig. 5's band, across
+//! the fold of its hysteresis and the clearances where the beds stop reaching the top.
+
+use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::sim::sweep::{continued, Direction};
+use shotdamp::sim::{SteadyOptions, System};
+
+fn paper(zeta: f64) -> Structure {
+    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![zeta; 3]))
+}
+
+fn band() -> Vec<f64> {
+    (0..=48).map(|i| 44.0 + 0.25 * i as f64).collect()
+}
+
+/// Compares the two sweeps point by point; returns how many points were followed.
+fn same_sweeps(sys: &System, dir: Direction) -> usize {
+    let plain = SteadyOptions::default();
+    let follow = SteadyOptions { follow: true, ..plain };
+    let a = continued(sys, &band(), dir, &plain, &|| {});
+    let b = continued(sys, &band(), dir, &follow, &|| {});
+    let mut followed = 0;
+    for (p, q) in a.iter().zip(&b) {
+        assert_eq!(p.freq_hz, q.freq_hz);
+        let (p, q) = (p.result.as_ref().unwrap(), q.result.as_ref().unwrap());
+        assert_eq!(p.converged, q.converged, "{} Hz", p.omega / std::f64::consts::TAU);
+        assert_eq!(p.period, q.period);
+        for (x, y) in p.amplitude.iter().zip(&q.amplitude) {
+            assert!((x - y).abs() <= 1e-9 * x.abs().max(1e-12), "{} Hz: {x} vs {y}", p.omega / std::f64::consts::TAU);
+        }
+        if q.converged && q.transient_periods == 0 {
+            followed += 1;
+            let (cp, cq) = (p.certificate.as_ref().unwrap(), q.certificate.as_ref().unwrap());
+            assert!(cq.stable && cq.residual < 1e-11);
+            assert_eq!(cp.pattern, cq.pattern);
+            for (m, n) in cp.multipliers.iter().zip(&cq.multipliers) {
+                assert!((m - n).norm() <= 1e-6, "multipliers {m} vs {n}");
+            }
+        }
+    }
+    followed
+}
+
+#[test]
+fn followed_sweeps_equal_the_transient_search_on_fig05s_band() {
+    let mut followed = 0;
+    for (zeta, clearance_mm, hosts) in
+        [(0.01, 0.3, vec![0, 1, 2]), (0.005, 0.3, vec![0, 1, 2]), (0.01, 1.0, vec![0, 1, 2]), (0.01, 0.2, vec![1])]
+    {
+        let masses = [0.74, 0.71, 0.64];
+        let dampers: Vec<Damper> =
+            hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * masses[h], clearance: clearance_mm * 1e-3 }).collect();
+        let sys = System::plastic(paper(zeta), dampers, 0, 2.6);
+        followed += same_sweeps(&sys, Direction::Up);
+        followed += same_sweeps(&sys, Direction::Down);
+    }
+    // Most points are followed (the fast path is taken, not skipped).
+    assert!(followed > 8 * 49 / 2, "{followed} of {} points followed", 8 * 49);
+}
