@@ -75,42 +75,44 @@ pub fn continued(
     if dir == Direction::Down {
         order.reverse();
     }
-    // The points computed so far: dynamics, steady state, frequency.
-    let mut known: Vec<(Dynamics, Steady, f64)> = Vec::new();
-    let mut out = Vec::with_capacity(order.len());
+    let mut out: Vec<SweepPoint> = Vec::with_capacity(order.len());
+    // Index in `out` of the last point with a steady state; following, also the last two such
+    // points' dynamics and indices.
+    let mut last: Option<usize> = None;
+    let mut known: Vec<(Dynamics, usize)> = Vec::new();
     let base = Dynamics::unforced(sys);
     for f in order {
         let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
-            let n = known.len();
+            let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
                 Some(p) if opts.follow => {
-                    let before = n.checked_sub(2).map(|i| known_point(&known[i]));
-                    follow(&known_point(p), before.as_ref(), &d, f, opts)
+                    let before = known.len().checked_sub(2).and_then(|i| known_point(&out, &known[i]));
+                    known_point(&out, p).and_then(|p| follow(&p, before.as_ref(), &d, f, opts))
                 }
                 _ => None,
             };
-            let st = followed.unwrap_or_else(|| {
-                match known.last() {
-                    // A followed sweep's fallback starts next to a settled motion: it is
-                    // judged as soon as its events have repeated (`consecutive` periods).
-                    Some((_, s, _)) if opts.follow => {
-                        let near = SteadyOptions { min_periods: opts.min_periods.min(opts.consecutive), ..*opts };
-                        steady_state(&d, restart(&s.final_state), &near)
-                    }
-                    Some((_, s, _)) => steady_state(&d, restart(&s.final_state), opts),
-                    None => steady_state(&d, State::at_rest(&d), opts),
+            let st = followed.unwrap_or_else(|| match previous {
+                // A followed sweep's fallback starts next to a settled motion: it is judged as
+                // soon as its events have repeated (`consecutive` periods).
+                Some(s) if opts.follow => {
+                    let near = SteadyOptions { min_periods: opts.min_periods.min(opts.consecutive), ..*opts };
+                    steady_state(&d, restart(&s.final_state), &near)
                 }
+                Some(s) => steady_state(&d, restart(&s.final_state), opts),
+                None => steady_state(&d, State::at_rest(&d), opts),
             });
             (d, st)
         });
         let result = match result {
             Ok((d, st)) => {
-                let r = Ok(st.clone());
-                if known.len() == 2 {
-                    known.remove(0);
+                last = Some(out.len());
+                if opts.follow {
+                    if known.len() == 2 {
+                        known.remove(0);
+                    }
+                    known.push((d, out.len()));
                 }
-                known.push((d, st, f));
-                r
+                Ok(st)
             }
             Err(e) => Err(e),
         };
@@ -120,6 +122,8 @@ pub fn continued(
     out
 }
 
-fn known_point((d, steady, f): &(Dynamics, Steady, f64)) -> Known<'_> {
-    Known { d, steady, freq_hz: *f }
+/// A computed point of `out` with its dynamics.
+fn known_point<'a>(out: &'a [SweepPoint], (d, i): &'a (Dynamics, usize)) -> Option<Known<'a>> {
+    let p = out.get(*i)?;
+    Some(Known { d, steady: p.result.as_ref().ok()?, freq_hz: p.freq_hz })
 }
