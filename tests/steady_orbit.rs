@@ -74,7 +74,7 @@ fn linear_multipliers_are_exponentials_of_the_eigenvalues() {
             .map(|r| {
                 let cfg = &d.configs[7];
                 let k = r / 2;
-                let l = if r % 2 == 0 { cfg.lambda[k] } else { cfg.lambda[k].conj() };
+                let l = if r % 2 == 0 { cfg.modes.lambda[k] } else { cfg.modes.lambda[k].conj() };
                 (l * t).exp()
             })
             .collect();

@@ -52,7 +52,7 @@ impl State {
     pub fn at_rest(d: &Dynamics) -> State {
         let n = d.system.dof();
         let all = (1usize << d.system.dampers.len()) - 1;
-        let x = d.configs[all].offset.clone();
+        let x = d.configs[all].modes.offset.clone();
         State { t: 0.0, x, v: DVector::zeros(n), beds: vec![Bed::Bottom; d.system.dampers.len()] }
     }
 

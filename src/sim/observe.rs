@@ -6,7 +6,7 @@ use nalgebra::DVector;
 use crate::model::GRAVITY;
 
 use super::engine::{Bed, Event, EventKind, Observer, State};
-use super::segment::{Segment, Watch};
+use super::segment::{Point, Segment, Watch};
 use super::system::Dynamics;
 
 /// Extrema of every displacement (and bed states) over the observed time, found from the
@@ -46,44 +46,42 @@ impl Extrema {
     }
 }
 
-/// Roots of `f` on `[a, b]` sampled at `m` intervals and refined by Newton with bisection;
-/// `f` returns value and derivative.
-fn roots_of(f: &impl Fn(f64) -> (f64, f64), a: f64, b: f64, m: usize) -> Vec<f64> {
+/// Roots of `f` between successive sample times `times` (where it takes the values `at`),
+/// each sign change refined by Newton with bisection; `f` returns value and derivative.
+fn roots_between(f: &impl Fn(f64) -> (f64, f64), times: &[f64], at: &[f64]) -> Vec<f64> {
     let mut out = Vec::new();
-    let h = (b - a) / m as f64;
-    let mut ta = a;
-    let mut fa = f(a).0;
-    for k in 1..=m {
-        let tb = if k == m { b } else { a + h * k as f64 };
-        let fb = f(tb).0;
+    for (w, t) in times.windows(2).zip(at.windows(2)) {
+        let ((ta, tb), (fa, fb)) = ((w[0], w[1]), (t[0], t[1]));
         if fa == 0.0 {
             out.push(ta);
         } else if fa * fb < 0.0 {
-            let (mut lo, mut hi, mut flo) = (ta, tb, fa);
-            let mut t = 0.5 * (lo + hi);
-            for _ in 0..60 {
-                let (v, dv) = f(t);
-                if v == 0.0 {
-                    break;
-                }
-                if (v < 0.0) == (flo < 0.0) {
-                    lo = t;
-                    flo = v;
-                } else {
-                    hi = t;
-                }
-                let newton = if dv != 0.0 { t - v / dv } else { f64::NAN };
-                t = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
-                if hi - lo < 1e-15 * (1.0 + t.abs()) {
-                    break;
-                }
-            }
-            out.push(t);
+            out.push(refine(f, ta, tb, fa));
         }
-        ta = tb;
-        fa = fb;
     }
     out
+}
+
+/// The root of `f` in `[lo, hi]`, where `f(lo) = flo` and `f(hi)` has the other sign.
+fn refine(f: &impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, mut flo: f64) -> f64 {
+    let mut t = 0.5 * (lo + hi);
+    for _ in 0..60 {
+        let (v, dv) = f(t);
+        if v == 0.0 {
+            break;
+        }
+        if (v < 0.0) == (flo < 0.0) {
+            lo = t;
+            flo = v;
+        } else {
+            hi = t;
+        }
+        let newton = if dv != 0.0 { t - v / dv } else { f64::NAN };
+        t = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
+        if hi - lo < 1e-15 * (1.0 + t.abs()) {
+            break;
+        }
+    }
+    t
 }
 
 impl Observer for Extrema {
@@ -93,57 +91,42 @@ impl Observer for Extrema {
         }
         let n = d.system.dof();
         let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
-        // One evaluation per sample time serves every mass; velocity sign changes are then
-        // refined one by one.
+        // The closed form is evaluated once per sample time for every mass and bed; sign
+        // changes of the velocities (and relative velocities of flying beds) are then refined
+        // one by one.
         let times: Vec<f64> =
             (0..=m).map(|k| if k == m { t_b } else { t_a + (t_b - t_a) * k as f64 / m as f64 }).collect();
-        let samples: Vec<[f64; 4]> = times
-            .iter()
-            .map(|&t| {
-                let pt = seg.point(d, t);
-                let mut row = [0.0; 4];
-                for (i, r) in row.iter_mut().enumerate().take(n.min(4)) {
-                    *r = seg.deriv(d, &pt, i, 1);
-                }
-                row
-            })
-            .collect();
-        #[allow(clippy::needless_range_loop)]
+        let points: Vec<Point> = times.iter().map(|&t| seg.point(d, t)).collect();
+        let mut at = vec![0.0; m + 1];
         for i in 0..n {
             let x = |t: f64| seg.deriv(d, &seg.point(d, t), i, 0);
-            self.take(i, x(t_a));
-            self.take(i, x(t_b));
+            self.take(i, seg.deriv(d, &points[0], i, 0));
+            self.take(i, seg.deriv(d, &points[m], i, 0));
             let v = |t: f64| {
                 let pt = seg.point(d, t);
                 (seg.deriv(d, &pt, i, 1), seg.deriv(d, &pt, i, 2))
             };
-            for w in 0..m {
-                let (va, vb) =
-                    if i < 4 { (samples[w][i], samples[w + 1][i]) } else { (v(times[w]).0, v(times[w + 1]).0) };
-                if va * vb < 0.0 || vb == 0.0 {
-                    for r in roots_of(&v, times[w], times[w + 1], 1) {
-                        self.take(i, x(r));
-                    }
-                }
+            at.iter_mut().zip(&points).for_each(|(a, pt)| *a = seg.deriv(d, pt, i, 1));
+            for r in roots_between(&v, &times, &at) {
+                self.take(i, x(r));
             }
         }
         // Highest flight: the apex of y - x_p, at a root of the relative velocity.
         for (j, bed) in beds.iter().enumerate() {
             if let Bed::Free { t0, y0, u0 } = *bed {
                 let p = d.system.dampers[j].host;
-                let gap = |t: f64| {
-                    let pt = seg.point(d, t);
-                    let (y, u) = Bed::flight(t0, y0, u0, t);
-                    (y - seg.deriv(d, &pt, p, 0), u - seg.deriv(d, &pt, p, 1))
-                };
+                let gap = |t: f64, pt: &Point| Bed::flight(t0, y0, u0, t).0 - seg.deriv(d, pt, p, 0);
                 let rel = |t: f64| {
                     let pt = seg.point(d, t);
                     let (_, u) = Bed::flight(t0, y0, u0, t);
                     (u - seg.deriv(d, &pt, p, 1), -GRAVITY - seg.deriv(d, &pt, p, 2))
                 };
-                let mut best = gap(t_a).0.max(gap(t_b).0);
-                for r in roots_of(&rel, t_a, t_b, m) {
-                    best = best.max(gap(r).0);
+                at.iter_mut()
+                    .zip(&points)
+                    .for_each(|(a, pt)| *a = Bed::flight(t0, y0, u0, pt.t).1 - seg.deriv(d, pt, p, 1));
+                let mut best = gap(t_a, &points[0]).max(gap(t_b, &points[m]));
+                for r in roots_between(&rel, &times, &at) {
+                    best = best.max(gap(r, &seg.point(d, r)));
                 }
                 self.max_flight[j] = self.max_flight[j].max(best);
             }

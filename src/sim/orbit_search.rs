@@ -181,9 +181,8 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     finish(d, s, t_end, opts.energy, outcome)
 }
 
-/// A certified steady state and the dynamics it belongs to (a point of a continuation sweep).
+/// A certified steady state at its forcing frequency (a point of a continuation sweep).
 pub struct Known<'a> {
-    pub d: &'a Dynamics,
     pub steady: &'a Steady,
     /// Its forcing frequency, Hz.
     pub freq_hz: f64,
@@ -206,18 +205,18 @@ pub fn follow(
     if !prev.steady.converged || prev.steady.stop.is_some() {
         return None;
     }
-    let at = prev.steady.section_state(prev.d)?;
+    let at = prev.steady.section_state()?;
     let length = prev.steady.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
-    let (strobe, mut u0) = Strobe::through(d, &at, prev.steady.period, length);
+    let (strobe, mut u0) = Strobe::through(d, at, prev.steady.period, length);
     if let Some(b) = before {
         let same = b.steady.certificate.as_ref().is_some_and(|c| c.phase == cert.phase && c.pattern == cert.pattern)
             && b.steady.period == prev.steady.period;
         if let Some(old) =
-            b.steady.section_state(b.d).filter(|s| same && s.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied()))
+            b.steady.section_state().filter(|s| same && s.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied()))
         {
             let r = (freq_hz - prev.freq_hz) / (prev.freq_hz - b.freq_hz);
             if r.is_finite() && r.abs() <= 2.0 {
-                let u_old = strobe.coordinates_unchecked(d, &old);
+                let u_old = strobe.coordinates_unchecked(d, old);
                 u0 += (&u0 - u_old) * r;
             }
         }

@@ -39,16 +39,16 @@ impl Segment {
         let (sn, cs) = (d.omega * t0).sin_cos();
         let mut z = [0.0; MAX_TERMS];
         for i in 0..n {
-            let xp = cfg.p[i] * cs + cfg.q[i] * sn + cfg.offset[i];
+            let xp = cfg.p[i] * cs + cfg.q[i] * sn + cfg.modes.offset[i];
             let vp = (cfg.q[i] * cs - cfg.p[i] * sn) * d.omega;
             z[i] = x0[i] - xp;
             z[n + i] = v0[i] - vp;
         }
-        let len = cfg.lambda.len();
+        let len = cfg.modes.lambda.len();
         let mut c = [Complex64::new(0.0, 0.0); MAX_TERMS];
         let mut c_abs = [0.0; MAX_TERMS];
         for r in 0..len {
-            c[r] = (0..2 * n).map(|j| cfg.inverse[(r, j)] * z[j]).sum();
+            c[r] = (0..2 * n).map(|j| cfg.modes.inverse[(r, j)] * z[j]).sum();
             c_abs[r] = c[r].norm();
         }
         Segment { t0, mask, len, c, c_abs }
@@ -61,7 +61,7 @@ impl Segment {
         let mut e = [Complex64::new(0.0, 0.0); MAX_TERMS];
         let mut e_abs = [0.0; MAX_TERMS];
         for r in 0..self.len {
-            let l = cfg.lambda[r];
+            let l = cfg.modes.lambda[r];
             let decay = (l.re * s).exp();
             let (si, co) = (l.im * s).sin_cos();
             e[r] = self.c[r] * Complex64::new(decay * co, decay * si);
@@ -74,7 +74,7 @@ impl Segment {
     /// Derivative `order` of the displacement of mass `p`.
     pub fn deriv(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
-        let row = &cfg.vl[p][order];
+        let row = &cfg.modes.vl[p][order];
         let hom: f64 = row[..self.len].iter().zip(&pt.e[..self.len]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
         let (pp, qq) = (cfg.p[p], cfg.q[p]);
         let w = d.omega_pow[order];
@@ -84,13 +84,13 @@ impl Segment {
             2 => -(pp * pt.cos + qq * pt.sin),
             _ => pp * pt.sin - qq * pt.cos,
         } * w;
-        hom + forced + if order == 0 { cfg.offset[p] } else { 0.0 }
+        hom + forced + if order == 0 { cfg.modes.offset[p] } else { 0.0 }
     }
 
     /// A bound on `|x_p^(order)|` from this point on (the homogeneous terms decay).
     pub fn bound(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.mask];
-        let row = &cfg.vl_abs[p][order];
+        let row = &cfg.modes.vl_abs[p][order];
         let hom: f64 = row[..self.len].iter().zip(&pt.e_abs[..self.len]).map(|(a, e)| a * e).sum();
         hom + d.omega_pow[order] * cfg.amp[p]
     }
@@ -100,7 +100,7 @@ impl Segment {
         let cfg = &d.configs[self.mask];
         let mut out = [0.0; 4];
         for (i, o) in out.iter_mut().enumerate() {
-            let row = &cfg.vl[p][order + i];
+            let row = &cfg.modes.vl[p][order + i];
             let hom: f64 = row[..self.len].iter().zip(&pt.e[..self.len]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
             let (pp, qq) = (cfg.p[p], cfg.q[p]);
             let forced = match (order + i) % 4 {
@@ -109,7 +109,7 @@ impl Segment {
                 2 => -(pp * pt.cos + qq * pt.sin),
                 _ => pp * pt.sin - qq * pt.cos,
             } * d.omega_pow[order + i];
-            *o = hom + forced + if order + i == 0 { cfg.offset[p] } else { 0.0 };
+            *o = hom + forced + if order + i == 0 { cfg.modes.offset[p] } else { 0.0 };
         }
         out
     }

@@ -196,14 +196,14 @@ pub struct Steady {
 impl Steady {
     /// The section through a steady state found as an orbit (at its certificate's phase).
     pub fn section(&self, d: &Dynamics) -> Option<(Strobe, DVector<f64>)> {
-        let s = self.section_state(d)?;
+        let s = self.section_state()?;
         let length = self.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
-        Some(Strobe::through(d, &s, self.period, length))
+        Some(Strobe::through(d, s, self.period, length))
     }
 
     /// The state on the orbit at its certificate's section phase.
-    pub fn section_state(&self, _d: &Dynamics) -> Option<State> {
-        self.certificate.as_ref().map(|c| c.section.clone())
+    pub fn section_state(&self) -> Option<&State> {
+        self.certificate.as_ref().map(|c| &c.section)
     }
 }
 
@@ -211,7 +211,7 @@ impl Steady {
 /// harmonic motion, the amplitude), with a floor that keeps it positive.
 pub fn amplitude_scale(d: &Dynamics, s: &State) -> f64 {
     let all = (1usize << d.system.dampers.len()) - 1;
-    let rest = &d.configs[all].offset;
+    let rest = &d.configs[all].modes.offset;
     (0..d.system.dof()).map(|i| (s.x[i] - rest[i]).hypot(s.v[i] / d.omega)).fold(1e-15, f64::max)
 }
 

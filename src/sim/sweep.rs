@@ -76,22 +76,21 @@ pub fn continued(
         order.reverse();
     }
     let mut out: Vec<SweepPoint> = Vec::with_capacity(order.len());
-    // Index in `out` of the last point with a steady state; following, also the last two such
-    // points' dynamics and indices.
+    // Index in `out` of the last point with a steady state; following, the last two such.
     let mut last: Option<usize> = None;
-    let mut known: Vec<(Dynamics, usize)> = Vec::new();
+    let mut known: Vec<usize> = Vec::new();
     let base = Dynamics::unforced(sys);
     for f in order {
         let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
             let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
-                Some(p) if opts.follow => {
-                    let before = known.len().checked_sub(2).and_then(|i| known_point(&out, &known[i]));
+                Some(&p) if opts.follow => {
+                    let before = known.len().checked_sub(2).and_then(|i| known_point(&out, known[i]));
                     known_point(&out, p).and_then(|p| follow(&p, before.as_ref(), &d, f, opts))
                 }
                 _ => None,
             };
-            let st = followed.unwrap_or_else(|| match previous {
+            followed.unwrap_or_else(|| match previous {
                 // A followed sweep's fallback starts next to a settled motion: it is judged as
                 // soon as its events have repeated (`consecutive` periods).
                 Some(s) if opts.follow => {
@@ -100,17 +99,16 @@ pub fn continued(
                 }
                 Some(s) => steady_state(&d, restart(&s.final_state), opts),
                 None => steady_state(&d, State::at_rest(&d), opts),
-            });
-            (d, st)
+            })
         });
         let result = match result {
-            Ok((d, st)) => {
+            Ok(st) => {
                 last = Some(out.len());
                 if opts.follow {
                     if known.len() == 2 {
                         known.remove(0);
                     }
-                    known.push((d, out.len()));
+                    known.push(out.len());
                 }
                 Ok(st)
             }
@@ -122,8 +120,8 @@ pub fn continued(
     out
 }
 
-/// A computed point of `out` with its dynamics.
-fn known_point<'a>(out: &'a [SweepPoint], (d, i): &'a (Dynamics, usize)) -> Option<Known<'a>> {
-    let p = out.get(*i)?;
-    Some(Known { d, steady: p.result.as_ref().ok()?, freq_hz: p.freq_hz })
+/// A computed point of `out`.
+fn known_point(out: &[SweepPoint], i: usize) -> Option<Known<'_>> {
+    let p = out.get(i)?;
+    Some(Known { steady: p.result.as_ref().ok()?, freq_hz: p.freq_hz })
 }

@@ -1,6 +1,8 @@
 //! The structure with its dampers and forcing, and the closed-form dynamics of each of the
 //! 2^N configurations (docs/model.md section 2).
 
+use std::sync::Arc;
+
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
@@ -111,12 +113,10 @@ impl std::fmt::Display for SetupError {
     }
 }
 
-/// Closed-form dynamics of one configuration at one forcing frequency:
-/// `x(t) = sum_r w_r Re(V_r c_r e^{lambda_r (t - t0)}) + P cos(omega t) + Q sin(omega t) + s`,
-/// summed over one eigenvalue of each conjugate pair (weight 2) and the real ones (weight 1).
-#[derive(Debug, Clone)]
-pub struct Config {
-    pub mask: usize,
+/// The frequency-independent part of one configuration: its decomposition, shared by every
+/// forcing frequency of a sweep (cloning [`Dynamics`] at another frequency copies a pointer).
+#[derive(Debug)]
+pub struct Modes {
     /// Representative eigenvalues of the first-order state matrix.
     pub lambda: Vec<Complex64>,
     /// `vl[p][m][r] = w_r V[p, r] lambda_r^m`: displacement rows of the eigenvectors.
@@ -125,14 +125,6 @@ pub struct Config {
     pub vl_abs: Vec<[Vec<f64>; ORDERS]>,
     /// The rows of `V^-1` of the representatives.
     pub inverse: DMatrix<Complex64>,
-    /// `sqrt(P^2 + Q^2)` per mass.
-    pub amp: DVector<f64>,
-    /// Forced response coefficients.
-    pub p: DVector<f64>,
-    pub q: DVector<f64>,
-    /// Their derivatives in the forcing frequency, s.
-    pub dp: DVector<f64>,
-    pub dq: DVector<f64>,
     /// Static offset under the attached beds' weights.
     pub offset: DVector<f64>,
     /// `M` and `M^-1` (accelerations at events).
@@ -142,6 +134,24 @@ pub struct Config {
     pub max_rate: f64,
     /// Largest eigen-residual (diagnostics).
     pub residual: f64,
+}
+
+/// Closed-form dynamics of one configuration at one forcing frequency:
+/// `x(t) = sum_r w_r Re(V_r c_r e^{lambda_r (t - t0)}) + P cos(omega t) + Q sin(omega t) + s`,
+/// summed over one eigenvalue of each conjugate pair (weight 2) and the real ones (weight 1).
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub mask: usize,
+    /// The decomposition (does not depend on the forcing frequency).
+    pub modes: Arc<Modes>,
+    /// `sqrt(P^2 + Q^2)` per mass.
+    pub amp: DVector<f64>,
+    /// Forced response coefficients.
+    pub p: DVector<f64>,
+    pub q: DVector<f64>,
+    /// Their derivatives in the forcing frequency, s.
+    pub dp: DVector<f64>,
+    pub dq: DVector<f64>,
 }
 
 /// All configurations of a system at one forcing frequency.
@@ -175,7 +185,7 @@ impl Dynamics {
         for cfg in &mut d.configs {
             let (x, dx) = if self.system.force != 0.0 {
                 let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
-                    Complex64::new(self.k[(i, j)] - omega * omega * cfg.mass[(i, j)], omega * self.c[(i, j)])
+                    Complex64::new(self.k[(i, j)] - omega * omega * cfg.modes.mass[(i, j)], omega * self.c[(i, j)])
                 });
                 let mut rhs = DVector::<Complex64>::zeros(n);
                 rhs[self.system.driven] = Complex64::new(self.system.force, 0.0);
@@ -183,7 +193,7 @@ impl Dynamics {
                 let x = lu.solve(&rhs).ok_or(SetupError::Singular { mask: cfg.mask })?;
                 // Z X = F e_k  =>  Z dX/domega = -(dZ/domega) X, dZ/domega = -2 omega M + i C.
                 let dz = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
-                    Complex64::new(-2.0 * omega * cfg.mass[(i, j)], self.c[(i, j)])
+                    Complex64::new(-2.0 * omega * cfg.modes.mass[(i, j)], self.c[(i, j)])
                 });
                 let dx = lu.solve(&(-(dz * &x))).ok_or(SetupError::Singular { mask: cfg.mask })?;
                 (x, dx)
@@ -196,7 +206,7 @@ impl Dynamics {
             cfg.dq = dx.map(|v| v.re);
             cfg.amp = DVector::from_fn(n, |i, _| cfg.p[i].hypot(cfg.q[i]));
         }
-        let max_rate = d.configs.iter().map(|c| c.max_rate).fold(omega, f64::max);
+        let max_rate = d.configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
         d.omega = omega;
         d.min_period = 2.0 * std::f64::consts::PI / max_rate;
         d.omega_pow = std::array::from_fn(|m| omega.powi(m as i32));
@@ -260,25 +270,28 @@ impl Dynamics {
             // is added by `at_omega`.
             let offset = &k_inv * system.weight_load(mask);
             let max_rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
-            configs.push(Config {
-                mask,
+            let modes = Modes {
                 lambda,
                 vl,
                 vl_abs,
                 inverse,
-                amp: DVector::zeros(n),
-                p: DVector::zeros(n),
-                q: DVector::zeros(n),
-                dp: DVector::zeros(n),
-                dq: DVector::zeros(n),
                 offset,
                 mass: m,
                 mass_inv: m_inv,
                 max_rate,
                 residual: eig.residual,
+            };
+            configs.push(Config {
+                mask,
+                modes: Arc::new(modes),
+                amp: DVector::zeros(n),
+                p: DVector::zeros(n),
+                q: DVector::zeros(n),
+                dp: DVector::zeros(n),
+                dq: DVector::zeros(n),
             });
         }
-        let max_rate = configs.iter().map(|c| c.max_rate).fold(omega, f64::max);
+        let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
         Ok(Dynamics {
             system: system.clone(),
             omega,
@@ -294,7 +307,7 @@ impl Dynamics {
     pub fn particular(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
         let cfg = &self.configs[mask];
         let (s, c) = (self.omega * t).sin_cos();
-        let x = &cfg.p * c + &cfg.q * s + &cfg.offset;
+        let x = &cfg.p * c + &cfg.q * s + &cfg.modes.offset;
         let v = (&cfg.q * c - &cfg.p * s) * self.omega;
         (x, v)
     }
@@ -328,10 +341,10 @@ impl Dynamics {
         let (f, fdot) = self.force(t);
         let mut rhs = self.system.weight_load(mask) - &self.c * v - &self.k * x;
         rhs[self.system.driven] += f;
-        let a = &cfg.mass_inv * rhs;
+        let a = &cfg.modes.mass_inv * rhs;
         let mut rhs_dot = -&self.c * &a - &self.k * v;
         rhs_dot[self.system.driven] += fdot;
-        let j = &cfg.mass_inv * rhs_dot;
+        let j = &cfg.modes.mass_inv * rhs_dot;
         (a, j)
     }
 }

@@ -162,18 +162,19 @@ impl Tangent {
 pub fn transition(d: &Dynamics, mask: usize, tau: f64) -> DMatrix<f64> {
     let cfg = &d.configs[mask];
     let n = d.system.dof();
-    let len = cfg.lambda.len();
-    let e: Vec<Complex64> = cfg.lambda.iter().map(|l| (l * tau).exp()).collect();
+    let len = cfg.modes.lambda.len();
+    let e: Vec<Complex64> = cfg.modes.lambda.iter().map(|l| (l * tau).exp()).collect();
     let mut out = DMatrix::zeros(2 * n, 2 * n);
     let mut scaled = [Complex64::new(0.0, 0.0); super::system::MAX_TERMS];
     for i in 0..2 * n {
-        let row = if i < n { &cfg.vl[i][0] } else { &cfg.vl[i - n][1] };
+        let row = if i < n { &cfg.modes.vl[i][0] } else { &cfg.modes.vl[i - n][1] };
         for r in 0..len {
             scaled[r] = row[r] * e[r];
         }
         for j in 0..2 * n {
-            out[(i, j)] =
-                (0..len).map(|r| scaled[r].re * cfg.inverse[(r, j)].re - scaled[r].im * cfg.inverse[(r, j)].im).sum();
+            out[(i, j)] = (0..len)
+                .map(|r| scaled[r].re * cfg.modes.inverse[(r, j)].re - scaled[r].im * cfg.modes.inverse[(r, j)].im)
+                .sum();
         }
     }
     out
