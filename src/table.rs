@@ -23,6 +23,21 @@ impl ColumnData {
     }
 }
 
+/// Most rows a report writes to a table's CSV file unless every row is asked for: a longer
+/// table's CSV keeps every `k`-th row ([`csv_stride`]) and its last; its Parquet file keeps all.
+pub const CSV_ROWS: usize = 5_000;
+
+/// The stride of a table's CSV file in a report: 1 when `full` or the table has at most
+/// [`CSV_ROWS`] rows, else the smallest `k` that keeps at most `CSV_ROWS` rows, the last
+/// included.
+pub fn csv_stride(rows: usize, full: bool) -> usize {
+    if full || rows <= CSV_ROWS {
+        1
+    } else {
+        (rows - 1).div_ceil(CSV_ROWS - 2)
+    }
+}
+
 /// A named table of equal-length columns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
@@ -55,6 +70,26 @@ impl Table {
     pub fn str(mut self, name: impl Into<String>, values: Vec<String>) -> Table {
         self.columns.push((name.into(), ColumnData::Str(values)));
         self
+    }
+
+    /// Every `stride`-th row from the first, and the last row (a thinned copy for a CSV file;
+    /// `stride` 1 copies every row).
+    pub fn thinned(&self, stride: usize) -> Table {
+        let n = self.height();
+        let keep = |i: usize| i % stride.max(1) == 0 || i + 1 == n;
+        let pick = |c: &ColumnData| match c {
+            ColumnData::F64(v) => {
+                ColumnData::F64(v.iter().enumerate().filter(|(i, _)| keep(*i)).map(|x| *x.1).collect())
+            }
+            ColumnData::I64(v) => {
+                ColumnData::I64(v.iter().enumerate().filter(|(i, _)| keep(*i)).map(|x| *x.1).collect())
+            }
+            ColumnData::Str(v) => {
+                ColumnData::Str(v.iter().enumerate().filter(|(i, _)| keep(*i)).map(|x| x.1.clone()).collect())
+            }
+        };
+        let columns = self.columns.iter().map(|(name, c)| (name.clone(), pick(c))).collect();
+        Table { name: self.name.clone(), description: self.description.clone(), columns }
     }
 
     /// Number of rows.
@@ -130,5 +165,24 @@ mod tests {
         assert_eq!(curve.column("x").unwrap(), &[0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI]);
         assert_eq!(curve.column("k").unwrap(), &[1.0, 2.0, 3.0]);
         assert!(!to_parquet(&t).unwrap().is_empty());
+    }
+
+    #[test]
+    fn thinned_csv_keeps_at_most_the_limit_first_and_last_rows() {
+        for n in [0, 1, CSV_ROWS, CSV_ROWS + 1, 2 * CSV_ROWS - 1, 2 * CSV_ROWS + 7, 100_003] {
+            let t =
+                Table::new("t", "").i64("i", (0..n as i64).collect()).str("s", (0..n).map(|i| i.to_string()).collect());
+            let k = csv_stride(n, false);
+            let thin = t.thinned(k);
+            assert!(thin.height() <= CSV_ROWS, "{n} rows, stride {k}: {}", thin.height());
+            let ColumnData::I64(kept) = &thin.columns[0].1 else { panic!("column type") };
+            if n > 0 {
+                assert_eq!((kept[0], *kept.last().unwrap()), (0, n as i64 - 1));
+            }
+            // Every k-th row, then the last.
+            assert!(kept.windows(2).all(|w| w[1] - w[0] == k as i64 || w[1] == n as i64 - 1));
+            assert_eq!(csv_stride(n, true), 1);
+        }
+        assert_eq!(csv_stride(CSV_ROWS, false), 1);
     }
 }

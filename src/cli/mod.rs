@@ -42,7 +42,7 @@ use crate::experiment::{self, Experiment};
 use crate::model::modal::modal_summary;
 use crate::model::sdof::EquivalentSdof;
 use crate::output::study::{Manifest, StudyRun};
-use crate::output::ReportWriter;
+use crate::output::{ReportOptions, ReportWriter};
 use crate::reference::digitised::{self, ImportInfo};
 
 /// Replicates Araki et al. (1997), "Impact damper with granular materials for multibody
@@ -104,9 +104,8 @@ pub enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
-        /// Folder of templates overriding the embedded ones.
-        #[arg(long)]
-        templates: Option<PathBuf>,
+        #[command(flatten)]
+        writing: Writing,
     },
     /// Re-run an experiment's claims over values the paper leaves unstated (a study file),
     /// whole or as one shard of a cluster job; `study merge DIR` joins the shards.
@@ -156,10 +155,27 @@ pub enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
-        /// Folder of templates overriding the embedded ones.
-        #[arg(long)]
-        templates: Option<PathBuf>,
+        #[command(flatten)]
+        writing: Writing,
     },
+}
+
+/// How a report is written (`run` and `report`).
+#[derive(Debug, clap::Args)]
+pub struct Writing {
+    /// Folder of templates overriding the embedded ones.
+    #[arg(long)]
+    templates: Option<PathBuf>,
+    /// Write every row of every table as CSV (by default a table longer than
+    /// 5 000 rows is thinned in its CSV file; its Parquet file always has every row).
+    #[arg(long)]
+    full_csv: bool,
+}
+
+impl Writing {
+    fn options(&self) -> ReportOptions {
+        ReportOptions { templates: self.templates.clone(), full_csv: self.full_csv }
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -267,7 +283,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             calibrate_damping(file, curve, model.as_deref(), &cli.reference)?;
             Ok(true)
         }
-        Command::Run { files, out, jobs, templates } => {
+        Command::Run { files, out, jobs, writing } => {
             let exps = experiment::load_all(files, &cli.reference)?;
             Ok(run_and_write(
                 &exps,
@@ -275,7 +291,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 &cli.reference,
                 out,
                 *jobs,
-                templates.as_deref(),
+                &writing.options(),
                 BaselineMode::Optional,
                 false,
             )?
@@ -295,7 +311,16 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             let started = std::time::Instant::now();
             // The report's baselines sample the replayed designs (docs/design.md): a search is
             // not compared with them.
-            let (ok, results) = run_and_write(&exps, &[], &cli.reference, out, *jobs, None, BaselineMode::Off, false)?;
+            let (ok, results) = run_and_write(
+                &exps,
+                &[],
+                &cli.reference,
+                out,
+                *jobs,
+                &ReportOptions::default(),
+                BaselineMode::Off,
+                false,
+            )?;
             if *store {
                 let threads = pool(*jobs)?.current_num_threads();
                 designs::store_designs(&results, &cli.reference, started.elapsed().as_secs_f64(), threads)?;
@@ -313,7 +338,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             say!("comparison: {}", dest.display());
             Ok(true)
         }
-        Command::Report { out, jobs, templates, bless } => {
+        Command::Report { out, jobs, writing, bless } => {
             let files = experiment::discover(&cli.experiments)?;
             if files.is_empty() {
                 anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
@@ -338,7 +363,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                     ("the designs folder", &designs_dir),
                 ],
             )?;
-            Ok(run_and_write(&exps, &studies, &cli.reference, out, *jobs, templates.as_deref(), mode, *bless)?.0)
+            Ok(run_and_write(&exps, &studies, &cli.reference, out, *jobs, &writing.options(), mode, *bless)?.0)
         }
     }
 }
@@ -658,7 +683,7 @@ fn run_and_write(
     reference: &Path,
     out: &Path,
     jobs: Option<usize>,
-    templates: Option<&Path>,
+    writing: &ReportOptions,
     baseline_mode: BaselineMode,
     bless: bool,
 ) -> anyhow::Result<(bool, Vec<crate::analysis::ExperimentResult>)> {
@@ -668,14 +693,14 @@ fn run_and_write(
     refs.load_designs(reference, exps)?;
     let study_refs = studies.iter().map(|s| study::references(s, reference)).collect::<crate::Result<Vec<_>>>()?;
     let mut inputs: Vec<(&str, &Path)> = vec![("the reference folder", reference)];
-    inputs.extend(templates.map(|t| ("the templates folder", t)));
+    inputs.extend(writing.templates.as_deref().map(|t| ("the templates folder", t)));
     inputs.extend(exps.iter().map(|e| ("an experiment file", e.path.as_path())));
     inputs.extend(studies.iter().map(|s| ("a study file", s.path.as_path())));
     crate::output::destination::refuse_overlap(out, &inputs)?;
     // The handler is in place before the staging folder exists: an interrupt at any moment
     // removes it.
     remove_on_interrupt(crate::output::destination::staging_path(out)?);
-    let writer = ReportWriter::create(out, templates)?;
+    let writer = ReportWriter::create(out, writing)?;
     let pool = pool(jobs)?;
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };

@@ -111,11 +111,13 @@ fn size(map: &HeatMap) -> (u32, u32) {
 pub fn write(map: &HeatMap, dir: &Path) -> Result<()> {
     super::plot::register_font()?;
     let (w, h) = size(map);
-    let png = dir.join(format!("{}.png", map.id));
-    draw(map, BitMapBackend::new(&png, (w, h)).into_drawing_area())?;
+    let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+    draw(map, BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area())?;
+    let png = super::plot::encode_png(&rgb, w, h).map_err(|e| err(map, e))?;
+    super::study::write_atomic(&dir.join(format!("{}.png", map.id)), &png)?;
     let mut svg = String::new();
     draw(map, SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area())?;
-    super::study::write_atomic(&dir.join(format!("{}.svg", map.id)), svg.as_bytes())
+    super::study::write_atomic(&dir.join(format!("{}.svg", map.id)), super::plot::compact_svg(&svg).as_bytes())
 }
 
 fn err(map: &HeatMap, e: impl std::fmt::Display) -> Error {

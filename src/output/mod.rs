@@ -29,6 +29,17 @@ use crate::table;
 pub struct ReportWriter {
     staging: destination::Staging,
     tera: tera::Tera,
+    full_csv: bool,
+}
+
+/// How a report is written.
+#[derive(Debug, Clone, Default)]
+pub struct ReportOptions {
+    /// A folder of templates overriding the embedded ones.
+    pub templates: Option<PathBuf>,
+    /// Every row of every table in its CSV file (else long tables are thinned there:
+    /// [`table::csv_stride`]; the Parquet files always hold every row).
+    pub full_csv: bool,
 }
 
 fn write(path: &Path, bytes: &[u8]) -> Result<()> {
@@ -57,10 +68,10 @@ fn mkdir(path: &Path) -> Result<()> {
 impl ReportWriter {
     /// Prepares a staging folder for a report that will end up at `out`. Fails before any
     /// long run when the destination cannot be written.
-    pub fn create(out: &Path, templates_dir: Option<&Path>) -> Result<ReportWriter> {
-        let tera = report::templates(templates_dir)?;
+    pub fn create(out: &Path, options: &ReportOptions) -> Result<ReportWriter> {
+        let tera = report::templates(options.templates.as_deref())?;
         let staging = destination::Staging::create(out)?;
-        Ok(ReportWriter { staging, tera })
+        Ok(ReportWriter { staging, tera, full_csv: options.full_csv })
     }
 
     /// Where the report will be.
@@ -79,15 +90,22 @@ impl ReportWriter {
         let dir = self.staging.dir().join(&key);
         mkdir_below(self.staging.dir(), &Path::new(&key).join("data"))?;
         let data = dir.join("data");
+        let mut strides = Vec::with_capacity(r.tables.len());
         for t in &r.tables {
-            write(&data.join(format!("{}.csv", t.name)), &table::to_csv(t)?)?;
+            let stride = table::csv_stride(t.height(), self.full_csv);
+            let csv = if stride == 1 { table::to_csv(t)? } else { table::to_csv(&t.thinned(stride))? };
+            write(&data.join(format!("{}.csv", t.name)), &csv)?;
             write(&data.join(format!("{}.parquet", t.name)), &table::to_parquet(t)?)?;
+            strides.push(stride);
         }
         for f in &r.figures {
-            plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
+            write(&dir.join(format!("{}.png", f.id)), &plot::to_png(f)?)?;
             write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
         }
-        let view = report::experiment_view(r, source_file, &r.experiment.models);
+        let mut view = report::experiment_view(r, source_file, &r.experiment.models);
+        for (t, stride) in view.tables.iter_mut().zip(strides) {
+            t.csv_stride = stride;
+        }
         let html = report::render(&self.tera, "experiment.html", &view)?;
         write(&dir.join("index.html"), html.as_bytes())
     }
@@ -115,7 +133,7 @@ impl ReportWriter {
         mkdir_below(self.staging.dir(), Path::new(id))?;
         let overlays = crate::analysis::models::overlay(runs);
         for f in &overlays {
-            plot::write_png(f, &dir.join(format!("{}.png", f.id)))?;
+            write(&dir.join(format!("{}.png", f.id)), &plot::to_png(f)?)?;
             write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
         }
         let mut view = models_page::models_view(runs, &overlays);

@@ -2,7 +2,6 @@
 //! renders on a machine with no system fonts.
 
 use std::ops::Range;
-use std::path::Path;
 use std::sync::Once;
 
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
@@ -61,11 +60,71 @@ pub fn height(fig: &Figure) -> u32 {
     PANEL_HEIGHT * fig.panels.len().max(1) as u32
 }
 
-/// Writes the figure as a PNG file.
-pub fn write_png(fig: &Figure, path: &Path) -> Result<()> {
+/// The figure as PNG bytes: drawn into an RGB buffer, then encoded with an indexed palette when
+/// it has at most 256 colours (plots drawn with the palette above and antialiased text usually
+/// do: the pixels are the same, the file about a third), else as RGB; default compression either way.
+pub fn to_png(fig: &Figure) -> Result<Vec<u8>> {
     register_font()?;
-    let root = BitMapBackend::new(path, (WIDTH, height(fig))).into_drawing_area();
-    draw(fig, root)
+    let (w, h) = (WIDTH, height(fig));
+    let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        draw(fig, root)?;
+    }
+    encode_png(&rgb, w, h).map_err(|e| render_err(&format!("figure {} (PNG)", fig.id), e))
+}
+
+/// PNG bytes of an RGB image (`3 w h` bytes, rows top to bottom).
+pub fn encode_png(rgb: &[u8], w: u32, h: u32) -> std::result::Result<Vec<u8>, png::EncodingError> {
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, w, h);
+    enc.set_compression(png::Compression::Default);
+    enc.set_depth(png::BitDepth::Eight);
+    match palette_of(rgb) {
+        Some((palette, indices)) => {
+            enc.set_color(png::ColorType::Indexed);
+            enc.set_palette(palette);
+            enc.set_filter(png::FilterType::NoFilter);
+            enc.write_header()?.write_image_data(&indices)?;
+        }
+        None => {
+            enc.set_color(png::ColorType::Rgb);
+            enc.set_filter(png::FilterType::Paeth);
+            enc.write_header()?.write_image_data(rgb)?;
+        }
+    }
+    Ok(out)
+}
+
+/// The image's colours (in order of first appearance, so the bytes are deterministic) and each
+/// pixel's index, or `None` with more than 256 colours.
+fn palette_of(rgb: &[u8]) -> Option<(Vec<u8>, Vec<u8>)> {
+    let mut index: std::collections::HashMap<[u8; 3], u8> = std::collections::HashMap::new();
+    let mut palette = Vec::new();
+    let mut indices = Vec::with_capacity(rgb.len() / 3);
+    // Most pixels repeat their left neighbour (background, axes): one lookup per run.
+    let mut last: Option<([u8; 3], u8)> = None;
+    for px in rgb.chunks_exact(3) {
+        let key = [px[0], px[1], px[2]];
+        if let Some((k, i)) = last {
+            if k == key {
+                indices.push(i);
+                continue;
+            }
+        }
+        let i = match index.get(&key) {
+            Some(&i) => i,
+            None => {
+                let i = u8::try_from(index.len()).ok()?;
+                index.insert(key, i);
+                palette.extend_from_slice(&key);
+                i
+            }
+        };
+        last = Some((key, i));
+        indices.push(i);
+    }
+    Some((palette, indices))
 }
 
 /// The figure as SVG text.
@@ -76,7 +135,31 @@ pub fn to_svg(fig: &Figure) -> Result<String> {
         let root = SVGBackend::with_string(&mut buf, (WIDTH, height(fig))).into_drawing_area();
         draw(fig, root)?;
     }
-    Ok(buf)
+    Ok(compact_svg(&buf))
+}
+
+/// The same picture in fewer bytes: `opacity="1"` (the default) left out, and a polyline's
+/// point repeated at once (the same pixel: plotters rounds to whole pixels) written once.
+pub fn compact_svg(svg: &str) -> String {
+    let svg = svg.replace(" opacity=\"1\"", "");
+    let mut out = String::with_capacity(svg.len());
+    let mut rest = svg.as_str();
+    while let Some(at) = rest.find("points=\"") {
+        let (head, tail) = rest.split_at(at + "points=\"".len());
+        out.push_str(head);
+        let end = tail.find('"').unwrap_or(tail.len());
+        let mut last = None;
+        for p in tail[..end].split_whitespace() {
+            if last != Some(p) {
+                out.push_str(p);
+                out.push(' ');
+                last = Some(p);
+            }
+        }
+        rest = &tail[end..];
+    }
+    out.push_str(rest);
+    out
 }
 
 fn draw<DB: DrawingBackend>(fig: &Figure, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<()> {
@@ -353,5 +436,37 @@ fn dash_segments(dash: Dash) -> [(i32, i32); 3] {
         Dash::Dashed => [(0, 6), (9, 15), (18, 24)],
         Dash::Dotted => [(0, 2), (11, 13), (22, 24)],
         Dash::DashDot => [(0, 9), (13, 15), (19, 24)],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compact_svg_drops_only_what_draws_nothing() {
+        let svg = r##"<svg><polyline fill="none" opacity="1" stroke="#000000" points="1,2 1,2 3,4 3,4 3,4 1,2 "/><rect opacity="0.5" x="1"/><polyline points=""/></svg>"##;
+        assert_eq!(
+            compact_svg(svg),
+            r##"<svg><polyline fill="none" stroke="#000000" points="1,2 3,4 1,2 "/><rect opacity="0.5" x="1"/><polyline points=""/></svg>"##
+        );
+    }
+
+    #[test]
+    fn png_is_indexed_when_few_colours_and_decodes_to_the_same_pixels() {
+        let (w, h) = (7u32, 5u32);
+        let few: Vec<u8> =
+            (0..w * h).flat_map(|i| if i % 3 == 0 { [255, 255, 255] } else { [31, 119, i as u8] }).collect();
+        let many: Vec<u8> = (0..300u32).flat_map(|i| [(i % 256) as u8, (i / 256) as u8, 7]).collect();
+        for (rgb, w, h, indexed) in [(few, w, h, true), (many, 300, 1, false)] {
+            let bytes = encode_png(&rgb, w, h).unwrap();
+            let mut dec = png::Decoder::new(std::io::Cursor::new(bytes));
+            dec.set_transformations(png::Transformations::EXPAND);
+            let mut reader = dec.read_info().unwrap();
+            assert_eq!(reader.info().color_type == png::ColorType::Indexed, indexed);
+            let mut buf = vec![0; reader.output_buffer_size()];
+            let frame = reader.next_frame(&mut buf).unwrap();
+            assert_eq!(&buf[..frame.buffer_size()], &rgb[..], "same pixels");
+        }
     }
 }

@@ -89,6 +89,8 @@ pub struct TableView {
     pub description: String,
     pub rows: usize,
     pub csv: String,
+    /// The CSV file holds every `csv_stride`-th row and the last (1: every row).
+    pub csv_stride: usize,
     pub parquet: String,
 }
 
@@ -181,6 +183,7 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
                 description: t.description.clone(),
                 rows: t.height(),
                 csv: format!("data/{}.csv", t.name),
+                csv_stride: 1,
                 parquet: format!("data/{}.parquet", t.name),
             })
             .collect(),
