@@ -53,11 +53,20 @@ fn pages(root: &Path) -> Vec<String> {
 fn harness(pages: &[String]) -> String {
     let list: Vec<String> = pages.iter().map(|p| format!("\"/{p}\"")).collect();
     format!(
-        r#"<!DOCTYPE html><html><body><pre id="result">pending</pre><iframe id="f" width="1366" height="900"></iframe>
+        r#"<!DOCTYPE html><html><body><pre id="result">pending</pre><iframe id="f" width="1366" height="900"></iframe><iframe id="v" width="1400" height="900"></iframe>
 <script>
 const pages = [{}];
 const problems = [];
-let links = 0, images = 0;
+let links = 0, images = 0, matrix = null;
+// The index's verdict matrix, whole, in a 1400 x 900 window without scrolling.
+async function verdicts() {{
+  const v = document.getElementById('v');
+  await new Promise(res => {{ v.onload = res; v.src = '/index.html'; }});
+  const t = v.contentDocument.getElementById('verdicts');
+  if (!t) {{ problems.push('index: no verdict matrix'); return; }}
+  const r = t.getBoundingClientRect();
+  matrix = {{ rows: t.tBodies[0].rows.length, top: r.top, bottom: r.bottom, right: r.right }};
+}}
 async function check(page) {{
   const f = document.getElementById('f');
   await new Promise(res => {{ f.onload = res; f.src = page; }});
@@ -75,8 +84,8 @@ async function check(page) {{
   }}
 }}
 (async () => {{
-  try {{ for (const p of pages) await check(p); }} catch (e) {{ problems.push('harness: ' + e); }}
-  document.getElementById('result').textContent = JSON.stringify({{ pages: pages.length, images, links, problems }});
+  try {{ await verdicts(); for (const p of pages) await check(p); }} catch (e) {{ problems.push('harness: ' + e); }}
+  document.getElementById('result').textContent = JSON.stringify({{ pages: pages.length, images, links, matrix, problems }});
 }})();
 </script></body></html>"#,
         list.join(", ")
@@ -195,6 +204,12 @@ fn the_report_reads_in_a_real_browser() {
     assert!(json["images"].as_u64().unwrap_or(0) > 10, "{json}");
     assert!(json["links"].as_u64().unwrap_or(0) > 50, "{json}");
     assert_eq!(json["problems"].as_array().map(|a| a.len()), Some(0), "{json}");
+    // Every paper figure's row of the verdict matrix is on the first screen at 1400 x 900.
+    let m = &json["matrix"];
+    assert!(m["rows"].as_u64().unwrap_or(0) >= 8, "{json}");
+    assert!(m["top"].as_f64().is_some_and(|t| t >= 0.0), "{json}");
+    assert!(m["bottom"].as_f64().is_some_and(|b| b <= 900.0), "the matrix ends below the first screen: {json}");
+    assert!(m["right"].as_f64().is_some_and(|r| r <= 1400.0), "the matrix is wider than the screen: {json}");
     let not_found = failures.lock().unwrap().clone();
     assert!(not_found.is_empty(), "requests not answered: {not_found:?}");
     let console: Vec<&str> = log.lines().filter(|l| l.contains("CONSOLE") || l.contains("Uncaught")).collect();
@@ -208,5 +223,5 @@ fn the_report_reads_in_a_real_browser() {
         format!("{base}/index.html"),
     ]);
     assert!(std::fs::metadata(&shot).is_ok_and(|m| m.len() > 10_000), "screenshot at {}", shot.display());
-    println!("screenshot: {}", shot.display());
+    println!("screenshot: {}; verdict matrix at 1400 x 900: {m}", shot.display());
 }

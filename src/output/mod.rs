@@ -118,7 +118,7 @@ impl ReportWriter {
             self.write_models(&runs, studies)?;
         }
         write(&dir.join("style.css"), report::STYLE_CSS.as_bytes())?;
-        let index = report::render(&self.tera, "index.html", &report::index_view(results, studies))?;
+        let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
         write(&dir.join("index.html"), index.as_bytes())?;
         write(&dir.join("checks.json"), &checks_json(results)?)?;
         write(&dir.join("junit.xml"), junit::render(results).as_bytes())?;

@@ -214,8 +214,10 @@ pub struct SummaryRow {
 pub struct ModelCell {
     pub verdict: String,
     pub verdict_class: String,
-    /// The main deviation on this model ("" when none is stated).
-    pub deviation: String,
+    /// Checks against the paper that pass, of all against the paper ("7/8"; "" when none).
+    pub checks: String,
+    /// The page of the figure's experiment on this model ("" when not run).
+    pub link: String,
 }
 
 /// One paper figure: its verdict and the experiments behind it.
@@ -227,16 +229,12 @@ pub struct FigureRow {
     /// The verdict on each model of [`IndexView::models`] (empty when no experiment of the
     /// report runs on several models).
     pub cells: Vec<ModelCell>,
-    /// Names of the checks against the paper that hold on some models only.
-    pub dependence: Vec<String>,
-    /// Where each claim holds over the values the paper leaves unstated (the figure's studies),
-    /// a sentence per claim.
-    pub robustness: Vec<String>,
     /// (title, link) of each experiment.
     pub experiments: Vec<(String, String)>,
+    /// One short sentence: the verdict on each model, grouped.
+    pub sentence: String,
     pub paper_checks: String,
     pub other_checks: String,
-    pub deviation: String,
     pub thumbnail: String,
 }
 
@@ -258,7 +256,7 @@ pub struct IndexView {
 }
 
 /// Builds the index view.
-pub fn index_view(results: &[ExperimentResult], studies: &[super::study::StudyRun]) -> IndexView {
+pub fn index_view(results: &[ExperimentResult]) -> IndexView {
     let all: Vec<CheckOutcome> = results.iter().flat_map(|r| r.checks.iter().cloned()).collect();
     let (overall, class, words) = counts(&all);
     let mut assumptions: Vec<String> = Vec::new();
@@ -271,7 +269,7 @@ pub fn index_view(results: &[ExperimentResult], studies: &[super::study::StudyRu
     }
     let models = model_list(results);
     IndexView {
-        figures: figure_rows(results, &models, studies),
+        figures: figure_rows(results, &models),
         models: models.iter().map(|m| m.label.clone()).collect(),
         title: "shotdamp: replication of Araki et al. (1997)".into(),
         generated_by: format!("shotdamp {}", env!("CARGO_PKG_VERSION")),
@@ -318,11 +316,7 @@ fn model_list(results: &[ExperimentResult]) -> Vec<ModelInfo> {
 }
 
 /// One row per paper figure, in the paper's order.
-fn figure_rows(
-    results: &[ExperimentResult],
-    models: &[ModelInfo],
-    studies: &[super::study::StudyRun],
-) -> Vec<FigureRow> {
+fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<FigureRow> {
     let mut groups: Vec<String> = results.iter().map(|r| figure_group(&r.experiment.meta.figure)).collect();
     groups.sort_by_key(|g| figure_order(g));
     groups.dedup();
@@ -349,22 +343,7 @@ fn figure_rows(
                     n(Status::Fail)
                 )
             };
-            // The main deviation: the file's sentence, else the first stated reason, else
-            // the first failure.
-            let deviation = members
-                .iter()
-                .find_map(|r| r.experiment.meta.deviation.clone())
-                .or_else(|| {
-                    checks
-                        .iter()
-                        .find(|c| c.source.is_paper() && c.status == Status::KnownDeviation)
-                        .and_then(|c| c.reason.clone())
-                })
-                .or_else(|| {
-                    checks.iter().find(|c| c.status == Status::Fail).map(|c| format!("failed: {}", c.description))
-                })
-                .unwrap_or_default();
-            let cells = models
+            let cells: Vec<ModelCell> = models
                 .iter()
                 .map(|m| {
                     let on: Vec<&&ExperimentResult> =
@@ -373,26 +352,35 @@ fn figure_rows(
                         return ModelCell {
                             verdict: "not run".into(),
                             verdict_class: "none".into(),
-                            deviation: String::new(),
+                            checks: String::new(),
+                            link: String::new(),
                         };
                     }
                     let v = verdict(on.iter().flat_map(|r| r.checks.iter()));
+                    let paper: Vec<&CheckOutcome> =
+                        on.iter().flat_map(|r| r.checks.iter()).filter(|c| c.source.is_paper()).collect();
+                    let passing = paper
+                        .iter()
+                        .filter(|c| matches!(c.status, Status::Pass | Status::KnownDeviationPasses))
+                        .count();
                     ModelCell {
                         verdict: v.label().to_string(),
                         verdict_class: v.class().to_string(),
-                        deviation: on.iter().find_map(|r| r.experiment.meta.deviation.clone()).unwrap_or_default(),
+                        checks: if paper.is_empty() { String::new() } else { format!("{passing}/{}", paper.len()) },
+                        link: format!("{}/index.html", on[0].experiment.key()),
                     }
                 })
                 .collect();
-            let mut dependence = Vec::new();
+            let sentence = if models.is_empty() {
+                format!("{}.", capitalise(v.label()))
+            } else {
+                grouped_sentence(&cells, models)
+            };
             let mut titles: Vec<(String, String)> = Vec::new();
             for r in &members {
                 let link = format!("{}/index.html", r.experiment.meta.id);
                 if !titles.iter().any(|(_, l)| *l == link) {
                     titles.push((r.experiment.meta.title.clone(), link));
-                    let runs: Vec<&ExperimentResult> =
-                        members.iter().copied().filter(|x| x.experiment.meta.id == r.experiment.meta.id).collect();
-                    dependence.extend(super::view::dependent_names(&runs));
                 }
             }
             FigureRow {
@@ -400,16 +388,10 @@ fn figure_rows(
                 verdict: v.label().to_string(),
                 verdict_class: v.class().to_string(),
                 cells,
-                dependence,
-                robustness: studies
-                    .iter()
-                    .filter(|s| members.iter().any(|r| r.experiment.meta.id == s.manifest.experiment))
-                    .flat_map(super::robustness::sentences)
-                    .collect(),
                 experiments: titles,
+                sentence,
                 paper_checks: count(true),
                 other_checks: count(false),
-                deviation,
                 thumbnail: members
                     .iter()
                     .find_map(|r| r.figures.first().map(|f| format!("{}/{}.png", r.experiment.key(), f.id)))
@@ -417,6 +399,37 @@ fn figure_rows(
             }
         })
         .collect()
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    c.next().map(|f| f.to_uppercase().chain(c).collect()).unwrap_or_default()
+}
+
+/// "Reproduced on stated and fitted; partly reproduced on coil.": the models grouped by their
+/// verdict, in the order of the first model of each group.
+fn grouped_sentence(cells: &[ModelCell], models: &[ModelInfo]) -> String {
+    let mut groups: Vec<(&str, Vec<&str>)> = Vec::new();
+    for (c, m) in cells.iter().zip(models.iter().map(|m| m.label.as_str())) {
+        match groups.iter_mut().find(|(v, _)| *v == c.verdict) {
+            Some((_, ms)) => ms.push(m),
+            None => groups.push((&c.verdict, vec![m])),
+        }
+    }
+    let parts: Vec<String> = groups
+        .iter()
+        .map(|(v, ms)| {
+            let on = if ms.len() == models.len() && models.len() > 1 {
+                "every model".to_string()
+            } else if ms.len() == 1 {
+                ms[0].to_string()
+            } else {
+                format!("{} and {}", ms[..ms.len() - 1].join(", "), ms[ms.len() - 1])
+            };
+            format!("{v} on {on}")
+        })
+        .collect();
+    format!("{}.", capitalise(&parts.join("; ")))
 }
 
 /// Renders a page from a serialisable view.

@@ -33,14 +33,6 @@ pub struct RobustnessView {
     pub tables: Vec<(String, String)>,
 }
 
-/// The sentences of a study, for the index.
-pub fn sentences(run: &StudyRun) -> Vec<String> {
-    let m = &run.manifest;
-    let models: Vec<String> = m.models.iter().map(|x| x.0.clone()).collect();
-    let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
-    claim_sentences(&m.models, &names, &summarise(&models, &run.rows))
-}
-
 /// Writes a study's heat maps (into `dir/robustness/`) and tables (into `dir/data/`; both
 /// folders exist) and returns its view. `write` writes a file of the report.
 pub fn write(dir: &Path, run: &StudyRun, write: &dyn Fn(&Path, &[u8]) -> Result<()>) -> Result<RobustnessView> {

@@ -63,11 +63,6 @@ pub fn dependence(runs: &[&ExperimentResult]) -> Vec<String> {
     dependent(runs).into_iter().map(|(_, sentence)| sentence).collect()
 }
 
-/// The names of the paper checks that pass on some models and not on others.
-pub fn dependent_names(runs: &[&ExperimentResult]) -> Vec<String> {
-    dependent(runs).into_iter().map(|(name, _)| name).collect()
-}
-
 fn dependent(runs: &[&ExperimentResult]) -> Vec<(String, String)> {
     let mut names: Vec<&str> = Vec::new();
     for r in runs {
