@@ -39,6 +39,6 @@ fn long_histories_are_thinned_in_csv_and_whole_in_parquet() {
     assert_eq!(thinned[1..].iter().collect::<Vec<_>>(), expected);
     // The page says so; the other page does not.
     let page = |root: &std::path::Path| std::fs::read_to_string(root.join("fig10b_impulse/stated/index.html")).unwrap();
-    assert!(page(&thin).contains(&format!("every {k}th row and the last")), "the page states the stride");
-    assert!(!page(&full).contains("th row and the last"));
+    assert!(page(&thin).contains(&format!("one row in {k} and the last")), "the page states the stride");
+    assert!(!page(&full).contains("and the last; <code>--full-csv"));
 }
