@@ -157,3 +157,120 @@ fn an_unknown_reading_is_named() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("checks[0].reading = \"mean\"") && err.contains("band_max"), "{err}");
 }
+
+/// Fig. 5's study point on the stated chain at damping 0.005, d = 0.3 mm, 0.2 Hz steps: the three
+/// dampers' response at the single damper's resonance (48.4 Hz) is a motion with no stable
+/// periodic orbit. Each reading's `settled` flag is what the sweep table gives by hand; the
+/// study carries it into its table, its summary counts it apart, its map marks it.
+#[test]
+fn each_readings_settled_flag_is_the_sweep_table_by_hand() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("readings.toml");
+    let experiment = EXPERIMENT
+        .replace("[0.01, 0.01, 0.01]", "[0.005, 0.005, 0.005]")
+        .replace("clearance_mm = 0.2", "clearance_mm = 0.3")
+        .replace("start = 46.0, stop = 50.0, step = 0.1", "start = 44.0, stop = 56.0, step = 0.2");
+    let text = format!("{experiment}{}{}{}", check("peak_over_peak"), check("at_resonance"), check("band_max"));
+    std::fs::write(&file, text).unwrap();
+    let out_dir = dir.path().join("out");
+    let out = shotdamp()
+        .arg("--reference")
+        .arg(repo().join("reference"))
+        .arg("run")
+        .arg(&file)
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+
+    let rows = common::csv_rows(&std::fs::read_to_string(out_dir.join("readings/data/compliance.csv")).unwrap());
+    let col = |n: &str| rows[0].iter().position(|h| h == n).unwrap();
+    // (freq, c2, converged, converged and period-1) per point.
+    let curve = |id: &str| -> Vec<(f64, f64, bool, bool)> {
+        rows[1..]
+            .iter()
+            .filter(|r| r[col("curve")] == id)
+            .map(|r| {
+                let conv = r[col("converged")] == "1";
+                (r[col("freq_hz")].parse().unwrap(), r[col("c2")].parse().unwrap(), conv, conv && r[col("period")] == "1")
+            })
+            .collect()
+    };
+    let (single, triple) = (curve("single"), curve("triple"));
+    assert_eq!(single.len(), 61);
+    // A peak over settled points is settled when no unsettled point is higher.
+    let peak = |c: &[(f64, f64, bool, bool)]| *c.iter().filter(|p| p.2).max_by(|a, b| a.1.total_cmp(&b.1)).unwrap();
+    let peak_settled = |c: &[(f64, f64, bool, bool)]| c.iter().all(|p| p.2 || p.1 <= peak(c).1);
+    let (fs, ps, ..) = peak(&single);
+    let at = triple.iter().find(|p| p.0 == fs).unwrap();
+    let by_hand_peak = peak_settled(&single) && peak_settled(&triple);
+    let by_hand_at = peak_settled(&single) && at.3;
+    // The band: single within 1/sqrt(2) of its peak; settled when the points skipped there
+    // (not period-1 on either side) would not raise the largest ratio.
+    let band: Vec<(f64, bool)> = single
+        .iter()
+        .zip(&triple)
+        .filter(|(p, _)| p.1 >= ps / std::f64::consts::SQRT_2)
+        .map(|(p, q)| (p.1 / q.1, p.3 && q.3))
+        .collect();
+    let kept = band.iter().filter(|b| b.1).map(|b| b.0).fold(0.0, f64::max);
+    let by_hand_band = peak_settled(&single) && band.iter().all(|b| b.1 || b.0 <= kept);
+    // This point is the case the flag exists for.
+    assert!(!at.2, "the three dampers at {fs} Hz were expected not to settle");
+    assert!(!by_hand_at && !by_hand_band && by_hand_peak);
+
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out_dir.join("checks.json")).unwrap()).unwrap();
+    let settled = |prefix: &str| {
+        json["checks"].as_array().unwrap().iter().find(|c| c["name"].as_str().unwrap().starts_with(prefix)).unwrap()
+            ["settled"]
+            .as_bool()
+            .unwrap()
+    };
+    assert_eq!(settled("peak ratio single / triple"), by_hand_peak);
+    assert_eq!(settled("ratio single / triple at single's resonance"), by_hand_at);
+    assert_eq!(settled("largest ratio single / triple over single's resonance band"), by_hand_band);
+    let page = std::fs::read_to_string(out_dir.join("readings/index.html")).unwrap();
+    assert_eq!(page.matches("rests on a point that did not settle").count(), 2, "the check table marks both");
+
+    // A study over the point: the flag in its table, counted apart in its summary, marked in
+    // its map.
+    let study = dir.path().join("study.toml");
+    std::fs::write(
+        &study,
+        "[study]\nid = \"one\"\ntitle = \"t\"\nexperiment = \"readings.toml\"\nmap = [\"clearance_mm\", \"damping\"]\n[[vary]]\nname = \"damping\"\nkey = \"structure.damping.modal_ratios\"\nvalues = [0.005]\n[[vary]]\nname = \"clearance_mm\"\nkey = \"cases[*].dampers[*].clearance_mm\"\nvalues = [0.3]\n",
+    )
+    .unwrap();
+    let st = dir.path().join("st");
+    let out = shotdamp()
+        .arg("--reference")
+        .arg(repo().join("reference"))
+        .args(["study", study.to_str().unwrap(), "--out", st.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&out.stdout).to_string();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows = common::csv_rows(&std::fs::read_to_string(st.join("one.csv")).unwrap());
+    let col = |n: &str| rows[0].iter().position(|h| h == n).unwrap();
+    for (name, by_hand) in [("peak_over_peak", by_hand_peak), ("at_resonance", by_hand_at), ("band_max", by_hand_band)]
+    {
+        let row = rows.iter().find(|r| r[col("reading")] == name).unwrap();
+        assert_eq!(row[col("settled")], if by_hand { "1" } else { "0" }, "{name}");
+    }
+    let summary = common::csv_rows(&std::fs::read_to_string(st.join("one_summary.csv")).unwrap());
+    let scol = |n: &str| summary[0].iter().position(|h| h == n).unwrap();
+    for (check, by_hand) in [by_hand_peak, by_hand_at, by_hand_band].into_iter().enumerate() {
+        let r = &summary[check + 1];
+        assert_eq!(r[scol("unsettled")], if by_hand { "0" } else { "1" }, "check {check}");
+        if !by_hand {
+            // Counted apart: not among the samples where it holds or fails.
+            assert_eq!(r[scol("holds")], "0", "check {check}");
+            assert_eq!(r[scol("fraction")], "NaN", "check {check}");
+        }
+    }
+    assert!(said.contains("on an unsettled point"), "{said}");
+    let map = std::fs::read_to_string(st.join("figures/one_check-1.svg")).unwrap();
+    assert!(map.contains("the value rests on a point that did not settle"), "the map's legend");
+    // Three strokes across the cell in the colour of unsettled values (the legend names it).
+    assert_eq!(map.matches("stroke=\"#8250DF\"").count(), 3, "three strokes in the map");
+}

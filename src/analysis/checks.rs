@@ -298,6 +298,7 @@ fn curve_check(
         detail += &format!("; {missing_points} reference frequencies not computed");
     }
     CheckOutcome {
+        settled: Some(true),
         name: format!("{} vs {}", c.id, spec.reference_file),
         description: format!("compliance of curve {} ({}) at the reference's frequencies", c.id, c.label),
         computed: worst.map(|w| w.0).unwrap_or(f64::NAN),

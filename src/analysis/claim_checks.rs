@@ -14,76 +14,95 @@ fn window_words(w: Option<(f64, f64)>) -> String {
     }
 }
 
-/// The peak of `case` over that of `over` in a window: (ratio, words).
-fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<(f64, String)> {
-    let a = curves.get(case)?.peak_in(mass, w)?;
-    let b = curves.get(over)?.peak_in(mass, w)?;
-    Some((
-        a.1 / b.1,
-        format!(
+/// A claimed quantity as read from the curves: its value, in words, and whether it rests only
+/// on settled points ([`CheckOutcome::settled`]).
+struct Read {
+    value: f64,
+    words: String,
+    settled: bool,
+}
+
+/// The peak of `case` over that of `over` in a window.
+fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<Read> {
+    let (ca, cb) = (curves.get(case)?, curves.get(over)?);
+    let (a, b) = (ca.peak_in(mass, w)?, cb.peak_in(mass, w)?);
+    Some(Read {
+        value: a.1 / b.1,
+        words: format!(
             "{case}: {} m/N at {} Hz over {over}: {} m/N at {} Hz",
             fmt_num(a.1),
             fmt_num(a.0),
             fmt_num(b.1),
             fmt_num(b.0)
         ),
-    ))
+        settled: ca.peak_settled(mass, w) && cb.peak_settled(mass, w),
+    })
 }
 
-/// Both curves at the frequency of `case`'s peak: (ratio, words). The curves share their grid.
-fn at_resonance(
-    curves: &Curves,
-    (case, over): (&str, &str),
-    mass: usize,
-    w: Option<(f64, f64)>,
-) -> Option<(f64, String)> {
+/// Both curves at the frequency of `case`'s peak. The curves share their grid.
+fn at_resonance(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<Read> {
     let (a, b) = (curves.get(case)?, curves.get(over)?);
     let (f, peak) = a.peak_in(mass, w)?;
     let j = b.freq_hz.iter().position(|x| *x == f)?;
     let c = b.compliance[j][mass];
-    let settled = if b.regular(j) { "" } else { " (not settled or not period-1 there)" };
-    Some((
-        peak / c,
-        format!(
-            "at {case}'s peak, {} Hz: {case} {} m/N over {over} {} m/N{settled}",
+    let settled = a.peak_settled(mass, w) && b.regular(j);
+    Some(Read {
+        value: peak / c,
+        words: format!(
+            "at {case}'s peak, {} Hz: {case} {} m/N over {over} {} m/N{}",
             fmt_num(f),
             fmt_num(peak),
-            fmt_num(c)
+            fmt_num(c),
+            if settled { "" } else { " (not settled or not period-1 there)" }
         ),
-    ))
+        settled,
+    })
 }
 
 /// The largest ratio at one frequency over the band where `case` is at least 1/sqrt(2) of its
-/// peak (settled, period-1 points of both): (ratio, words).
-fn band_max(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<(f64, String)> {
+/// peak (settled, period-1 points of both). Settled when the points skipped in the band (not
+/// settled or not period-1 on either curve) would not raise it.
+fn band_max(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<Read> {
     let (a, b) = (curves.get(case)?, curves.get(over)?);
     let (_, peak) = a.peak_in(mass, w)?;
     let inside = |f: f64| w.is_none_or(|(lo, hi)| f >= lo && f <= hi);
     let mut ratios: Vec<(f64, f64)> = Vec::new();
+    let mut skipped: Vec<(f64, f64)> = Vec::new();
     for (i, &f) in a.freq_hz.iter().enumerate() {
         let ca = a.compliance[i][mass];
-        if !(inside(f) && a.regular(i) && ca >= peak / std::f64::consts::SQRT_2) {
+        if !(inside(f) && ca >= peak / std::f64::consts::SQRT_2) {
             continue;
         }
-        if let Some(j) = b.freq_hz.iter().position(|x| *x == f).filter(|&j| b.regular(j)) {
-            ratios.push((f, ca / b.compliance[j][mass]));
+        let Some(j) = b.freq_hz.iter().position(|x| *x == f) else { continue };
+        let r = (f, ca / b.compliance[j][mass]);
+        if a.regular(i) && b.regular(j) {
+            ratios.push(r);
+        } else {
+            skipped.push(r);
         }
     }
     let (lo, hi) = (ratios.first()?.0, ratios.last()?.0);
     let min = ratios.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
     let &(f_max, max) = ratios.iter().max_by(|x, y| x.1.total_cmp(&y.1))?;
-    Some((
+    let raised: Vec<&(f64, f64)> = skipped.iter().filter(|r| !(r.1 <= max)).collect();
+    let mut words = format!(
+        "{case} over {over} at each of {} frequencies of {case}'s resonance band ({}-{} Hz): {:.2} to {:.2}, largest at {} Hz",
+        ratios.len(),
+        fmt_num(lo),
+        fmt_num(hi),
+        min,
         max,
-        format!(
-            "{case} over {over} at each of {} frequencies of {case}'s resonance band ({}-{} Hz): {:.2} to {:.2}, largest at {} Hz",
-            ratios.len(),
-            fmt_num(lo),
-            fmt_num(hi),
-            min,
-            max,
-            fmt_num(f_max)
-        ),
-    ))
+        fmt_num(f_max)
+    );
+    if let Some(top) = raised.iter().max_by(|x, y| x.1.total_cmp(&y.1)) {
+        words += &format!(
+            "; {} point(s) of the band skipped as not settled or not period-1 would raise it (to {:.2} at {} Hz)",
+            raised.len(),
+            top.1,
+            fmt_num(top.0)
+        );
+    }
+    Some(Read { value: max, words, settled: a.peak_settled(mass, w) && raised.is_empty() })
 }
 
 /// The name of a ratio claim under a reading.
@@ -115,7 +134,7 @@ pub fn peak_ratio(
         Reading::AtResonance => at_resonance(curves, cases, mass, window),
         Reading::BandMax => band_max(curves, cases, mass, window),
     };
-    let Some((r, words)) = computed else {
+    let Some(Read { value: r, words, settled }) = computed else {
         // Not evaluable here (a study's sample may have no settled point where the reading
         // looks): named as the claim, with the reason.
         let mut o = CheckOutcome::missing(spec, "");
@@ -166,6 +185,7 @@ pub fn peak_ratio(
         ),
     };
     CheckOutcome {
+        settled: Some(settled),
         name,
         description,
         computed: r,
@@ -193,12 +213,13 @@ pub fn ratio_order(
     than: (f64, f64),
 ) -> CheckOutcome {
     let Some(claim) = spec.quantity(file) else { return CheckOutcome::missing(spec, "claim not found") };
-    let (Some((a, wa)), Some((b, wb))) =
-        (ratio(curves, cases, mass, Some(window)), ratio(curves, cases, mass, Some(than)))
+    let (Some(ra), Some(rb)) = (ratio(curves, cases, mass, Some(window)), ratio(curves, cases, mass, Some(than)))
     else {
         return CheckOutcome::missing(spec, "curves not computed");
     };
+    let (a, wa, b, wb) = (ra.value, ra.words, rb.value, rb.words);
     CheckOutcome {
+        settled: Some(ra.settled && rb.settled),
         name: format!(
             "{} / {} at m{}: {}-{} Hz below {}-{} Hz",
             cases.0,
@@ -253,6 +274,7 @@ pub fn motion_types(
     }
     let occurrences = present.iter().chain(absent).map(|t| count(t) as f64).sum::<f64>();
     CheckOutcome {
+        settled: None,
         name: format!("motion types of {case}: {}", want.join("; ")),
         description: format!(
             "the motion types of the beds of case {case} at the waveform frequencies: {}",

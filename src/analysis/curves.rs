@@ -59,14 +59,28 @@ impl Curve {
     /// Frequency and value of the highest compliance of `mass` within `window` (Hz; the whole
     /// curve when `None`), among settled points if any.
     pub fn peak_in(&self, mass: usize, window: Option<(f64, f64)>) -> Option<(f64, f64)> {
+        self.peak_index_in(mass, window).map(|i| (self.freq_hz[i], self.compliance[i][mass]))
+    }
+
+    /// The index of [`Curve::peak_in`]'s point.
+    pub fn peak_index_in(&self, mass: usize, window: Option<(f64, f64)>) -> Option<usize> {
         let inside = |i: usize| window.is_none_or(|(lo, hi)| self.freq_hz[i] >= lo && self.freq_hz[i] <= hi);
         let settled: Vec<usize> = (0..self.freq_hz.len()).filter(|&i| inside(i) && self.converged[i]).collect();
         let pool: Vec<usize> =
             if settled.is_empty() { (0..self.freq_hz.len()).filter(|&i| inside(i)).collect() } else { settled };
         pool.into_iter()
-            .map(|i| (self.freq_hz[i], self.compliance[i][mass]))
-            .filter(|(_, c)| c.is_finite())
-            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .filter(|&i| self.compliance[i][mass].is_finite())
+            .max_by(|&a, &b| self.compliance[a][mass].total_cmp(&self.compliance[b][mass]))
+    }
+
+    /// Whether [`Curve::peak_in`] rests only on settled points: its point settled, and no
+    /// point of the window that did not settle higher (so skipping it changed nothing).
+    pub fn peak_settled(&self, mass: usize, window: Option<(f64, f64)>) -> bool {
+        let Some(p) = self.peak_index_in(mass, window) else { return false };
+        let inside = |i: usize| window.is_none_or(|(lo, hi)| self.freq_hz[i] >= lo && self.freq_hz[i] <= hi);
+        self.converged[p]
+            && (0..self.freq_hz.len())
+                .all(|i| !inside(i) || self.converged[i] || !(self.compliance[i][mass] > self.compliance[p][mass]))
     }
 
     /// Highest flight of any bed over the curve, m.

@@ -85,6 +85,7 @@ fn replay(
     let fp = fingerprint(p, spec);
     let same = fp == stored.fingerprint;
     let mut checks = vec![CheckOutcome {
+        settled: None,
         name: "stored_objectives".into(),
         description: format!(
             "the {} stored layouts (best of each placement and of each Pareto point) evaluated now: largest relative difference from the objective the search stored",
@@ -103,6 +104,7 @@ fn replay(
         detail: (!which.is_empty()).then(|| format!("largest at {which}; if the model changed on purpose, {rerun}")),
     }];
     checks.push(CheckOutcome {
+        settled: None,
         name: "stored_problem".into(),
         description: "the design problem (structure, bands, sweeps, steady settings, search space and settings) is the one the stored search solved: fingerprint".into(),
         computed: if same { 0.0 } else { 1.0 },

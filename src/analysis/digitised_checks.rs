@@ -48,7 +48,8 @@ fn words(t: &AxisTol, unit: &str) -> String {
     }
 }
 
-/// The tube check.
+/// The tube check (settled when every point of the computed curve is settled and period-1:
+/// the tube skips the others).
 pub fn tube_check(
     spec: &CheckSpec,
     file: &DigitisedFile,
@@ -86,6 +87,7 @@ pub fn tube_check(
         detail += &format!("; {} digitised points outside the computed range", r.uncovered);
     }
     CheckOutcome {
+        settled: Some((0..c.freq_hz.len()).all(|i| c.regular(i))),
         name: format!("{} m{} vs digitised \"{}\"", c.id, mass + 1, d.name),
         description: format!(
             "compliance of m{} of curve {} ({}) within a tube around the digitised curve",
@@ -127,10 +129,17 @@ pub fn peak_check(
         return vec![CheckOutcome::missing(spec, "no point of a curve in the window")];
     };
     let w = format!("{}-{} Hz", fmt_num(window.0), fmt_num(window.1));
+    // The peak of the settled, period-1 points: settled when no other point of the window
+    // is higher.
+    let settled = (0..c.freq_hz.len()).all(|i| {
+        let f = c.freq_hz[i];
+        c.regular(i) || f < window.0 || f > window.1 || !(c.compliance[i][mass] > ours.1)
+    });
     let one = |what: &str, o: f64, e: f64, t: &AxisTol, unit: &str| {
         let (lo, hi) = t.interval(e);
         let ok = o >= lo && o <= hi;
         CheckOutcome {
+            settled: Some(settled),
             name: format!("{} m{} peak {what} in {w} vs digitised \"{}\"", c.id, mass + 1, d.name),
             description: format!("resonance peak {what} of m{} of curve {} in {w}", mass + 1, c.id),
             computed: o,

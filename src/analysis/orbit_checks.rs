@@ -33,6 +33,7 @@ pub fn orbit_vs_simulation(spec: &CheckSpec, r: &OrbitsResult) -> CheckOutcome {
         detail += &format!("; {unstable} orbits unstable (a settled simulation cannot sit on them: see the table)");
     }
     CheckOutcome {
+        settled: None,
         name: "exact orbits vs simulation".into(),
         description: "compliance of every mass: the periodic orbit solved on the impact section through each simulated steady state (itself an orbit of the stroboscopic section), against that steady state".into(),
         computed: value,
@@ -64,6 +65,7 @@ pub fn sdof_vs_simulation(
     let abs = (c - e).abs();
     let within = abs <= spec.tolerance.abs + spec.tolerance.rel * e.abs();
     CheckOutcome {
+        settled: None,
         name: format!("SDOF peak vs simulation, m{}", m + 1),
         description: format!(
             "peak compliance of m{} of the stable equivalent-SDOF orbits against the simulated 3-mass structure",

@@ -35,12 +35,22 @@ pub struct ClaimRow {
     pub outcome: Verdict,
     /// Why the claim cannot be evaluated at this sample (empty when it can).
     pub reason: String,
+    /// Whether the value rests only on settled steady states (false when it uses a point that
+    /// did not settle, or would change with one that was skipped: see
+    /// [`crate::checks::CheckOutcome::settled`]). Such a row is counted apart.
+    pub settled: bool,
 }
 
 impl ClaimRow {
-    /// Whether the claim holds at this sample.
+    /// Whether the claim holds at this sample on settled points only.
     pub fn holds(&self) -> bool {
-        self.outcome == Verdict::Holds
+        self.outcome == Verdict::Holds && self.settled
+    }
+
+    /// Whether the claim can be evaluated here but its value rests on a point that did not
+    /// settle.
+    pub fn unsettled(&self) -> bool {
+        self.outcome != Verdict::NotEvaluable && !self.settled
     }
 }
 
@@ -166,6 +176,7 @@ pub fn run_prepared(exp: &Experiment, sample: &Sample, refs: &ReferenceStore) ->
                 bound: outcome.tolerance.clone(),
                 outcome: verdict,
                 reason,
+                settled: outcome.settled != Some(false),
             }
         })
         .collect())
@@ -220,7 +231,7 @@ pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path) -> Re
 pub fn columns(study: &Study) -> Vec<String> {
     let mut out: Vec<String> = vec!["sample".into(), "model".into()];
     out.extend(study.vary.iter().map(|v| v.name.clone()));
-    out.extend(["check", "claim", "reading", "value", "bound", "outcome", "reason"].map(String::from));
+    out.extend(["check", "claim", "reading", "value", "settled", "bound", "outcome", "reason"].map(String::from));
     out
 }
 
@@ -235,7 +246,7 @@ pub fn rows_table(id: &str, names: &[String], rows: &[ClaimRow]) -> Table {
     let mut t = Table::new(
         id.to_string(),
         format!(
-            "study {id}: a row per sample and claim (value: the claimed quantity; outcome: holds, fails or not evaluable, with the reason)"
+            "study {id}: a row per sample and claim (value: the claimed quantity; settled: 1 when it rests only on settled steady states, 0 when it needs a point that did not settle; outcome: holds, fails or not evaluable, with the reason)"
         ),
     )
     .i64("sample", rows.iter().map(|r| r.sample as i64).collect())
@@ -247,6 +258,7 @@ pub fn rows_table(id: &str, names: &[String], rows: &[ClaimRow]) -> Table {
         .str("claim", rows.iter().map(|r| r.claim.clone()).collect())
         .str("reading", rows.iter().map(|r| r.reading.clone()).collect())
         .f64("value", rows.iter().map(|r| r.value).collect())
+        .i64("settled", rows.iter().map(|r| r.settled as i64).collect())
         .str("bound", rows.iter().map(|r| r.bound.clone()).collect())
         .str("outcome", rows.iter().map(|r| r.outcome.word().to_string()).collect())
         .str("reason", rows.iter().map(|r| r.reason.clone()).collect())
@@ -260,9 +272,13 @@ pub struct ClaimSummary {
     pub claim: String,
     pub bound: String,
     pub samples: usize,
+    /// Samples where the claim holds on settled points.
     pub holds: usize,
     /// Samples where the claim cannot be evaluated (counted apart: neither holds nor fails).
     pub not_evaluable: usize,
+    /// Samples where the claim's value rests on a point that did not settle (counted apart,
+    /// whatever their outcome).
+    pub unsettled: usize,
     pub min: f64,
     pub max: f64,
     /// Per varied key: the smallest and largest value among the samples where the claim
@@ -289,6 +305,7 @@ pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
                 samples: of.len(),
                 holds: of.iter().filter(|r| r.holds()).count(),
                 not_evaluable: of.iter().filter(|r| r.outcome == Verdict::NotEvaluable).count(),
+                unsettled: of.iter().filter(|r| r.unsettled()).count(),
                 min: finite.clone().fold(f64::INFINITY, f64::min),
                 max: finite.fold(f64::NEG_INFINITY, f64::max),
                 region: (0..first.values.len())
@@ -310,9 +327,9 @@ pub fn summarise(models: &[String], rows: &[ClaimRow]) -> Vec<ClaimSummary> {
 }
 
 impl ClaimSummary {
-    /// Samples where the claim can be evaluated.
+    /// Samples where the claim can be evaluated on settled points.
     pub fn evaluable(&self) -> usize {
-        self.samples - self.not_evaluable
+        self.samples - self.not_evaluable - self.unsettled
     }
 
     /// The fraction of the evaluable samples where the claim holds (NaN when none is).
@@ -346,16 +363,25 @@ impl ClaimSummary {
 
     /// Where the claim holds, in words: "holds at 12/112 (damping 0.003-0.006, clearance_mm
     /// 0.25-0.55)", "holds everywhere (9/9)", "holds nowhere (0/9; value 1.1-1.9)"; the counts
-    /// are of the samples where it can be evaluated, the others named after them ("; 3 not
-    /// evaluable").
+    /// are of the samples where it can be evaluated on settled points, the others named after
+    /// them ("; 3 not evaluable; 1 on an unsettled point").
     pub fn words(&self, names: &[String]) -> String {
         let fmt = crate::number::fmt_num;
         let n = self.evaluable();
-        let apart =
+        let mut apart =
             if self.not_evaluable > 0 { format!("; {} not evaluable", self.not_evaluable) } else { String::new() };
-        if n == 0 {
+        if self.unsettled > 0 {
+            apart += &format!(
+                "; {} on {}",
+                self.unsettled,
+                if self.unsettled == 1 { "an unsettled point" } else { "unsettled points" }
+            );
+        }
+        if n == 0 && self.unsettled > 0 {
+            format!("not evaluable on settled points at any of {} samples{apart}", self.samples)
+        } else if n == 0 {
             format!("not evaluable at any of {} samples", self.samples)
-        } else if self.holds == n && self.not_evaluable == 0 {
+        } else if self.holds == n && apart.is_empty() {
             format!("holds everywhere ({}/{n})", self.holds)
         } else if self.holds == n {
             format!("holds wherever evaluable ({}/{n}{apart})", self.holds)
@@ -392,7 +418,7 @@ pub fn claim_sentences(models: &[(String, String)], names: &[String], summaries:
 pub fn summary_table(id: &str, names: &[String], summaries: &[ClaimSummary]) -> Table {
     let mut t = Table::new(
         format!("{id}_summary"),
-        format!("study {id}: per model and claim, the samples where it holds and the range of the claimed quantity"),
+        format!("study {id}: per model and claim, the samples where it holds on settled points (unsettled: samples whose value needs a point that did not settle, counted apart) and the range of the claimed quantity"),
     )
     .str("model", summaries.iter().map(|s| s.model.clone()).collect())
     .i64("check", summaries.iter().map(|s| s.check as i64).collect())
@@ -401,6 +427,7 @@ pub fn summary_table(id: &str, names: &[String], summaries: &[ClaimSummary]) -> 
     .i64("samples", summaries.iter().map(|s| s.samples as i64).collect())
     .i64("holds", summaries.iter().map(|s| s.holds as i64).collect())
     .i64("not_evaluable", summaries.iter().map(|s| s.not_evaluable as i64).collect())
+    .i64("unsettled", summaries.iter().map(|s| s.unsettled as i64).collect())
     .f64("fraction", summaries.iter().map(|s| s.fraction()).collect())
     .f64("min", summaries.iter().map(|s| s.min).collect())
     .f64("max", summaries.iter().map(|s| s.max).collect());

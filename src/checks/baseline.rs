@@ -206,6 +206,7 @@ pub fn compare(experiment: &str, figure: &str, now: &[Value], blessed: &[Value])
         detail += "; if the change is intended, bless it: shotdamp report --bless";
     }
     CheckOutcome {
+        settled: None,
         name: "baseline".into(),
         description: format!("{figure} ({experiment}): every sampled result against the blessed baseline"),
         computed: worst,

@@ -111,6 +111,11 @@ pub struct CheckOutcome {
     pub reason: Option<String>,
     /// Extra detail (e.g. the worst point of a curve).
     pub detail: Option<String>,
+    /// Whether the computed value rests only on settled steady states: `Some(false)` when it
+    /// uses a point that did not settle (or is not period-1 where the reading compares two
+    /// curves at one frequency), or when such a point, skipped, would change it; `None` when
+    /// the check reads no steady state (modes, parameters, impulse histories).
+    pub settled: Option<bool>,
 }
 
 impl CheckOutcome {
@@ -123,6 +128,7 @@ impl CheckOutcome {
         detail: Option<String>,
     ) -> CheckOutcome {
         CheckOutcome {
+            settled: None,
             name,
             description,
             computed: f64::NAN,
@@ -202,6 +208,7 @@ pub fn compare_scalar(
     let rel_diff = if expected != 0.0 { abs_diff / expected.abs() } else { f64::INFINITY };
     let within = abs_diff <= tolerance.abs + tolerance.rel * expected.abs();
     CheckOutcome {
+        settled: None,
         name: subject.name,
         description: subject.description,
         computed,

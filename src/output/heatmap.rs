@@ -1,6 +1,7 @@
 //! Heat maps of a study: a claimed quantity over two varied values, one panel per model (and
-//! per combination of any further varied values), the samples where the claim holds outlined.
-//! A full grid draws cells; a quasi-random design draws coloured dots.
+//! per combination of any further varied values), the samples where the claim holds outlined,
+//! those whose value rests on a point that did not settle hatched one way and those where it
+//! cannot be evaluated the other. A full grid draws cells; a quasi-random design draws dots.
 
 use std::path::Path;
 
@@ -12,13 +13,41 @@ use crate::number::fmt_num;
 
 use super::study::Manifest;
 
-/// One panel: its title, its samples as (x, y, value, verdict), and where the experiment itself
+/// How a sample is marked on a map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mark {
+    /// The claim holds on settled points: outlined.
+    Holds,
+    /// It does not: plain.
+    Fails,
+    /// Its value rests on a point that did not settle: hatched (falling strokes, purple).
+    Unsettled,
+    /// It cannot be evaluated: hatched (rising strokes, white) or crossed.
+    NotEvaluable,
+}
+
+impl Mark {
+    /// The mark of a study row.
+    pub fn of(r: &ClaimRow) -> Mark {
+        if r.outcome == Verdict::NotEvaluable {
+            Mark::NotEvaluable
+        } else if !r.settled {
+            Mark::Unsettled
+        } else if r.outcome == Verdict::Holds {
+            Mark::Holds
+        } else {
+            Mark::Fails
+        }
+    }
+}
+
+/// One panel: its title, its samples as (x, y, value, mark), and where the experiment itself
 /// sits (its own values of the two axes; none when unknown or when another varied value of the
 /// panel is not the experiment's own).
 #[derive(Debug, Clone)]
 pub struct MapPanel {
     pub title: String,
-    pub points: Vec<(f64, f64, f64, Verdict)>,
+    pub points: Vec<(f64, f64, f64, Mark)>,
     pub assumed: Option<(f64, f64)>,
 }
 
@@ -38,6 +67,8 @@ pub struct HeatMap {
 /// Most panels drawn per map (further combinations of other varied values are left out, and
 /// the title says so).
 const MAX_PANELS: usize = 12;
+/// The colour of a value that rests on a point that did not settle (the pages' `.unsettled`).
+const UNSETTLED: RGBColor = RGBColor(130, 80, 223);
 const PANEL_W: u32 = 420;
 const PANEL_H: u32 = 400;
 const BAR_W: u32 = 130;
@@ -58,7 +89,7 @@ pub fn maps(manifest: &Manifest, rows: &[ClaimRow], assumed: &[Vec<Option<f64>>]
             let rest: Vec<String> =
                 others.iter().map(|&k| format!("{} {}", manifest.vary[k].name, fmt_num(r.values[k]))).collect();
             let key = [label.clone()].into_iter().chain(rest).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(", ");
-            let point = (r.values[xi], r.values[yi], r.value, r.outcome);
+            let point = (r.values[xi], r.values[yi], r.value, Mark::of(r));
             match panels.iter_mut().find(|(k, _)| *k == key) {
                 Some((_, p)) => p.points.push(point),
                 None => {
@@ -81,8 +112,15 @@ pub fn maps(manifest: &Manifest, rows: &[ClaimRow], assumed: &[Vec<Option<f64>>]
         let mut marked =
             if shown.iter().any(|p| p.assumed.is_some()) { "; red cross: the experiment's own values" } else { "" }
                 .to_string();
+        if of.iter().any(|r| r.unsettled()) {
+            marked.push_str(if manifest.grid {
+                "; purple strokes: the value rests on a point that did not settle"
+            } else {
+                "; purple dot: the value rests on a point that did not settle"
+            });
+        }
         if of.iter().any(|r| r.outcome == Verdict::NotEvaluable) {
-            marked.push_str("; hatched: not evaluable");
+            marked.push_str(if manifest.grid { "; white strokes: not evaluable" } else { "; white cross: not evaluable" });
         }
         out.push(HeatMap {
             id: format!("{}_check-{check}", manifest.study),
@@ -283,17 +321,26 @@ fn draw_panel<DB: DrawingBackend>(
             Rectangle::new([(i - 0.5, j - 0.5), (i + 0.5, j + 0.5)], colour(v).filled())
         });
         chart.draw_series(cells).map_err(|e| err(map, e))?;
-        let held = panel.points.iter().filter(|p| p.3 == Verdict::Holds).map(|&(x, y, _, _)| {
+        let held = panel.points.iter().filter(|p| p.3 == Mark::Holds).map(|&(x, y, _, _)| {
             let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
             Rectangle::new([(i - 0.45, j - 0.45), (i + 0.45, j + 0.45)], ShapeStyle::from(&BLACK).stroke_width(3))
         });
         chart.draw_series(held).map_err(|e| err(map, e))?;
         // Not evaluable: three diagonal strokes across the cell.
-        let hatch = panel.points.iter().filter(|p| p.3 == Verdict::NotEvaluable).flat_map(|&(x, y, _, _)| {
+        let hatch = panel.points.iter().filter(|p| p.3 == Mark::NotEvaluable).flat_map(|&(x, y, _, _)| {
             let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
             [-0.5, 0.0, 0.5].map(|o: f64| {
                 let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
                 PathElement::new(vec![(i + a, j + a - o), (i + b, j + b - o)], ShapeStyle::from(&WHITE).stroke_width(2))
+            })
+        });
+        chart.draw_series(hatch).map_err(|e| err(map, e))?;
+        // Unsettled: three strokes the other way, in the colour the pages use for it.
+        let hatch = panel.points.iter().filter(|p| p.3 == Mark::Unsettled).flat_map(|&(x, y, _, _)| {
+            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
+            [-0.5, 0.0, 0.5].map(|o: f64| {
+                let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
+                PathElement::new(vec![(i + a, j - a + o), (i + b, j - b + o)], ShapeStyle::from(&UNSETTLED).stroke_width(3))
             })
         });
         chart.draw_series(hatch).map_err(|e| err(map, e))?;
@@ -303,11 +350,15 @@ fn draw_panel<DB: DrawingBackend>(
             .iter()
             .map(|&(x, y, v, _)| Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 5, colour(v).filled()));
         chart.draw_series(dots).map_err(|e| err(map, e))?;
-        let rings = panel.points.iter().filter(|p| p.3 == Verdict::Holds).map(|&(x, y, _, _)| {
+        let rings = panel.points.iter().filter(|p| p.3 == Mark::Holds).map(|&(x, y, _, _)| {
             Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 7, ShapeStyle::from(&BLACK).stroke_width(2))
         });
         chart.draw_series(rings).map_err(|e| err(map, e))?;
-        let crossed = panel.points.iter().filter(|p| p.3 == Verdict::NotEvaluable).map(|&(x, y, _, _)| {
+        let marked = panel.points.iter().filter(|p| p.3 == Mark::Unsettled).map(|&(x, y, _, _)| {
+            Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 2, UNSETTLED.filled())
+        });
+        chart.draw_series(marked).map_err(|e| err(map, e))?;
+        let crossed = panel.points.iter().filter(|p| p.3 == Mark::NotEvaluable).map(|&(x, y, _, _)| {
             Cross::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 5, ShapeStyle::from(&WHITE).stroke_width(2))
         });
         chart.draw_series(crossed).map_err(|e| err(map, e))?;

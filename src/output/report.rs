@@ -56,6 +56,9 @@ pub struct CheckRow {
     pub source: String,
     pub reason: String,
     pub detail: String,
+    /// "settled", "unsettled" (the value rests on a point that did not settle, or would change
+    /// with one that was skipped) or "" (the check reads no steady state).
+    pub settled: String,
 }
 
 impl CheckRow {
@@ -78,6 +81,12 @@ impl CheckRow {
             source: c.source.label().to_string(),
             reason: c.reason.clone().unwrap_or_default(),
             detail: c.detail.clone().unwrap_or_default(),
+            settled: match c.settled {
+                Some(true) => "settled",
+                Some(false) => "unsettled",
+                None => "",
+            }
+            .to_string(),
         }
     }
 }
@@ -216,6 +225,9 @@ pub struct ModelCell {
     pub verdict_class: String,
     /// Checks against the paper that pass, of all against the paper ("7/8"; "" when none).
     pub checks: String,
+    /// Checks against the paper whose value rests on a point that did not settle (counted
+    /// in `checks` as they came out, named apart).
+    pub unsettled: usize,
     /// The page of the figure's experiment on this model ("" when not run).
     pub link: String,
 }
@@ -353,6 +365,7 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                             verdict: "not run".into(),
                             verdict_class: "none".into(),
                             checks: String::new(),
+                            unsettled: 0,
                             link: String::new(),
                         };
                     }
@@ -367,6 +380,7 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                         verdict: v.label().to_string(),
                         verdict_class: v.class().to_string(),
                         checks: if paper.is_empty() { String::new() } else { format!("{passing}/{}", paper.len()) },
+                        unsettled: paper.iter().filter(|c| c.settled == Some(false)).count(),
                         link: format!("{}/index.html", on[0].experiment.key()),
                     }
                 })

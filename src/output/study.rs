@@ -541,13 +541,14 @@ pub fn rows(df: &DataFrame, manifest: &Manifest, path: &Path) -> Result<Vec<Clai
             .map(|v| v.unwrap_or("").to_string())
             .collect())
     };
-    let (sample, model, check, claim, reading, value, bound, outcome, reason) = (
+    let (sample, model, check, claim, reading, value, settled, bound, outcome, reason) = (
         int("sample")?,
         text("model")?,
         int("check")?,
         text("claim")?,
         text("reading")?,
         float("value")?,
+        int("settled")?,
         text("bound")?,
         text("outcome")?,
         text("reason")?,
@@ -573,6 +574,7 @@ pub fn rows(df: &DataFrame, manifest: &Manifest, path: &Path) -> Result<Vec<Clai
             bound: bound[i].clone(),
             outcome: verdicts[i],
             reason: reason[i].clone(),
+            settled: settled[i] != 0,
         })
         .collect())
 }
