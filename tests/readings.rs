@@ -193,7 +193,12 @@ fn each_readings_settled_flag_is_the_sweep_table_by_hand() {
             .filter(|r| r[col("curve")] == id)
             .map(|r| {
                 let conv = r[col("converged")] == "1";
-                (r[col("freq_hz")].parse().unwrap(), r[col("c2")].parse().unwrap(), conv, conv && r[col("period")] == "1")
+                (
+                    r[col("freq_hz")].parse().unwrap(),
+                    r[col("c2")].parse().unwrap(),
+                    conv,
+                    conv && r[col("period")] == "1",
+                )
             })
             .collect()
     };

@@ -32,149 +32,150 @@ pub fn evaluate(
     computed: &Computed,
     refs: &ReferenceStore,
 ) -> Vec<CheckOutcome> {
-    let curves = computed.curves;
     let mut out = Vec::new();
     for spec in &exp.checks {
-        match &spec.kind {
-            CheckKind::ImpulseHistory { case, window } => {
-                out.push(match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
-                    (Some(r), Some(d)) => decay_checks::history(spec, r, d, *window),
-                    _ => CheckOutcome::missing(spec, "reference or impulse run missing"),
-                });
-                continue;
+        let start = out.len();
+        evaluate_one(exp, modes, computed, refs, spec, &mut out);
+        // Each outcome carries the check's id: the first as it is, the k-th further `ID[k]`.
+        if let Some(id) = &spec.id {
+            for (k, o) in out[start..].iter_mut().enumerate() {
+                o.id = Some(if k == 0 { id.clone() } else { format!("{id}[{k}]") });
             }
-            CheckKind::OrbitVsSimulation => {
-                out.push(match computed.orbits {
-                    Some(r) => orbit_checks::orbit_vs_simulation(spec, r),
-                    None => CheckOutcome::missing(spec, "no periodic orbits computed"),
-                });
-                continue;
-            }
-            CheckKind::Tube { case, mass, curve, x_px, y_px }
-            | CheckKind::Peak { case, mass, curve, x_px, y_px, .. } => {
-                let file = refs.digitised(&spec.reference_file);
-                match (file, file.and_then(|f| f.get(curve)), curves.get(case)) {
-                    (Some(f), Some(d), Some(c)) => match &spec.kind {
-                        CheckKind::Peak { window, .. } => {
-                            out.extend(digitised_checks::peak_check(spec, f, d, c, *mass, *window, *x_px, *y_px))
-                        }
-                        _ => out.push(digitised_checks::tube_check(spec, f, d, c, *mass, *x_px, *y_px)),
-                    },
-                    _ => out.push(CheckOutcome::missing(spec, "digitised curve or computed curve missing")),
-                }
-                continue;
-            }
-            CheckKind::DecayTime { case, mass, levels } => {
-                match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
-                    (Some(r), Some(d)) => out.extend(decay_checks::decay_time(spec, r, d, *mass, levels)),
-                    _ => out.push(CheckOutcome::missing(spec, "reference or impulse run missing")),
-                }
-                continue;
-            }
-            _ => {}
-        }
-        if let CheckKind::Curve { curve, columns, fraction, rel_tol_all } = &spec.kind {
-            out.push(match (refs.curve(&spec.reference_file), curves.get(curve)) {
-                (Some(r), Some(c)) => curve_check(exp, spec, r, c, columns, *fraction, *rel_tol_all),
-                (None, _) => CheckOutcome::missing(spec, "reference curve not loaded"),
-                (_, None) => CheckOutcome::missing(spec, &format!("no computed curve \"{curve}\"")),
-            });
-            continue;
-        }
-        let Some(file) = refs.values(&spec.reference_file) else {
-            out.push(CheckOutcome::missing(spec, "reference file not loaded"));
-            continue;
-        };
-        let known = spec.known_deviation.as_deref();
-        match &spec.kind {
-            CheckKind::NaturalFrequency { mode } => match spec.quantity(file) {
-                Some(q) => {
-                    let subject = Subject::new(
-                        format!("omega_{}", mode + 1),
-                        format!("natural frequency {} of the bare structure", mode + 1),
-                        q.unit.clone(),
-                        file.provenance(q),
-                        Source::from_provenance(&file.meta.provenance),
-                    );
-                    let expected = q.value.unwrap_or(f64::NAN);
-                    out.push(compare_scalar(subject, modes[*mode].omega, expected, spec.tolerance, known));
-                }
-                None => out.push(CheckOutcome::missing(spec, "no such quantity")),
-            },
-            CheckKind::ModeShape { mode, elements } => {
-                match spec.quantity(file).and_then(|q| q.values.as_ref().map(|v| (q, v))) {
-                    Some((q, values)) => {
-                        for (r, (&c, &e)) in
-                            modes[*mode].shape.iter().zip(values).enumerate().filter(|(r, _)| elements.contains(r))
-                        {
-                            let subject = Subject::new(
-                                format!("phi_{}[{}]", mode + 1, r + 1),
-                                format!("mode {} shape at m_{} (largest element = 1)", mode + 1, r + 1),
-                                q.unit.clone(),
-                                file.provenance(q),
-                                Source::from_provenance(&file.meta.provenance),
-                            );
-                            out.push(compare_scalar(subject, c, e, spec.tolerance, known));
-                        }
-                    }
-                    None => out.push(CheckOutcome::missing(spec, "no such vector quantity")),
-                }
-            }
-            CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
-            CheckKind::PeakRatio { case, over_case, mass, bound, window, reading } => {
-                out.push(claim_checks::peak_ratio(
-                    spec,
-                    file,
-                    curves,
-                    (case, over_case),
-                    *mass,
-                    bound,
-                    *window,
-                    *reading,
-                ));
-            }
-            CheckKind::MotionTypes { case, present, absent } => match spec.quantity(file) {
-                Some(q) => out.push(claim_checks::motion_types(
-                    spec,
-                    file,
-                    q,
-                    case,
-                    computed.motion_types.get(case),
-                    present,
-                    absent,
-                )),
-                None => out.push(CheckOutcome::missing(spec, "claim not found")),
-            },
-            CheckKind::RatioOrder { case, over_case, mass, window, than_window } => {
-                out.push(claim_checks::ratio_order(
-                    spec,
-                    file,
-                    curves,
-                    (case, over_case),
-                    *mass,
-                    *window,
-                    *than_window,
-                ));
-            }
-            CheckKind::DecayRatio { case, over_case, mass, level } => {
-                match (spec.quantity(file), computed.decays.get(case), computed.decays.get(over_case)) {
-                    (Some(q), Some(a), Some(b)) => out.push(decay_checks::ratio(spec, file, q, a, b, *mass, *level)),
-                    _ => out.push(CheckOutcome::missing(spec, "bound or impulse runs missing")),
-                }
-            }
-            CheckKind::SdofVsSimulation => match (spec.quantity(file), computed.orbits) {
-                (Some(q), Some(r)) => out.push(orbit_checks::sdof_vs_simulation(spec, file, q, r, modes)),
-                _ => out.push(CheckOutcome::missing(spec, "claim or periodic orbits missing")),
-            },
-            CheckKind::Curve { .. }
-            | CheckKind::Tube { .. }
-            | CheckKind::Peak { .. }
-            | CheckKind::ImpulseHistory { .. }
-            | CheckKind::DecayTime { .. }
-            | CheckKind::OrbitVsSimulation => {}
         }
     }
     out
+}
+
+/// The outcomes of one check, appended to `out`.
+fn evaluate_one(
+    exp: &Experiment,
+    modes: &[ModeSummary],
+    computed: &Computed,
+    refs: &ReferenceStore,
+    spec: &CheckSpec,
+    out: &mut Vec<CheckOutcome>,
+) {
+    let curves = computed.curves;
+    match &spec.kind {
+        CheckKind::ImpulseHistory { case, window } => {
+            out.push(match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
+                (Some(r), Some(d)) => decay_checks::history(spec, r, d, *window),
+                _ => CheckOutcome::missing(spec, "reference or impulse run missing"),
+            });
+            return;
+        }
+        CheckKind::OrbitVsSimulation => {
+            out.push(match computed.orbits {
+                Some(r) => orbit_checks::orbit_vs_simulation(spec, r),
+                None => CheckOutcome::missing(spec, "no periodic orbits computed"),
+            });
+            return;
+        }
+        CheckKind::Tube { case, mass, curve, x_px, y_px } | CheckKind::Peak { case, mass, curve, x_px, y_px, .. } => {
+            let file = refs.digitised(&spec.reference_file);
+            match (file, file.and_then(|f| f.get(curve)), curves.get(case)) {
+                (Some(f), Some(d), Some(c)) => match &spec.kind {
+                    CheckKind::Peak { window, .. } => {
+                        out.extend(digitised_checks::peak_check(spec, f, d, c, *mass, *window, *x_px, *y_px))
+                    }
+                    _ => out.push(digitised_checks::tube_check(spec, f, d, c, *mass, *x_px, *y_px)),
+                },
+                _ => out.push(CheckOutcome::missing(spec, "digitised curve or computed curve missing")),
+            }
+            return;
+        }
+        CheckKind::DecayTime { case, mass, levels } => {
+            match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
+                (Some(r), Some(d)) => out.extend(decay_checks::decay_time(spec, r, d, *mass, levels)),
+                _ => out.push(CheckOutcome::missing(spec, "reference or impulse run missing")),
+            }
+            return;
+        }
+        _ => {}
+    }
+    if let CheckKind::Curve { curve, columns, fraction, rel_tol_all } = &spec.kind {
+        out.push(match (refs.curve(&spec.reference_file), curves.get(curve)) {
+            (Some(r), Some(c)) => curve_check(exp, spec, r, c, columns, *fraction, *rel_tol_all),
+            (None, _) => CheckOutcome::missing(spec, "reference curve not loaded"),
+            (_, None) => CheckOutcome::missing(spec, &format!("no computed curve \"{curve}\"")),
+        });
+        return;
+    }
+    let Some(file) = refs.values(&spec.reference_file) else {
+        out.push(CheckOutcome::missing(spec, "reference file not loaded"));
+        return;
+    };
+    let known = spec.known_deviation.as_deref();
+    match &spec.kind {
+        CheckKind::NaturalFrequency { mode } => match spec.quantity(file) {
+            Some(q) => {
+                let subject = Subject::new(
+                    format!("omega_{}", mode + 1),
+                    format!("natural frequency {} of the bare structure", mode + 1),
+                    q.unit.clone(),
+                    file.provenance(q),
+                    Source::from_provenance(&file.meta.provenance),
+                );
+                let expected = q.value.unwrap_or(f64::NAN);
+                out.push(compare_scalar(subject, modes[*mode].omega, expected, spec.tolerance, known));
+            }
+            None => out.push(CheckOutcome::missing(spec, "no such quantity")),
+        },
+        CheckKind::ModeShape { mode, elements } => {
+            match spec.quantity(file).and_then(|q| q.values.as_ref().map(|v| (q, v))) {
+                Some((q, values)) => {
+                    for (r, (&c, &e)) in
+                        modes[*mode].shape.iter().zip(values).enumerate().filter(|(r, _)| elements.contains(r))
+                    {
+                        let subject = Subject::new(
+                            format!("phi_{}[{}]", mode + 1, r + 1),
+                            format!("mode {} shape at m_{} (largest element = 1)", mode + 1, r + 1),
+                            q.unit.clone(),
+                            file.provenance(q),
+                            Source::from_provenance(&file.meta.provenance),
+                        );
+                        out.push(compare_scalar(subject, c, e, spec.tolerance, known));
+                    }
+                }
+                None => out.push(CheckOutcome::missing(spec, "no such vector quantity")),
+            }
+        }
+        CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
+        CheckKind::PeakRatio { case, over_case, mass, bound, window, reading } => {
+            out.push(claim_checks::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window, *reading));
+        }
+        CheckKind::MotionTypes { case, present, absent } => match spec.quantity(file) {
+            Some(q) => out.push(claim_checks::motion_types(
+                spec,
+                file,
+                q,
+                case,
+                computed.motion_types.get(case),
+                present,
+                absent,
+            )),
+            None => out.push(CheckOutcome::missing(spec, "claim not found")),
+        },
+        CheckKind::RatioOrder { case, over_case, mass, window, than_window } => {
+            out.push(claim_checks::ratio_order(spec, file, curves, (case, over_case), *mass, *window, *than_window));
+        }
+        CheckKind::DecayRatio { case, over_case, mass, level } => {
+            match (spec.quantity(file), computed.decays.get(case), computed.decays.get(over_case)) {
+                (Some(q), Some(a), Some(b)) => out.push(decay_checks::ratio(spec, file, q, a, b, *mass, *level)),
+                _ => out.push(CheckOutcome::missing(spec, "bound or impulse runs missing")),
+            }
+        }
+        CheckKind::SdofVsSimulation => match (spec.quantity(file), computed.orbits) {
+            (Some(q), Some(r)) => out.push(orbit_checks::sdof_vs_simulation(spec, file, q, r, modes)),
+            _ => out.push(CheckOutcome::missing(spec, "claim or periodic orbits missing")),
+        },
+        CheckKind::Curve { .. }
+        | CheckKind::Tube { .. }
+        | CheckKind::Peak { .. }
+        | CheckKind::ImpulseHistory { .. }
+        | CheckKind::DecayTime { .. }
+        | CheckKind::OrbitVsSimulation => {}
+    }
 }
 
 /// The experiment's masses, stiffnesses and force against the paper's.
@@ -299,6 +300,8 @@ fn curve_check(
     }
     CheckOutcome {
         settled: Some(true),
+        id: None,
+        values: Vec::new(),
         name: format!("{} vs {}", c.id, spec.reference_file),
         description: format!("compliance of curve {} ({}) at the reference's frequencies", c.id, c.label),
         computed: worst.map(|w| w.0).unwrap_or(f64::NAN),

@@ -5,7 +5,7 @@ use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::{Bound, CheckSpec, Reading};
 use crate::reference::values::{Quantity, ValueFile};
 
-use super::curves::Curves;
+use super::curves::{not_above, Curves};
 
 fn window_words(w: Option<(f64, f64)>) -> String {
     match w {
@@ -20,6 +20,12 @@ struct Read {
     value: f64,
     words: String,
     settled: bool,
+    /// Named values behind it (`{ID.NAME}` in texts).
+    values: Vec<(String, f64)>,
+}
+
+fn named(v: &[(&str, f64)]) -> Vec<(String, f64)> {
+    v.iter().map(|(n, x)| (n.to_string(), *x)).collect()
 }
 
 /// The peak of `case` over that of `over` in a window.
@@ -36,6 +42,7 @@ fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f6
             fmt_num(b.0)
         ),
         settled: ca.peak_settled(mass, w) && cb.peak_settled(mass, w),
+        values: named(&[("f", a.0), ("peak", a.1), ("f_over", b.0), ("peak_over", b.1)]),
     })
 }
 
@@ -56,6 +63,7 @@ fn at_resonance(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Opt
             if settled { "" } else { " (not settled or not period-1 there)" }
         ),
         settled,
+        values: named(&[("f", f), ("peak", peak), ("at_over", c)]),
     })
 }
 
@@ -84,7 +92,7 @@ fn band_max(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<
     let (lo, hi) = (ratios.first()?.0, ratios.last()?.0);
     let min = ratios.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
     let &(f_max, max) = ratios.iter().max_by(|x, y| x.1.total_cmp(&y.1))?;
-    let raised: Vec<&(f64, f64)> = skipped.iter().filter(|r| !(r.1 <= max)).collect();
+    let raised: Vec<&(f64, f64)> = skipped.iter().filter(|r| !not_above(r.1, max)).collect();
     let mut words = format!(
         "{case} over {over} at each of {} frequencies of {case}'s resonance band ({}-{} Hz): {:.2} to {:.2}, largest at {} Hz",
         ratios.len(),
@@ -102,7 +110,12 @@ fn band_max(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<
             fmt_num(top.0)
         );
     }
-    Some(Read { value: max, words, settled: a.peak_settled(mass, w) && raised.is_empty() })
+    Some(Read {
+        value: max,
+        words,
+        settled: a.peak_settled(mass, w) && raised.is_empty(),
+        values: named(&[("f", f_max), ("band_lo", lo), ("band_hi", hi), ("min", min)]),
+    })
 }
 
 /// The name of a ratio claim under a reading.
@@ -134,7 +147,7 @@ pub fn peak_ratio(
         Reading::AtResonance => at_resonance(curves, cases, mass, window),
         Reading::BandMax => band_max(curves, cases, mass, window),
     };
-    let Some(Read { value: r, words, settled }) = computed else {
+    let Some(Read { value: r, words, settled, values }) = computed else {
         // Not evaluable here (a study's sample may have no settled point where the reading
         // looks): named as the claim, with the reason.
         let mut o = CheckOutcome::missing(spec, "");
@@ -186,6 +199,8 @@ pub fn peak_ratio(
     };
     CheckOutcome {
         settled: Some(settled),
+        id: None,
+        values,
         name,
         description,
         computed: r,
@@ -220,6 +235,8 @@ pub fn ratio_order(
     let (a, wa, b, wb) = (ra.value, ra.words, rb.value, rb.words);
     CheckOutcome {
         settled: Some(ra.settled && rb.settled),
+        id: None,
+        values: Vec::new(),
         name: format!(
             "{} / {} at m{}: {}-{} Hz below {}-{} Hz",
             cases.0,
@@ -275,6 +292,8 @@ pub fn motion_types(
     let occurrences = present.iter().chain(absent).map(|t| count(t) as f64).sum::<f64>();
     CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: format!("motion types of {case}: {}", want.join("; ")),
         description: format!(
             "the motion types of the beds of case {case} at the waveform frequencies: {}",

@@ -124,6 +124,18 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
         exports.insert("best_clearance_mm".into(), b.1);
         exports.insert("best_peak".into(), b.2);
     }
+    // Every other case's peak over the objective case's at the same clearance: the largest
+    // ratio of the scan and its clearance.
+    for case in cases.iter().filter(|c| c.id != study.objective_case) {
+        let ratios = rows.iter().filter(|r| r.0 == case.id).filter_map(|r| {
+            let own = rows.iter().find(|o| o.0 == study.objective_case && o.1 == r.1)?;
+            Some((r.2 / own.2, r.1))
+        });
+        if let Some((ratio, mm)) = ratios.max_by(|a, b| a.0.total_cmp(&b.0)) {
+            exports.insert(format!("max_ratio_{}", case.id), ratio);
+            exports.insert(format!("max_ratio_mm_{}", case.id), mm);
+        }
+    }
     let table = Table::new(
         "clearance_scan",
         "Peak compliance (m/N) of the objective mass over the band per case and clearance (mm), its frequency (Hz), and the top impacts per period of all beds there",

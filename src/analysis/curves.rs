@@ -79,14 +79,20 @@ impl Curve {
         let Some(p) = self.peak_index_in(mass, window) else { return false };
         let inside = |i: usize| window.is_none_or(|(lo, hi)| self.freq_hz[i] >= lo && self.freq_hz[i] <= hi);
         self.converged[p]
-            && (0..self.freq_hz.len())
-                .all(|i| !inside(i) || self.converged[i] || !(self.compliance[i][mass] > self.compliance[p][mass]))
+            && (0..self.freq_hz.len()).all(|i| {
+                !inside(i) || self.converged[i] || not_above(self.compliance[i][mass], self.compliance[p][mass])
+            })
     }
 
     /// Highest flight of any bed over the curve, m.
     pub fn highest_flight(&self) -> f64 {
         self.max_flight.iter().flatten().copied().fold(0.0, f64::max)
     }
+}
+
+/// True when `x` is known not to exceed `top` (a NaN is not known to).
+pub fn not_above(x: f64, top: f64) -> bool {
+    matches!(x.partial_cmp(&top), Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal))
 }
 
 /// The curve of sweep points (sorted by frequency).

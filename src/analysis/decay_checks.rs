@@ -59,6 +59,8 @@ pub fn history(spec: &CheckSpec, r: &RefCurve, d: &Decay, window: f64) -> CheckO
     let rel = worst.as_ref().map_or(f64::NAN, |w| w.0);
     CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: format!("{} history vs {}", d.id, spec.reference_file),
         description: format!(
             "x, v, a of every mass of case {} ({}) over the first {} s",
@@ -105,6 +107,8 @@ pub fn decay_time(spec: &CheckSpec, r: &RefCurve, d: &Decay, mass: usize, levels
             let within = abs <= spec.tolerance.abs + spec.tolerance.rel * x.abs() || (o.is_none() && e.is_none());
             CheckOutcome {
                 settled: None,
+                id: None,
+                values: Vec::new(),
                 name: format!("t_{}% a{} {}", fmt_num(100.0 * l), mass + 1, d.id),
                 description: format!(
                     "time for the envelope of |a| at m{} of case {} to fall for good to {} % of its first peak",
@@ -163,6 +167,8 @@ pub fn ratio(
     let within = value <= upper * (1.0 + spec.tolerance.rel);
     CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: format!("decay ratio {} / {}, a{} to {} %", a.id, b.id, mass + 1, fmt_num(100.0 * level)),
         description: format!(
             "time for |a| at m{} to fall to {} % of its first peak with case {} over case {}",

@@ -86,6 +86,8 @@ fn replay(
     let same = fp == stored.fingerprint;
     let mut checks = vec![CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: "stored_objectives".into(),
         description: format!(
             "the {} stored layouts (best of each placement and of each Pareto point) evaluated now: largest relative difference from the objective the search stored",
@@ -105,6 +107,8 @@ fn replay(
     }];
     checks.push(CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: "stored_problem".into(),
         description: "the design problem (structure, bands, sweeps, steady settings, search space and settings) is the one the stored search solved: fingerprint".into(),
         computed: if same { 0.0 } else { 1.0 },

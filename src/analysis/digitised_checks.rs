@@ -88,6 +88,8 @@ pub fn tube_check(
     }
     CheckOutcome {
         settled: Some((0..c.freq_hz.len()).all(|i| c.regular(i))),
+        id: None,
+        values: Vec::new(),
         name: format!("{} m{} vs digitised \"{}\"", c.id, mass + 1, d.name),
         description: format!(
             "compliance of m{} of curve {} ({}) within a tube around the digitised curve",
@@ -133,13 +135,15 @@ pub fn peak_check(
     // is higher.
     let settled = (0..c.freq_hz.len()).all(|i| {
         let f = c.freq_hz[i];
-        c.regular(i) || f < window.0 || f > window.1 || !(c.compliance[i][mass] > ours.1)
+        c.regular(i) || f < window.0 || f > window.1 || super::curves::not_above(c.compliance[i][mass], ours.1)
     });
     let one = |what: &str, o: f64, e: f64, t: &AxisTol, unit: &str| {
         let (lo, hi) = t.interval(e);
         let ok = o >= lo && o <= hi;
         CheckOutcome {
             settled: Some(settled),
+            id: None,
+            values: Vec::new(),
             name: format!("{} m{} peak {what} in {w} vs digitised \"{}\"", c.id, mass + 1, d.name),
             description: format!("resonance peak {what} of m{} of curve {} in {w}", mass + 1, c.id),
             computed: o,

@@ -34,6 +34,8 @@ pub fn orbit_vs_simulation(spec: &CheckSpec, r: &OrbitsResult) -> CheckOutcome {
     }
     CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: "exact orbits vs simulation".into(),
         description: "compliance of every mass: the periodic orbit solved on the impact section through each simulated steady state (itself an orbit of the stroboscopic section), against that steady state".into(),
         computed: value,
@@ -62,10 +64,21 @@ pub fn sdof_vs_simulation(
     let m = modes[r.mode].reference_mass;
     let (sdof, sim) = (r.sdof.peak(m), r.simulation.peak(m));
     let (c, e) = (sdof.map_or(f64::NAN, |p| p.1), sim.map_or(f64::NAN, |p| p.1));
+    let exact = r.exact.peak(m);
+    let (fs, fe) = (sdof.map_or(f64::NAN, |p| p.0), sim.map_or(f64::NAN, |p| p.0));
+    let values = vec![
+        ("f".to_string(), fs),
+        ("f_simulation".to_string(), fe),
+        ("df_hz".to_string(), fs - fe),
+        ("exact".to_string(), exact.map_or(f64::NAN, |p| p.1)),
+        ("over_exact".to_string(), exact.map_or(f64::NAN, |p| c / p.1)),
+    ];
     let abs = (c - e).abs();
     let within = abs <= spec.tolerance.abs + spec.tolerance.rel * e.abs();
     CheckOutcome {
         settled: None,
+        id: None,
+        values,
         name: format!("SDOF peak vs simulation, m{}", m + 1),
         description: format!(
             "peak compliance of m{} of the stable equivalent-SDOF orbits against the simulated 3-mass structure",

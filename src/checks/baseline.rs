@@ -207,6 +207,8 @@ pub fn compare(experiment: &str, figure: &str, now: &[Value], blessed: &[Value])
     }
     CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: "baseline".into(),
         description: format!("{figure} ({experiment}): every sampled result against the blessed baseline"),
         computed: worst,

@@ -116,6 +116,12 @@ pub struct CheckOutcome {
     /// curves at one frequency), or when such a point, skipped, would change it; `None` when
     /// the check reads no steady state (modes, parameters, impulse histories).
     pub settled: Option<bool>,
+    /// The id of the check in the experiment file (`{ID}` in its texts; the k-th further
+    /// outcome of one check is `ID[k]`).
+    pub id: Option<String>,
+    /// Named values a text may quote besides `computed` and `expected` (`{ID.NAME}`), e.g.
+    /// the frequency of a peak.
+    pub values: Vec<(String, f64)>,
 }
 
 impl CheckOutcome {
@@ -129,6 +135,8 @@ impl CheckOutcome {
     ) -> CheckOutcome {
         CheckOutcome {
             settled: None,
+            id: None,
+            values: Vec::new(),
             name,
             description,
             computed: f64::NAN,
@@ -209,6 +217,8 @@ pub fn compare_scalar(
     let within = abs_diff <= tolerance.abs + tolerance.rel * expected.abs();
     CheckOutcome {
         settled: None,
+        id: None,
+        values: Vec::new(),
         name: subject.name,
         description: subject.description,
         computed,

@@ -174,7 +174,7 @@ pub struct Writing {
 
 impl Writing {
     fn options(&self) -> ReportOptions {
-        ReportOptions { templates: self.templates.clone(), full_csv: self.full_csv }
+        ReportOptions { templates: self.templates.clone(), full_csv: self.full_csv, complete: false }
     }
 }
 
@@ -363,7 +363,8 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                     ("the designs folder", &designs_dir),
                 ],
             )?;
-            Ok(run_and_write(&exps, &studies, &cli.reference, out, *jobs, &writing.options(), mode, *bless)?.0)
+            let writing = ReportOptions { complete: true, ..writing.options() };
+            Ok(run_and_write(&exps, &studies, &cli.reference, out, *jobs, &writing, mode, *bless)?.0)
         }
     }
 }
@@ -724,7 +725,8 @@ fn run_and_write(
     for (run, s) in study_runs.iter_mut().zip(studies) {
         run.assumed = run.manifest.models.iter().map(|(model, _)| s.assumed(model, &exports)).collect();
     }
-    let dest = writer.finish(&results, &study_runs)?;
+    let mut results = results;
+    let dest = writer.finish(&mut results, &study_runs)?;
     if bless {
         let dir = reference.join("baseline");
         for r in &results {

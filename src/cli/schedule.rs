@@ -170,7 +170,7 @@ fn run_one(plan: &Plan<'_>, exp: &Experiment, work: u64) -> crate::Result<Experi
     let started = std::time::Instant::now();
     let tick = plan.progress.start(&exp.key(), work);
     let r = analysis::run(exp, plan.refs, &*tick)?;
-    plan.writer.write_experiment(&r, &exp.path.display().to_string())?;
+    plan.writer.write_experiment(&r)?;
     let n_fail = r.checks.iter().filter(|c| c.status == Status::Fail).count();
     let mark = if n_fail > 0 { "FAIL" } else { "ok" };
     (plan.log)(format!(

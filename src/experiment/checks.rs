@@ -39,6 +39,11 @@ pub fn check(
     reference_dir: &Path,
 ) -> Result<CheckSpec> {
     let key = |k: &str| format!("checks[{i}].{k}");
+    if let Some(id) = &c.id {
+        if !super::fields::is_identifier(id) {
+            return Err(Error::invalid(path, key("id"), format!("\"{id}\""), "letters, digits, '_' and '-' only"));
+        }
+    }
     let mode = |m: Option<i64>| -> Result<usize> {
         let Some(m) = m else {
             return Err(Error::invalid(path, key("mode"), "(missing)", format!("this check needs mode = 1..{n}")));
@@ -211,6 +216,7 @@ pub fn check(
         (CheckKind::OrbitVsSimulation, None) => {
             return Ok(CheckSpec {
                 kind,
+                id: c.id,
                 reference_file: String::new(),
                 reference_id: None,
                 tolerance,
@@ -294,7 +300,14 @@ pub fn check(
             }
         }
     }
-    Ok(CheckSpec { kind, reference_file: file, reference_id: id, tolerance, known_deviation: c.known_deviation })
+    Ok(CheckSpec {
+        kind,
+        id: c.id,
+        reference_file: file,
+        reference_id: id,
+        tolerance,
+        known_deviation: c.known_deviation,
+    })
 }
 
 /// The checks of an impulse analysis: `impulse_history`, `decay_time`, `decay_ratio`.

@@ -9,6 +9,7 @@ mod load;
 mod outputs;
 pub mod raw;
 pub mod study;
+pub mod texts;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -328,6 +329,8 @@ pub enum Bound {
 #[derive(Debug, Clone)]
 pub struct CheckSpec {
     pub kind: CheckKind,
+    /// The name texts quote it by (`{ID}`), unique in the experiment.
+    pub id: Option<String>,
     /// File under `reference/` and, for values, the id after `#`.
     pub reference_file: String,
     pub reference_id: Option<String>,

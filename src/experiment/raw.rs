@@ -369,6 +369,10 @@ pub struct RawMark {
 #[serde(deny_unknown_fields)]
 pub struct RawCheck {
     pub kind: String,
+    /// A name for the check, unique in the experiment, by which texts quote its values
+    /// (`{ID}`, docs/experiment-format.md).
+    #[serde(default)]
+    pub id: Option<String>,
     /// `FILE#ID` for a value in `reference/FILE`, or `FILE` for a curve.
     #[serde(default)]
     pub reference: Option<String>,

@@ -95,6 +95,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         .enumerate()
         .map(|(i, c)| check(path, i, c, n, &case_ids, &analysis, reference_dir))
         .collect::<Result<Vec<_>>>()?;
+    super::texts::validate(path, &meta, &checks)?;
 
     Ok(Experiment {
         path: path.to_path_buf(),

@@ -120,7 +120,11 @@ pub fn maps(manifest: &Manifest, rows: &[ClaimRow], assumed: &[Vec<Option<f64>>]
             });
         }
         if of.iter().any(|r| r.outcome == Verdict::NotEvaluable) {
-            marked.push_str(if manifest.grid { "; white strokes: not evaluable" } else { "; white cross: not evaluable" });
+            marked.push_str(if manifest.grid {
+                "; white strokes: not evaluable"
+            } else {
+                "; white cross: not evaluable"
+            });
         }
         out.push(HeatMap {
             id: format!("{}_check-{check}", manifest.study),
@@ -340,7 +344,10 @@ fn draw_panel<DB: DrawingBackend>(
             let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
             [-0.5, 0.0, 0.5].map(|o: f64| {
                 let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
-                PathElement::new(vec![(i + a, j - a + o), (i + b, j - b + o)], ShapeStyle::from(&UNSETTLED).stroke_width(3))
+                PathElement::new(
+                    vec![(i + a, j - a + o), (i + b, j - b + o)],
+                    ShapeStyle::from(&UNSETTLED).stroke_width(3),
+                )
             })
         });
         chart.draw_series(hatch).map_err(|e| err(map, e))?;
@@ -354,9 +361,10 @@ fn draw_panel<DB: DrawingBackend>(
             Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 7, ShapeStyle::from(&BLACK).stroke_width(2))
         });
         chart.draw_series(rings).map_err(|e| err(map, e))?;
-        let marked = panel.points.iter().filter(|p| p.3 == Mark::Unsettled).map(|&(x, y, _, _)| {
-            Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 2, UNSETTLED.filled())
-        });
+        let marked =
+            panel.points.iter().filter(|p| p.3 == Mark::Unsettled).map(|&(x, y, _, _)| {
+                Circle::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 2, UNSETTLED.filled())
+            });
         chart.draw_series(marked).map_err(|e| err(map, e))?;
         let crossed = panel.points.iter().filter(|p| p.3 == Mark::NotEvaluable).map(|&(x, y, _, _)| {
             Cross::new((tx(x, map.x_log, &xs), tx(y, map.y_log, &ys)), 5, ShapeStyle::from(&WHITE).stroke_width(2))

@@ -12,6 +12,7 @@ pub mod plot;
 pub mod report;
 pub mod robustness;
 pub mod study;
+pub mod texts;
 pub mod view;
 
 use std::path::{Path, PathBuf};
@@ -30,6 +31,7 @@ pub struct ReportWriter {
     staging: destination::Staging,
     tera: tera::Tera,
     full_csv: bool,
+    complete: bool,
 }
 
 /// How a report is written.
@@ -40,6 +42,9 @@ pub struct ReportOptions {
     /// Every row of every table in its CSV file (else long tables are thinned there:
     /// [`table::csv_stride`]; the Parquet files always hold every row).
     pub full_csv: bool,
+    /// Every experiment a text may quote runs (`shotdamp report`): a placeholder naming one
+    /// that did not is an error, not a remark in the text.
+    pub complete: bool,
 }
 
 fn write(path: &Path, bytes: &[u8]) -> Result<()> {
@@ -71,7 +76,7 @@ impl ReportWriter {
     pub fn create(out: &Path, options: &ReportOptions) -> Result<ReportWriter> {
         let tera = report::templates(options.templates.as_deref())?;
         let staging = destination::Staging::create(out)?;
-        Ok(ReportWriter { staging, tera, full_csv: options.full_csv })
+        Ok(ReportWriter { staging, tera, full_csv: options.full_csv, complete: options.complete })
     }
 
     /// Where the report will be.
@@ -84,36 +89,46 @@ impl ReportWriter {
         self.staging.dir()
     }
 
-    /// Writes one experiment's folder: figures (PNG, SVG), tables (CSV, Parquet), page.
-    pub fn write_experiment(&self, r: &ExperimentResult, source_file: &str) -> Result<()> {
+    /// Writes one experiment's folder: figures (PNG, SVG) and tables (CSV, Parquet); its page
+    /// is written by [`ReportWriter::finish`], once every text can be filled.
+    pub fn write_experiment(&self, r: &ExperimentResult) -> Result<()> {
         let key = r.experiment.key();
         let dir = self.staging.dir().join(&key);
         mkdir_below(self.staging.dir(), &Path::new(&key).join("data"))?;
         let data = dir.join("data");
-        let mut strides = Vec::with_capacity(r.tables.len());
         for t in &r.tables {
             let stride = table::csv_stride(t.height(), self.full_csv);
             let csv = if stride == 1 { table::to_csv(t)? } else { table::to_csv(&t.thinned(stride))? };
             write(&data.join(format!("{}.csv", t.name)), &csv)?;
             write(&data.join(format!("{}.parquet", t.name)), &table::to_parquet(t)?)?;
-            strides.push(stride);
         }
         for f in &r.figures {
             write(&dir.join(format!("{}.png", f.id)), &plot::to_png(f)?)?;
             write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
         }
-        let mut view = report::experiment_view(r, source_file, &r.experiment.models);
-        for (t, stride) in view.tables.iter_mut().zip(strides) {
-            t.csv_stride = stride;
+        Ok(())
+    }
+
+    /// Writes one experiment's page.
+    fn write_page(&self, r: &ExperimentResult) -> Result<()> {
+        let mut view = report::experiment_view(r, &r.experiment.path.display().to_string(), &r.experiment.models);
+        for (t, table) in view.tables.iter_mut().zip(&r.tables) {
+            t.csv_stride = table::csv_stride(table.height(), self.full_csv);
         }
         let html = report::render(&self.tera, "experiment.html", &view)?;
-        write(&dir.join("index.html"), html.as_bytes())
+        write(&self.staging.dir().join(r.experiment.key()).join("index.html"), html.as_bytes())
     }
 
     /// Writes the index, the stylesheet and `checks.json`, then moves the report into place.
     /// `studies`: the studies run with the report, shown on their experiment's page.
-    pub fn finish(self, results: &[ExperimentResult], studies: &[study::StudyRun]) -> Result<PathBuf> {
+    /// The texts of `results` are filled first ([`texts::fill`]).
+    pub fn finish(self, results: &mut [ExperimentResult], studies: &[study::StudyRun]) -> Result<PathBuf> {
+        texts::fill(results, if self.complete { texts::Missing::Error } else { texts::Missing::Say })?;
+        let results: &[ExperimentResult] = results;
         let dir = self.staging.dir();
+        for r in results {
+            self.write_page(r)?;
+        }
         for runs in by_experiment(results) {
             self.write_models(&runs, studies)?;
         }

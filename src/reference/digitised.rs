@@ -132,6 +132,15 @@ impl Calibration {
         (if self.x_log { 10f64.powf(u) } else { u }, if self.y_log { 10f64.powf(w) } else { w })
     }
 
+    /// The pixel of a value (the inverse of [`Calibration::value`]); `None` for a value <= 0
+    /// on a log axis.
+    pub fn to_pixel(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        let t = |v: f64, log: bool| if log { (v > 0.0).then(|| v.log10()) } else { Some(v) };
+        let (u, w) = (t(x, self.x_log)? - self.c[0], t(y, self.y_log)? - self.c[1]);
+        let det = self.a[0][0] * self.a[1][1] - self.a[0][1] * self.a[1][0];
+        Some(((self.a[1][1] * u - self.a[0][1] * w) / det, (self.a[0][0] * w - self.a[1][0] * u) / det))
+    }
+
     /// One pixel in data units (linear axis) or as a relative size (log axis): x, y.
     pub fn pixel(&self) -> (f64, f64) {
         let size = |row: [f64; 2], log: bool| {
@@ -150,10 +159,9 @@ fn mapped(info: &ImportInfo, name: &str) -> (Option<String>, Option<i64>) {
     info.mapping.iter().find(|(n, _, _)| n == name).map_or((None, None), |(_, c, m)| (Some(c.clone()), Some(*m)))
 }
 
-/// Imports a WebPlotDigitizer JSON project (version 4): the first XY axes, every dataset on
-/// them, values recomputed from the pixels with the calibration.
-pub fn import_wpd_json(file: &str, text: &str, info: &ImportInfo) -> Result<DigitisedFile> {
-    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| bad(file, format!("not JSON: {e}")))?;
+/// The calibration of the first XY axes of a WebPlotDigitizer JSON project (version 4), and
+/// the axes' name.
+pub fn wpd_calibration(file: &str, v: &serde_json::Value) -> Result<(Calibration, String)> {
     let version = v.get("version").and_then(|x| x.as_array()).and_then(|a| a.first()).and_then(|x| x.as_i64());
     if version != Some(4) {
         return Err(bad(file, format!("WebPlotDigitizer project version {version:?}: version 4 is supported")));
@@ -182,6 +190,16 @@ pub fn import_wpd_json(file: &str, text: &str, info: &ImportInfo) -> Result<Digi
     }
     let cal = Calibration::new(px, val, x_log, y_log)
         .ok_or_else(|| bad(file, "the calibration points are degenerate (or a log axis has a value <= 0)"))?;
+    Ok((cal, axes_name))
+}
+
+/// Imports a WebPlotDigitizer JSON project (version 4): the first XY axes, every dataset on
+/// them, values recomputed from the pixels with the calibration.
+pub fn import_wpd_json(file: &str, text: &str, info: &ImportInfo) -> Result<DigitisedFile> {
+    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| bad(file, format!("not JSON: {e}")))?;
+    let (cal, axes_name) = wpd_calibration(file, &v)?;
+    let (x_log, y_log) = (cal.x_log, cal.y_log);
+    let num = |x: &serde_json::Value| x.as_f64().or_else(|| x.as_str().and_then(|s| s.trim().parse().ok()));
     let datasets = v.get("datasetColl").and_then(|x| x.as_array()).ok_or_else(|| bad(file, "no datasetColl"))?;
     let mut curve = Vec::new();
     for d in datasets {
