@@ -174,7 +174,7 @@ pub struct Writing {
 
 impl Writing {
     fn options(&self) -> ReportOptions {
-        ReportOptions { templates: self.templates.clone(), full_csv: self.full_csv, complete: false }
+        ReportOptions { templates: self.templates.clone(), full_csv: self.full_csv, ..ReportOptions::default() }
     }
 }
 
@@ -698,6 +698,8 @@ fn run_and_write(
     inputs.extend(exps.iter().map(|e| ("an experiment file", e.path.as_path())));
     inputs.extend(studies.iter().map(|s| ("a study file", s.path.as_path())));
     crate::output::destination::refuse_overlap(out, &inputs)?;
+    // Scans of the paper's figures, when the reviewer keeps some (reference/scans/).
+    let writing = &ReportOptions { scans: crate::output::scan::load_all(&reference.join("scans"))?, ..writing.clone() };
     // The handler is in place before the staging folder exists: an interrupt at any moment
     // removes it.
     remove_on_interrupt(crate::output::destination::staging_path(out)?);

@@ -11,6 +11,7 @@ pub mod models_page;
 pub mod plot;
 pub mod report;
 pub mod robustness;
+pub mod scan;
 pub mod study;
 pub mod texts;
 pub mod view;
@@ -32,6 +33,7 @@ pub struct ReportWriter {
     tera: tera::Tera,
     full_csv: bool,
     complete: bool,
+    scans: Vec<scan::Scan>,
 }
 
 /// How a report is written.
@@ -45,6 +47,8 @@ pub struct ReportOptions {
     /// Every experiment a text may quote runs (`shotdamp report`): a placeholder naming one
     /// that did not is an error, not a remark in the text.
     pub complete: bool,
+    /// Scans of the paper's figures to draw our curves over ([`scan`]).
+    pub scans: Vec<scan::Scan>,
 }
 
 fn write(path: &Path, bytes: &[u8]) -> Result<()> {
@@ -76,7 +80,13 @@ impl ReportWriter {
     pub fn create(out: &Path, options: &ReportOptions) -> Result<ReportWriter> {
         let tera = report::templates(options.templates.as_deref())?;
         let staging = destination::Staging::create(out)?;
-        Ok(ReportWriter { staging, tera, full_csv: options.full_csv, complete: options.complete })
+        Ok(ReportWriter {
+            staging,
+            tera,
+            full_csv: options.full_csv,
+            complete: options.complete,
+            scans: options.scans.clone(),
+        })
     }
 
     /// Where the report will be.
@@ -109,12 +119,51 @@ impl ReportWriter {
         Ok(())
     }
 
+    /// Copies the scans that go on `r`'s page into its folder (`scans/`) and draws our curves
+    /// over each.
+    fn write_scans(&self, r: &ExperimentResult) -> Result<Vec<report::ScanView>> {
+        let model = r.experiment.model.as_ref().map(|m| m.id.as_str());
+        let mine = self.scans.iter().filter(|s| {
+            s.experiment == r.experiment.meta.id
+                && (s.models.is_empty() || model.is_some_and(|m| s.models.iter().any(|x| x == m)))
+        });
+        let mut out = Vec::new();
+        for s in mine {
+            let Some(fig) = r.figures.iter().find(|f| f.id == s.plot) else {
+                let ids: Vec<&str> = r.figures.iter().map(|f| f.id.as_str()).collect();
+                return Err(Error::invalid(
+                    &s.file,
+                    "plot",
+                    format!("\"{}\"", s.plot),
+                    format!("the plots of {} are {ids:?}", r.experiment.key()),
+                ));
+            };
+            let traces = scan::overlay(s, fig)?;
+            let ext = s.image.extension().map(|e| e.to_string_lossy().to_string()).unwrap_or_default();
+            let rel = format!("scans/{}.{ext}", s.name);
+            mkdir_below(self.staging.dir(), &Path::new(&r.experiment.key()).join("scans"))?;
+            let bytes = std::fs::read(&s.image).map_err(|e| Error::io(&s.image, e))?;
+            write(&self.staging.dir().join(r.experiment.key()).join(&rel), &bytes)?;
+            out.push(report::ScanView {
+                title: s.title.clone(),
+                image: rel,
+                width: s.width,
+                height: s.height,
+                svg: scan::svg(s, &traces),
+                calibrated_by: format!("{} ({})", s.calibrated_by, s.file.display()),
+                plot: format!("{}.png", fig.id),
+            });
+        }
+        Ok(out)
+    }
+
     /// Writes one experiment's page.
     fn write_page(&self, r: &ExperimentResult) -> Result<()> {
         let mut view = report::experiment_view(r, &r.experiment.path.display().to_string(), &r.experiment.models);
         for (t, table) in view.tables.iter_mut().zip(&r.tables) {
             t.csv_stride = table::csv_stride(table.height(), self.full_csv);
         }
+        view.scans = self.write_scans(r)?;
         let html = report::render(&self.tera, "experiment.html", &view)?;
         write(&self.staging.dir().join(r.experiment.key()).join("index.html"), html.as_bytes())
     }
@@ -124,6 +173,18 @@ impl ReportWriter {
     /// The texts of `results` are filled first ([`texts::fill`]).
     pub fn finish(self, results: &mut [ExperimentResult], studies: &[study::StudyRun]) -> Result<PathBuf> {
         texts::fill(results, if self.complete { texts::Missing::Error } else { texts::Missing::Say })?;
+        if self.complete {
+            for s in &self.scans {
+                if !results.iter().any(|r| r.experiment.meta.id == s.experiment) {
+                    return Err(Error::invalid(
+                        &s.file,
+                        "experiment",
+                        format!("\"{}\"", s.experiment),
+                        "no experiment of the report has this id",
+                    ));
+                }
+            }
+        }
         let results: &[ExperimentResult] = results;
         let dir = self.staging.dir();
         for r in results {

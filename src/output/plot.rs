@@ -51,6 +51,12 @@ fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
+/// A palette colour as `#rrggbb` (for drawings made outside plotters, e.g. over a scan).
+pub fn colour_hex(i: usize) -> String {
+    let c = color(i);
+    format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
+}
+
 fn render_err(what: &str, e: impl std::fmt::Display) -> Error {
     Error::Render { what: what.to_string(), message: e.to_string() }
 }

@@ -91,6 +91,22 @@ impl CheckRow {
     }
 }
 
+/// A scan of the paper's figure with our curves over it.
+#[derive(Debug, Serialize)]
+pub struct ScanView {
+    pub title: String,
+    /// The copy of the scan, relative to the page.
+    pub image: String,
+    pub width: u32,
+    pub height: u32,
+    /// Our curves in the scan's frame (an SVG element).
+    pub svg: String,
+    /// Where the calibration comes from, and the scan's file.
+    pub calibrated_by: String,
+    /// Our plot (PNG), relative to the page.
+    pub plot: String,
+}
+
 /// A data table with its files.
 #[derive(Debug, Serialize)]
 pub struct TableView {
@@ -123,6 +139,8 @@ pub struct ExperimentView {
     pub assumptions: Vec<String>,
     pub notes: Vec<String>,
     pub figures: Vec<FigureView>,
+    /// The paper's figures under ours (none without scans: [`super::scan`]).
+    pub scans: Vec<ScanView>,
     pub tables: Vec<TableView>,
     pub checks: Vec<CheckRow>,
     pub modes: Vec<Vec<String>>,
@@ -184,6 +202,7 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
                 svg: format!("{}.svg", f.id),
             })
             .collect(),
+        scans: Vec::new(),
         tables: r
             .tables
             .iter()
