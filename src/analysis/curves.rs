@@ -84,6 +84,18 @@ impl Curve {
             })
     }
 
+    /// The peak of `mass` refined like a branch's ([`super::orbits::parabola_top`] through the
+    /// highest settled point and its two neighbours, when they are settled too); the highest
+    /// settled point itself otherwise.
+    pub fn refined_peak(&self, mass: usize) -> Option<(f64, f64)> {
+        let k = self.peak_index_in(mass, None)?;
+        let at = |i: usize| (self.freq_hz[i], self.compliance[i][mass]);
+        let refined = (k > 0 && k + 1 < self.freq_hz.len() && self.converged[k - 1] && self.converged[k + 1])
+            .then(|| super::orbits::parabola_top([at(k - 1), at(k), at(k + 1)]))
+            .flatten();
+        Some(refined.unwrap_or(at(k)))
+    }
+
     /// Highest flight of any bed over the curve, m.
     pub fn highest_flight(&self) -> f64 {
         self.max_flight.iter().flatten().copied().fold(0.0, f64::max)

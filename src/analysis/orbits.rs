@@ -51,15 +51,56 @@ pub struct OrbitBranch {
     pub ends: Vec<String>,
 }
 
+/// The top of the parabola through three points whose middle one is the highest and lies
+/// between the others in x; `None` when they do not make such a cap.
+pub fn parabola_top(p: [(f64, f64); 3]) -> Option<(f64, f64)> {
+    let [(x0, y0), (x1, y1), (x2, y2)] = p;
+    if !((x0 - x1) * (x2 - x1) < 0.0 && y1 >= y0 && y1 >= y2) {
+        return None;
+    }
+    // Newton's form y = y0 + d0 (x - x0) + a (x - x0)(x - x1).
+    let d0 = (y1 - y0) / (x1 - x0);
+    let a = ((y2 - y1) / (x2 - x1) - d0) / (x2 - x0);
+    if a.is_nan() || a >= 0.0 {
+        return None;
+    }
+    let x = 0.5 * (x0 + x1) - d0 / (2.0 * a);
+    let y = y0 + d0 * (x - x0) + a * (x - x0) * (x - x1);
+    (x.is_finite() && y.is_finite()).then_some((x, y))
+}
+
 impl OrbitBranch {
     /// Every point of every segment.
     pub fn points(&self) -> impl Iterator<Item = &OrbitPoint> {
         self.segments.iter().flatten()
     }
 
-    /// Frequency and compliance of `mass` at the highest stable point.
-    pub fn peak(&self, mass: usize) -> Option<(f64, f64)> {
+    /// Frequency and compliance of `mass` at the highest stable point computed.
+    pub fn highest(&self, mass: usize) -> Option<(f64, f64)> {
         self.points().filter(|p| p.stable).map(|p| (p.freq_hz, p.compliance[mass])).max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// The branch's peak of `mass`: the maximum of the parabola (in frequency) through its
+    /// highest stable point and the two points beside it on its segment, when both are stable,
+    /// lie on either side in frequency and are not higher (so that the peak does not depend on
+    /// where the continuation's steps fell); the highest point itself otherwise (an end of a
+    /// segment, a fold, a loss of stability).
+    pub fn peak(&self, mass: usize) -> Option<(f64, f64)> {
+        let mut best: Option<(usize, usize)> = None;
+        for (s, seg) in self.segments.iter().enumerate() {
+            for (k, p) in seg.iter().enumerate() {
+                if p.stable && best.is_none_or(|(bs, bk)| p.compliance[mass] > self.segments[bs][bk].compliance[mass]) {
+                    best = Some((s, k));
+                }
+            }
+        }
+        let (s, k) = best?;
+        let seg = &self.segments[s];
+        let at = |i: usize| (seg[i].freq_hz, seg[i].compliance[mass]);
+        let refined = (k > 0 && k + 1 < seg.len() && seg[k - 1].stable && seg[k + 1].stable)
+            .then(|| parabola_top([at(k - 1), at(k), at(k + 1)]))
+            .flatten();
+        Some(refined.unwrap_or(at(k)))
     }
 
     /// Whether a frequency lies within the span of a segment.
@@ -418,9 +459,79 @@ pub fn exports(r: &OrbitsResult, reference: usize) -> BTreeMap<String, f64> {
             e.insert(format!("peak_hz_{name}"), f);
         }
     }
-    if let Some((f, c)) = r.simulation.peak(reference) {
+    if let Some((f, c)) = r.simulation.refined_peak(reference) {
         e.insert("peak_simulation".into(), c);
         e.insert("peak_hz_simulation".into(), f);
     }
     e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A damped resonance near 49 Hz (damping 0.01): the compliance at `f`.
+    fn resonance(f: f64) -> f64 {
+        let r = f / 49.0;
+        1e-4 / ((1.0 - r * r).powi(2) + (0.02 * r).powi(2)).sqrt()
+    }
+
+    /// A branch through the resonance with the continuation's steps given.
+    fn branch(steps: impl Iterator<Item = f64>) -> OrbitBranch {
+        let mut f = 46.0;
+        let mut seg = Vec::new();
+        for h in steps {
+            seg.push(OrbitPoint {
+                freq_hz: f,
+                compliance: vec![resonance(f)],
+                phi: 0.0,
+                tau0: None,
+                tau1: None,
+                tau2: None,
+                kind: "II".into(),
+                stable: true,
+                smooth: true,
+                multipliers: Vec::new(),
+            });
+            f += h;
+            if f > 52.0 {
+                break;
+            }
+        }
+        OrbitBranch { segments: vec![seg], ..OrbitBranch::default() }
+    }
+
+    #[test]
+    fn a_branchs_peak_does_not_depend_on_the_continuations_steps() {
+        let (f_true, c_true) = (49.0 * (1.0f64 - 2.0 * 0.01 * 0.01).sqrt(), resonance(49.0 * (1.0f64 - 2e-4).sqrt()));
+        // Steps of 0.02-0.1 Hz in three patterns, as an adaptive continuation takes them.
+        let patterns: [Box<dyn Fn(usize) -> f64>; 3] = [
+            Box::new(|_| 0.05),
+            Box::new(|i| 0.02 + 0.08 * ((i * 7919) % 13) as f64 / 12.0),
+            Box::new(|i| if i % 2 == 0 { 0.03 } else { 0.07 }),
+        ];
+        let (mut raw, mut refined, mut at) = (0.0f64, 0.0f64, 0.0f64);
+        for p in &patterns {
+            let b = branch((0..).map(p));
+            let (f, c) = b.peak(0).unwrap();
+            let (_, highest) = b.highest(0).unwrap();
+            assert!(c >= highest);
+            raw = raw.max((highest / c_true - 1.0).abs());
+            refined = refined.max((c / c_true - 1.0).abs());
+            at = at.max((f - f_true).abs());
+        }
+        // The highest computed point alone is off by where the steps fell; the refined peak is
+        // ten times closer, at the right frequency.
+        assert!(raw > 1e-3, "{raw}");
+        assert!(refined < raw / 10.0, "refined {refined}, highest point {raw}");
+        assert!(at < 2e-3, "{at} Hz");
+    }
+
+    #[test]
+    fn the_parabola_needs_a_cap() {
+        assert_eq!(parabola_top([(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)]), None);
+        assert_eq!(parabola_top([(0.0, 0.0), (2.0, 1.0), (1.0, 0.0)]), None);
+        let (x, y) = parabola_top([(-1.0, 0.0), (0.5, 0.75), (1.0, 0.0)]).unwrap();
+        assert!((x - 0.0).abs() < 1e-12 && (y - 1.0).abs() < 1e-12, "{x} {y}");
+    }
 }
