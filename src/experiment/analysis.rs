@@ -114,6 +114,18 @@ fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
     if let Some(f) = s.follow {
         o.follow = f;
     }
+    match s.torus_attempts {
+        None => {}
+        Some(x) if (0..=100).contains(&x) => o.torus_attempts = x as usize,
+        Some(x) => {
+            return Err(Error::invalid(
+                path,
+                "analysis.steady.torus_attempts",
+                x,
+                "give a whole number from 0 (never stop early on a torus) to 100",
+            ))
+        }
+    }
     if o.min_periods > o.max_periods {
         return Err(Error::invalid(
             path,

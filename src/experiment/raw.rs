@@ -199,6 +199,9 @@ pub struct RawSteady {
     pub max_periods: Option<i64>,
     #[serde(default)]
     pub record_periods: Option<i64>,
+    /// Attempts in a row that find a torus before the search stops (0: never).
+    #[serde(default)]
+    pub torus_attempts: Option<i64>,
     /// Continuation sweeps follow a certified orbit by Newton's method before any transient
     /// (default false; true in designs).
     #[serde(default)]

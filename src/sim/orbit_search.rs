@@ -13,10 +13,15 @@
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
+use num_complex::Complex64;
+
 use super::engine::{Engine, Event, State};
-use super::observe::EventLog;
+use super::observe::{EventLog, Extrema};
 use super::periodic::{signature, solve, NewtonOptions, Orbit, OrbitError, Section};
-use super::steady::{amplitude_scale, finish, Certificate, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions};
+use super::steady::{
+    amplitude_scale, finish, torus_window, Certificate, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions,
+    TORUS_MARGIN, TORUS_TOL,
+};
 use super::strobe::{quiet_phase, Rest, Strobe};
 use super::system::Dynamics;
 
@@ -51,8 +56,19 @@ fn counts(events: &[Event]) -> Vec<(usize, u8, usize)> {
 
 /// A failed attempt.
 enum Miss {
-    Unstable { radius: f64 },
+    /// The orbit is unstable; `lead` is its multiplier of largest modulus.
+    Unstable {
+        radius: f64,
+        lead: Complex64,
+    },
     Other(String),
+}
+
+/// The argument of an unstable orbit's leading multiplier when it and its conjugate lie just
+/// outside the unit circle (a torus is born there: a Neimark-Sacker bifurcation), else `None`.
+fn torus_angle(radius: f64, lead: Complex64) -> Option<f64> {
+    let angle = lead.arg().abs();
+    (radius > 1.0 && radius <= 1.0 + TORUS_MARGIN && angle > 1e-3 && angle < PI - 1e-3).then_some(angle)
 }
 
 /// One attempt: the section through the state `at`, Newton on the `p`-period map, and the
@@ -69,7 +85,8 @@ fn attempt(
     let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
     let orbit = solve(&strobe, d, &u0, &newton).map_err(|e: OrbitError| Miss::Other(e.to_string()))?;
     if !orbit.stable {
-        return Err(Miss::Unstable { radius: orbit.spectral_radius() });
+        let lead = orbit.multipliers.first().copied().unwrap_or_default();
+        return Err(Miss::Unstable { radius: orbit.spectral_radius(), lead });
     }
     if counts(&orbit.events) != wanted {
         return Err(Miss::Other("the orbit found has other events than the motion".into()));
@@ -97,6 +114,36 @@ fn minimal(d: &Dynamics, strobe: Strobe, orbit: Orbit, newton: &NewtonOptions) -
     (strobe, orbit)
 }
 
+/// Runs the motion on from `s` in windows of `w` periods until two windows in a row give the
+/// same amplitudes to [`TORUS_TOL`] (relative to the largest): the motion has reached its
+/// torus, it is no longer spiralling out from the unstable orbit. `false` when the budget of
+/// `max_periods` ends first.
+fn onto_torus(
+    engine: &Engine,
+    s: &mut State,
+    w: usize,
+    simulated: &mut usize,
+    max_periods: usize,
+) -> Result<bool, super::engine::Stop> {
+    let d = engine.d;
+    let period = 2.0 * PI / d.omega;
+    let mut last: Option<Vec<f64>> = None;
+    while *simulated + w <= max_periods {
+        let mut ext = Extrema::new(d.system.dof(), d.system.dampers.len());
+        engine.advance(s, s.t + w as f64 * period, &mut ext)?;
+        *simulated += w;
+        let amp = ext.amplitudes();
+        if let Some(prev) = &last {
+            let scale = amp.iter().copied().fold(f64::MIN_POSITIVE, f64::max);
+            if amp.iter().zip(prev).all(|(a, b)| (a - b).abs() <= TORUS_TOL * scale) {
+                return Ok(true);
+            }
+        }
+        last = Some(amp);
+    }
+    Ok(false)
+}
+
 /// Runs from `start` to a certified periodic orbit and records one orbit of it.
 pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
     let engine = Engine::new(d);
@@ -111,6 +158,10 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     let mut attempts = 0;
     let mut failure = None;
     let mut stop = None;
+    // Attempts in a row that found a torus, the periods simulated at the first of them, the
+    // last one's multiplier (modulus, argument) and the orbit's period.
+    let mut torus: (usize, usize, f64, f64, usize) = (0, 0, 0.0, 0.0, 1);
+    let mut record_periods = opts.record_periods;
     while simulated < opts.max_periods {
         let mut log = EventLog::default();
         if let Err(e) = engine.advance(&mut s, k as f64 * period, &mut log) {
@@ -153,8 +204,38 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         }
         match result {
             Ok((strobe, orbit)) => return record(d, &strobe, &orbit, simulated, attempts, opts),
-            Err(Miss::Unstable { radius }) => failure = Some(NoSteady::Unstable { radius }),
-            Err(Miss::Other(why)) => failure = Some(NoSteady::NoOrbit(why)),
+            Err(Miss::Unstable { radius, lead }) => {
+                failure = Some(NoSteady::Unstable { radius });
+                torus = match torus_angle(radius, lead) {
+                    Some(angle) if torus.0 > 0 => (torus.0 + 1, torus.1, radius, angle, p),
+                    Some(angle) => (1, simulated, radius, angle, p),
+                    None => (0, 0, 0.0, 0.0, 1),
+                };
+            }
+            Err(Miss::Other(why)) => {
+                failure = Some(NoSteady::NoOrbit(why));
+                torus.0 = 0;
+            }
+        }
+        // Spiralling out from the orbit, the motion's distance from it grows by e every
+        // 1 / (radius - 1) orbits: after three such times it would show.
+        let (run, first, radius, angle, p) = torus;
+        let grown = first as f64 + 3.0 * p as f64 / (radius - 1.0);
+        if opts.torus_attempts > 0 && run >= opts.torus_attempts && simulated as f64 >= grown {
+            let w = torus_window(angle, p, opts.record_periods);
+            match onto_torus(&engine, &mut s, w, &mut simulated, opts.max_periods) {
+                Err(e) => {
+                    stop = Some(e);
+                    break;
+                }
+                Ok(true) => {
+                    failure = Some(NoSteady::Torus { radius, angle, attempts: run, periods: simulated });
+                    record_periods = 2 * w;
+                    break;
+                }
+                // The amplitudes never settled within the budget: spent like any other point.
+                Ok(false) => break,
+            }
         }
         next_try = simulated + (reps * p).max(simulated / 2);
     }
@@ -162,7 +243,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         None
     } else {
         match failure {
-            Some(NoSteady::Unstable { radius }) => Some(NoSteady::Unstable { radius }),
+            Some(f @ (NoSteady::Unstable { .. } | NoSteady::Torus { .. })) => Some(f),
             _ => Some(NoSteady::Budget { periods: simulated }),
         }
     };
@@ -173,11 +254,11 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         failure,
         transient_periods: simulated,
         period: 0,
-        record: opts.record_periods,
+        record: record_periods,
         stop,
     };
     // An unsettled point still reports what its motion does over the next periods.
-    let t_end = s.t + opts.record_periods as f64 * period;
+    let t_end = s.t + record_periods as f64 * period;
     finish(d, s, t_end, opts.energy, outcome)
 }
 

@@ -84,9 +84,17 @@ pub fn lower_root(t: &Taylor, len: f64) -> Option<f64> {
     }
     // Quick exclusion: the value outweighs the largest possible change over the interval.
     let h = &t.h;
-    let change = len * (h[1].abs() + len * (h[2].abs() / 2.0 + len * (h[3].abs() / 6.0 + t.bound4 * len / 24.0)));
+    let change = len * (h[1].abs() + len * (h[2].abs() / 2.0 + len * (h[3].abs() / 6.0 + t.bound4.abs() * len / 24.0)));
     if h[0] > change {
         return None;
+    }
+    lower_root_unbounded(t, len)
+}
+
+/// [`lower_root`] without its quick exclusion (any sign of the quartic term).
+fn lower_root_unbounded(t: &Taylor, len: f64) -> Option<f64> {
+    if t.h[0] <= 0.0 {
+        return Some(0.0);
     }
     let mut knots = [0.0, len, len, len];
     let mut nk = 1;
@@ -122,14 +130,31 @@ pub fn excluded(t: &Taylor, len: f64) -> bool {
     lower_root(t, len).is_none()
 }
 
-/// First root of `h` in `(a, b]`, given its Taylor data at `a` and an evaluator.
+/// The first root in `(0, len]` of the upper bound `U(tau) = c(tau) + B tau^4 / 24`: by then
+/// `h` has certainly reached zero.
+fn upper_root(t: &Taylor, len: f64) -> Option<f64> {
+    let flipped = Taylor { bound4: -t.bound4, ..*t };
+    lower_root_unbounded(&flipped, len)
+}
+
+/// First root of `h` in `(a, b]`, given its Taylor data at `a` and an evaluator. The search
+/// stops on a bound of its distance to the root: `h` has no root before `t + tau` (the lower
+/// bound) and has reached zero by `t + up` (the upper bound), so it stops when `up - tau` is
+/// below [`TIME_TOL`] (or below what the time's floating-point spacing can resolve), whatever
+/// the size of the last advance. Near a graze, where the advances shrink without the bracket
+/// closing, it goes on advancing; where no advance is possible any more (a touch that the
+/// arithmetic cannot tell from a miss), the event is there.
 pub fn first_root(eval: &mut impl FnMut(f64) -> Taylor, a: f64, ta: Taylor, b: f64) -> Option<f64> {
     let mut t = a;
     let mut ta = ta;
     for _ in 0..MAX_ADVANCES {
         let tau = lower_root(&ta, b - t)?;
-        if tau <= TIME_TOL {
+        let resolution = TIME_TOL.max(4.0 * f64::EPSILON * t.abs());
+        if tau <= resolution && upper_root(&ta, b - t).is_some_and(|up| up - tau <= resolution) {
             return Some(t + tau);
+        }
+        if t + tau == t || tau == 0.0 {
+            return Some(t);
         }
         t += tau;
         ta = eval(t);
@@ -203,6 +228,25 @@ mod tests {
         let t0 = f(0.0);
         let r = first_root(&mut f, 0.0, t0, 5.0).unwrap();
         assert!((r - std::f64::consts::PI).abs() < 2e-6, "{r}");
+    }
+
+    #[test]
+    fn stops_on_a_bound_of_the_distance_to_the_root() {
+        // A slow crossing: cos(t) + 1 - eps first reaches zero at pi - delta, delta =
+        // acos(1 - eps) ~ sqrt(2 eps) (1 + eps / 12), where its slope is only ~sqrt(2 eps). The
+        // root is returned to what the function's rounding (~1e-16 / slope) allows, however
+        // small the last advances are.
+        for eps in [1e-6, 1e-8, 1e-10] {
+            let mut f = cosine(1.0, 1.0 - eps);
+            let t0 = f(0.0);
+            let r = first_root(&mut f, 0.0, t0, 5.0).unwrap();
+            let delta = (2.0 * eps).sqrt() * (1.0 + eps / 12.0);
+            let root = std::f64::consts::PI - delta;
+            let slope = delta;
+            let err = (r - root).abs();
+            assert!(err <= TIME_TOL + 4e-16 / slope, "eps {eps:e}: {err:e} s from the root");
+            assert!(r <= root + 4e-16 / slope, "never past the root");
+        }
     }
 
     #[test]

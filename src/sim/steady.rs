@@ -60,6 +60,14 @@ pub struct SteadyOptions {
     pub max_subharmonic: usize,
     /// Also integrate the energy balance over the recorded periods.
     pub energy: bool,
+    /// Orbit: once this many attempts in a row have found only an unstable orbit whose largest
+    /// multipliers are a complex pair just outside the unit circle (modulus at most
+    /// [`TORUS_MARGIN`] above 1), the motion is taken as quasi-periodic, on a torus around that
+    /// orbit, once it has also run for `3 / (modulus - 1)` orbits since the first of those
+    /// attempts (a motion still spiralling out from the orbit would have grown e^3-fold): it
+    /// is run on in windows of one turn ([`torus_window`]) until two in a row give the same
+    /// amplitudes to [`TORUS_TOL`], and two turns are recorded. 0: never (spend `max_periods`).
+    pub torus_attempts: usize,
     /// Continuation sweeps: where the previous point is a certified orbit, first solve for the
     /// orbit at the new frequency by Newton's method from the previous orbit (same section
     /// phase, period and bed places), and accept it when it is stable and has the same events
@@ -80,11 +88,31 @@ impl Default for SteadyOptions {
             record_periods: 10,
             max_subharmonic: 8,
             energy: false,
+            torus_attempts: 4,
             orbit_tol: 1e-11,
             max_newton: 10,
             follow: false,
         }
     }
+}
+
+/// How far outside the unit circle a complex pair of multipliers may lie for the motion
+/// around the orbit to be taken as a torus ([`SteadyOptions::torus_attempts`]).
+pub const TORUS_MARGIN: f64 = 0.05;
+
+/// Two windows of one turn of a torus in a row whose amplitudes agree to this (relative to
+/// the largest) mean the motion is on the torus ([`SteadyOptions::torus_attempts`]).
+pub const TORUS_TOL: f64 = 1e-2;
+
+/// Longest window of a torus, forcing periods.
+pub const TORUS_WINDOW_MAX: usize = 200;
+
+/// One turn of a torus whose orbit has `p` periods and whose leading multipliers turn by
+/// `angle` rad per orbit, in forcing periods: `ceil(2 pi / angle) p`, at least `record_periods`,
+/// at most [`TORUS_WINDOW_MAX`].
+pub fn torus_window(angle: f64, p: usize, record_periods: usize) -> usize {
+    let turn = (2.0 * std::f64::consts::PI / angle.abs()).ceil().min(TORUS_WINDOW_MAX as f64) as usize;
+    (turn * p).clamp(record_periods.min(TORUS_WINDOW_MAX), TORUS_WINDOW_MAX)
 }
 
 /// Energy terms over the recorded periods, J.
@@ -146,6 +174,11 @@ pub enum NoSteady {
     Unstable { radius: f64 },
     /// Newton's method found no orbit with the motion's pattern: the last reason.
     NoOrbit(String),
+    /// Quasi-periodic motion recognised early ([`SteadyOptions::torus_attempts`]): at
+    /// `attempts` attempts in a row the orbit with the motion's events was unstable through a
+    /// complex pair of multipliers of modulus `radius` (just above 1) and argument `angle`
+    /// (rad); after `periods` periods two windows of one turn gave the same amplitudes.
+    Torus { radius: f64, angle: f64, attempts: usize, periods: usize },
 }
 
 impl std::fmt::Display for NoSteady {
@@ -156,6 +189,10 @@ impl std::fmt::Display for NoSteady {
                 write!(f, "only unstable orbits (largest multiplier {radius:.4}): chaotic or quasi-periodic motion")
             }
             NoSteady::NoOrbit(why) => write!(f, "no periodic orbit found: {why}"),
+            NoSteady::Torus { radius, angle, attempts, periods } => write!(
+                f,
+                "quasi-periodic (a torus): complex multipliers of modulus {radius:.4} at +-{angle:.3} rad at {attempts} attempts in a row; amplitudes of two turns agree after {periods} periods"
+            ),
         }
     }
 }
