@@ -24,8 +24,16 @@ impl ColumnData {
 }
 
 /// Most rows a report writes to a table's CSV file unless every row is asked for: a longer
-/// table's CSV keeps every `k`-th row ([`csv_stride`]) and its last; its Parquet file keeps all.
-pub const CSV_ROWS: usize = 5_000;
+/// table's CSV keeps every `k`-th row ([`csv_stride`]) and its last, and the table is also
+/// written whole as Parquet ([`has_parquet`]); a table of at most this many rows is whole in
+/// its CSV file alone.
+pub const CSV_ROWS: usize = 1_500;
+
+/// Whether a report writes the table of `rows` rows as Parquet too: when it is longer than
+/// [`CSV_ROWS`] (whether or not its CSV is thinned).
+pub fn has_parquet(rows: usize) -> bool {
+    rows > CSV_ROWS
+}
 
 /// The stride of a table's CSV file in a report: 1 when `full` or the table has at most
 /// [`CSV_ROWS`] rows, else the smallest `k` that keeps at most `CSV_ROWS` rows, the last

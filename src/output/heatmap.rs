@@ -159,7 +159,7 @@ pub fn write(map: &HeatMap, dir: &Path) -> Result<()> {
     super::study::write_atomic(&dir.join(format!("{}.png", map.id)), &png)?;
     let mut svg = String::new();
     draw(map, SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area())?;
-    super::study::write_atomic(&dir.join(format!("{}.svg", map.id)), super::plot::compact_svg(&svg).as_bytes())
+    super::study::write_atomic(&dir.join(format!("{}.svg", map.id)), super::svg::compact(&svg).as_bytes())
 }
 
 fn err(map: &HeatMap, e: impl std::fmt::Display) -> Error {

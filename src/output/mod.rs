@@ -13,6 +13,7 @@ pub mod report;
 pub mod robustness;
 pub mod scan;
 pub mod study;
+pub mod svg;
 pub mod texts;
 pub mod view;
 
@@ -42,7 +43,7 @@ pub struct ReportOptions {
     /// A folder of templates overriding the embedded ones.
     pub templates: Option<PathBuf>,
     /// Every row of every table in its CSV file (else long tables are thinned there:
-    /// [`table::csv_stride`]; the Parquet files always hold every row).
+    /// [`table::csv_stride`]; long tables are also written whole as Parquet).
     pub full_csv: bool,
     /// Every experiment a text may quote runs (`shotdamp report`): a placeholder naming one
     /// that did not is an error, not a remark in the text.
@@ -110,7 +111,9 @@ impl ReportWriter {
             let stride = table::csv_stride(t.height(), self.full_csv);
             let csv = if stride == 1 { table::to_csv(t)? } else { table::to_csv(&t.thinned(stride))? };
             write(&data.join(format!("{}.csv", t.name)), &csv)?;
-            write(&data.join(format!("{}.parquet", t.name)), &table::to_parquet(t)?)?;
+            if table::has_parquet(t.height()) {
+                write(&data.join(format!("{}.parquet", t.name)), &table::to_parquet(t)?)?;
+            }
         }
         for f in &r.figures {
             write(&dir.join(format!("{}.png", f.id)), &plot::to_png(f)?)?;

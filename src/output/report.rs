@@ -116,6 +116,7 @@ pub struct TableView {
     pub csv: String,
     /// The CSV file holds every `csv_stride`-th row and the last (1: every row).
     pub csv_stride: usize,
+    /// The Parquet file of a long table, every row ("" for a table whole in its CSV file).
     pub parquet: String,
 }
 
@@ -212,7 +213,11 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
                 rows: t.height(),
                 csv: format!("data/{}.csv", t.name),
                 csv_stride: 1,
-                parquet: format!("data/{}.parquet", t.name),
+                parquet: if crate::table::has_parquet(t.height()) {
+                    format!("data/{}.parquet", t.name)
+                } else {
+                    String::new()
+                },
             })
             .collect(),
         checks: r.checks.iter().map(|c| CheckRow::new(id, c)).collect(),
