@@ -13,8 +13,8 @@ use crate::sim::SteadyOptions;
 use crate::table::Table;
 
 use super::curves::{self, Curve};
+use super::result::Tick;
 use super::sweep::check_frequencies;
-use super::Tick;
 
 /// What a clearance study produced.
 pub struct StudyOutput {

@@ -84,14 +84,14 @@ impl Curve {
             })
     }
 
-    /// The peak of `mass` refined like a branch's ([`super::orbits::parabola_top`] through the
+    /// The peak of `mass` refined like a branch's ([`parabola_top`] through the
     /// highest settled point and its two neighbours, when they are settled too); the highest
     /// settled point itself otherwise.
     pub fn refined_peak(&self, mass: usize) -> Option<(f64, f64)> {
         let k = self.peak_index_in(mass, None)?;
         let at = |i: usize| (self.freq_hz[i], self.compliance[i][mass]);
         let refined = (k > 0 && k + 1 < self.freq_hz.len() && self.converged[k - 1] && self.converged[k + 1])
-            .then(|| super::orbits::parabola_top([at(k - 1), at(k), at(k + 1)]))
+            .then(|| parabola_top([at(k - 1), at(k), at(k + 1)]))
             .flatten();
         Some(refined.unwrap_or(at(k)))
     }
@@ -217,4 +217,22 @@ pub fn table(name: &str, description: &str, curves: &[&Curve], n: usize, beds: u
         .f64("orbit_residual", rows.iter().map(|(c, i)| c.residual[*i]).collect())
         .f64("max_multiplier", rows.iter().map(|(c, i)| c.radius[*i]).collect())
         .str("stop", rows.iter().map(|(c, i)| c.stop[*i].clone()).collect())
+}
+
+/// The top of the parabola through three points whose middle one is the highest and lies
+/// between the others in x; `None` when they do not make such a cap.
+pub fn parabola_top(p: [(f64, f64); 3]) -> Option<(f64, f64)> {
+    let [(x0, y0), (x1, y1), (x2, y2)] = p;
+    if !((x0 - x1) * (x2 - x1) < 0.0 && y1 >= y0 && y1 >= y2) {
+        return None;
+    }
+    // Newton's form y = y0 + d0 (x - x0) + a (x - x0)(x - x1).
+    let d0 = (y1 - y0) / (x1 - x0);
+    let a = ((y2 - y1) / (x2 - x1) - d0) / (x2 - x0);
+    if a.is_nan() || a >= 0.0 {
+        return None;
+    }
+    let x = 0.5 * (x0 + x1) - d0 / (2.0 * a);
+    let y = y0 + d0 * (x - x0) + a * (x - x0) * (x - x1);
+    (x.is_finite() && y.is_finite()).then_some((x, y))
 }

@@ -15,7 +15,7 @@ use crate::sim::{EventKind, Stop};
 use crate::table::Table;
 
 use super::curves;
-use super::Tick;
+use super::result::Tick;
 
 /// Horizontal resolution of dense signals in figures (min/max per bin).
 const BINS: usize = 1400;

@@ -18,6 +18,7 @@ mod orbit_checks;
 mod orbit_figures;
 pub mod orbits;
 mod overlays;
+pub mod result;
 pub mod study;
 mod sweep;
 mod waveform;
@@ -25,54 +26,14 @@ mod waveform;
 use std::collections::BTreeMap;
 
 use crate::checks::baseline;
+use crate::checks::fmt_num;
 use crate::checks::reference::{BaselineMode, ReferenceStore};
-use crate::checks::{fmt_num, CheckOutcome};
 use crate::error::Result;
 use crate::experiment::{Analysis, Experiment};
-use crate::figure::Figure;
-use crate::model::modal::{modal_summary, ModeSummary};
+use crate::model::modal::modal_summary;
 use crate::model::Damping;
-use crate::table::Table;
 
-/// Everything an experiment produced, ready to be written and rendered.
-#[derive(Debug, Clone)]
-pub struct ExperimentResult {
-    pub experiment: Experiment,
-    /// Modes of the bare structure.
-    pub modes: Vec<ModeSummary>,
-    /// Named parameters for the report's parameter table.
-    pub parameters: Vec<(String, String)>,
-    /// Every assumption the run rests on.
-    pub assumptions: Vec<String>,
-    pub tables: Vec<Table>,
-    pub figures: Vec<Figure>,
-    pub checks: Vec<CheckOutcome>,
-    /// The compliance curves computed (sweeps, linear responses, scans), by id, for figures
-    /// that compare models.
-    pub curves: curves::Curves,
-    /// Values other experiments may use (`"@ID.KEY"`).
-    pub exports: BTreeMap<String, f64>,
-    /// A design search's answer, to store (`shotdamp design --store`).
-    pub design: Option<crate::design::stored::StoredDesign>,
-}
-
-/// Counts one finished unit of work (a simulated point).
-pub type Tick = dyn Fn() + Sync;
-
-/// Receives progress: one counter per experiment.
-pub trait Progress: Sync {
-    /// A counter for an experiment that will run `total` simulated points.
-    fn start(&self, id: &str, total: u64) -> Box<Tick>;
-}
-
-/// No progress display.
-pub struct NoProgress;
-
-impl Progress for NoProgress {
-    fn start(&self, _id: &str, _total: u64) -> Box<Tick> {
-        Box::new(|| {})
-    }
-}
+pub use result::{ExperimentResult, NoProgress, Progress, Tick};
 
 /// Simulated points an experiment will run (for progress bars).
 pub fn work(exp: &Experiment, refs: &ReferenceStore) -> u64 {
@@ -98,13 +59,6 @@ pub fn work(exp: &Experiment, refs: &ReferenceStore) -> u64 {
             (clearances_mm.as_ref().map_or(0, |c| c.len()) + 2 + freq_hz.len()) as u64
         }
         Analysis::Design { .. } => 2,
-    }
-}
-
-impl ExperimentResult {
-    /// True when no check failed.
-    pub fn passed(&self) -> bool {
-        !self.checks.iter().any(|c| c.status.fails())
     }
 }
 

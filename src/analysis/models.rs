@@ -4,7 +4,7 @@
 use crate::experiment::{Analysis, PlotKind, Scale};
 use crate::figure::{Corner, Dash, Figure, Panel, Series};
 
-use super::ExperimentResult;
+use super::result::ExperimentResult;
 
 /// Dash patterns in case order.
 const DASHES: [Dash; 4] = [Dash::Solid, Dash::Dashed, Dash::DashDot, Dash::Dotted];

@@ -18,8 +18,8 @@ use crate::sim::periodic::{seed, solve, summarize, NewtonOptions};
 use crate::sim::sweep::{self, SweepPoint};
 use crate::sim::{steady_state, Dynamics, State, SteadyOptions, System};
 
-use super::curves::{self, Curve};
-use super::Tick;
+use super::curves::{self, parabola_top, Curve};
+use super::result::Tick;
 
 /// One periodic orbit as drawn and tabled.
 #[derive(Debug, Clone)]
@@ -49,24 +49,6 @@ pub struct OrbitBranch {
     pub special: Vec<Special>,
     /// How each end of each segment ended.
     pub ends: Vec<String>,
-}
-
-/// The top of the parabola through three points whose middle one is the highest and lies
-/// between the others in x; `None` when they do not make such a cap.
-pub fn parabola_top(p: [(f64, f64); 3]) -> Option<(f64, f64)> {
-    let [(x0, y0), (x1, y1), (x2, y2)] = p;
-    if !((x0 - x1) * (x2 - x1) < 0.0 && y1 >= y0 && y1 >= y2) {
-        return None;
-    }
-    // Newton's form y = y0 + d0 (x - x0) + a (x - x0)(x - x1).
-    let d0 = (y1 - y0) / (x1 - x0);
-    let a = ((y2 - y1) / (x2 - x1) - d0) / (x2 - x0);
-    if a.is_nan() || a >= 0.0 {
-        return None;
-    }
-    let x = 0.5 * (x0 + x1) - d0 / (2.0 * a);
-    let y = y0 + d0 * (x - x0) + a * (x - x0) * (x - x1);
-    (x.is_finite() && y.is_finite()).then_some((x, y))
 }
 
 impl OrbitBranch {

@@ -15,7 +15,7 @@ use crate::table::Table;
 use super::branches::{self, OrbitCurve};
 use super::curves::{self, union_grid, Curve};
 use super::figures::{self, Extras};
-use super::Tick;
+use super::result::Tick;
 
 /// Frequencies the curve checks of `curve_id` need, from their reference files.
 pub fn check_frequencies(exp: &Experiment, refs: &ReferenceStore, curve_id: &str) -> Vec<f64> {

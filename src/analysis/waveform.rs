@@ -11,7 +11,7 @@ use crate::sim::{steady_state, Dynamics, Engine, EventKind, State, SteadyOptions
 use crate::table::Table;
 
 use super::curves;
-use super::Tick;
+use super::result::Tick;
 
 /// Samples drawn per forcing period.
 const SAMPLES_PER_PERIOD: usize = 360;

@@ -1,0 +1,61 @@
+//! What every analysis kind shares, below them all: an experiment's result
+//! ([`ExperimentResult`]) and the progress counters the kinds tick ([`Tick`], [`Progress`]).
+//! The kinds (`sweep`, `clearance`, ...) import this room; the dispatcher (`mod.rs`) imports
+//! the kinds; nothing here imports a kind but the curve store it carries.
+
+use std::collections::BTreeMap;
+
+use crate::checks::CheckOutcome;
+use crate::experiment::Experiment;
+use crate::figure::Figure;
+use crate::model::modal::ModeSummary;
+use crate::table::Table;
+
+use super::curves;
+
+/// Everything an experiment produced, ready to be written and rendered.
+#[derive(Debug, Clone)]
+pub struct ExperimentResult {
+    pub experiment: Experiment,
+    /// Modes of the bare structure.
+    pub modes: Vec<ModeSummary>,
+    /// Named parameters for the report's parameter table.
+    pub parameters: Vec<(String, String)>,
+    /// Every assumption the run rests on.
+    pub assumptions: Vec<String>,
+    pub tables: Vec<Table>,
+    pub figures: Vec<Figure>,
+    pub checks: Vec<CheckOutcome>,
+    /// The compliance curves computed (sweeps, linear responses, scans), by id, for figures
+    /// that compare models.
+    pub curves: curves::Curves,
+    /// Values other experiments may use (`"@ID.KEY"`).
+    pub exports: BTreeMap<String, f64>,
+    /// A design search's answer, to store (`shotdamp design --store`).
+    pub design: Option<crate::design::stored::StoredDesign>,
+}
+
+/// Counts one finished unit of work (a simulated point).
+pub type Tick = dyn Fn() + Sync;
+
+/// Receives progress: one counter per experiment.
+pub trait Progress: Sync {
+    /// A counter for an experiment that will run `total` simulated points.
+    fn start(&self, id: &str, total: u64) -> Box<Tick>;
+}
+
+/// No progress display.
+pub struct NoProgress;
+
+impl Progress for NoProgress {
+    fn start(&self, _id: &str, _total: u64) -> Box<Tick> {
+        Box::new(|| {})
+    }
+}
+
+impl ExperimentResult {
+    /// True when no check failed.
+    pub fn passed(&self) -> bool {
+        !self.checks.iter().any(|c| c.status.fails())
+    }
+}
