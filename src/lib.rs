@@ -18,6 +18,7 @@ pub mod model;
 pub mod number;
 pub mod output;
 pub mod reference;
+pub mod runner;
 pub mod signal;
 pub mod sim;
 pub mod table;

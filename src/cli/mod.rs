@@ -24,7 +24,6 @@ macro_rules! say_part {
 }
 
 mod designs;
-mod schedule;
 mod study;
 
 use std::io::IsTerminal;
@@ -34,16 +33,15 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
 
-use crate::analysis::{self, Progress, Tick};
-use crate::checks::baseline;
-use crate::checks::reference::{BaselineMode, ReferenceStore};
+use crate::analysis::{Progress, Tick};
+use crate::checks::reference::BaselineMode;
 use crate::experiment::study::Study;
 use crate::experiment::{self, Experiment};
 use crate::model::modal::modal_summary;
 use crate::model::sdof::EquivalentSdof;
-use crate::output::study::{Manifest, StudyRun};
-use crate::output::{ReportOptions, ReportWriter};
+use crate::output::ReportOptions;
 use crate::reference::digitised::{self, ImportInfo};
+use crate::runner;
 
 /// Replicates Araki et al. (1997), "Impact damper with granular materials for multibody
 /// system", figure by figure, and checks every result against references.
@@ -322,7 +320,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 false,
             )?;
             if *store {
-                let threads = pool(*jobs)?.current_num_threads();
+                let threads = runner::pool(*jobs)?.current_num_threads();
                 designs::store_designs(&results, &cli.reference, started.elapsed().as_secs_f64(), threads)?;
             }
             Ok(ok)
@@ -353,7 +351,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 .studies
                 .clone()
                 .unwrap_or_else(|| cli.experiments.parent().unwrap_or(Path::new("")).join("studies"));
-            let studies = report_studies(&dir, &cli.reference)?;
+            let studies = runner::report_studies(&dir, &cli.reference)?;
             let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
             crate::output::destination::refuse_overlap(
                 out,
@@ -611,17 +609,6 @@ fn print_fit(fit: &crate::model::fit::StiffnessFit) {
     say!("  largest shape residual {worst:.4}");
 }
 
-fn pool(jobs: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
-    let mut b = rayon::ThreadPoolBuilder::new();
-    if let Some(j) = jobs {
-        if j == 0 {
-            return Err(crate::Error::invalid("--jobs", "jobs", 0, "give at least 1 worker thread").into());
-        }
-        b = b.num_threads(j);
-    }
-    Ok(b.build()?)
-}
-
 /// Progress bars on a terminal (one per experiment), nothing otherwise.
 struct Bars {
     multi: Option<indicatif::MultiProgress>,
@@ -659,24 +646,8 @@ impl Progress for Bars {
     }
 }
 
-/// The studies `shotdamp report` runs: those of `dir` marked `report = true` (none when the
-/// folder does not exist).
-fn report_studies(dir: &Path, reference: &Path) -> anyhow::Result<Vec<Study>> {
-    if !dir.is_dir() {
-        return Ok(Vec::new());
-    }
-    let mut out = Vec::new();
-    for file in experiment::discover(dir)? {
-        let s = experiment::study::load(&file, reference)?;
-        if s.report {
-            out.push(s);
-        }
-    }
-    Ok(out)
-}
-
-/// Runs the experiments, each as soon as those whose exports it uses have finished, in
-/// parallel; writes the report; prints a summary.
+/// Runs the experiments and studies into a report ([`crate::runner::run_and_write`]) with
+/// progress bars on a terminal, and prints a summary.
 #[allow(clippy::too_many_arguments)]
 fn run_and_write(
     exps: &[Experiment],
@@ -688,75 +659,28 @@ fn run_and_write(
     baseline_mode: BaselineMode,
     bless: bool,
 ) -> anyhow::Result<(bool, Vec<crate::analysis::ExperimentResult>)> {
-    let graph = experiment::dependency_graph(exps)?;
-    let mut refs = ReferenceStore::load(reference, exps)?;
-    refs.load_baselines(reference, exps, baseline_mode)?;
-    refs.load_designs(reference, exps)?;
-    let study_refs = studies.iter().map(|s| study::references(s, reference)).collect::<crate::Result<Vec<_>>>()?;
-    let mut inputs: Vec<(&str, &Path)> = vec![("the reference folder", reference)];
-    inputs.extend(writing.templates.as_deref().map(|t| ("the templates folder", t)));
-    inputs.extend(exps.iter().map(|e| ("an experiment file", e.path.as_path())));
-    inputs.extend(studies.iter().map(|s| ("a study file", s.path.as_path())));
-    crate::output::destination::refuse_overlap(out, &inputs)?;
-    // Scans of the paper's figures, when the reviewer keeps some (reference/scans/).
-    let writing = &ReportOptions { scans: crate::output::scan::load_all(&reference.join("scans"))?, ..writing.clone() };
-    // The handler is in place before the staging folder exists: an interrupt at any moment
-    // removes it.
-    remove_on_interrupt(crate::output::destination::staging_path(out)?);
-    let writer = ReportWriter::create(out, writing)?;
-    let pool = pool(jobs)?;
+    let settings = runner::Settings {
+        reference: reference.to_path_buf(),
+        out: out.to_path_buf(),
+        jobs,
+        writing: writing.clone(),
+        baseline_mode,
+        bless,
+    };
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };
     let log = tty || std::env::var_os("CI").is_some();
-    // Studies need no exports: they run beside the experiments, on the same pool.
-    let (results, study_runs) = pool.install(|| {
-        rayon::join(
-            || schedule::run(exps, &graph, &refs, &writer, &pool, &bars, &|msg| bars.log(log, msg)),
-            || run_studies(studies, &study_refs, reference, log),
-        )
-    });
-    let (results, mut study_runs) = match (results, study_runs) {
-        (Ok(r), Ok(s)) => (r, s),
-        (Err(e), _) | (_, Err(e)) => {
-            writer.abandon();
-            return Err(e.into());
-        }
-    };
-    // Where the experiments themselves sit on the studies' maps (exported clearances included).
-    let exports: experiment::Exports = results.iter().map(|r| (r.experiment.key(), r.exports.clone())).collect();
-    for (run, s) in study_runs.iter_mut().zip(studies) {
-        run.assumed = run.manifest.models.iter().map(|(model, _)| s.assumed(model, &exports)).collect();
+    // The handler is in place before the staging folder exists: an interrupt at any moment
+    // removes it.
+    let done = runner::run_and_write(exps, studies, &settings, &bars, &|msg| bars.log(log, msg), &|staging| {
+        remove_on_interrupt(staging)
+    })?;
+    if let Some(dir) = &done.blessed {
+        say!("blessed: {} experiments sampled into {} (review the diff, commit it)", done.results.len(), dir.display());
     }
-    let mut results = results;
-    let dest = writer.finish(&mut results, &study_runs)?;
-    if bless {
-        let dir = reference.join("baseline");
-        for r in &results {
-            crate::output::write_baseline(&dir, &r.experiment.key(), &baseline::sample(&r.tables))?;
-        }
-        say!("blessed: {} experiments sampled into {} (review the diff, commit it)", results.len(), dir.display());
-    }
-    let failed: Vec<String> = results
-        .iter()
-        .flat_map(|r| {
-            r.checks.iter().filter(|c| c.status.fails()).map(move |c| {
-                format!(
-                    "  {} ({}): {}: computed {} vs expected {} (tolerance {}){}",
-                    r.experiment.key(),
-                    r.experiment.meta.figure,
-                    c.name,
-                    crate::checks::fmt_num(c.computed),
-                    crate::checks::fmt_num(c.expected),
-                    c.tolerance,
-                    c.detail.as_ref().map(|d| format!("; {d}")).unwrap_or_default()
-                )
-            })
-        })
-        .collect();
-    let total: usize = results.iter().map(|r| r.checks.len()).sum();
-    say!("report: {}", dest.join("index.html").display());
+    say!("report: {}", done.dest.join("index.html").display());
     // Designs: the answer in one line per model (the tables have the layouts).
-    for r in results.iter().filter(|r| r.experiment.analysis.kind() == "design") {
+    for r in done.results.iter().filter(|r| r.experiment.analysis.kind() == "design") {
         let e = &r.exports;
         let num = |k: &str| e.get(k).map_or("-".to_string(), |v| crate::checks::fmt_num(*v));
         let cases: Vec<String> = e
@@ -771,44 +695,13 @@ fn run_and_write(
             if cases.is_empty() { "none".to_string() } else { cases.join(", ") }
         );
     }
-    if failed.is_empty() {
-        say!("{total} checks: none failed");
-        Ok((true, results))
+    if done.passed() {
+        say!("{} checks: none failed", done.checks);
     } else {
-        say!("{total} checks: {} failed", failed.len());
-        for f in failed {
+        say!("{} checks: {} failed", done.checks, done.failed.len());
+        for f in &done.failed {
             say!("{f}");
         }
-        Ok((false, results))
     }
-}
-
-/// Runs the report's studies, each over its samples in parallel, with its references
-/// (`refs`, one store per study, without baselines).
-fn run_studies(
-    studies: &[Study],
-    refs: &[ReferenceStore],
-    reference: &Path,
-    log: bool,
-) -> crate::Result<Vec<StudyRun>> {
-    let mut out = Vec::new();
-    for (s, refs) in studies.iter().zip(refs) {
-        let started = std::time::Instant::now();
-        let rows = analysis::study::run_all(s, refs, reference)?;
-        if log {
-            eprintln!(
-                "  ok {:<36} study: {} samples ({:.2} s)",
-                s.id,
-                s.samples.len(),
-                started.elapsed().as_secs_f64()
-            );
-        }
-        out.push(StudyRun {
-            manifest: Manifest::of(s, &s.path.display().to_string()),
-            description: s.description.clone().unwrap_or_default(),
-            rows,
-            assumed: Vec::new(),
-        });
-    }
-    Ok(out)
+    Ok((done.passed(), done.results))
 }

@@ -72,10 +72,10 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
     crate::output::destination::refuse_overlap(&out, &inputs)?;
     let manifest = Manifest::of(&study, &file.display().to_string());
     let shard = shard(args, &out, &manifest)?;
-    let pool = super::pool(args.jobs)?;
+    let pool = crate::runner::pool(args.jobs)?;
     let threads = pool.current_num_threads();
     let mine: Vec<&study::Sample> = study.samples.iter().filter(|s| shard.owns(s.index)).collect();
-    let refs = references(&study, reference)?;
+    let refs = crate::runner::study_references(&study, reference)?;
     // Every sample's experiment is built before anything runs: a bad value stops here.
     let built =
         pool.install(|| mine.par_iter().map(|s| study.experiment(s, reference)).collect::<Vec<crate::Result<_>>>());
@@ -154,12 +154,6 @@ fn take_lock(out: &Path, shard: Shard) -> anyhow::Result<folder::ShardLock> {
             }
         }
     }
-}
-
-/// The references of a study's experiment and of those it takes values from, without the
-/// baseline (it holds the experiments' own values, not a sample's).
-pub(super) fn references(study: &Study, reference: &Path) -> crate::Result<ReferenceStore> {
-    ReferenceStore::load(reference, &[study.base.clone(), study.dependencies.clone()].concat())
 }
 
 /// The shard from the command line or the job's environment. On Slurm the array task id is

@@ -1,0 +1,192 @@
+//! Runs experiments and studies into a report, as a library call: what `shotdamp run`,
+//! `shotdamp design` and `shotdamp report` do, without the command line. [`run_and_write`]
+//! loads the references, schedules the experiments on a thread pool as soon as those whose
+//! values they use have finished ([`schedule`]), runs the studies beside them, writes the
+//! report into a staging folder and renames it into place; it returns the results and the
+//! failed checks. Printing, progress bars and the interrupt handler are the caller's.
+
+pub mod schedule;
+
+use std::path::{Path, PathBuf};
+
+use crate::analysis::{self, ExperimentResult, Progress};
+use crate::checks::baseline;
+use crate::checks::reference::{BaselineMode, ReferenceStore};
+use crate::error::{Error, Result};
+use crate::experiment::study::Study;
+use crate::experiment::{self, Experiment};
+use crate::output::study::{Manifest, StudyRun};
+use crate::output::{ReportOptions, ReportWriter};
+
+/// How a run is written.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// The reference folder (`reference/`).
+    pub reference: PathBuf,
+    /// Where the report goes (replaced only when it is a report: see
+    /// [`crate::output::destination`]).
+    pub out: PathBuf,
+    /// Worker threads (`None`: one per core).
+    pub jobs: Option<usize>,
+    pub writing: ReportOptions,
+    /// Whether each experiment is compared with its blessed baseline.
+    pub baseline_mode: BaselineMode,
+    /// Write each experiment's baseline sample into `reference/baseline/`.
+    pub bless: bool,
+}
+
+/// What a run produced.
+pub struct Finished {
+    /// The experiments' results, in the order given.
+    pub results: Vec<ExperimentResult>,
+    /// The report's folder.
+    pub dest: PathBuf,
+    /// Checks evaluated.
+    pub checks: usize,
+    /// One line per failed check: experiment, figure, check, computed, expected, tolerance.
+    pub failed: Vec<String>,
+    /// Where the baselines were written (`bless`).
+    pub blessed: Option<PathBuf>,
+}
+
+impl Finished {
+    /// True when no check failed.
+    pub fn passed(&self) -> bool {
+        self.failed.is_empty()
+    }
+}
+
+/// A thread pool of `jobs` workers (`None`: one per core).
+pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(j) = jobs {
+        if j == 0 {
+            return Err(Error::invalid("--jobs", "jobs", 0, "give at least 1 worker thread"));
+        }
+        b = b.num_threads(j);
+    }
+    b.build().map_err(|e| Error::invalid("--jobs", "jobs", format!("{jobs:?}"), format!("no thread pool: {e}")))
+}
+
+/// The references of a study's experiment and of those it takes values from, without the
+/// baseline (it holds the experiments' own values, not a sample's).
+pub fn study_references(study: &Study, reference: &Path) -> Result<ReferenceStore> {
+    ReferenceStore::load(reference, &[study.base.clone(), study.dependencies.clone()].concat())
+}
+
+/// The studies `shotdamp report` runs: those of `dir` marked `report = true` (none when the
+/// folder does not exist).
+pub fn report_studies(dir: &Path, reference: &Path) -> Result<Vec<Study>> {
+    if !dir.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::new();
+    for file in experiment::discover(dir)? {
+        let s = experiment::study::load(&file, reference)?;
+        if s.report {
+            out.push(s);
+        }
+    }
+    Ok(out)
+}
+
+/// Runs the experiments, each as soon as those whose exports it uses have finished, in
+/// parallel, and the studies beside them; writes the report. `staging` is called with the
+/// staging folder's path before it exists (the command line removes it on an interrupt);
+/// `log` receives one line per finished experiment and study.
+pub fn run_and_write(
+    exps: &[Experiment],
+    studies: &[Study],
+    settings: &Settings,
+    progress: &dyn Progress,
+    log: &(dyn Fn(String) + Sync),
+    staging: &dyn Fn(PathBuf),
+) -> Result<Finished> {
+    let (reference, out) = (settings.reference.as_path(), settings.out.as_path());
+    let graph = experiment::dependency_graph(exps)?;
+    let mut refs = ReferenceStore::load(reference, exps)?;
+    refs.load_baselines(reference, exps, settings.baseline_mode)?;
+    refs.load_designs(reference, exps)?;
+    let study_refs = studies.iter().map(|s| study_references(s, reference)).collect::<Result<Vec<_>>>()?;
+    let mut inputs: Vec<(&str, &Path)> = vec![("the reference folder", reference)];
+    inputs.extend(settings.writing.templates.as_deref().map(|t| ("the templates folder", t)));
+    inputs.extend(exps.iter().map(|e| ("an experiment file", e.path.as_path())));
+    inputs.extend(studies.iter().map(|s| ("a study file", s.path.as_path())));
+    crate::output::destination::refuse_overlap(out, &inputs)?;
+    // Scans of the paper's figures, when the reviewer keeps some (reference/scans/).
+    let writing =
+        ReportOptions { scans: crate::output::scan::load_all(&reference.join("scans"))?, ..settings.writing.clone() };
+    staging(crate::output::destination::staging_path(out)?);
+    let writer = ReportWriter::create(out, &writing)?;
+    let pool = pool(settings.jobs)?;
+    // Studies need no exports: they run beside the experiments, on the same pool.
+    let (results, study_runs) = pool.install(|| {
+        rayon::join(
+            || schedule::run(exps, &graph, &refs, &writer, &pool, progress, log),
+            || run_studies(studies, &study_refs, reference, log),
+        )
+    });
+    let (mut results, mut study_runs) = match (results, study_runs) {
+        (Ok(r), Ok(s)) => (r, s),
+        (Err(e), _) | (_, Err(e)) => {
+            writer.abandon();
+            return Err(e);
+        }
+    };
+    // Where the experiments themselves sit on the studies' maps (exported clearances included).
+    let exports: experiment::Exports = results.iter().map(|r| (r.experiment.key(), r.exports.clone())).collect();
+    for (run, s) in study_runs.iter_mut().zip(studies) {
+        run.assumed = run.manifest.models.iter().map(|(model, _)| s.assumed(model, &exports)).collect();
+    }
+    let dest = writer.finish(&mut results, &study_runs)?;
+    let mut blessed = None;
+    if settings.bless {
+        let dir = reference.join("baseline");
+        for r in &results {
+            crate::output::write_baseline(&dir, &r.experiment.key(), &baseline::sample(&r.tables))?;
+        }
+        blessed = Some(dir);
+    }
+    let failed = results
+        .iter()
+        .flat_map(|r| {
+            r.checks.iter().filter(|c| c.status.fails()).map(move |c| {
+                format!(
+                    "  {} ({}): {}: computed {} vs expected {} (tolerance {}){}",
+                    r.experiment.key(),
+                    r.experiment.meta.figure,
+                    c.name,
+                    crate::checks::fmt_num(c.computed),
+                    crate::checks::fmt_num(c.expected),
+                    c.tolerance,
+                    c.detail.as_ref().map(|d| format!("; {d}")).unwrap_or_default()
+                )
+            })
+        })
+        .collect();
+    let checks = results.iter().map(|r| r.checks.len()).sum();
+    Ok(Finished { results, dest, checks, failed, blessed })
+}
+
+/// Runs the report's studies, each over its samples in parallel, with its references
+/// (`refs`, one store per study, without baselines).
+fn run_studies(
+    studies: &[Study],
+    refs: &[ReferenceStore],
+    reference: &Path,
+    log: &(dyn Fn(String) + Sync),
+) -> Result<Vec<StudyRun>> {
+    let mut out = Vec::new();
+    for (s, refs) in studies.iter().zip(refs) {
+        let started = std::time::Instant::now();
+        let rows = analysis::study::run_all(s, refs, reference)?;
+        log(format!("  ok {:<36} study: {} samples ({:.2} s)", s.id, s.samples.len(), started.elapsed().as_secs_f64()));
+        out.push(StudyRun {
+            manifest: Manifest::of(s, &s.path.display().to_string()),
+            description: s.description.clone().unwrap_or_default(),
+            rows,
+            assumed: Vec::new(),
+        });
+    }
+    Ok(out)
+}
