@@ -1,6 +1,7 @@
 //! The library runs what the command line runs: the same experiments through
 //! `shotdamp::runner::run_and_write` and through `shotdamp run` write the same report, byte
-//! for byte.
+//! for byte; a study through `shotdamp::runner::study` and through `shotdamp study` writes
+//! the same long table, summary and heat maps.
 
 mod common;
 
@@ -65,6 +66,41 @@ fn a_library_run_writes_the_report_the_command_line_writes() {
 
     let (a, b) = (files(&cli), files(&lib));
     assert!(a.len() > 50, "{} files", a.len());
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>(), "the same files");
+    for (path, bytes) in &a {
+        assert!(bytes == &b[path], "{} differs", path.display());
+    }
+}
+
+#[test]
+fn a_library_study_writes_what_the_command_line_writes() {
+    use shotdamp::output::study::Shard;
+    use shotdamp::runner::study::{run_shard, Quiet, ShardEnd};
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("small.toml");
+    std::fs::write(
+        &file,
+        format!(
+            "[study]\nid = \"small\"\ntitle = \"t\"\nexperiment = \"{}\"\nmodels = [\"stated\"]\n\n[study.set]\n\"analysis.freq_hz\" = {{ start = 46.0, stop = 50.0, step = 0.5 }}\n\n[[vary]]\nname = \"clearance_mm\"\nkey = \"cases[*].dampers[*].clearance_mm\"\nvalues = [0.2, 0.35]\n",
+            common::repo().join("experiments/fig05_third_mode.toml").display()
+        ),
+    )
+    .unwrap();
+    let cli = dir.path().join("cli");
+    let out =
+        common::shotdamp().args(["study", file.to_str().unwrap(), "--out", cli.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+
+    let reference = common::repo().join("reference");
+    let study = shotdamp::experiment::study::load(&file, &reference).unwrap();
+    let lib = dir.path().join("lib");
+    let pool = shotdamp::runner::pool(Some(1)).unwrap();
+    let (end, merged) = run_shard(&study, &reference, &lib, Shard::WHOLE, &pool, &Quiet).unwrap();
+    assert!(matches!(end, ShardEnd::Written(_)));
+    let merged = merged.expect("one shard: merged at once");
+    assert_eq!(merged.rows, 2 * 3, "two samples, three claims");
+    let (a, b) = (files(&cli), files(&lib));
+    assert!(a.contains_key(Path::new("small.csv")) && a.contains_key(Path::new("small_summary.csv")));
     assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>(), "the same files");
     for (path, bytes) in &a {
         assert!(bytes == &b[path], "{} differs", path.display());

@@ -23,7 +23,6 @@ macro_rules! say_part {
     }};
 }
 
-mod designs;
 mod study;
 
 use std::io::IsTerminal;
@@ -321,7 +320,11 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             )?;
             if *store {
                 let threads = runner::pool(*jobs)?.current_num_threads();
-                designs::store_designs(&results, &cli.reference, started.elapsed().as_secs_f64(), threads)?;
+                let stored =
+                    runner::designs::store_designs(&results, &cli.reference, started.elapsed().as_secs_f64(), threads)?;
+                for path in stored {
+                    say!("stored: {}", path.display());
+                }
             }
             Ok(ok)
         }
@@ -346,7 +349,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 .designs
                 .clone()
                 .unwrap_or_else(|| cli.experiments.parent().unwrap_or(Path::new("")).join("designs"));
-            exps.extend(designs::report_designs(&designs_dir, &cli.reference)?);
+            exps.extend(runner::designs::report_designs(&designs_dir, &cli.reference)?);
             let dir = cli
                 .studies
                 .clone()

@@ -3,16 +3,11 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
-use rayon::prelude::*;
-
-use crate::analysis::study::{self as run, ClaimRow, DependencyCache};
-use crate::checks::reference::ReferenceStore;
 use crate::error::Error;
 use crate::experiment::study::{self, Design, Study};
-use crate::output::heatmap;
 use crate::output::study::{self as folder, Manifest, Shard};
+use crate::runner::study as shards;
 
 /// Nominal cost of one simulated point on one core, for the estimate printed before a run
 /// (BENCHMARKS.md: the Fig. 8 sweep, 521 points in ~0.28 s on 2 cores).
@@ -59,7 +54,7 @@ pub enum StudyCommand {
 /// Runs `shotdamp study`.
 pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
     if let Some(StudyCommand::Merge { dir }) = &args.command {
-        merge(dir)?;
+        print_merged(&shards::merge(dir)?);
         return Ok(true);
     }
     let Some(file) = &args.file else {
@@ -74,30 +69,18 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
     let shard = shard(args, &out, &manifest)?;
     let pool = crate::runner::pool(args.jobs)?;
     let threads = pool.current_num_threads();
-    let mine: Vec<&study::Sample> = study.samples.iter().filter(|s| shard.owns(s.index)).collect();
-    let refs = crate::runner::study_references(&study, reference)?;
-    // Every sample's experiment is built before anything runs: a bad value stops here.
-    let built =
-        pool.install(|| mine.par_iter().map(|s| study.experiment(s, reference)).collect::<Vec<crate::Result<_>>>());
-    let exps: Vec<crate::experiment::Experiment> = built.into_iter().collect::<crate::Result<_>>()?;
-    let points: u64 = exps
-        .iter()
-        .map(|e| {
-            let mut e = e.clone();
-            e.checks = run::claims(&e);
-            crate::analysis::work(&e, &refs)
-        })
-        .sum();
+    let mine = study.samples.iter().filter(|s| shard.owns(s.index)).count();
+    let points = shards::estimate(&study, reference, shard, &pool)?;
     let estimate = points as f64 * SECONDS_PER_POINT / threads as f64;
-    let dependent = !exps.iter().all(|e| e.dependencies().is_empty());
+    let dependent = !study.base.iter().all(|e| e.dependencies().is_empty());
     say!(
         "study {}: {} samples ({}; {}), {} claims each; shard {shard}: {} samples, {points} simulated points, roughly {} on {threads} threads{}",
         study.id,
         study.samples.len(),
         size_words(&study),
         study.design.name(),
-        run::claims(&study.base[0]).len(),
-        mine.len(),
+        crate::analysis::study::claims(&study.base[0]).len(),
+        mine,
         duration(estimate),
         if dependent { " (plus the experiments it takes values from, once per model and structure)" } else { "" }
     );
@@ -105,55 +88,18 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         print_samples(&study, shard);
         return Ok(true);
     }
-    // The values the experiments take from others (run at each sample's structure, cached),
-    // checked for every sample before any sample runs.
-    let cache = DependencyCache::default();
-    let prepared = pool.install(|| run::prepare_all(&study, &mine, &refs, reference, &cache))?;
-    let manifest = folder::prepare(&out, &manifest, shard.count)?;
-    let _lock = take_lock(&out, shard)?;
-    let (complete, done) = folder::done(&out, &manifest, shard)?;
-    if complete {
-        say!("shard {shard} is already complete in {}", out.display());
-    } else {
-        let todo: Vec<(&study::Sample, &crate::experiment::Experiment)> =
-            mine.iter().copied().zip(&prepared).filter(|(s, _)| done.binary_search(&s.index).is_err()).collect();
-        if !done.is_empty() {
-            say!("resuming: {} of {} samples already written", done.len(), mine.len());
-        }
-        let at = Progress { out: &out, shard, total: mine.len(), done: done.len() };
-        compute(&study, &manifest, &todo, &refs, &pool, &at)?;
-        let part = folder::finish_shard(&out, &manifest, shard, &run::table(&study, &[]))?;
-        say!("shard {shard}: {}", part.display());
+    let told = Told::new(&study.id, shard, &out, mine);
+    let (end, merged) = shards::run_shard(&study, reference, &out, shard, &pool, &told)?;
+    told.finish();
+    match end {
+        shards::ShardEnd::AlreadyComplete => say!("shard {shard} is already complete in {}", out.display()),
+        shards::ShardEnd::Written(part) => say!("shard {shard}: {}", part.display()),
     }
-    if shard.count == 1 {
-        merge(&out)?;
-    } else {
-        say!("when every shard is done: shotdamp study merge {}", out.display());
+    match merged {
+        Some(m) => print_merged(&m),
+        None => say!("when every shard is done: shotdamp study merge {}", out.display()),
     }
     Ok(true)
-}
-
-/// Takes the shard's lock, waiting while another live process computes the same shard (a
-/// requeued task whose first run still ends, a second terminal): when it ends, this run finds
-/// the shard complete, or resumes it.
-fn take_lock(out: &Path, shard: Shard) -> anyhow::Result<folder::ShardLock> {
-    let mut told = false;
-    loop {
-        match folder::lock(out, shard)? {
-            Ok(lock) => return Ok(lock),
-            Err(holder) => {
-                if !told {
-                    eprintln!(
-                        "shard {shard} is being computed by another process ({holder}); waiting for it to end (its lock {} is taken over once its process has ended, or after {} s without a heartbeat)",
-                        out.join("parts").display(),
-                        crate::output::files::STALE_AFTER.as_secs()
-                    );
-                    told = true;
-                }
-                std::thread::sleep(std::time::Duration::from_millis(500));
-            }
-        }
-    }
 }
 
 /// The shard from the command line or the job's environment. On Slurm the array task id is
@@ -243,98 +189,78 @@ fn shard(args: &StudyArgs, out: &Path, manifest: &Manifest) -> anyhow::Result<Sh
     Ok(Shard::WHOLE)
 }
 
-/// Where a shard's computation writes and how far it is.
-struct Progress<'a> {
-    out: &'a Path,
+/// A shard's progress: a bar on a terminal, a line per batch otherwise.
+struct Told<'a> {
+    id: &'a str,
     shard: Shard,
-    total: usize,
-    done: usize,
+    out: &'a Path,
+    bar: Option<indicatif::ProgressBar>,
 }
 
-/// Computes `todo` in batches, each written atomically (so a stopped shard resumes).
-fn compute(
-    study: &Study,
-    manifest: &Manifest,
-    todo: &[(&study::Sample, &crate::experiment::Experiment)],
-    refs: &ReferenceStore,
-    pool: &rayon::ThreadPool,
-    at: &Progress,
-) -> anyhow::Result<()> {
-    let shard = at.shard;
-    let batch = 4 * pool.current_num_threads();
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let bar = indicatif::ProgressBar::new(at.total as u64);
-        if let Ok(style) = indicatif::ProgressStyle::with_template(
-            "{prefix} [{bar:30}] {pos}/{len} samples, {elapsed} elapsed, ~{eta} left",
-        ) {
-            bar.set_style(style.progress_chars("=> "));
-        }
-        bar.set_prefix(format!("{} {shard}", study.id));
-        bar.set_position(at.done as u64);
-        bar
-    });
-    let started = Instant::now();
-    let mut done = at.done;
-    for chunk in todo.chunks(batch) {
-        let rows: Vec<crate::Result<Vec<ClaimRow>>> = pool.install(|| {
-            chunk
-                .par_iter()
-                .map(|(s, e)| {
-                    let r = run::run_prepared(e, s, refs).map_err(|err| study.at_sample(err, s));
-                    if let Some(b) = &bar {
-                        b.inc(1);
-                    }
-                    r
-                })
-                .collect()
+impl<'a> Told<'a> {
+    fn new(id: &'a str, shard: Shard, out: &'a Path, total: usize) -> Told<'a> {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let bar = indicatif::ProgressBar::new(total as u64);
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{prefix} [{bar:30}] {pos}/{len} samples, {elapsed} elapsed, ~{eta} left",
+            ) {
+                bar.set_style(style.progress_chars("=> "));
+            }
+            bar.set_prefix(format!("{id} {shard}"));
+            bar
         });
-        let rows: Vec<Vec<ClaimRow>> = rows.into_iter().collect::<crate::Result<_>>()?;
-        let rows: Vec<ClaimRow> = rows.into_iter().flatten().collect();
-        folder::write_batch(at.out, manifest, shard, chunk[0].0.index, &run::table(study, &rows))?;
-        done += chunk.len();
-        if bar.is_none() {
-            let per = started.elapsed().as_secs_f64() / (done - at.done) as f64;
+        Told { id, shard, out, bar }
+    }
+
+    fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish();
+        }
+    }
+}
+
+impl shards::StudyProgress for Told<'_> {
+    fn waiting(&self, shard: Shard, holder: &str) {
+        eprintln!(
+            "shard {shard} is being computed by another process ({holder}); waiting for it to end (its lock {} is taken over once its process has ended, or after {} s without a heartbeat)",
+            self.out.join("parts").display(),
+            crate::output::files::STALE_AFTER.as_secs()
+        );
+    }
+
+    fn resuming(&self, done: usize, total: usize) {
+        if let Some(b) = &self.bar {
+            b.set_position(done as u64);
+        }
+        say!("resuming: {done} of {total} samples already written");
+    }
+
+    fn sample(&self) {
+        if let Some(b) = &self.bar {
+            b.inc(1);
+        }
+    }
+
+    fn batch(&self, done: usize, total: usize, first: usize, seconds: f64) {
+        if self.bar.is_none() {
+            let per = seconds / (done - first) as f64;
             eprintln!(
-                "{} {shard}: {done}/{} samples, {} elapsed, ~{} left",
-                study.id,
-                at.total,
-                duration(started.elapsed().as_secs_f64()),
-                duration(per * (at.total - done) as f64)
+                "{} {}: {done}/{total} samples, {} elapsed, ~{} left",
+                self.id,
+                self.shard,
+                duration(seconds),
+                duration(per * (total - done) as f64)
             );
         }
     }
-    if let Some(b) = bar {
-        b.finish();
-    }
-    Ok(())
 }
 
-/// Merges a study folder and writes its outputs; prints where each claim holds.
-fn merge(dir: &Path) -> anyhow::Result<()> {
-    let manifest = folder::read_manifest(dir)?;
-    let mut df = folder::merge(dir, &manifest)?;
-    folder::write_merged(dir, &manifest, &mut df)?;
-    let rows = folder::rows(&df, &manifest, dir)?;
-    let models: Vec<String> = manifest.models.iter().map(|m| m.0.clone()).collect();
-    let summaries = run::summarise(&models, &rows);
-    let names: Vec<String> = manifest.vary.iter().map(|a| a.name.clone()).collect();
-    folder::write_table(dir, &run::summary_table(&manifest.study, &names, &summaries))?;
-    let figures = dir.join("figures");
-    std::fs::create_dir_all(&figures).map_err(|e| Error::io(&figures, e))?;
-    for map in heatmap::maps(&manifest, &rows, &[]) {
-        heatmap::write(&map, &figures)?;
+/// Where each claim of a merged study holds.
+fn print_merged(m: &shards::Merged) {
+    say!("study {} ({}): {} rows in {}", m.manifest.study, m.manifest.figure, m.rows, m.table.display());
+    for s in &m.summaries {
+        say!("  {} | {} ({}): {}", s.model, s.claim, s.bound, s.words(&m.names));
     }
-    say!(
-        "study {} ({}): {} rows in {}",
-        manifest.study,
-        manifest.figure,
-        df.height(),
-        dir.join(format!("{}.csv", manifest.study)).display()
-    );
-    for s in &summaries {
-        say!("  {} | {} ({}): {}", s.model, s.claim, s.bound, s.words(&names));
-    }
-    Ok(())
 }
 
 fn size_words(study: &Study) -> String {

@@ -1,14 +1,13 @@
-//! Design files in the command line: the designs `shotdamp report` shows (their stored answers
-//! evaluated again) and `shotdamp design --store`, which writes the answers
-//! (docs/design.md, "In the report").
+//! Design files: the designs `shotdamp report` shows (their stored answers evaluated again)
+//! and `shotdamp design --store`, which writes the answers (docs/design.md, "In the report").
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::experiment::{self, Experiment};
 
 /// The design files of `dir` marked `report = true` (none when the folder does not exist), set to evaluate the
 /// answers their searches stored instead of searching (docs/design.md, "In the report").
-pub(super) fn report_designs(dir: &Path, reference: &Path) -> anyhow::Result<Vec<Experiment>> {
+pub fn report_designs(dir: &Path, reference: &Path) -> crate::Result<Vec<Experiment>> {
     if !dir.is_dir() {
         return Ok(Vec::new());
     }
@@ -22,8 +21,7 @@ pub(super) fn report_designs(dir: &Path, reference: &Path) -> anyhow::Result<Vec
                     "analysis.kind",
                     format!("\"{}\"", other.kind()),
                     "\"design\": the designs folder holds design files only",
-                )
-                .into())
+                ))
             }
         }
     }
@@ -32,13 +30,14 @@ pub(super) fn report_designs(dir: &Path, reference: &Path) -> anyhow::Result<Vec
 }
 
 /// `shotdamp design --store`: each model's answer, with how it was computed, as
-/// `REFERENCE/designs/ID/MODEL.json` (written atomically).
-pub(super) fn store_designs(
+/// `REFERENCE/designs/ID/MODEL.json` (written atomically); the files written.
+pub fn store_designs(
     results: &[crate::analysis::ExperimentResult],
     reference: &Path,
     seconds: f64,
     threads: usize,
-) -> anyhow::Result<()> {
+) -> crate::Result<Vec<PathBuf>> {
+    let mut stored = Vec::new();
     for r in results {
         let Some(answer) = &r.design else { continue };
         let mut answer = answer.clone();
@@ -55,9 +54,11 @@ pub(super) fn store_designs(
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
         }
-        let text = serde_json::to_string_pretty(&answer)? + "\n";
+        let text = serde_json::to_string_pretty(&answer)
+            .map_err(|e| crate::Error::Render { what: path.display().to_string(), message: e.to_string() })?
+            + "\n";
         crate::output::files::write_atomic(&path, text.as_bytes())?;
-        say!("stored: {}", path.display());
+        stored.push(path);
     }
-    Ok(())
+    Ok(stored)
 }
