@@ -114,6 +114,27 @@ fn minimal(d: &Dynamics, strobe: Strobe, orbit: Orbit, newton: &NewtonOptions) -
     (strobe, orbit)
 }
 
+/// Attempts in a row that found a torus ([`torus_angle`]): how many, the periods simulated at
+/// the first of them, the last one's leading multiplier (modulus, argument) and its orbit's
+/// periods.
+#[derive(Debug, Clone, Copy, Default)]
+struct TorusRun {
+    attempts: usize,
+    first: usize,
+    radius: f64,
+    angle: f64,
+    p: usize,
+}
+
+impl TorusRun {
+    /// Whether, after `simulated` periods, a motion still spiralling out from the orbit would
+    /// show: its distance from the orbit grows by e every `1 / (radius - 1)` orbits, so three
+    /// such times since the first attempt.
+    fn grown(&self, simulated: usize) -> bool {
+        simulated as f64 >= self.first as f64 + 3.0 * self.p as f64 / (self.radius - 1.0)
+    }
+}
+
 /// Runs the motion on from `s` in windows of `w` periods until two windows in a row give the
 /// same amplitudes to [`TORUS_TOL`] (relative to the largest): the motion has reached its
 /// torus, it is no longer spiralling out from the unstable orbit. `false` when the budget of
@@ -158,9 +179,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     let mut attempts = 0;
     let mut failure = None;
     let mut stop = None;
-    // Attempts in a row that found a torus, the periods simulated at the first of them, the
-    // last one's multiplier (modulus, argument) and the orbit's period.
-    let mut torus: (usize, usize, f64, f64, usize) = (0, 0, 0.0, 0.0, 1);
+    let mut torus = TorusRun::default();
     let mut record_periods = opts.record_periods;
     while simulated < opts.max_periods {
         let mut log = EventLog::default();
@@ -207,21 +226,23 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             Err(Miss::Unstable { radius, lead }) => {
                 failure = Some(NoSteady::Unstable { radius });
                 torus = match torus_angle(radius, lead) {
-                    Some(angle) if torus.0 > 0 => (torus.0 + 1, torus.1, radius, angle, p),
-                    Some(angle) => (1, simulated, radius, angle, p),
-                    None => (0, 0, 0.0, 0.0, 1),
+                    Some(angle) => TorusRun {
+                        attempts: torus.attempts + 1,
+                        first: if torus.attempts > 0 { torus.first } else { simulated },
+                        radius,
+                        angle,
+                        p,
+                    },
+                    None => TorusRun::default(),
                 };
             }
             Err(Miss::Other(why)) => {
                 failure = Some(NoSteady::NoOrbit(why));
-                torus.0 = 0;
+                torus = TorusRun::default();
             }
         }
-        // Spiralling out from the orbit, the motion's distance from it grows by e every
-        // 1 / (radius - 1) orbits: after three such times it would show.
-        let (run, first, radius, angle, p) = torus;
-        let grown = first as f64 + 3.0 * p as f64 / (radius - 1.0);
-        if opts.torus_attempts > 0 && run >= opts.torus_attempts && simulated as f64 >= grown {
+        if opts.torus_attempts > 0 && torus.attempts >= opts.torus_attempts && torus.grown(simulated) {
+            let TorusRun { attempts: run, radius, angle, p, .. } = torus;
             let w = torus_window(angle, p, opts.record_periods);
             match onto_torus(&engine, &mut s, w, &mut simulated, opts.max_periods) {
                 Err(e) => {
