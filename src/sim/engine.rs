@@ -311,35 +311,21 @@ impl<'a> Engine<'a> {
                     .sum::<f64>();
             let vp = s.v[p];
             let rel = u - vp;
-            let ke_before = 0.5 * m_host * vp * vp + 0.5 * dm.mass * u * u;
-            let total = m_host + dm.mass;
             impact_speed[j] = rel.abs();
-            if sys.restitution > 0.0 && rel.abs() >= sys.stick_speed {
-                let e = sys.restitution;
-                let vp2 = vp + dm.mass * (1.0 + e) * rel / total;
-                let u2 = u - m_host * (1.0 + e) * rel / total;
-                s.v[p] = vp2;
-                let loss = ke_before - 0.5 * m_host * vp2 * vp2 - 0.5 * dm.mass * u2 * u2;
-                let y_contact = if top { s.x[p] + dm.clearance } else { s.x[p] };
-                s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: u2 };
-                events.push(Event {
-                    t: s.t,
-                    bed: j,
-                    kind: EventKind::Impact { top, speed: rel.abs(), attached: false },
-                    loss,
-                });
-            } else {
-                let v2 = (m_host * vp + dm.mass * u) / total;
-                s.v[p] = v2;
-                let loss = ke_before - 0.5 * total * v2 * v2;
+            let x = sys.impact_law(j).exchange(m_host, vp, dm.mass, u);
+            s.v[p] = x.host;
+            if x.sticks {
                 side[j] = Some(top);
-                events.push(Event {
-                    t: s.t,
-                    bed: j,
-                    kind: EventKind::Impact { top, speed: rel.abs(), attached: true },
-                    loss,
-                });
+            } else {
+                let y_contact = if top { s.x[p] + dm.clearance } else { s.x[p] };
+                s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: x.bed };
             }
+            events.push(Event {
+                t: s.t,
+                bed: j,
+                kind: EventKind::Impact { top, speed: rel.abs(), attached: x.sticks },
+                loss: x.loss,
+            });
         }
         // Settle: the largest set of candidates whose contact forces are consistent.
         let candidates: Vec<usize> =

@@ -3,6 +3,7 @@
 //! per configuration, computed once); events are located by a certified search; solvers
 //! return data and a stop reason and do no I/O.
 
+pub mod bed;
 pub mod continuation;
 pub mod eigen;
 pub mod engine;

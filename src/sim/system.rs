@@ -45,6 +45,11 @@ impl System {
         System { structure, dampers, driven, force, restitution: 0.0, stick_speed: 0.0 }
     }
 
+    /// The impact law of bed `j` (today one law for every bed of a system).
+    pub fn impact_law(&self, _j: usize) -> super::bed::ImpactLaw {
+        super::bed::ImpactLaw { restitution: self.restitution, stick_speed: self.stick_speed }
+    }
+
     /// Number of primary masses.
     pub fn dof(&self) -> usize {
         self.structure.dof()

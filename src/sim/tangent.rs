@@ -240,12 +240,9 @@ impl Observer for Tangent {
         let (_, u) = before.bed_motion(d, j);
         let rel = u - before.v[p];
         self.min_impact_speed = self.min_impact_speed.min(rel.abs());
-        let e = if sys.restitution > 0.0 && rel.abs() >= sys.stick_speed { sys.restitution } else { 0.0 };
-        let total = mh + md;
         // G: v_p' = (1 - a) v_p + a u, u' = b v_p + (1 - b) u (plastic: both the common velocity);
         // beds riding on the host take the host's new velocity.
-        let a = md * (1.0 + e) / total;
-        let b = mh * (1.0 + e) / total;
+        let (a, b) = sys.impact_law(j).derivative(mh, md, rel);
         let (rv, ru) = (n + p, bed_row(n, j) + 1);
         let apply_g = |m: &mut DMatrix<f64>| {
             let (vp, uj) = (m.row(rv).into_owned(), m.row(ru).into_owned());

@@ -1,0 +1,109 @@
+//! What a bed does when it hits an end of its container (docs/model.md section 2), written
+//! once for the engine, which applies it ([`ImpactLaw::exchange`]), and for the linearised
+//! flow, which differentiates it ([`ImpactLaw::derivative`]): momentum is conserved between
+//! the bed and its host (with the beds riding on the host); the relative velocity is reversed
+//! and scaled by the coefficient of restitution, or, for a plastic law or an impact slower
+//! than the sticking speed, the bed keeps its host's velocity and rests on that end.
+
+/// How a bed's impact exchanges momentum with its host.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpactLaw {
+    /// Coefficient of restitution, 0 <= e < 1 (0: plastic, the paper's assumption).
+    pub restitution: f64,
+    /// Relative impact speed below which the bed sticks when `restitution > 0` (what ends a
+    /// sequence of ever smaller bounces), m/s.
+    pub stick_speed: f64,
+}
+
+/// What one impact did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Exchange {
+    /// The host's velocity after the impact, m/s.
+    pub host: f64,
+    /// The bed's velocity after the impact (the host's when it sticks), m/s.
+    pub bed: f64,
+    /// The bed rests on the end it hit and moves with its host.
+    pub sticks: bool,
+    /// Kinetic energy lost in the impact, J.
+    pub loss: f64,
+}
+
+impl ImpactLaw {
+    /// The paper's law: plastic impacts.
+    pub const PLASTIC: ImpactLaw = ImpactLaw { restitution: 0.0, stick_speed: 0.0 };
+
+    /// Whether an impact at relative speed `rel` bounces (else the bed sticks).
+    pub fn bounces(&self, rel: f64) -> bool {
+        self.restitution > 0.0 && rel.abs() >= self.stick_speed
+    }
+
+    /// The coefficient an impact at relative speed `rel` gets: the restitution when it
+    /// bounces, 0 when the bed sticks.
+    pub fn coefficient(&self, rel: f64) -> f64 {
+        if self.bounces(rel) {
+            self.restitution
+        } else {
+            0.0
+        }
+    }
+
+    /// A host of mass `mh` (with the beds riding on it) at velocity `vp` hit by a bed of mass
+    /// `md` at velocity `u`.
+    pub fn exchange(&self, mh: f64, vp: f64, md: f64, u: f64) -> Exchange {
+        let rel = u - vp;
+        let total = mh + md;
+        let ke_before = 0.5 * mh * vp * vp + 0.5 * md * u * u;
+        if self.bounces(rel) {
+            let e = self.restitution;
+            let host = vp + md * (1.0 + e) * rel / total;
+            let bed = u - mh * (1.0 + e) * rel / total;
+            Exchange { host, bed, sticks: false, loss: ke_before - 0.5 * mh * host * host - 0.5 * md * bed * bed }
+        } else {
+            let v = (mh * vp + md * u) / total;
+            Exchange { host: v, bed: v, sticks: true, loss: ke_before - 0.5 * total * v * v }
+        }
+    }
+
+    /// The exchange's derivative with respect to the velocities before the impact, as
+    /// `(a, b)`: `v_p' = (1 - a) v_p + a u` and `u' = b v_p + (1 - b) u`.
+    pub fn derivative(&self, mh: f64, md: f64, rel: f64) -> (f64, f64) {
+        let e = self.coefficient(rel);
+        let total = mh + md;
+        (md * (1.0 + e) / total, mh * (1.0 + e) / total)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn momentum_is_kept_and_energy_lost_as_the_closed_forms_say() {
+        let (mh, md, vp, u) = (0.71, 0.071, 0.1, -0.3);
+        for law in [ImpactLaw::PLASTIC, ImpactLaw { restitution: 0.5, stick_speed: 1e-3 }] {
+            let x = law.exchange(mh, vp, md, u);
+            let p = mh * vp + md * u;
+            assert!((mh * x.host + md * x.bed - p).abs() < 1e-15);
+            let e = law.coefficient(u - vp);
+            // Relative velocity reversed and scaled by e; loss = (1 - e^2) mu rel^2 / 2.
+            assert!(((x.bed - x.host) + e * (u - vp)).abs() < 1e-15);
+            let reduced = mh * md / (mh + md);
+            assert!((x.loss - 0.5 * (1.0 - e * e) * reduced * (u - vp).powi(2)).abs() < 1e-15);
+            assert_eq!(x.sticks, e == 0.0);
+        }
+        // Slower than the sticking speed: plastic.
+        let law = ImpactLaw { restitution: 0.5, stick_speed: 1.0 };
+        assert!(law.exchange(mh, vp, md, u).sticks);
+    }
+
+    #[test]
+    fn the_derivative_is_that_of_the_exchange() {
+        let (mh, md, vp, u, h) = (0.71, 0.071, 0.1, -0.3, 1e-6);
+        for law in [ImpactLaw::PLASTIC, ImpactLaw { restitution: 0.4, stick_speed: 1e-3 }] {
+            let (a, b) = law.derivative(mh, md, u - vp);
+            let d_vp = (law.exchange(mh, vp + h, md, u).host - law.exchange(mh, vp - h, md, u).host) / (2.0 * h);
+            let d_u = (law.exchange(mh, vp, md, u + h).bed - law.exchange(mh, vp, md, u - h).bed) / (2.0 * h);
+            assert!((d_vp - (1.0 - a)).abs() < 1e-8 && (d_u - (1.0 - b)).abs() < 1e-8, "{d_vp} {a} {d_u} {b}");
+        }
+    }
+}
