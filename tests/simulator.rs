@@ -376,15 +376,14 @@ fn chatter_stops_with_a_flag() {
     // Restitution without a sticking threshold on a bouncing ball: infinitely many ever
     // smaller bounces (a Zeno sequence) must end with a flag, not a hang.
     let (d0, s, _) = bouncing_ball(2.0);
-    let mut sys = d0.system.clone();
-    sys.restitution = 0.5;
-    sys.stick_speed = 0.0;
+    let law = |stick_speed| shotdamp::sim::bed::ImpactLaw { restitution: 0.5, stick_speed };
+    let sys = d0.system.clone().with_law(law(0.0));
     let d = Dynamics::new(&sys, d0.omega).unwrap();
     let mut s = s;
     let r = Engine::new(&d).advance(&mut s, 50.0 * 2.0 * PI / d.omega, &mut shotdamp::sim::Quiet);
     assert!(matches!(r, Err(Stop::Chatter { .. })), "{r:?}");
     // With a sticking threshold the same motion runs to the end.
-    sys.stick_speed = 1e-3;
+    let sys = sys.with_law(law(1e-3));
     let d = Dynamics::new(&sys, d0.omega).unwrap();
     let (x, v) = d.particular(1, 0.0);
     let mut s = State { t: 0.0, x, v, beds: vec![Bed::Bottom] };

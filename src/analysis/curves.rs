@@ -174,7 +174,10 @@ pub fn linear(exp: &Experiment, case: &Case, id: &str, label: &str, freq_hz: &[f
 
 /// The simulated system of a case.
 pub fn system(exp: &Experiment, case: &Case) -> System {
-    System::plastic(exp.structure.clone(), case.dampers.clone(), exp.excitation.mass, exp.excitation.force)
+    System {
+        laws: case.laws.clone(),
+        ..System::plastic(exp.structure.clone(), case.dampers.clone(), exp.excitation.mass, exp.excitation.force)
+    }
 }
 
 /// The sorted union of a grid and extra frequencies (duplicates within 1e-9 Hz dropped).

@@ -236,14 +236,24 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
         } else {
             c.dampers
                 .iter()
-                .map(|d| {
+                .zip(&c.laws)
+                .map(|(d, law)| {
                     let clr = if d.clearance.is_infinite() {
                         "inf".to_string()
                     } else {
                         format!("{} mm", fmt_num(d.clearance * 1e3))
                     };
+                    let bed = if law.restitution > 0.0 {
+                        format!(
+                            ", restitution e = {} (sticks below {} m/s)",
+                            fmt_num(law.restitution),
+                            fmt_num(law.stick_speed)
+                        )
+                    } else {
+                        String::new()
+                    };
                     format!(
-                        "m_{}: m_d = {} kg (mu = {}), d = {clr}",
+                        "m_{}: m_d = {} kg (mu = {}), d = {clr}{bed}",
                         d.host + 1,
                         fmt_num(d.mass),
                         fmt_num(d.mass / s.masses[d.host])
@@ -272,6 +282,17 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
     });
     if let Some(src) = &exp.structure_source {
         a.push(format!("Structure: {src}."));
+    }
+    for c in &exp.cases {
+        for (d, law) in c.dampers.iter().zip(&c.laws).filter(|(_, l)| l.restitution > 0.0) {
+            a.push(format!(
+                "Case {}: the bed on m_{} bounces off its container's ends with restitution e = {} and sticks below {} m/s (the paper's bed is plastic, e = 0).",
+                c.id,
+                d.host + 1,
+                fmt_num(law.restitution),
+                fmt_num(law.stick_speed)
+            ));
+        }
     }
     a.extend(exp.meta.assumptions.iter().cloned());
     a

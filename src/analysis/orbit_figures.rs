@@ -248,6 +248,7 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                     label: "no damper".into(),
                     dampers: Vec::new(),
                     clearances: Vec::new(),
+                    laws: Vec::new(),
                 };
                 let bare: Curve = curves::linear(exp, &bare_case, "bare", "no damper (linear)", &fine, false);
                 let stuck: Curve = curves::linear(exp, &r.case, "stuck", "damper mass stuck (linear)", &fine, true);

@@ -167,6 +167,7 @@ fn linear_refs(exp: &Experiment, freq_hz: &[f64]) -> Vec<Curve> {
                 label: "no damper".into(),
                 dampers: Vec::new(),
                 clearances: Vec::new(),
+                laws: Vec::new(),
             });
         out.push(curves::linear(exp, &bare, "linear:bare", "no damper (linear)", &fine, false));
     }

@@ -98,6 +98,8 @@ pub struct Case {
     pub dampers: Vec<Damper>,
     /// How each damper's clearance is given.
     pub clearances: Vec<Clearance>,
+    /// Each damper's impact law (plastic unless the file gives a restitution).
+    pub laws: Vec<crate::sim::bed::ImpactLaw>,
 }
 
 /// How the points of a sweep start.

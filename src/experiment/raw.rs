@@ -328,6 +328,12 @@ pub struct RawDamper {
     /// A number of millimetres, "inf", "scan" (clearance studies), or "@EXPERIMENT.KEY"
     /// (a value another experiment exports).
     pub clearance_mm: toml::Value,
+    /// Coefficient of restitution of the bed against the container's ends (default 0: plastic).
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    /// Relative impact speed below which a bed with restitution sticks, m/s (default 1e-3).
+    #[serde(default)]
+    pub stick_speed_m_s: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

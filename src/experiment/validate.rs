@@ -71,6 +71,18 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
             }
         }
     }
+    if matches!(analysis, Analysis::SdofPeriodic { .. } | Analysis::Design { .. }) {
+        for (ci, case) in cases.iter().enumerate() {
+            if let Some(di) = case.laws.iter().position(|l| l.restitution > 0.0) {
+                return Err(Error::invalid(
+                    path,
+                    format!("cases[{ci}].dampers[{di}].restitution"),
+                    case.laws[di].restitution,
+                    "the equivalent SDOF analysis and the design search model the paper's plastic bed only: leave restitution out (0)",
+                ));
+            }
+        }
+    }
     if let Analysis::SdofPeriodic { .. } = analysis {
         for (ci, case) in cases.iter().enumerate() {
             if case.dampers.len() != 1 {
@@ -322,6 +334,7 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
         }
         let mut dampers = Vec::with_capacity(c.dampers.len());
         let mut clearances = Vec::with_capacity(c.dampers.len());
+        let mut laws = Vec::with_capacity(c.dampers.len());
         for (di, d) in c.dampers.into_iter().enumerate() {
             let key = |k: &str| format!("cases[{ci}].dampers[{di}].{k}");
             let host = mass_index(path, &key("mass"), d.mass, n)?;
@@ -350,10 +363,46 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
             let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
             dampers.push(Damper { host, mass, clearance });
             clearances.push(spec);
+            laws.push(impact_law(path, &key, d.restitution, d.stick_speed_m_s)?);
         }
-        out.push(Case { id: c.id, label: c.label, dampers, clearances });
+        out.push(Case { id: c.id, label: c.label, dampers, clearances, laws });
     }
     Ok(out)
+}
+
+/// Default sticking speed of a bed with restitution, m/s: slower impacts are plastic (what
+/// ends a sequence of ever smaller bounces; docs/model.md section 2).
+pub const DEFAULT_STICK_SPEED: f64 = 1e-3;
+
+/// A damper's impact law from its `restitution` and `stick_speed_m_s`.
+fn impact_law(
+    path: &Path,
+    key: &dyn Fn(&str) -> String,
+    restitution: Option<f64>,
+    stick: Option<f64>,
+) -> Result<crate::sim::bed::ImpactLaw> {
+    let e = restitution.unwrap_or(0.0);
+    if !(e.is_finite() && (0.0..1.0).contains(&e)) {
+        return Err(Error::invalid(path, key("restitution"), e, "a coefficient of restitution in [0, 1) (0: plastic)"));
+    }
+    let stick_speed = stick.unwrap_or(DEFAULT_STICK_SPEED);
+    if !(stick_speed.is_finite() && stick_speed > 0.0) {
+        return Err(Error::invalid(
+            path,
+            key("stick_speed_m_s"),
+            stick_speed,
+            "a positive relative speed in m/s below which the bed sticks (it ends chatter)",
+        ));
+    }
+    if e == 0.0 && stick.is_some() {
+        return Err(Error::invalid(
+            path,
+            key("stick_speed_m_s"),
+            stick_speed,
+            "only with a restitution > 0 (a plastic bed always sticks)",
+        ));
+    }
+    Ok(crate::sim::bed::ImpactLaw { restitution: e, stick_speed: if e == 0.0 { 0.0 } else { stick_speed } })
 }
 
 /// A clearance in mm (a number, "inf", "scan" or "@EXPERIMENT.KEY") to metres; scanned and

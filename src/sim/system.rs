@@ -33,21 +33,26 @@ pub struct System {
     pub driven: usize,
     /// Force amplitude `F` of `F sin(omega t)`, N (0 for free motion).
     pub force: f64,
-    /// Coefficient of restitution (0 = plastic, the paper's assumption).
-    pub restitution: f64,
-    /// Relative impact speed below which a bed sticks when `restitution > 0`, m/s.
-    pub stick_speed: f64,
+    /// Each bed's impact law, in the order of `dampers`; a bed without one is plastic (the
+    /// paper's assumption), so an empty list is the paper's system.
+    pub laws: Vec<super::bed::ImpactLaw>,
 }
 
 impl System {
     /// A system with plastic impacts.
     pub fn plastic(structure: Structure, dampers: Vec<Damper>, driven: usize, force: f64) -> System {
-        System { structure, dampers, driven, force, restitution: 0.0, stick_speed: 0.0 }
+        System { structure, dampers, driven, force, laws: Vec::new() }
     }
 
-    /// The impact law of bed `j` (today one law for every bed of a system).
-    pub fn impact_law(&self, _j: usize) -> super::bed::ImpactLaw {
-        super::bed::ImpactLaw { restitution: self.restitution, stick_speed: self.stick_speed }
+    /// The same system with every bed under `law`.
+    pub fn with_law(mut self, law: super::bed::ImpactLaw) -> System {
+        self.laws = vec![law; self.dampers.len()];
+        self
+    }
+
+    /// The impact law of bed `j`.
+    pub fn impact_law(&self, j: usize) -> super::bed::ImpactLaw {
+        self.laws.get(j).copied().unwrap_or(super::bed::ImpactLaw::PLASTIC)
     }
 
     /// Number of primary masses.
