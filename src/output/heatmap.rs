@@ -234,12 +234,40 @@ fn distinct(v: impl Iterator<Item = f64>) -> Vec<f64> {
     out
 }
 
+/// The title in its 50-pixel band, wrapped at words to the band's width: one or two lines at
+/// 16 px, else up to three at 13 px (a longer title is cut after the third line).
+fn draw_title<DB: DrawingBackend>(map: &HeatMap, area: &DrawingArea<DB, plotters::coord::Shift>) -> Result<()> {
+    let width = area.dim_in_pixel().0.saturating_sub(24);
+    for (size, most, step) in [(16, 2, 20), (13, 3, 15)] {
+        let font = ("sans-serif", size).into_font().color(&BLACK);
+        let fits = |text: &str| area.estimate_text_size(text, &font).map(|(w, _)| w <= width).unwrap_or(true);
+        let mut lines: Vec<String> = Vec::new();
+        for word in map.title.split(' ') {
+            match lines.last_mut() {
+                Some(line) if fits(&format!("{line} {word}")) => {
+                    line.push(' ');
+                    line.push_str(word);
+                }
+                _ => lines.push(word.to_string()),
+            }
+        }
+        if lines.len() <= most || size == 13 {
+            let top = if lines.len() == 1 { 16 } else { 5 };
+            for (i, line) in lines.iter().take(most).enumerate() {
+                area.draw_text(line, &font, (12, top + step * i as i32)).map_err(|e| err(map, e))?;
+            }
+            return Ok(());
+        }
+    }
+    Ok(())
+}
+
 fn draw<DB: DrawingBackend>(map: &HeatMap, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<()> {
     root.fill(&WHITE).map_err(|e| err(map, e))?;
     let (w, _) = size(map);
     let (body, bar) = root.split_horizontally(w - BAR_W);
     let (title, body) = body.split_vertically(50);
-    title.draw_text(&map.title, &("sans-serif", 16).into_font().color(&BLACK), (12, 16)).map_err(|e| err(map, e))?;
+    draw_title(map, &title)?;
     let scale = Scale::of(map);
     let rows = map.panels.len().div_ceil(3).max(1);
     let cols = map.panels.len().clamp(1, 3);
