@@ -275,9 +275,16 @@ fn each_readings_settled_flag_is_the_sweep_table_by_hand() {
     }
     assert!(said.contains("on an unsettled point"), "{said}");
     let map = std::fs::read_to_string(st.join("figures/one_check-1.svg")).unwrap();
-    assert!(map.contains("the value rests on a point that did not settle"), "the map's legend");
-    // Three strokes across the cell in the colour of unsettled values (the legend names it).
     let doc = roxmltree::Document::parse(&map).unwrap();
+    // The title (wrapped over lines) says what the strokes mean.
+    let words: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .flat_map(|t| t.split_whitespace())
+        .collect();
+    assert!(words.join(" ").contains("the value rests on a point that did not settle"), "the map's legend");
+    // Three strokes across the cell in the colour of unsettled values (the legend names it).
     let strokes = doc
         .descendants()
         .filter(|n| n.is_element() && !matches!(n.tag_name().name(), "g" | "svg"))
