@@ -101,9 +101,16 @@ fn negative_clearance() {
 
 #[test]
 fn more_beds_than_the_simulator_decomposes() {
-    // 2^13 configurations: refused before any is decomposed, with the limit named.
-    let beds = vec!["{ mass = 1, mass_ratio = 0.01, clearance_mm = \"inf\" }"; 13].join(", ");
-    fails_with("dampers = []", &format!("dampers = [{beds}]"), &["cases[0].dampers = 13 dampers", "at most 12"]);
+    // 2^15 configurations: refused before any is decomposed, with the limit named.
+    let beds = vec!["{ mass = 1, mass_ratio = 0.01, clearance_mm = \"inf\" }"; 15].join(", ");
+    fails_with("dampers = []", &format!("dampers = [{beds}]"), &["cases[0].dampers = 15 dampers", "at most 14"]);
+    // Three columns of 30 grains: 31^3 configurations.
+    let beds = ["{ mass = 1, mass_ratio = 0.01, clearance_mm = 0.3, bed = \"column\", grains = 30 }"; 3].join(", ");
+    fails_with(
+        "dampers = []",
+        &format!("dampers = [{beds}]"),
+        &["cases[0].dampers = 3 dampers with grains [30, 30, 30]", "at most 16384 configurations"],
+    );
 }
 
 #[test]

@@ -399,8 +399,16 @@ fn more_beds_than_the_limit_are_refused_before_any_decomposition() {
     match Dynamics::new(&many, 2.0 * PI * 20.0) {
         Err(e @ SetupError::TooManyBeds { beds }) => {
             assert_eq!(beds, MAX_BEDS + 1);
-            assert!(e.to_string().contains("at most 12"), "{e}");
+            assert!(e.to_string().contains(&format!("at most {MAX_BEDS}")), "{e}");
         }
         other => panic!("expected TooManyBeds, got {:?}", other.map(|_| ())),
     }
+    // Columns count n + 1 configurations each: three of 20 grains fit, three of 30 do not.
+    let three = System::plastic(paper(), dampers(&[0, 1, 2], 0.3e-3), 0, 2.6);
+    let fits = Dynamics::new(&three.clone().with_grains(&[20, 20, 20]), 2.0 * PI * 20.0).unwrap();
+    assert_eq!(fits.configs.len(), 21 * 21 * 21);
+    assert!(matches!(
+        Dynamics::new(&three.with_grains(&[30, 30, 30]), 2.0 * PI * 20.0),
+        Err(SetupError::TooManyBeds { beds: 90 })
+    ));
 }

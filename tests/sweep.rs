@@ -19,7 +19,7 @@ fn csv_with_threads(threads: usize) -> Vec<u8> {
     let freqs: Vec<f64> = (0..16).map(|i| 45.0 + 0.5 * i as f64).collect();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     let points = pool.install(|| sweep::from_rest(&sys, &freqs, &SteadyOptions::default(), &|| {}));
-    let curve = from_sweep("triple", "triple", points, 2.6, 3, 3);
+    let curve = from_sweep("triple", "triple", points, 2.6, &[1, 1, 1], 3);
     to_csv(&curves::table("t", "", &[&curve], 3, 3)).unwrap()
 }
 

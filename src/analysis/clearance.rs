@@ -66,7 +66,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                 &format!("{}, d = inf", case.label),
                 pts,
                 force,
-                case.dampers.len(),
+                &case.grains,
                 n,
             )
         })
@@ -91,7 +91,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                 &format!("{}, d = {} mm", case.label, fmt_num(mm)),
                 pts,
                 force,
-                case.dampers.len(),
+                &case.grains,
                 n,
             ));
         }

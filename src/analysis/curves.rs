@@ -107,8 +107,27 @@ pub fn not_above(x: f64, top: f64) -> bool {
     matches!(x.partial_cmp(&top), Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal))
 }
 
-/// The curve of sweep points (sorted by frequency).
-pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64, beds: usize, n: usize) -> Curve {
+/// Values per bed (a column's grains each) gathered per container: summed (`max`: false, e.g.
+/// impacts per period) or the largest (`max`: true, e.g. flight heights). `grains[k]` is the
+/// number of beds of container k.
+pub fn per_container(values: Vec<f64>, grains: &[usize], max: bool) -> Vec<f64> {
+    if grains.iter().all(|&g| g <= 1) {
+        return values;
+    }
+    let mut out = Vec::with_capacity(grains.len());
+    let mut j = 0;
+    for &g in grains {
+        let part = &values[j.min(values.len())..(j + g.max(1)).min(values.len())];
+        out.push(if max { part.iter().copied().fold(0.0, f64::max) } else { part.iter().sum() });
+        j += g.max(1);
+    }
+    out
+}
+
+/// The curve of sweep points (sorted by frequency); `grains[k]` beds per container `k` (their
+/// impacts are summed and their flights maximised per container).
+pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64, grains: &[usize], n: usize) -> Curve {
+    let beds = grains.len();
     points.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
     let mut c = Curve { id: id.into(), label: label.into(), ..Curve::default() };
     for p in points {
@@ -118,9 +137,9 @@ pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64
                 c.compliance.push(s.amplitude.iter().map(|a| a / force).collect());
                 c.converged.push(s.converged);
                 c.period.push(s.period);
-                c.bottom_impacts.push(s.bottom_impacts);
-                c.top_impacts.push(s.top_impacts);
-                c.max_flight.push(s.max_flight);
+                c.bottom_impacts.push(per_container(s.bottom_impacts, grains, false));
+                c.top_impacts.push(per_container(s.top_impacts, grains, false));
+                c.max_flight.push(per_container(s.max_flight, grains, true));
                 c.transient.push(s.transient_periods);
                 c.residual.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.residual));
                 c.radius.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.spectral_radius()));
@@ -174,9 +193,14 @@ pub fn linear(exp: &Experiment, case: &Case, id: &str, label: &str, freq_hz: &[f
 
 /// The simulated system of a case.
 pub fn system(exp: &Experiment, case: &Case) -> System {
-    System {
+    let sys = System {
         laws: case.laws.clone(),
         ..System::plastic(exp.structure.clone(), case.dampers.clone(), exp.excitation.mass, exp.excitation.force)
+    };
+    if case.grains.iter().any(|&g| g > 1) {
+        sys.with_grains(&case.grains)
+    } else {
+        sys
     }
 }
 

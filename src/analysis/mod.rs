@@ -237,13 +237,25 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
             c.dampers
                 .iter()
                 .zip(&c.laws)
-                .map(|(d, law)| {
+                .enumerate()
+                .map(|(j, (d, law))| {
+                    let grains = c.grains.get(j).copied().unwrap_or(1);
                     let clr = if d.clearance.is_infinite() {
                         "inf".to_string()
                     } else {
                         format!("{} mm", fmt_num(d.clearance * 1e3))
                     };
-                    let bed = if law.restitution > 0.0 {
+                    let bed = if grains > 1 {
+                        format!(
+                            ", a column of {grains} grains, restitution e = {}{}",
+                            fmt_num(law.restitution),
+                            if law.restitution > 0.0 {
+                                format!(" (sticks below {} m/s)", fmt_num(law.stick_speed))
+                            } else {
+                                String::new()
+                            }
+                        )
+                    } else if law.restitution > 0.0 {
                         format!(
                             ", restitution e = {} (sticks below {} m/s)",
                             fmt_num(law.restitution),
@@ -284,7 +296,18 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
         a.push(format!("Structure: {src}."));
     }
     for c in &exp.cases {
-        for (d, law) in c.dampers.iter().zip(&c.laws).filter(|(_, l)| l.restitution > 0.0) {
+        for ((d, law), &n) in c.dampers.iter().zip(&c.laws).zip(&c.grains).filter(|((_, _), &n)| n > 1) {
+            a.push(format!(
+                "Case {}: the bed on m_{} is a column of {n} equal grains (total mass unchanged) with restitution e = {} between grains and against the ends{}; grains resting on an end move with it, grains in free flight meet in binary collisions resolved in sequence (docs/model.md, \"Bed models\"); the paper's bed is one plastic mass.",
+                c.id,
+                d.host + 1,
+                fmt_num(law.restitution),
+                if law.restitution > 0.0 { format!(", sticking below {} m/s", fmt_num(law.stick_speed)) } else { String::new() }
+            ));
+        }
+        for ((d, law), _) in
+            c.dampers.iter().zip(&c.laws).zip(&c.grains).filter(|((_, l), &n)| l.restitution > 0.0 && n <= 1)
+        {
             a.push(format!(
                 "Case {}: the bed on m_{} bounces off its container's ends with restitution e = {} and sticks below {} m/s (the paper's bed is plastic, e = 0).",
                 c.id,

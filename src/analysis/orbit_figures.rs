@@ -249,6 +249,7 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                     dampers: Vec::new(),
                     clearances: Vec::new(),
                     laws: Vec::new(),
+                    grains: Vec::new(),
                 };
                 let bare: Curve = curves::linear(exp, &bare_case, "bare", "no damper (linear)", &fine, false);
                 let stuck: Curve = curves::linear(exp, &r.case, "stuck", "damper mass stuck (linear)", &fine, true);

@@ -376,7 +376,7 @@ pub fn run(
     let n = exp.structure.dof();
     let points: Vec<SweepPoint> = sweep::from_rest(&full, freq_hz, steady, tick);
     let checked = check_points(&full, &points, force);
-    let simulation = curves::from_sweep("simulation", "simulation of the 3-mass structure", points, force, 1, n);
+    let simulation = curves::from_sweep("simulation", "simulation of the 3-mass structure", points, force, &[1], n);
     Some(OrbitsResult {
         mode,
         force,

@@ -83,14 +83,7 @@ pub fn run(
             Start::Rest => {
                 let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &case.id));
                 let pts = sweep::from_rest(&sys, &grid, steady, tick);
-                curves.push(curves::from_sweep(
-                    &case.id,
-                    &case.label,
-                    pts,
-                    exp.excitation.force,
-                    case.dampers.len(),
-                    n,
-                ));
+                curves.push(curves::from_sweep(&case.id, &case.label, pts, exp.excitation.force, &case.grains, n));
             }
             Start::Continuation => {
                 for (dir, word) in [(Direction::Up, "up"), (Direction::Down, "down")] {
@@ -109,7 +102,7 @@ pub fn run(
                     }
                     let id = format!("{}:{word}", case.id);
                     let label = format!("{} (continued {word}ward)", case.label);
-                    curves.push(curves::from_sweep(&id, &label, pts, exp.excitation.force, case.dampers.len(), n));
+                    curves.push(curves::from_sweep(&id, &label, pts, exp.excitation.force, &case.grains, n));
                 }
             }
         }
@@ -168,6 +161,7 @@ fn linear_refs(exp: &Experiment, freq_hz: &[f64]) -> Vec<Curve> {
                 dampers: Vec::new(),
                 clearances: Vec::new(),
                 laws: Vec::new(),
+                grains: Vec::new(),
             });
         out.push(curves::linear(exp, &bare, "linear:bare", "no damper (linear)", &fine, false));
     }

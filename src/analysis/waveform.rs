@@ -36,7 +36,7 @@ fn motion_type(s: &Sampler, j: usize, periods: usize, finite: bool) -> String {
             EventKind::Impact { top: false, .. } => bottom += 1,
             EventKind::Impact { top: true, attached: true, .. } => top_stick += 1,
             EventKind::Impact { top: true, attached: false, .. } => top_bounce += 1,
-            EventKind::LiftOff { top: true } => {}
+            EventKind::LiftOff { top: true } | EventKind::Collision { .. } => {}
         }
     }
     let per = |k: usize| fmt_num(k as f64 / periods as f64);
@@ -65,6 +65,9 @@ pub fn event_words(kind: &EventKind) -> String {
                 if top { "top" } else { "bottom" },
                 if attached { ", stays" } else { ", separates" }
             )
+        }
+        EventKind::Collision { lower, stuck, .. } => {
+            format!("hits grain {}{}", lower + 1, if stuck { ", sticks" } else { ", bounces" })
         }
     }
 }

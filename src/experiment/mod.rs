@@ -100,6 +100,9 @@ pub struct Case {
     pub clearances: Vec<Clearance>,
     /// Each damper's impact law (plastic unless the file gives a restitution).
     pub laws: Vec<crate::sim::bed::ImpactLaw>,
+    /// Each damper's number of grains: 1 for one mass, more for a column (docs/model.md,
+    /// "Bed models").
+    pub grains: Vec<usize>,
 }
 
 /// How the points of a sweep start.

@@ -328,7 +328,16 @@ pub struct RawDamper {
     /// A number of millimetres, "inf", "scan" (clearance studies), or "@EXPERIMENT.KEY"
     /// (a value another experiment exports).
     pub clearance_mm: toml::Value,
-    /// Coefficient of restitution of the bed against the container's ends (default 0: plastic).
+    /// The bed model: "plastic" (the paper's one mass, e = 0), "restitution" (one mass with a
+    /// coefficient of restitution) or "column" (`grains` equal grains). Default: "column" when
+    /// `grains` is given, "restitution" when a restitution > 0 is, else "plastic".
+    #[serde(default)]
+    pub bed: Option<String>,
+    /// Number of grains of a column bed (total mass unchanged).
+    #[serde(default)]
+    pub grains: Option<i64>,
+    /// Coefficient of restitution of the bed against the container's ends, and between the
+    /// grains of a column (default 0: plastic).
     #[serde(default)]
     pub restitution: Option<f64>,
     /// Relative impact speed below which a bed with restitution sticks, m/s (default 1e-3).

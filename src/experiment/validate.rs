@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use crate::error::{Error, Result};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 use crate::model::{Damper, Damping, Structure};
-use crate::sim::system::MAX_BEDS;
+use crate::sim::system::{MAX_BEDS, MAX_CONFIGS};
 
 use super::analysis::{analysis, export_ref};
 use super::checks::check;
@@ -79,6 +79,32 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
                     format!("cases[{ci}].dampers[{di}].restitution"),
                     case.laws[di].restitution,
                     "the equivalent SDOF analysis and the design search model the paper's plastic bed only: leave restitution out (0)",
+                ));
+            }
+        }
+    }
+    // A column of grains runs where the motion is simulated from rest; the orbit-based
+    // analyses (continuation with its orbit branches, SDOF orbits, designs) and the per-bed
+    // figures of waveforms and impulse decay do not model grains yet.
+    let columns_allowed = matches!(
+        analysis,
+        Analysis::Sweep { start: super::Start::Rest, .. }
+            | Analysis::ClearanceStudy { .. }
+            | Analysis::LinearFrf { .. }
+            | Analysis::Modal
+    );
+    if !columns_allowed {
+        for (ci, case) in cases.iter().enumerate() {
+            if let Some(di) = case.grains.iter().position(|&g| g > 1) {
+                return Err(Error::invalid(
+                    path,
+                    format!("cases[{ci}].dampers[{di}].grains"),
+                    case.grains[di],
+                    format!(
+                        "a column of grains runs in a sweep from rest or a clearance study (this analysis is {}{}): use one mass (bed = \"plastic\" or \"restitution\")",
+                        analysis.kind(),
+                        if matches!(analysis, Analysis::Sweep { .. }) { " with start = \"continuation\"" } else { "" }
+                    ),
                 ));
             }
         }
@@ -332,9 +358,22 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
                 format!("at most {MAX_BEDS} dampers per case (every one of the 2^N configurations is decomposed)"),
             ));
         }
+        let configs = c.dampers.iter().try_fold(1usize, |acc, d| {
+            let n = d.grains.filter(|&g| g >= 1).unwrap_or(1).min(MAX_CONFIGS as i64) as usize;
+            acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS)
+        });
+        if configs.is_none() {
+            return Err(Error::invalid(
+                path,
+                format!("cases[{ci}].dampers"),
+                format!("{} dampers with grains {:?}", c.dampers.len(), c.dampers.iter().map(|d| d.grains.unwrap_or(1)).collect::<Vec<_>>()),
+                format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
+            ));
+        }
         let mut dampers = Vec::with_capacity(c.dampers.len());
         let mut clearances = Vec::with_capacity(c.dampers.len());
         let mut laws = Vec::with_capacity(c.dampers.len());
+        let mut grains = Vec::with_capacity(c.dampers.len());
         for (di, d) in c.dampers.into_iter().enumerate() {
             let key = |k: &str| format!("cases[{ci}].dampers[{di}].{k}");
             let host = mass_index(path, &key("mass"), d.mass, n)?;
@@ -363,9 +402,11 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
             let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
             dampers.push(Damper { host, mass, clearance });
             clearances.push(spec);
-            laws.push(impact_law(path, &key, d.restitution, d.stick_speed_m_s)?);
+            let (law, n) = bed_model(path, &key, &d)?;
+            laws.push(law);
+            grains.push(n);
         }
-        out.push(Case { id: c.id, label: c.label, dampers, clearances, laws });
+        out.push(Case { id: c.id, label: c.label, dampers, clearances, laws, grains });
     }
     Ok(out)
 }
@@ -373,6 +414,82 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
 /// Default sticking speed of a bed with restitution, m/s: slower impacts are plastic (what
 /// ends a sequence of ever smaller bounces; docs/model.md section 2).
 pub const DEFAULT_STICK_SPEED: f64 = 1e-3;
+
+/// A damper's bed model (its `bed`, `grains`, `restitution`, `stick_speed_m_s`): its impact
+/// law and its number of grains (1: one mass).
+fn bed_model(
+    path: &Path,
+    key: &dyn Fn(&str) -> String,
+    d: &super::raw::RawDamper,
+) -> Result<(crate::sim::bed::ImpactLaw, usize)> {
+    let bounces = d.restitution.is_some_and(|e| e != 0.0);
+    let model = match d.bed.as_deref() {
+        Some(m) => m,
+        None if d.grains.is_some() => "column",
+        None if bounces => "restitution",
+        None => "plastic",
+    };
+    let law = impact_law(path, key, d.restitution, d.stick_speed_m_s)?;
+    let no_grains = |model: &str| match d.grains {
+        Some(g) => Err(Error::invalid(
+            path,
+            key("grains"),
+            g,
+            format!("only a column bed has grains (this bed is \"{model}\"): leave grains out or set bed = \"column\""),
+        )),
+        None => Ok(()),
+    };
+    match model {
+        "plastic" => {
+            if bounces {
+                return Err(Error::invalid(
+                    path,
+                    key("restitution"),
+                    law.restitution,
+                    "a plastic bed has e = 0: leave restitution out, or set bed = \"restitution\" or \"column\"",
+                ));
+            }
+            no_grains(model)?;
+            Ok((law, 1))
+        }
+        "restitution" => {
+            if d.restitution.is_none() {
+                return Err(Error::invalid(
+                    path,
+                    key("restitution"),
+                    "(missing)",
+                    "a bed = \"restitution\" needs its coefficient of restitution in [0, 1)",
+                ));
+            }
+            no_grains(model)?;
+            Ok((law, 1))
+        }
+        "column" => match d.grains {
+            Some(g) if (1..=MAX_COLUMN_GRAINS as i64).contains(&g) => Ok((law, g as usize)),
+            Some(g) => Err(Error::invalid(
+                path,
+                key("grains"),
+                g,
+                format!("a whole number of grains from 1 to {MAX_COLUMN_GRAINS}"),
+            )),
+            None => Err(Error::invalid(
+                path,
+                key("grains"),
+                "(missing)",
+                "a column bed needs its number of grains (1 to 60)",
+            )),
+        },
+        other => Err(Error::invalid(
+            path,
+            key("bed"),
+            format!("\"{other}\""),
+            "one of \"plastic\", \"restitution\", \"column\"",
+        )),
+    }
+}
+
+/// Most grains in one column (every grain is a bit of a configuration mask).
+pub const MAX_COLUMN_GRAINS: usize = 60;
 
 /// A damper's impact law from its `restitution` and `stick_speed_m_s`.
 fn impact_law(

@@ -52,7 +52,7 @@ impl State {
     pub fn at_rest(d: &Dynamics) -> State {
         let n = d.system.dof();
         let all = (1usize << d.system.dampers.len()) - 1;
-        let x = d.configs[all].modes.offset.clone();
+        let x = d.config(all).modes.offset.clone();
         State { t: 0.0, x, v: DVector::zeros(n), beds: vec![Bed::Bottom; d.system.dampers.len()] }
     }
 
@@ -75,6 +75,9 @@ pub enum EventKind {
     /// The bed hit the bottom or the top with this relative speed (m/s) and stayed attached
     /// (`attached`) or separated at once.
     Impact { top: bool, speed: f64, attached: bool },
+    /// Two grains of a column met (the event's bed is the upper one) at this relative speed,
+    /// m/s, and bounced apart or stuck together (`stuck`).
+    Collision { lower: usize, speed: f64, stuck: bool },
 }
 
 /// One event of one bed.
@@ -158,7 +161,13 @@ impl<'a> Engine<'a> {
     /// The functions to watch in the state's configuration, into `w` (cleared first).
     fn watches(&self, s: &State, w: &mut Vec<Watch>) {
         w.clear();
+        for col in &self.d.system.columns {
+            super::column::watches(self.d, s, col.clone(), w);
+        }
         for (j, bed) in s.beds.iter().enumerate() {
+            if !self.d.system.columns.is_empty() && self.d.system.column_of(j).is_some() {
+                continue;
+            }
             let dm = &self.d.system.dampers[j];
             let host = dm.host;
             match *bed {
@@ -293,9 +302,10 @@ impl<'a> Engine<'a> {
                 Bed::Free { .. } => None,
             })
             .collect();
-        let mut hit_beds: Vec<(usize, bool)> = hits.iter().filter_map(Watch::impact).collect();
+        let in_column = |j: usize| !sys.columns.is_empty() && sys.column_of(j).is_some();
+        let mut hit_beds: Vec<(usize, bool)> =
+            hits.iter().filter_map(Watch::impact).filter(|&(j, _)| !in_column(j)).collect();
         hit_beds.sort_by_key(|h| h.0);
-        let mut impact_speed = vec![0.0; s.beds.len()];
         for &(j, top) in &hit_beds {
             let Bed::Free { t0, y0, u0 } = s.beds[j] else {
                 continue;
@@ -311,7 +321,6 @@ impl<'a> Engine<'a> {
                     .sum::<f64>();
             let vp = s.v[p];
             let rel = u - vp;
-            impact_speed[j] = rel.abs();
             let x = sys.impact_law(j).exchange(m_host, vp, dm.mass, u);
             s.v[p] = x.host;
             if x.sticks {
@@ -326,6 +335,16 @@ impl<'a> Engine<'a> {
                 kind: EventKind::Impact { top, speed: rel.abs(), attached: x.sticks },
                 loss: x.loss,
             });
+        }
+        // Columns: the collisions the hits started, in sequence (src/sim/column.rs).
+        for col in &sys.columns {
+            let touched = hits.iter().any(|w| match w.impact() {
+                Some((j, _)) => col.contains(&j),
+                None => w.pair().is_some_and(|(_, u)| col.contains(&u)),
+            });
+            if touched {
+                super::column::resolve(d, s, col.clone(), hits, &mut side, &mut events);
+            }
         }
         // Settle: the largest set of candidates whose contact forces are consistent.
         let candidates: Vec<usize> =
@@ -345,35 +364,45 @@ impl<'a> Engine<'a> {
                 s.beds[j] = Bed::Free { t0: s.t, y0, u0: s.v[p] };
                 if was_attached {
                     events.push(Event { t: s.t, bed: j, kind: EventKind::LiftOff { top }, loss: 0.0 });
-                } else if let Some(ev) = events.iter_mut().find(|e| e.bed == j) {
-                    ev.kind = EventKind::Impact { top, speed: impact_speed[j], attached: false };
+                } else if let Some(ev) =
+                    events.iter_mut().rev().find(|e| e.bed == j && matches!(e.kind, EventKind::Impact { .. }))
+                {
+                    if let EventKind::Impact { attached, .. } = &mut ev.kind {
+                        *attached = false;
+                    }
                 }
             }
         }
         events
     }
 
-    /// The attached mask after an event: among candidate subsets, largest first (ties by bed
-    /// index), the first in which every attached bed is pressed on (contact force >= 0) and
-    /// every detached candidate moves away (relative acceleration >= 0); signs near zero are
-    /// decided by the next derivative.
+    /// The attached mask after an event: among subsets of the candidates, largest first (ties
+    /// by bed index), the first in which every attached bed is pressed on (contact force >= 0)
+    /// and every detached candidate moves away (relative acceleration >= 0); signs near zero
+    /// are decided by the next derivative. The grains of a column resting on one end are one
+    /// candidate (their contact forces share the host's acceleration).
     fn settle(&self, s: &State, candidates: &[usize], side: &[Option<bool>], locked: usize) -> usize {
         let d = self.d;
-        let m = candidates.len();
+        let sys = &d.system;
+        let mut units: Vec<(usize, usize)> = Vec::with_capacity(candidates.len());
+        for &j in candidates {
+            let unit = if sys.columns.is_empty() { None } else { sys.column_of(j) };
+            match (unit, units.last_mut()) {
+                (Some(col), Some((first, bits))) if col.contains(first) && side[*first] == side[j] => *bits |= 1 << j,
+                _ => units.push((j, 1 << j)),
+            }
+        }
+        let m = units.len();
         let mut subsets: Vec<usize> = (0..(1usize << m)).collect();
         subsets.sort_by_key(|&bits| (std::cmp::Reverse(bits.count_ones()), bits));
         let mask_of = |bits: usize| {
-            candidates
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| bits & (1 << i) != 0)
-                .fold(locked, |acc, (_, &j)| acc | (1 << j))
+            units.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, u)| acc | u.1)
         };
         for &bits in &subsets {
             let mask = mask_of(bits);
             let (a, jerk) = d.accelerations(mask, s.t, &s.x, &s.v);
-            let ok = candidates.iter().enumerate().all(|(i, &j)| {
-                let p = d.system.dampers[j].host;
+            let ok = units.iter().enumerate().all(|(i, &(j, _))| {
+                let p = sys.dampers[j].host;
                 let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };
                 let n = sigma * (a[p] + GRAVITY);
                 let dn = sigma * jerk[p];
@@ -397,11 +426,11 @@ impl<'a> Engine<'a> {
         // No consistent set (not expected): release every candidate with a negative force.
         let all = mask_of((1 << m) - 1);
         let (a, _) = d.accelerations(all, s.t, &s.x, &s.v);
-        candidates.iter().fold(locked, |acc, &j| {
-            let p = d.system.dampers[j].host;
+        units.iter().fold(locked, |acc, &(j, u)| {
+            let p = sys.dampers[j].host;
             let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };
             if sigma * (a[p] + GRAVITY) >= 0.0 {
-                acc | (1 << j)
+                acc | u
             } else {
                 acc
             }

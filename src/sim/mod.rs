@@ -4,15 +4,18 @@
 //! return data and a stop reason and do no I/O.
 
 pub mod bed;
+pub mod column;
 pub mod continuation;
 pub mod eigen;
 pub mod engine;
 pub mod impulse;
+pub mod long_record;
 pub mod observe;
 pub mod orbit_search;
 pub mod periodic;
 pub mod roots;
 pub mod segment;
+pub mod soft;
 pub mod steady;
 pub mod strobe;
 pub mod sweep;
@@ -24,10 +27,15 @@ pub use engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};
 pub use steady::{Steady, SteadyMethod, SteadyOptions};
 pub use system::{Dynamics, SetupError, System};
 
-/// Runs from `start` to a steady state and records it.
+/// Runs from `start` to a steady state and records it (a motion of a non-plastic bed that
+/// never settles gets a long record, [`long_record`]). A system with a column of grains is
+/// run by the transient method whatever `opts` asks: the orbit method's linearised flow has
+/// no saltation for grain-grain collisions.
 pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
-    match opts.method {
+    let method = if d.system.columns.is_empty() { opts.method } else { SteadyMethod::Transient };
+    let st = match method {
         SteadyMethod::Orbit => orbit_search::orbit_steady(d, start, opts),
         SteadyMethod::Transient => transient::transient_steady(d, start, opts),
-    }
+    };
+    long_record::extend(d, st)
 }

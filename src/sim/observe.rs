@@ -138,6 +138,7 @@ impl Observer for Extrema {
             EventKind::Impact { top: false, .. } => self.bottom_impacts[ev.bed] += 1,
             EventKind::Impact { top: true, .. } => self.top_impacts[ev.bed] += 1,
             EventKind::LiftOff { .. } => self.liftoffs[ev.bed] += 1,
+            EventKind::Collision { .. } => {}
         }
     }
 }

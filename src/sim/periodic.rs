@@ -197,6 +197,7 @@ pub fn signature(events: &[Event]) -> Vec<(usize, u8)> {
                 EventKind::LiftOff { top: true } => 1,
                 EventKind::Impact { top: false, attached, .. } => 2 + attached as u8,
                 EventKind::Impact { top: true, attached, .. } => 4 + attached as u8,
+                EventKind::Collision { lower, stuck, .. } => 6 + stuck as u8 + 2 * lower.min(100) as u8,
             };
             (e.bed, k)
         })
@@ -510,7 +511,7 @@ pub fn motion_type(events: &[Event], finite: bool, periods: usize) -> String {
             EventKind::Impact { top: false, .. } => bottom += 1,
             EventKind::Impact { top: true, attached: true, .. } => top_stick += 1,
             EventKind::Impact { top: true, attached: false, .. } => top_bounce += 1,
-            EventKind::LiftOff { .. } => {}
+            EventKind::LiftOff { .. } | EventKind::Collision { .. } => {}
         }
     }
     let base = if top_stick > 0 {

@@ -13,6 +13,8 @@ use super::system::{Dynamics, MAX_TERMS};
 pub struct Segment {
     pub t0: f64,
     pub mask: usize,
+    /// Its configuration's number ([`Dynamics::slot`]).
+    pub slot: usize,
     /// Number of representative terms.
     pub len: usize,
     pub c: [Complex64; MAX_TERMS],
@@ -34,7 +36,8 @@ impl Segment {
     /// Starts a segment in configuration `mask` at `t0` from displacements `x0`, velocities `v0`.
     pub fn start(d: &Dynamics, mask: usize, t0: f64, x0: &DVector<f64>, v0: &DVector<f64>) -> Segment {
         let n = x0.len();
-        let cfg = &d.configs[mask];
+        let slot = d.slot(mask);
+        let cfg = &d.configs[slot];
         // The start's departure from the forced response (`Dynamics::particular`, inline).
         let (sn, cs) = (d.omega * t0).sin_cos();
         let mut z = [0.0; MAX_TERMS];
@@ -51,12 +54,12 @@ impl Segment {
             c[r] = (0..2 * n).map(|j| cfg.modes.inverse[(r, j)] * z[j]).sum();
             c_abs[r] = c[r].norm();
         }
-        Segment { t0, mask, len, c, c_abs }
+        Segment { t0, mask, slot, len, c, c_abs }
     }
 
     /// The shared quantities at time `t`.
     pub fn point(&self, d: &Dynamics, t: f64) -> Point {
-        let cfg = &d.configs[self.mask];
+        let cfg = &d.configs[self.slot];
         let s = t - self.t0;
         let mut e = [Complex64::new(0.0, 0.0); MAX_TERMS];
         let mut e_abs = [0.0; MAX_TERMS];
@@ -73,7 +76,7 @@ impl Segment {
 
     /// Derivative `order` of the displacement of mass `p`.
     pub fn deriv(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
-        let cfg = &d.configs[self.mask];
+        let cfg = &d.configs[self.slot];
         let row = &cfg.modes.vl[p][order];
         let hom: f64 = row[..self.len].iter().zip(&pt.e[..self.len]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
         let (pp, qq) = (cfg.p[p], cfg.q[p]);
@@ -89,7 +92,7 @@ impl Segment {
 
     /// A bound on `|x_p^(order)|` from this point on (the homogeneous terms decay).
     pub fn bound(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
-        let cfg = &d.configs[self.mask];
+        let cfg = &d.configs[self.slot];
         let row = &cfg.modes.vl_abs[p][order];
         let hom: f64 = row[..self.len].iter().zip(&pt.e_abs[..self.len]).map(|(a, e)| a * e).sum();
         hom + d.omega_pow[order] * cfg.amp[p]
@@ -97,7 +100,7 @@ impl Segment {
 
     /// Four successive derivatives of the displacement of mass `p` from `order` on.
     pub fn derivs4(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> [f64; 4] {
-        let cfg = &d.configs[self.mask];
+        let cfg = &d.configs[self.slot];
         let mut out = [0.0; 4];
         for (i, o) in out.iter_mut().enumerate() {
             let row = &cfg.modes.vl[p][order + i];
@@ -138,6 +141,9 @@ pub enum Watch {
     GapBottom { bed: usize, host: usize, y0: f64, u0: f64, tf: f64 },
     /// Gap below the container top, `x_p + d - y`, of a free bed.
     GapTop { bed: usize, host: usize, d: f64, y0: f64, u0: f64, tf: f64 },
+    /// Gap between two neighbouring free grains of a column, `y_upper - y_lower`: both fly
+    /// under gravity alone, so it is linear in time. Flights as in [`super::engine::Bed::Free`].
+    Pair { lower: usize, upper: usize, lower_flight: [f64; 3], upper_flight: [f64; 3] },
 }
 
 /// A function value with three derivatives at a point, and a bound on the fourth derivative
@@ -153,6 +159,7 @@ impl Watch {
     pub fn bed(&self) -> usize {
         match *self {
             Watch::Contact { bed, .. } | Watch::GapBottom { bed, .. } | Watch::GapTop { bed, .. } => bed,
+            Watch::Pair { upper, .. } => upper,
         }
     }
 
@@ -162,7 +169,15 @@ impl Watch {
         match *self {
             Watch::GapBottom { bed, .. } => Some((bed, false)),
             Watch::GapTop { bed, .. } => Some((bed, true)),
-            Watch::Contact { .. } => None,
+            Watch::Contact { .. } | Watch::Pair { .. } => None,
+        }
+    }
+
+    /// The lower and upper grains of a grain-grain collision this function signals.
+    pub fn pair(&self) -> Option<(usize, usize)> {
+        match *self {
+            Watch::Pair { lower, upper, .. } => Some((lower, upper)),
+            _ => None,
         }
     }
 
@@ -189,6 +204,11 @@ impl Watch {
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
                 Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4: seg.bound(d, pt, host, 4) }
+            }
+            Watch::Pair { lower_flight: [tl, yl, ul], upper_flight: [tu, yu, uu], .. } => {
+                let (a, va) = super::engine::Bed::flight(tl, yl, ul, pt.t);
+                let (b, vb) = super::engine::Bed::flight(tu, yu, uu, pt.t);
+                Taylor { h: [b - a, vb - va, 0.0, 0.0], bound4: 0.0 }
             }
         }
     }

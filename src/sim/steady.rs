@@ -179,6 +179,11 @@ pub enum NoSteady {
     /// complex pair of multipliers of modulus `radius` (just above 1) and argument `angle`
     /// (rad); after `periods` periods two windows of one turn gave the same amplitudes.
     Torus { radius: f64, angle: f64, attempts: usize, periods: usize },
+    /// Not periodic after `after` periods (a bed with restitution or a column of grains): the
+    /// amplitudes are those of a record of `periods` periods, whose second half differs from
+    /// the whole by `spread` (relative to the largest amplitude; converged when at most
+    /// [`super::long_record::LONG_RECORD_TOL`]).
+    Aperiodic { periods: usize, spread: f64, after: usize },
 }
 
 impl std::fmt::Display for NoSteady {
@@ -192,6 +197,12 @@ impl std::fmt::Display for NoSteady {
             NoSteady::Torus { radius, angle, attempts, periods } => write!(
                 f,
                 "quasi-periodic (a torus): complex multipliers of modulus {radius:.4} at +-{angle:.3} rad at {attempts} attempts in a row; amplitudes of two turns agree after {periods} periods"
+            ),
+            NoSteady::Aperiodic { periods, spread, after } => write!(
+                f,
+                "aperiodic after {after} periods: amplitude of a {periods}-period record, its second half within {:.2} % ({})",
+                100.0 * spread,
+                if *spread <= super::long_record::LONG_RECORD_TOL { "converged" } else { "NOT converged" }
             ),
         }
     }
@@ -248,7 +259,7 @@ impl Steady {
 /// harmonic motion, the amplitude), with a floor that keeps it positive.
 pub fn amplitude_scale(d: &Dynamics, s: &State) -> f64 {
     let all = (1usize << d.system.dampers.len()) - 1;
-    let rest = &d.configs[all].modes.offset;
+    let rest = &d.config(all).modes.offset;
     (0..d.system.dof()).map(|i| (s.x[i] - rest[i]).hypot(s.v[i] / d.omega)).fold(1e-15, f64::max)
 }
 

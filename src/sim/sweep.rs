@@ -84,7 +84,7 @@ pub fn continued(
         let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
             let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
-                Some(&p) if opts.follow => {
+                Some(&p) if opts.follow && sys.columns.is_empty() => {
                     let before = known.len().checked_sub(2).and_then(|i| known_point(&out, known[i]));
                     known_point(&out, p).and_then(|p| follow(&p, before.as_ref(), &d, f, opts))
                 }

@@ -20,9 +20,16 @@ pub const ORDERS: usize = 7;
 /// Largest condition number (max |V| max |V^-1|) of a configuration's eigenvectors.
 const MAX_CONDITION: f64 = 1e12;
 
-/// Most beds one system may carry: every one of the `2^N` configurations (each bed attached or
-/// not) is decomposed up front, 4096 at this limit.
-pub const MAX_BEDS: usize = 12;
+/// Most configurations one system may have: every one is decomposed up front. A single bed
+/// doubles their number (attached or not); a column of `n` grains multiplies it by `n + 1`
+/// (how many of its grains ride on the host), so 14 single beds, or three 20-grain columns.
+pub const MAX_CONFIGS: usize = 1 << 14;
+
+/// Most single beds one system may carry (`2^N <= MAX_CONFIGS`).
+pub const MAX_BEDS: usize = 14;
+
+/// Most beds counting every grain of every column (bits of a configuration mask).
+pub const MAX_GRAINS: usize = 63;
 
 /// What the simulator integrates: the structure, its dampers, the force.
 #[derive(Debug, Clone)]
@@ -36,12 +43,59 @@ pub struct System {
     /// Each bed's impact law, in the order of `dampers`; a bed without one is plastic (the
     /// paper's assumption), so an empty list is the paper's system.
     pub laws: Vec<super::bed::ImpactLaw>,
+    /// Beds that are the grains of one column (docs/model.md, "Bed models"): consecutive,
+    /// disjoint ranges of `dampers`, bottom grain first, each grain with the same host,
+    /// clearance, mass and impact law. A bed in no range is a single bed. Empty: the paper's
+    /// one mass per container.
+    pub columns: Vec<std::ops::Range<usize>>,
 }
 
 impl System {
     /// A system with plastic impacts.
     pub fn plastic(structure: Structure, dampers: Vec<Damper>, driven: usize, force: f64) -> System {
-        System { structure, dampers, driven, force, laws: Vec::new() }
+        System { structure, dampers, driven, force, laws: Vec::new(), columns: Vec::new() }
+    }
+
+    /// The same system with bed `j` split into a column of `grains[j]` equal grains (total
+    /// mass, host, clearance and law unchanged; 1 keeps a single bed). Columns already given
+    /// are replaced.
+    pub fn with_grains(mut self, grains: &[usize]) -> System {
+        let mut dampers = Vec::new();
+        let mut laws = Vec::new();
+        let mut columns = Vec::new();
+        for (j, d) in self.dampers.iter().enumerate() {
+            let n = grains.get(j).copied().unwrap_or(1).max(1);
+            let law = self.impact_law(j);
+            if n > 1 {
+                columns.push(dampers.len()..dampers.len() + n);
+            }
+            for _ in 0..n {
+                dampers.push(Damper { mass: d.mass / n as f64, ..*d });
+                laws.push(law);
+            }
+        }
+        self.dampers = dampers;
+        self.laws = laws;
+        self.columns = columns;
+        self
+    }
+
+    /// The column bed `j` is a grain of, if any.
+    pub fn column_of(&self, j: usize) -> Option<std::ops::Range<usize>> {
+        self.columns.iter().find(|c| c.contains(&j)).cloned()
+    }
+
+    /// The beds in groups that share a configuration count: each column, and each single bed
+    /// alone, in bed order.
+    pub fn groups(&self) -> Vec<std::ops::Range<usize>> {
+        let mut out = Vec::new();
+        let mut j = 0;
+        while j < self.dampers.len() {
+            let g = self.column_of(j).filter(|c| c.start == j).unwrap_or(j..j + 1);
+            j = g.end.max(j + 1);
+            out.push(g);
+        }
+        out
     }
 
     /// The same system with every bed under `law`.
@@ -84,6 +138,37 @@ impl System {
     }
 }
 
+/// A mask of configuration `slot`: in each group, its first beds attached.
+fn representative(groups: &[std::ops::Range<usize>], slot: usize) -> usize {
+    let mut rest = slot;
+    let mut mask = 0;
+    for g in groups {
+        let count = rest % (g.len() + 1);
+        rest /= g.len() + 1;
+        mask |= ((1usize << count) - 1) << g.start;
+    }
+    mask
+}
+
+/// Columns are consecutive disjoint ranges of equal grains.
+fn check_columns(system: &System) -> Result<(), SetupError> {
+    let mut end = 0;
+    let mut sorted: Vec<&std::ops::Range<usize>> = system.columns.iter().collect();
+    sorted.sort_by_key(|c| c.start);
+    for c in sorted {
+        let bad = c.is_empty()
+            || c.start < end
+            || c.end > system.dampers.len()
+            || system.dampers[c.clone()].iter().any(|d| *d != system.dampers[c.start])
+            || c.clone().any(|j| system.impact_law(j) != system.impact_law(c.start));
+        if bad {
+            return Err(SetupError::Column { first: c.start });
+        }
+        end = c.end;
+    }
+    Ok(())
+}
+
 /// Why dynamics could not be set up.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SetupError {
@@ -93,8 +178,11 @@ pub enum SetupError {
     Singular { mask: usize },
     /// More masses than the closed form supports.
     TooLarge { masses: usize },
-    /// More beds than [`MAX_BEDS`].
+    /// More single beds than [`MAX_BEDS`], or more configurations than [`MAX_CONFIGS`].
     TooManyBeds { beds: usize },
+    /// A column whose grains differ (host, clearance, mass or law), overlap another, or leave
+    /// the bed list.
+    Column { first: usize },
     /// The decomposition cannot be trusted: an eigenvalue grows (a passive structure has
     /// none) or the eigenvectors are nearly dependent (condition number given).
     IllConditioned { mask: usize, condition: f64 },
@@ -117,7 +205,10 @@ impl std::fmt::Display for SetupError {
                 write!(f, "{masses} masses: the simulator supports at most {}", MAX_TERMS / 2)
             }
             SetupError::TooManyBeds { beds } => {
-                write!(f, "{beds} beds: the simulator supports at most {MAX_BEDS} (it decomposes all 2^N configurations)")
+                write!(f, "{beds} beds: the simulator supports at most {MAX_BEDS} single beds, or {MAX_CONFIGS} configurations with columns of grains (it decomposes every configuration)")
+            }
+            SetupError::Column { first } => {
+                write!(f, "the column starting at bed {first}: its grains must be consecutive beds with one host, clearance, mass and law, and columns may not overlap")
             }
         }
     }
@@ -178,6 +269,9 @@ pub struct Dynamics {
     pub min_period: f64,
     /// `omega^m` for the derivative orders.
     pub omega_pow: [f64; ORDERS],
+    /// The beds grouped as [`System::groups`]; a configuration is numbered by how many beds of
+    /// each group are attached ([`Dynamics::slot`]).
+    pub groups: Vec<std::ops::Range<usize>>,
 }
 
 impl Dynamics {
@@ -231,14 +325,18 @@ impl Dynamics {
         if 2 * n > MAX_TERMS {
             return Err(SetupError::TooLarge { masses: n });
         }
-        if system.dampers.len() > MAX_BEDS {
+        check_columns(system)?;
+        let groups = system.groups();
+        let slots = groups.iter().try_fold(1usize, |acc, g| acc.checked_mul(g.len() + 1).filter(|&c| c <= MAX_CONFIGS));
+        let Some(slots) = slots.filter(|_| system.dampers.len() <= MAX_GRAINS) else {
             return Err(SetupError::TooManyBeds { beds: system.dampers.len() });
-        }
+        };
         let k = system.structure.stiffness.clone();
         let c = system.structure.damping.clone();
         let k_inv = k.clone().try_inverse().ok_or(SetupError::Singular { mask: 0 })?;
-        let mut configs = Vec::with_capacity(1 << system.dampers.len());
-        for mask in 0..(1usize << system.dampers.len()) {
+        let mut configs = Vec::with_capacity(slots);
+        for slot in 0..slots {
+            let mask = representative(&groups, slot);
             let m = system.mass_matrix(mask);
             let m_inv = m.clone().try_inverse().ok_or(SetupError::Singular { mask })?;
             let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
@@ -310,12 +408,37 @@ impl Dynamics {
             c,
             min_period: 2.0 * std::f64::consts::PI / max_rate,
             omega_pow: std::array::from_fn(|m| omega.powi(m as i32)),
+            groups,
         })
+    }
+
+    /// The number of the configuration in which the beds of `mask` are attached: the mask
+    /// itself without columns; with columns, the count of attached grains of each column
+    /// (which grains does not matter: they are equal).
+    #[inline]
+    pub fn slot(&self, mask: usize) -> usize {
+        if self.system.columns.is_empty() {
+            return mask;
+        }
+        let mut slot = 0;
+        let mut scale = 1;
+        for g in &self.groups {
+            let bits = (mask >> g.start) & ((1usize << g.len()) - 1);
+            slot += scale * bits.count_ones() as usize;
+            scale *= g.len() + 1;
+        }
+        slot
+    }
+
+    /// The configuration in which the beds of `mask` are attached.
+    #[inline]
+    pub fn config(&self, mask: usize) -> &Config {
+        &self.configs[self.slot(mask)]
     }
 
     /// The forced (particular) displacement and velocity of `mask` at time `t`.
     pub fn particular(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
-        let cfg = &self.configs[mask];
+        let cfg = self.config(mask);
         let (s, c) = (self.omega * t).sin_cos();
         let x = &cfg.p * c + &cfg.q * s + &cfg.modes.offset;
         let v = (&cfg.q * c - &cfg.p * s) * self.omega;
@@ -324,7 +447,7 @@ impl Dynamics {
 
     /// The derivatives of [`Dynamics::particular`] in the forcing frequency at fixed `t`.
     pub fn particular_d_omega(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
-        let cfg = &self.configs[mask];
+        let cfg = self.config(mask);
         let w = self.omega;
         let (s, c) = (w * t).sin_cos();
         // x_p = P cos(w t) + Q sin(w t) + s, v_p = w (Q cos(w t) - P sin(w t)).
@@ -347,7 +470,7 @@ impl Dynamics {
         x: &DVector<f64>,
         v: &DVector<f64>,
     ) -> (DVector<f64>, DVector<f64>) {
-        let cfg = &self.configs[mask];
+        let cfg = self.config(mask);
         let (f, fdot) = self.force(t);
         let mut rhs = self.system.weight_load(mask) - &self.c * v - &self.k * x;
         rhs[self.system.driven] += f;

@@ -160,7 +160,7 @@ impl Tangent {
 /// `Phi(tau)` of configuration `mask`: the derivative of `(x, v)` after `tau` with respect
 /// to `(x, v)` at the start.
 pub fn transition(d: &Dynamics, mask: usize, tau: f64) -> DMatrix<f64> {
-    let cfg = &d.configs[mask];
+    let cfg = d.config(mask);
     let n = d.system.dof();
     let len = cfg.modes.lambda.len();
     let e: Vec<Complex64> = cfg.modes.lambda.iter().map(|l| (l * tau).exp()).collect();

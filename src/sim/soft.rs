@@ -1,0 +1,133 @@
+//! A second method for beds of grains (docs/model.md section 2.1, "A second method"): the same
+//! structure and grains, but every contact (grain and container end, grain and grain) is a
+//! linear spring-dashpot, and the motion is integrated with small explicit steps. Event-driven
+//! binary collisions can mislead for grains that touch (Muller and Poschel); this model has no
+//! collision rule at all, only forces, so where the two agree the rule does not matter.
+//!
+//! Contact with overlap `delta > 0` pushes with `k delta + c delta'` (never pulls). For a pair
+//! of reduced mass `mu` the contact lasts `t_c = pi / sqrt(k / mu - (c / 2 mu)^2)` and returns
+//! the relative velocity scaled by `e = exp(-zeta pi / sqrt(1 - zeta^2))`, so the damping
+//! ratio `zeta = -ln e / sqrt(pi^2 + ln^2 e)` gives each contact the restitution of the
+//! event-driven law (`e = 0` takes critical damping, which returns nothing). There is no
+//! sticking speed: slow contacts simply stay pressed. Steps are `t_c / steps_per_contact` of
+//! the grain-grain contact (semi-implicit Euler). The structure must have a diagonal mass
+//! matrix (a chain). No I/O.
+
+use std::f64::consts::PI;
+
+use crate::model::GRAVITY;
+
+use super::system::{Dynamics, System};
+
+/// How the soft contacts are made.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SoftOptions {
+    /// Contact stiffness, N/m (the same for every contact).
+    pub stiffness: f64,
+    /// Steps per grain-grain contact duration.
+    pub steps_per_contact: usize,
+}
+
+/// Damping ratio of a linear contact with restitution `e`.
+pub fn damping_ratio(e: f64) -> f64 {
+    if e <= 0.0 {
+        return 1.0;
+    }
+    let l = e.ln();
+    -l / (PI * PI + l * l).sqrt()
+}
+
+/// Contact duration of a linear contact of reduced mass `mu`, stiffness `k`, damping ratio
+/// `zeta` (< 1), s.
+pub fn contact_time(mu: f64, k: f64, zeta: f64) -> f64 {
+    PI / ((k / mu) * (1.0 - zeta * zeta).max(1e-12)).sqrt()
+}
+
+/// The amplitude (half the peak-to-peak displacement) of each mass over the last `record` of
+/// `periods` forcing periods from rest, with every bed (a single bed is a column of one) made
+/// of soft contacts; and the number of steps taken.
+pub fn amplitude(sys: &System, omega: f64, opts: &SoftOptions, periods: usize, record: usize) -> (Vec<f64>, u64) {
+    let n = sys.dof();
+    let m0 = &sys.structure.masses;
+    let k = &sys.structure.stiffness;
+    let c = &sys.structure.damping;
+    // Beds in columns: (first, last) bed of each container's grains.
+    let groups = sys.groups();
+    let nb = sys.dampers.len();
+    let e = if nb > 0 { sys.impact_law(0).restitution } else { 0.0 };
+    let zeta = damping_ratio(e);
+    let kc = opts.stiffness;
+    let damper = |mu: f64| 2.0 * zeta * (kc * mu).sqrt();
+    let mg_min = sys.dampers.iter().map(|d| d.mass).fold(f64::INFINITY, f64::min);
+    let tc = contact_time(0.5 * mg_min, kc, zeta.min(0.99));
+    let dt = tc / opts.steps_per_contact as f64;
+    // Start at rest in static equilibrium with every grain on its bottom (the event-driven
+    // start), the grains at zero overlap.
+    let rest = Dynamics::unforced(sys).map(|d| d.config((1usize << nb) - 1).modes.offset.clone());
+    let mut x: Vec<f64> = rest.map(|o| o.iter().copied().collect()).unwrap_or_else(|_| vec![0.0; n]);
+    let mut v = vec![0.0; n];
+    let mut y: Vec<f64> = sys.dampers.iter().map(|d| x[d.host]).collect();
+    let mut u = vec![0.0; nb];
+    let period = 2.0 * PI / omega;
+    let steps = (periods as f64 * period / dt).ceil() as u64;
+    let record_from = ((periods - record.min(periods)) as f64 * period / dt) as u64;
+    let mut lo = vec![f64::INFINITY; n];
+    let mut hi = vec![f64::NEG_INFINITY; n];
+    let mut fx = vec![0.0; n];
+    let mut fy = vec![0.0; nb];
+    // A contact between a lower body (position a, velocity va) and an upper one: the force
+    // pushing them apart (>= 0).
+    let push = |overlap: f64, rate: f64, c: f64| if overlap > 0.0 { (kc * overlap + c * rate).max(0.0) } else { 0.0 };
+    for step in 0..steps {
+        let t = step as f64 * dt;
+        fx.iter_mut().for_each(|f| *f = 0.0);
+        fx[sys.driven] += sys.force * (omega * t).sin();
+        for i in 0..n {
+            for j in 0..n {
+                fx[i] -= k[(i, j)] * x[j] + c[(i, j)] * v[j];
+            }
+        }
+        for (j, f) in fy.iter_mut().enumerate() {
+            *f = -sys.dampers[j].mass * GRAVITY;
+        }
+        for g in &groups {
+            let dm = sys.dampers[g.start];
+            let p = dm.host;
+            let mu_wall = dm.mass * m0[p] / (dm.mass + m0[p]);
+            let (c_wall, c_pair) = (damper(mu_wall), damper(0.5 * dm.mass));
+            // Bottom and lowest grain.
+            let j0 = g.start;
+            let f = push(x[p] - y[j0], v[p] - u[j0], c_wall);
+            fy[j0] += f;
+            fx[p] -= f;
+            // Neighbouring grains.
+            for j in g.start + 1..g.end {
+                let f = push(y[j - 1] - y[j], u[j - 1] - u[j], c_pair);
+                fy[j] += f;
+                fy[j - 1] -= f;
+            }
+            // Top and highest grain.
+            if dm.clearance.is_finite() {
+                let j1 = g.end - 1;
+                let f = push(y[j1] - (x[p] + dm.clearance), u[j1] - v[p], c_wall);
+                fy[j1] -= f;
+                fx[p] += f;
+            }
+        }
+        for i in 0..n {
+            v[i] += dt * fx[i] / m0[i];
+            x[i] += dt * v[i];
+        }
+        for j in 0..nb {
+            u[j] += dt * fy[j] / sys.dampers[j].mass;
+            y[j] += dt * u[j];
+        }
+        if step >= record_from {
+            for i in 0..n {
+                lo[i] = lo[i].min(x[i]);
+                hi[i] = hi[i].max(x[i]);
+            }
+        }
+    }
+    (lo.iter().zip(&hi).map(|(a, b)| 0.5 * (b - a)).collect(), steps)
+}
