@@ -1,5 +1,6 @@
 //! Benchmarks of the simulator: one steady-state point (as a periodic orbit and by the
-//! transient rule), the Fig. 8 three-damper sweep, the low-damping sweeps, a Fig. 9 branch,
+//! transient rule), the Fig. 8 three-damper sweep, the low-damping sweeps, Fig. 5's band with
+//! columns of grains, a Fig. 9 branch,
 //! setting up the dynamics, and the stiffness fit to measured modes.
 //! Results and the machine they ran on are recorded in BENCHMARKS.md.
 
@@ -57,6 +58,22 @@ fn fig08_sweep(c: &mut Criterion) {
     group.bench_function("fig08 N=3 8-60 Hz step 0.1 (521 points)", |b| {
         b.iter(|| sweep::from_rest(&sys, &freqs, &SteadyOptions::default(), &|| {}))
     });
+    group.finish();
+}
+
+/// Fig. 5's band (44-56 Hz, 121 points, d = 0.35 mm) with every bed a column of 10 grains at
+/// restitution 0.3: one container (m2) and three.
+fn column_sweep(c: &mut Criterion) {
+    let freqs: Vec<f64> = (0..=120).map(|i| ((440.0 + i as f64) / 10.0 * 1e9).round() / 1e9).collect();
+    let law = shotdamp::sim::bed::ImpactLaw { restitution: 0.3, stick_speed: 1e-3 };
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    for (name, hosts) in [("N=1 (m2)", vec![1]), ("N=3", vec![0, 1, 2])] {
+        let sys = beds(&hosts, 0.35e-3, 0.01).with_law(law).with_grains(&vec![10; hosts.len()]);
+        group.bench_function(format!("fig05 columns of 10 grains e=0.3 {name} 44-56 Hz (121 points)"), |b| {
+            b.iter(|| sweep::from_rest(&sys, &freqs, &SteadyOptions::default(), &|| {}))
+        });
+    }
     group.finish();
 }
 
@@ -123,6 +140,6 @@ criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = point, fig08_sweep, low_damping, fig09_branch, dynamics_setup, stiffness_fit
+    targets = point, fig08_sweep, low_damping, column_sweep, fig09_branch, dynamics_setup, stiffness_fit
 }
 criterion_main!(benches);

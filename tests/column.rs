@@ -3,6 +3,8 @@
 //! joule is accounted for, and a column dropped into its container comes to rest after a
 //! bounded number of events.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use shotdamp::model::{Damper, Damping, Structure};
@@ -158,10 +160,12 @@ fn a_column_dropped_into_a_resting_container_comes_to_rest_after_a_bounded_numbe
             }
         }
         let events = ledger.events.len();
-        // Impacts at the sticking speed or faster lose at least (1 - e^2) m_g v_s^2 / 4 each.
+        // Bounces (at the sticking speed or faster) lose at least (1 - e^2) m_g v_s^2 / 4 each;
+        // a grain sticks at most once more than it was separated (n at the start, one per
+        // bounce): events <= n + 2 E / ((1 - e^2) m_g v_s^2 / 4) for the fall energy E.
         let m_g = 0.064 / n as f64;
         let fall = m_g * n as f64 * 9.80665 * 0.3e-3;
-        let bound = 2 * n + (fall / ((1.0 - e * e) * m_g * 1e-6 / 4.0)).ceil() as usize;
+        let bound = n + 2 * (fall / ((1.0 - e * e) * m_g * 1e-6 / 4.0)).ceil() as usize;
         let e1 = shotdamp::sim::observe::stored_energy(&d, &s);
         let residual = (e0 - e1 - energy.viscous - energy.impact).abs() / (e0 - e1);
         println!(
@@ -173,4 +177,157 @@ fn a_column_dropped_into_a_resting_container_comes_to_rest_after_a_bounded_numbe
         assert!(events <= bound, "n = {n}, e = {e}: {events} events > {bound}");
         assert!(residual < 1e-9, "n = {n}, e = {e}: energy balance {residual:.1e}");
     }
+}
+
+/// An experiment file with the given analysis and damper keys (the paper's three containers).
+fn experiment_file(dir: &std::path::Path, analysis: &str, keys: &str) -> std::path::PathBuf {
+    let exps = common::experiments(dir, &[]);
+    let file = exps.join("grains.toml");
+    std::fs::write(
+        &file,
+        format!(
+            r#"extends = "shared/paper_structure.toml"
+[experiment]
+id = "grains"
+title = "t"
+figure = "-"
+caption = "c"
+claim = "c"
+[analysis]
+{analysis}
+[[cases]]
+id = "triple"
+label = "triple"
+dampers = [
+    {{ mass = 1, mass_ratio = 0.1, clearance_mm = 0.35{keys} }},
+    {{ mass = 2, mass_ratio = 0.1, clearance_mm = 0.35{keys} }},
+    {{ mass = 3, mass_ratio = 0.1, clearance_mm = 0.35{keys} }},
+]
+"#
+        ),
+    )
+    .unwrap();
+    file
+}
+
+const SWEEP: &str = r#"kind = "sweep"
+freq_hz = { start = 47.0, stop = 49.0, step = 1.0 }"#;
+
+#[test]
+fn a_column_in_an_experiment_file_is_the_column_of_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = experiment_file(dir.path(), SWEEP, r#", bed = "column", grains = 4, restitution = 0.3"#);
+    let exps = shotdamp::experiment::load(&file, &common::repo().join("reference")).unwrap();
+    let exp = exps.iter().find(|e| e.model.as_ref().is_none_or(|m| m.id == "stated")).unwrap();
+    assert_eq!(exp.cases[0].grains, vec![4, 4, 4]);
+    let sys = shotdamp::analysis::curves::system(exp, &exp.cases[0]);
+    let by_hand =
+        fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw { restitution: 0.3, stick_speed: 1e-3 }).with_grains(&[4, 4, 4]);
+    assert_eq!(sys.dampers, by_hand.dampers);
+    assert_eq!(sys.columns, by_hand.columns);
+    assert_eq!(sys.laws, by_hand.laws);
+    // The sweep's table has one set of impact columns per container, not per grain.
+    let out =
+        common::shotdamp().args(["run", file.to_str().unwrap(), "--out"]).arg(dir.path().join("o")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(dir.path().join("o/grains/stated/data/compliance.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.contains("impacts_per_period_d3") && !header.contains("impacts_per_period_d4"), "{header}");
+}
+
+#[test]
+fn bad_bed_models_are_input_errors_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    for (keys, analysis, key) in [
+        (r#", bed = "sand""#, SWEEP, "cases[0].dampers[0].bed"),
+        (r#", grains = 0"#, SWEEP, "cases[0].dampers[0].grains"),
+        (r#", grains = 2.5"#, SWEEP, "cases[0].dampers[0].grains"),
+        (r#", grains = 61"#, SWEEP, "cases[0].dampers[0].grains"),
+        (r#", bed = "column""#, SWEEP, "cases[0].dampers[0].grains"),
+        (r#", bed = "plastic", restitution = 0.3"#, SWEEP, "cases[0].dampers[0].restitution"),
+        (r#", bed = "restitution""#, SWEEP, "cases[0].dampers[0].restitution"),
+        (r#", bed = "plastic", grains = 3"#, SWEEP, "cases[0].dampers[0].grains"),
+        (
+            r#", grains = 3"#,
+            "kind = \"sweep\"\nstart = \"continuation\"\nfreq_hz = { start = 47.0, stop = 49.0, step = 1.0 }",
+            "cases[0].dampers[0].grains",
+        ),
+    ] {
+        let file = experiment_file(dir.path(), analysis, keys);
+        let out = common::shotdamp()
+            .args(["run", file.to_str().unwrap(), "--out"])
+            .arg(dir.path().join("o"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{keys}: {err}");
+        assert!(err.contains(key) && err.contains("grains.toml"), "{keys}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn waveforms_show_every_grain_and_the_events_name_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let analysis = "kind = \"waveform\"\nfrequencies_hz = [48.5]\nlabels = [\"b\"]\nperiods = 1";
+    let file = experiment_file(dir.path(), analysis, r#", grains = 3, restitution = 0.3"#);
+    let out =
+        common::shotdamp().args(["run", file.to_str().unwrap(), "--out"]).arg(dir.path().join("o")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let data = dir.path().join("o/grains/stated/data");
+    let waves = std::fs::read_to_string(data.join("waveforms.csv")).unwrap();
+    let header = waves.lines().next().unwrap();
+    assert!(header.contains("y9") && header.contains("state9") && !header.contains("y10"), "{header}");
+    let events = common::csv_rows(&std::fs::read_to_string(data.join("events.csv")).unwrap());
+    let head = &events[0];
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let (bed, container, grain, kind) = (col("bed"), col("container"), col("grain"), col("kind"));
+    assert!(events[1..].iter().any(|r| r[kind].starts_with("hits grain")), "no grain-grain collision drawn");
+    for r in &events[1..] {
+        let b: usize = r[bed].parse().unwrap();
+        assert_eq!(r[container], ((b - 1) / 3 + 1).to_string());
+        assert_eq!(r[grain], ((b - 1) % 3 + 1).to_string());
+    }
+}
+
+#[test]
+fn a_motion_that_never_settles_gets_a_long_record_whose_halves_are_compared() {
+    use shotdamp::sim::long_record::{extend, LONG_RECORD_PERIODS};
+    use shotdamp::sim::observe::Extrema;
+    use shotdamp::sim::steady::NoSteady;
+    // One bouncing mass per container, stopped before it can settle (30 periods).
+    let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw { restitution: 0.5, stick_speed: 1e-3 });
+    let d = Dynamics::new(&sys, 2.0 * PI * 48.5).unwrap();
+    let short = SteadyOptions { max_periods: 30, min_periods: 25, ..transient() };
+    let st = shotdamp::sim::transient::transient_steady(&d, State::at_rest(&d), &short);
+    assert!(!st.converged);
+    let long = extend(&d, st.clone());
+    let Some(NoSteady::Aperiodic { periods, spread, after }) = long.failure.clone() else {
+        panic!("expected an aperiodic point: {:?}", long.failure)
+    };
+    assert_eq!((periods, after, long.recorded_periods), (LONG_RECORD_PERIODS, 30, LONG_RECORD_PERIODS));
+    assert!(!long.converged);
+    // The same record run again: the whole record's amplitudes, and its second half's.
+    let period = 2.0 * PI / d.omega;
+    let mut s = st.final_state.clone();
+    let t0 = s.t;
+    let engine = Engine::new(&d);
+    let mut whole = Extrema::new(3, 3);
+    engine.advance(&mut s, t0 + 100.0 * period, &mut whole).unwrap();
+    let mut second = Extrema::new(3, 3);
+    engine.advance(&mut s, t0 + 200.0 * period, &mut second).unwrap();
+    let (a, b) = (long.amplitude.clone(), second.amplitudes());
+    let scale = a.iter().copied().fold(0.0, f64::max);
+    let again = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale;
+    assert!((again - spread).abs() < 1e-12, "{again} vs {spread}");
+    for i in 0..3 {
+        assert!(a[i] >= b[i] && a[i] >= 0.5 * (whole.max[i] - whole.min[i]) - 1e-15);
+    }
+    // The paper's plastic bed keeps its record.
+    let plastic = fig5(&[0, 1, 2], 0.35e-3);
+    let dp = Dynamics::new(&plastic, 2.0 * PI * 48.5).unwrap();
+    let sp = shotdamp::sim::transient::transient_steady(&dp, State::at_rest(&dp), &short);
+    let kept = extend(&dp, sp.clone());
+    assert_eq!(kept.amplitude, sp.amplitude);
+    assert_eq!(kept.recorded_periods, sp.recorded_periods);
 }

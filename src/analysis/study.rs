@@ -438,3 +438,203 @@ pub fn summary_table(id: &str, names: &[String], summaries: &[ClaimSummary]) -> 
     }
     t
 }
+
+/// How far one group of samples moves a claim from the paper's bed (see
+/// [`deviation_sentences`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Deviation {
+    /// The value of the first varied key the group shares.
+    pub group: f64,
+    /// Largest `|value / paper's - 1|` over the group's evaluable samples that rest on settled
+    /// points, and that sample's values.
+    pub settled: Option<(f64, Vec<f64>)>,
+    /// The same over samples that rest on a point that did not settle.
+    pub unsettled: Option<(f64, Vec<f64>)>,
+}
+
+/// Per value of the first varied key, the largest relative moves of the claim `check` on
+/// `model` from the first sample (every key at its first value: the paper's bed), or `None`
+/// when the first sample is not evaluable. Groups without an evaluable sample are left out.
+pub fn deviations(model: &str, check: usize, rows: &[ClaimRow]) -> Option<(f64, Vec<Deviation>)> {
+    let of: Vec<&ClaimRow> = rows.iter().filter(|r| r.model == model && r.check == check).collect();
+    let base = of.iter().min_by_key(|r| r.sample)?;
+    if !base.value.is_finite() || base.value == 0.0 {
+        return None;
+    }
+    let mut groups: Vec<Deviation> = Vec::new();
+    for r in of.iter().filter(|r| r.sample != base.sample && r.value.is_finite()) {
+        let g = r.values.first().copied().unwrap_or(f64::NAN);
+        let moved = (r.value / base.value - 1.0).abs();
+        let i = match groups.iter().position(|d| d.group.to_bits() == g.to_bits()) {
+            Some(i) => i,
+            None => {
+                groups.push(Deviation { group: g, settled: None, unsettled: None });
+                groups.len() - 1
+            }
+        };
+        let slot = if r.settled { &mut groups[i].settled } else { &mut groups[i].unsettled };
+        if slot.as_ref().is_none_or(|(x, _)| moved > *x) {
+            *slot = Some((moved, r.values.clone()));
+        }
+    }
+    Some((base.value, groups))
+}
+
+/// A relative move in words: "3.5 %", "0.05 %" (the smallest shown).
+fn percent(x: f64) -> String {
+    format!("{} %", crate::number::fmt_num((1000.0 * x.max(5e-4)).round() / 10.0))
+}
+
+/// "up to 3.5 %", or "less than 0.05 %".
+fn up_to(x: f64) -> String {
+    if x < 5e-4 {
+        "less than 0.05 %".into()
+    } else {
+        format!("up to {}", percent(x))
+    }
+}
+
+/// One sentence per claim of a bed study: on each model, the claim's value with the paper's
+/// bed (the first sample) and, per value of the first varied key, how far the other samples
+/// move it and where (settled samples and unsettled ones apart).
+pub fn deviation_sentences(models: &[(String, String)], names: &[String], rows: &[ClaimRow]) -> Vec<String> {
+    let n_checks = rows.iter().map(|r| r.check + 1).max().unwrap_or(0);
+    let at = |values: &[f64]| -> String {
+        names
+            .iter()
+            .zip(values)
+            .skip(1)
+            .map(|(n, v)| format!("{n} {}", crate::number::fmt_num(*v)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    (0..n_checks)
+        .filter_map(|check| {
+            let claim = rows.iter().find(|r| r.check == check)?.claim.clone();
+            let parts: Vec<String> = models
+                .iter()
+                .map(|(id, label)| match deviations(id, check, rows) {
+                    None => format!("{label}: not evaluable with the paper's bed"),
+                    Some((base, groups)) => {
+                        let moves: Vec<String> = groups
+                            .iter()
+                            .map(|d| {
+                                let mut words = Vec::new();
+                                if let Some((x, v)) = &d.settled {
+                                    words.push(format!("{} ({})", up_to(*x), at(v)));
+                                }
+                                if let Some((x, v)) = &d.unsettled {
+                                    words.push(format!("{} on a point that did not settle ({})", percent(*x), at(v)));
+                                }
+                                format!(
+                                    "{} {}: {}",
+                                    names.first().map_or("", String::as_str),
+                                    crate::number::fmt_num(d.group),
+                                    words.join(", ")
+                                )
+                            })
+                            .collect();
+                        format!("{label}: {} with the paper's bed; {}", crate::number::fmt_num(base), moves.join("; "))
+                    }
+                })
+                .collect();
+            Some(format!("{claim}: {}", parts.join(". ")))
+        })
+        .collect()
+}
+
+/// The index's sentence for a bed study: per value of the first varied key, the largest move
+/// of any claim on any model from the paper's bed on settled samples (and on unsettled ones
+/// when larger).
+pub fn deviation_summary(models: &[(String, String)], names: &[String], rows: &[ClaimRow]) -> String {
+    let n_checks = rows.iter().map(|r| r.check + 1).max().unwrap_or(0);
+    let mut worst: Vec<(f64, Option<f64>, Option<f64>)> = Vec::new(); // group, settled, unsettled
+    for (id, _) in models {
+        for check in 0..n_checks {
+            let Some((_, groups)) = deviations(id, check, rows) else { continue };
+            for d in groups {
+                let i = match worst.iter().position(|w| w.0.to_bits() == d.group.to_bits()) {
+                    Some(i) => i,
+                    None => {
+                        worst.push((d.group, None, None));
+                        worst.len() - 1
+                    }
+                };
+                let max = |a: Option<f64>, b: Option<&(f64, Vec<f64>)>| match (a, b) {
+                    (Some(a), Some((b, _))) => Some(a.max(*b)),
+                    (a, b) => a.or(b.map(|x| x.0)),
+                };
+                worst[i].1 = max(worst[i].1, d.settled.as_ref());
+                worst[i].2 = max(worst[i].2, d.unsettled.as_ref());
+            }
+        }
+    }
+    let name = names.first().map_or("", String::as_str);
+    let parts: Vec<String> = worst
+        .iter()
+        .map(|(g, s, u)| {
+            let settled = s.map_or("no settled sample".to_string(), |s| format!("by {}", up_to(s)));
+            let unsettled = match (s, u) {
+                (Some(s), Some(u)) if u > s => format!(" ({} on a point that did not settle)", percent(*u)),
+                (None, Some(u)) => format!(" ({} on points that did not settle)", percent(*u)),
+                _ => String::new(),
+            };
+            format!("{name} {}: {settled}{unsettled}", crate::number::fmt_num(*g))
+        })
+        .collect();
+    format!("the claims move from their values with the paper's bed: {}", parts.join("; "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(sample: usize, values: &[f64], value: f64, settled: bool) -> ClaimRow {
+        ClaimRow {
+            sample,
+            model: "stated".into(),
+            values: values.to_vec(),
+            check: 0,
+            claim: "peak ratio".into(),
+            reading: String::new(),
+            value,
+            bound: "within [2.5, 4]".into(),
+            outcome: Verdict::Fails,
+            reason: String::new(),
+            settled,
+        }
+    }
+
+    #[test]
+    fn deviations_are_measured_from_the_first_sample_per_group() {
+        // grains 1 / 10 x restitution 0 / 0.3 / 0.6; the first sample is the paper's bed.
+        let rows = vec![
+            row(0, &[1.0, 0.0], 2.0, true),
+            row(1, &[1.0, 0.3], 2.2, true),
+            row(2, &[1.0, 0.6], 1.0, false),
+            row(3, &[10.0, 0.0], 2.0, true),
+            row(4, &[10.0, 0.3], 2.002, true),
+            row(5, &[10.0, 0.6], f64::NAN, true),
+        ];
+        let (base, groups) = deviations("stated", 0, &rows).unwrap();
+        assert_eq!(base, 2.0);
+        assert_eq!(groups.len(), 2);
+        let (x, at) = groups[0].settled.clone().unwrap();
+        assert!((x - 0.1).abs() < 1e-12 && at == vec![1.0, 0.3]);
+        let (x, at) = groups[0].unsettled.clone().unwrap();
+        assert!((x - 0.5).abs() < 1e-12 && at == vec![1.0, 0.6]);
+        let (x, _) = groups[1].settled.clone().unwrap();
+        assert!((x - 0.001).abs() < 1e-12 && groups[1].unsettled.is_none());
+        let names = vec!["grains".to_string(), "restitution".to_string()];
+        let models = vec![("stated".to_string(), "stated chain".to_string())];
+        let s = deviation_sentences(&models, &names, &rows);
+        assert_eq!(
+            s,
+            vec!["peak ratio: stated chain: 2 with the paper's bed; grains 1: up to 10 % (restitution 0.3), 50 % on a point that did not settle (restitution 0.6); grains 10: up to 0.1 % (restitution 0.3)"]
+        );
+        assert_eq!(
+            deviation_summary(&models, &names, &rows),
+            "the claims move from their values with the paper's bed: grains 1: by up to 10 % (50 % on a point that did not settle); grains 10: by up to 0.1 %"
+        );
+    }
+}

@@ -27,10 +27,25 @@ struct Record {
     settled: bool,
 }
 
-/// The motion type of bed `j` from the events of the record (paper section 2.2).
-fn motion_type(s: &Sampler, j: usize, periods: usize, finite: bool) -> String {
+/// The simulator's beds of each container of a case: one bed, or a column's grains (bottom
+/// grain first).
+pub fn bed_ranges(case: &crate::experiment::Case) -> Vec<std::ops::Range<usize>> {
+    let mut start = 0;
+    (0..case.dampers.len())
+        .map(|k| {
+            let n = case.grains.get(k).copied().unwrap_or(1).max(1);
+            start += n;
+            start - n..start
+        })
+        .collect()
+}
+
+/// The motion type of the bed in container `beds` (one bed, or a column's grains) from the
+/// events of the record (paper section 2.2).
+fn motion_type(s: &Sampler, beds: std::ops::Range<usize>, periods: usize, finite: bool) -> String {
     let (mut lift, mut bottom, mut top_stick, mut top_bounce) = (0, 0, 0, 0);
-    for e in s.events.iter().filter(|e| e.bed == j) {
+    let grains = beds.len();
+    for e in s.events.iter().filter(|e| beds.contains(&e.bed)) {
         match e.kind {
             EventKind::LiftOff { top: false } => lift += 1,
             EventKind::Impact { top: false, .. } => bottom += 1,
@@ -52,7 +67,8 @@ fn motion_type(s: &Sampler, j: usize, periods: usize, finite: bool) -> String {
     } else {
         "Type III (no top)"
     };
-    format!("{kind}; per period {} bottom and {} top impacts", per(bottom), per(top_stick + top_bounce))
+    let of = if grains > 1 { format!(" (all {grains} grains)") } else { String::new() };
+    format!("{kind}; per period {} bottom and {} top impacts{of}", per(bottom), per(top_stick + top_bounce))
 }
 
 /// An event kind in words, for tables.
@@ -101,8 +117,10 @@ pub fn run(
             let times: Vec<f64> = (0..=m).map(|k| t0 + period * periods as f64 * k as f64 / m as f64).collect();
             let mut sampler = Sampler::new(times.clone());
             let _ = Engine::new(&d).advance(&mut s, t0 + period * periods as f64, &mut sampler);
-            let types = (0..case.dampers.len())
-                .map(|j| motion_type(&sampler, j, periods, case.dampers[j].clearance.is_finite()))
+            let types = bed_ranges(case)
+                .into_iter()
+                .enumerate()
+                .map(|(k, beds)| motion_type(&sampler, beds, periods, case.dampers[k].clearance.is_finite()))
                 .collect();
             records.push(Record {
                 case: case.id.clone(),
@@ -140,7 +158,7 @@ fn short_type(t: &str) -> String {
 
 fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
     let n = exp.structure.dof();
-    let beds = exp.cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
+    let beds = exp.cases.iter().map(|c| c.grains.iter().map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
     let rows: Vec<(&Record, usize)> =
         records.iter().flat_map(|r| (0..r.sampler.x.len()).map(move |i| (r, i))).collect();
     let mut t = Table::new(
@@ -169,13 +187,42 @@ fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
     }
     let ev: Vec<(&Record, &crate::sim::Event)> =
         records.iter().flat_map(|r| r.sampler.events.iter().map(move |e| (r, e))).collect();
-    let events = Table::new("events", "Every event of the drawn periods: time (s), bed (1-based), kind, relative speed (m/s) and kinetic energy lost (J)")
-        .str("case", ev.iter().map(|(r, _)| r.case.clone()).collect())
-        .str("label", ev.iter().map(|(r, _)| r.label.clone()).collect())
-        .f64("t", ev.iter().map(|(_, e)| e.t).collect())
-        .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect())
+    let columns = exp.cases.iter().any(|c| c.grains.iter().any(|&g| g > 1));
+    let mut events = Table::new(
+        "events",
+        if columns {
+            "Every event of the drawn periods: time (s), bed (1-based; a column's grains are beds of their own, bottom grain first), its container and grain (1-based), kind, relative speed (m/s) and kinetic energy lost (J)"
+        } else {
+            "Every event of the drawn periods: time (s), bed (1-based), kind, relative speed (m/s) and kinetic energy lost (J)"
+        },
+    )
+    .str("case", ev.iter().map(|(r, _)| r.case.clone()).collect())
+    .str("label", ev.iter().map(|(r, _)| r.label.clone()).collect())
+    .f64("t", ev.iter().map(|(_, e)| e.t).collect())
+    .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect());
+    if columns {
+        let place = |case: &str, bed: usize| -> (i64, i64) {
+            let ranges = exp.cases.iter().find(|c| c.id == case).map(bed_ranges).unwrap_or_default();
+            ranges
+                .iter()
+                .position(|r| r.contains(&bed))
+                .map_or((0, 0), |k| (k as i64 + 1, (bed - ranges[k].start) as i64 + 1))
+        };
+        events = events
+            .i64("container", ev.iter().map(|(r, e)| place(&r.case, e.bed).0).collect())
+            .i64("grain", ev.iter().map(|(r, e)| place(&r.case, e.bed).1).collect());
+    }
+    let events = events
         .str("kind", ev.iter().map(|(_, e)| event_words(&e.kind)).collect())
-        .f64("speed", ev.iter().map(|(_, e)| if let EventKind::Impact { speed, .. } = e.kind { speed } else { 0.0 }).collect())
+        .f64(
+            "speed",
+            ev.iter()
+                .map(|(_, e)| match e.kind {
+                    EventKind::Impact { speed, .. } | EventKind::Collision { speed, .. } => speed,
+                    EventKind::LiftOff { .. } => 0.0,
+                })
+                .collect(),
+        )
         .f64("loss", ev.iter().map(|(_, e)| e.loss).collect());
     vec![t, events]
 }
@@ -189,14 +236,19 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
             let mut type_lines = Vec::new();
             for r in &recs {
                 let mut series = Vec::new();
-                for (j, dm) in case.dampers.iter().enumerate() {
+                for ((j, dm), beds) in case.dampers.iter().enumerate().zip(bed_ranges(case)) {
                     let host: Vec<f64> = r.sampler.x.iter().map(|x| 1e3 * x[dm.host]).collect();
-                    let bed: Vec<f64> = r.sampler.y.iter().map(|y| 1e3 * y[j]).collect();
                     series.push(Series::line(format!("m{} (host)", dm.host + 1), r.phase_deg.clone(), host.clone(), j));
-                    series.push(
-                        Series::line(format!("bed on m{}", dm.host + 1), r.phase_deg.clone(), bed, j)
-                            .dashed(Dash::Dashed),
-                    );
+                    let grains = beds.len();
+                    for (g, b) in beds.enumerate() {
+                        let bed: Vec<f64> = r.sampler.y.iter().map(|y| 1e3 * y[b]).collect();
+                        let label = match (grains, g) {
+                            (1, _) => format!("bed on m{}", dm.host + 1),
+                            (_, 0) => format!("{grains} grains on m{}", dm.host + 1),
+                            _ => String::new(),
+                        };
+                        series.push(Series::line(label, r.phase_deg.clone(), bed, j).dashed(Dash::Dashed));
+                    }
                     if dm.clearance.is_finite() {
                         let top = host.iter().map(|h| h + 1e3 * dm.clearance).collect();
                         series.push(

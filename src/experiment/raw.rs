@@ -333,9 +333,10 @@ pub struct RawDamper {
     /// `grains` is given, "restitution" when a restitution > 0 is, else "plastic".
     #[serde(default)]
     pub bed: Option<String>,
-    /// Number of grains of a column bed (total mass unchanged).
+    /// Number of grains of a column bed (total mass unchanged): a whole number (a float such
+    /// as 5.0, as studies write it, is taken).
     #[serde(default)]
-    pub grains: Option<i64>,
+    pub grains: Option<f64>,
     /// Coefficient of restitution of the bed against the container's ends, and between the
     /// grains of a column (default 0: plastic).
     #[serde(default)]

@@ -84,12 +84,13 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         }
     }
     // A column of grains runs where the motion is simulated from rest; the orbit-based
-    // analyses (continuation with its orbit branches, SDOF orbits, designs) and the per-bed
-    // figures of waveforms and impulse decay do not model grains yet.
+    // analyses (continuation with its orbit branches, SDOF orbits, designs) and impulse decay
+    // do not model grains yet.
     let columns_allowed = matches!(
         analysis,
         Analysis::Sweep { start: super::Start::Rest, .. }
             | Analysis::ClearanceStudy { .. }
+            | Analysis::Waveform { .. }
             | Analysis::LinearFrf { .. }
             | Analysis::Modal
     );
@@ -101,7 +102,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
                     format!("cases[{ci}].dampers[{di}].grains"),
                     case.grains[di],
                     format!(
-                        "a column of grains runs in a sweep from rest or a clearance study (this analysis is {}{}): use one mass (bed = \"plastic\" or \"restitution\")",
+                        "a column of grains runs in a sweep from rest, a clearance study or waveforms (this analysis is {}{}): use one mass (bed = \"plastic\" or \"restitution\")",
                         analysis.kind(),
                         if matches!(analysis, Analysis::Sweep { .. }) { " with start = \"continuation\"" } else { "" }
                     ),
@@ -358,18 +359,6 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
                 format!("at most {MAX_BEDS} dampers per case (every one of the 2^N configurations is decomposed)"),
             ));
         }
-        let configs = c.dampers.iter().try_fold(1usize, |acc, d| {
-            let n = d.grains.filter(|&g| g >= 1).unwrap_or(1).min(MAX_CONFIGS as i64) as usize;
-            acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS)
-        });
-        if configs.is_none() {
-            return Err(Error::invalid(
-                path,
-                format!("cases[{ci}].dampers"),
-                format!("{} dampers with grains {:?}", c.dampers.len(), c.dampers.iter().map(|d| d.grains.unwrap_or(1)).collect::<Vec<_>>()),
-                format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
-            ));
-        }
         let mut dampers = Vec::with_capacity(c.dampers.len());
         let mut clearances = Vec::with_capacity(c.dampers.len());
         let mut laws = Vec::with_capacity(c.dampers.len());
@@ -405,6 +394,15 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
             let (law, n) = bed_model(path, &key, &d)?;
             laws.push(law);
             grains.push(n);
+        }
+        let configs = grains.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS));
+        if configs.is_none() {
+            return Err(Error::invalid(
+                path,
+                format!("cases[{ci}].dampers"),
+                format!("{} dampers with grains {grains:?}", dampers.len()),
+                format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
+            ));
         }
         out.push(Case { id: c.id, label: c.label, dampers, clearances, laws, grains });
     }
@@ -465,7 +463,7 @@ fn bed_model(
             Ok((law, 1))
         }
         "column" => match d.grains {
-            Some(g) if (1..=MAX_COLUMN_GRAINS as i64).contains(&g) => Ok((law, g as usize)),
+            Some(g) if g.fract() == 0.0 && (1.0..=MAX_COLUMN_GRAINS as f64).contains(&g) => Ok((law, g as usize)),
             Some(g) => Err(Error::invalid(
                 path,
                 key("grains"),

@@ -197,7 +197,17 @@ impl ReportWriter {
             self.write_models(&runs, studies)?;
         }
         write(&dir.join("style.css"), report::STYLE_CSS.as_bytes())?;
-        let index = report::render(&self.tera, "index.html", &report::index_view(results))?;
+        let mut index_view = report::index_view(results);
+        for s in studies.iter().filter(|s| s.manifest.section == crate::experiment::study::Section::Bed) {
+            let m = &s.manifest;
+            let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
+            index_view.bed.push(report::BedRow {
+                figure: m.figure.clone(),
+                link: format!("{}/index.html#{}", m.experiment, m.study),
+                sentence: crate::analysis::study::deviation_summary(&m.models, &names, &s.rows),
+            });
+        }
+        let index = report::render(&self.tera, "index.html", &index_view)?;
         write(&dir.join("index.html"), index.as_bytes())?;
         write(&dir.join("checks.json"), &checks_json(results)?)?;
         write(&dir.join("junit.xml"), junit::render(results).as_bytes())?;
@@ -219,7 +229,11 @@ impl ReportWriter {
         for s in studies.iter().filter(|s| &s.manifest.experiment == id) {
             mkdir_below(self.staging.dir(), &Path::new(id).join("robustness"))?;
             mkdir_below(self.staging.dir(), &Path::new(id).join("data"))?;
-            view.robustness.push(robustness::write(&dir, s, &write)?);
+            let written = robustness::write(&dir, s, &write)?;
+            match s.manifest.section {
+                crate::experiment::study::Section::Robustness => view.robustness.push(written),
+                crate::experiment::study::Section::Bed => view.bed.push(written),
+            }
         }
         let html = report::render(&self.tera, "models.html", &view)?;
         write(&dir.join("index.html"), html.as_bytes())

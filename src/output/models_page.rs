@@ -59,6 +59,8 @@ pub struct ModelsView {
     pub dependence: Vec<String>,
     /// The studies of this experiment: where its claims hold over unstated values.
     pub robustness: Vec<super::robustness::RobustnessView>,
+    /// The studies of "Does the bed model matter?".
+    pub bed: Vec<super::robustness::RobustnessView>,
 }
 
 /// Builds the page of `runs` (one experiment, one run per model) with the overlaid figures.
@@ -148,5 +150,6 @@ pub fn models_view(runs: &[&ExperimentResult], overlays: &[Figure]) -> ModelsVie
         matrix,
         dependence: dependence(runs),
         robustness: Vec::new(),
+        bed: Vec::new(),
     }
 }

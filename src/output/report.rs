@@ -289,6 +289,17 @@ pub struct IndexView {
     pub assumptions: Vec<String>,
     /// The paper's conclusion tested by the design experiments, a sentence per model.
     pub conclusions: Vec<super::conclusion::Conclusion>,
+    /// "Does the bed model matter?": per bed study, its figure, the link to its section and a
+    /// sentence.
+    pub bed: Vec<BedRow>,
+}
+
+/// One bed study in the index.
+#[derive(Debug, Serialize)]
+pub struct BedRow {
+    pub figure: String,
+    pub link: String,
+    pub sentence: String,
 }
 
 /// Builds the index view.
@@ -331,6 +342,7 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         checks: results.iter().flat_map(|r| r.checks.iter().map(|c| CheckRow::new(&r.experiment.key(), c))).collect(),
         assumptions,
         conclusions: super::conclusion::conclusions(results),
+        bed: Vec::new(),
     }
 }
 

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::analysis::study::{claim_sentences, rows_table, summarise, summary_table};
+use crate::analysis::study::{claim_sentences, deviation_sentences, rows_table, summarise, summary_table};
 use crate::error::Result;
 use crate::number::fmt_num;
 use crate::table;
@@ -24,6 +24,10 @@ pub struct RobustnessView {
     pub size: String,
     /// One sentence per claim.
     pub claims: Vec<String>,
+    /// "robustness" or "bed" (the page's section).
+    pub section: String,
+    /// A bed study: per claim, how far the bed models move it from the paper's bed.
+    pub deviations: Vec<String>,
     /// Per model: the experiment's own values of the varied keys, e.g. "stated chain: damping
     /// 0.01, clearance_mm 0.3" (empty when not known).
     pub assumed: Vec<String>,
@@ -60,6 +64,14 @@ pub fn write(dir: &Path, run: &StudyRun, write: &dyn Fn(&Path, &[u8]) -> Result<
         file: m.file.clone(),
         size: format!("{} samples, {n_claims} claims each", m.samples),
         claims: claim_sentences(&m.models, &names, &summaries),
+        section: match m.section {
+            crate::experiment::study::Section::Robustness => "robustness".into(),
+            crate::experiment::study::Section::Bed => "bed".into(),
+        },
+        deviations: match m.section {
+            crate::experiment::study::Section::Robustness => Vec::new(),
+            crate::experiment::study::Section::Bed => deviation_sentences(&m.models, &names, &run.rows),
+        },
         assumed: m
             .models
             .iter()

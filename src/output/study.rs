@@ -109,6 +109,9 @@ pub struct Manifest {
     /// recorded, as for a study run by the report).
     #[serde(default)]
     pub shards: usize,
+    /// Where the report shows it.
+    #[serde(default)]
+    pub section: crate::experiment::study::Section,
 }
 
 impl Manifest {
@@ -149,6 +152,7 @@ impl Manifest {
                 .collect(),
             grid: study.design == Design::Grid,
             shards: 0,
+            section: study.section,
         }
     }
 }

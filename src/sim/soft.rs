@@ -6,10 +6,11 @@
 //!
 //! Contact with overlap `delta > 0` pushes with `k delta + c delta'` (never pulls). For a pair
 //! of reduced mass `mu` the contact lasts `t_c = pi / sqrt(k / mu - (c / 2 mu)^2)` and returns
-//! the relative velocity scaled by `e = exp(-zeta pi / sqrt(1 - zeta^2))`, so the damping
-//! ratio `zeta = -ln e / sqrt(pi^2 + ln^2 e)` gives each contact the restitution of the
-//! event-driven law (`e = 0` takes critical damping, which returns nothing). There is no
-//! sticking speed: slow contacts simply stay pressed. Steps are `t_c / steps_per_contact` of
+//! the relative velocity scaled by `e` ([`restitution_of`]: the contact ends when its force,
+//! not its overlap, returns to zero), and the damping ratio is chosen so that `e` is the
+//! restitution of the event-driven law (a contact that never pulls has `e >= e^-2`, so
+//! nearly plastic beds have no soft counterpart). There is no sticking speed: slow contacts
+//! simply stay pressed. Steps are `t_c / steps_per_contact` of
 //! the grain-grain contact (semi-implicit Euler). The structure must have a diagonal mass
 //! matrix (a chain). No I/O.
 
@@ -28,13 +29,37 @@ pub struct SoftOptions {
     pub steps_per_contact: usize,
 }
 
-/// Damping ratio of a linear contact with restitution `e`.
-pub fn damping_ratio(e: f64) -> f64 {
-    if e <= 0.0 {
-        return 1.0;
+/// The restitution of a linear spring-dashpot contact of damping ratio `zeta` (< 1) that
+/// never pulls: the contact ends when the force `k delta + c delta'` returns to zero, at
+/// phase `phi = pi - atan2(2 beta w_d, w_0^2 - 2 beta^2)` of the damped oscillation, before
+/// the overlap does (Schwager and Poschel, Phys. Rev. E 75, 051304 (2007)), so
+/// `e = -exp(-beta phi / w_d) (cos phi - (beta / w_d) sin phi)` with `beta = zeta w_0`.
+pub fn restitution_of(zeta: f64) -> f64 {
+    let wd = (1.0 - zeta * zeta).sqrt();
+    let phi = PI - (2.0 * zeta * wd).atan2(1.0 - 2.0 * zeta * zeta);
+    -(-zeta * phi / wd).exp() * (phi.cos() - zeta / wd * phi.sin())
+}
+
+/// Least restitution a contact that never pulls can have with `zeta < 1`: `e^-2` at critical
+/// damping.
+pub const MIN_RESTITUTION: f64 = 0.1353352832366127;
+
+/// The damping ratio whose contact returns `e` ([`restitution_of`] inverted by bisection),
+/// or `None` when `e` is below [`MIN_RESTITUTION`] or not below 1.
+pub fn damping_ratio(e: f64) -> Option<f64> {
+    if !(MIN_RESTITUTION..1.0).contains(&e) {
+        return None;
     }
-    let l = e.ln();
-    -l / (PI * PI + l * l).sqrt()
+    let (mut lo, mut hi) = (0.0, 1.0 - 1e-12);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if restitution_of(mid) > e {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(0.5 * (lo + hi))
 }
 
 /// Contact duration of a linear contact of reduced mass `mu`, stiffness `k`, damping ratio
@@ -45,8 +70,15 @@ pub fn contact_time(mu: f64, k: f64, zeta: f64) -> f64 {
 
 /// The amplitude (half the peak-to-peak displacement) of each mass over the last `record` of
 /// `periods` forcing periods from rest, with every bed (a single bed is a column of one) made
-/// of soft contacts; and the number of steps taken.
-pub fn amplitude(sys: &System, omega: f64, opts: &SoftOptions, periods: usize, record: usize) -> (Vec<f64>, u64) {
+/// of soft contacts; and the number of steps taken. `None` when the beds' restitution is
+/// below [`MIN_RESTITUTION`] (a contact that never pulls cannot be that inelastic).
+pub fn amplitude(
+    sys: &System,
+    omega: f64,
+    opts: &SoftOptions,
+    periods: usize,
+    record: usize,
+) -> Option<(Vec<f64>, u64)> {
     let n = sys.dof();
     let m0 = &sys.structure.masses;
     let k = &sys.structure.stiffness;
@@ -55,11 +87,11 @@ pub fn amplitude(sys: &System, omega: f64, opts: &SoftOptions, periods: usize, r
     let groups = sys.groups();
     let nb = sys.dampers.len();
     let e = if nb > 0 { sys.impact_law(0).restitution } else { 0.0 };
-    let zeta = damping_ratio(e);
+    let zeta = damping_ratio(e)?;
     let kc = opts.stiffness;
     let damper = |mu: f64| 2.0 * zeta * (kc * mu).sqrt();
     let mg_min = sys.dampers.iter().map(|d| d.mass).fold(f64::INFINITY, f64::min);
-    let tc = contact_time(0.5 * mg_min, kc, zeta.min(0.99));
+    let tc = contact_time(0.5 * mg_min, kc, zeta);
     let dt = tc / opts.steps_per_contact as f64;
     // Start at rest in static equilibrium with every grain on its bottom (the event-driven
     // start), the grains at zero overlap.
@@ -129,5 +161,5 @@ pub fn amplitude(sys: &System, omega: f64, opts: &SoftOptions, periods: usize, r
             }
         }
     }
-    (lo.iter().zip(&hi).map(|(a, b)| 0.5 * (b - a)).collect(), steps)
+    Some((lo.iter().zip(&hi).map(|(a, b)| 0.5 * (b - a)).collect(), steps))
 }

@@ -57,6 +57,8 @@ pub struct Study {
     pub description: Option<String>,
     /// Whether `shotdamp report` runs it (sized for the report's time budget).
     pub report: bool,
+    /// Where the report shows it on the experiment's page.
+    pub section: Section,
     /// The experiment file it re-runs.
     pub experiment_path: PathBuf,
     /// The experiment as it stands, once per model studied (for ids, figure, references).
@@ -106,7 +108,21 @@ struct RawStudy {
     #[serde(default)]
     report: bool,
     #[serde(default)]
+    section: Option<String>,
+    #[serde(default)]
     set: toml::Table,
+}
+
+/// Where the report shows a study on its experiment's page.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Section {
+    /// "Robustness": the claims over values the paper leaves unstated.
+    #[default]
+    Robustness,
+    /// "Does the bed model matter?": the claims over bed models, each compared with the
+    /// sample at the first value of every varied key (the paper's bed).
+    Bed,
 }
 
 #[derive(Debug, Deserialize)]
@@ -266,6 +282,18 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
         title: s.title,
         description: s.description,
         report: s.report,
+        section: match s.section.as_deref() {
+            None | Some("robustness") => Section::Robustness,
+            Some("bed") => Section::Bed,
+            Some(other) => {
+                return Err(Error::invalid(
+                    path,
+                    "study.section",
+                    format!("\"{other}\""),
+                    "\"robustness\" (the default: values the paper leaves unstated) or \"bed\" (\"Does the bed model matter?\": bed models against the first sample, the paper's bed)",
+                ))
+            }
+        },
         experiment_path,
         base,
         design,
