@@ -5,6 +5,13 @@
 //! and scaled by the coefficient of restitution, or, for a plastic law or an impact slower
 //! than the sticking speed, the bed keeps its host's velocity and rests on that end.
 
+/// Position and velocity at `t` of a bed (or grain) in free flight since `t0` from position
+/// `y0` with velocity `u0`: a parabola under gravity alone.
+pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
+    let tau = t - t0;
+    (y0 + u0 * tau - 0.5 * crate::model::GRAVITY * tau * tau, u0 - crate::model::GRAVITY * tau)
+}
+
 /// How a bed's impact exchanges momentum with its host.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImpactLaw {

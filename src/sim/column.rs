@@ -19,8 +19,8 @@
 
 use std::ops::Range;
 
-use super::engine::{Bed, Event, EventKind, State};
 use super::segment::Watch;
+use super::state::{Bed, Event, EventKind, State};
 use super::system::Dynamics;
 
 /// Most collisions in one resolution before the rest are made plastic (a guard; the bound of

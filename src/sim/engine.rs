@@ -1,94 +1,13 @@
 //! The event-driven simulator: closed-form segments, certified event location, plastic (or
 //! restitution) impacts, and contact resolution after every event (docs/model.md section 2).
 
-use nalgebra::DVector;
-
 use crate::model::GRAVITY;
+
+pub use super::state::{Bed, Event, EventKind, State};
 
 use super::roots::{excluded, first_root, fresh_window, TIME_TOL};
 use super::segment::{Point, Segment, Taylor, Watch};
 use super::system::Dynamics;
-
-/// Where a bed is.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Bed {
-    /// Resting on the container bottom.
-    Bottom,
-    /// Pressed against the container top.
-    Top,
-    /// In flight since `t0`, from position `y0` with velocity `u0`.
-    Free { t0: f64, y0: f64, u0: f64 },
-}
-
-impl Bed {
-    /// True when the bed moves with its host.
-    pub fn attached(&self) -> bool {
-        !matches!(self, Bed::Free { .. })
-    }
-
-    /// Position and velocity of a free bed at `t`.
-    pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
-        let tau = t - t0;
-        (y0 + u0 * tau - 0.5 * GRAVITY * tau * tau, u0 - GRAVITY * tau)
-    }
-}
-
-/// The full state: time, primary masses, beds.
-#[derive(Debug, Clone, PartialEq)]
-pub struct State {
-    pub t: f64,
-    pub x: DVector<f64>,
-    pub v: DVector<f64>,
-    pub beds: Vec<Bed>,
-}
-
-impl State {
-    /// The configuration mask: bit j set when bed j is attached.
-    pub fn mask(&self) -> usize {
-        self.beds.iter().enumerate().filter(|(_, b)| b.attached()).fold(0, |m, (j, _)| m | (1 << j))
-    }
-
-    /// At rest in static equilibrium with every bed on its bottom (docs/model.md section 3).
-    pub fn at_rest(d: &Dynamics) -> State {
-        let n = d.system.dof();
-        let all = (1usize << d.system.dampers.len()) - 1;
-        let x = d.config(all).modes.offset.clone();
-        State { t: 0.0, x, v: DVector::zeros(n), beds: vec![Bed::Bottom; d.system.dampers.len()] }
-    }
-
-    /// Bed position and velocity (attached beds move with their host).
-    pub fn bed_motion(&self, d: &Dynamics, j: usize) -> (f64, f64) {
-        let dm = &d.system.dampers[j];
-        match self.beds[j] {
-            Bed::Bottom => (self.x[dm.host], self.v[dm.host]),
-            Bed::Top => (self.x[dm.host] + dm.clearance, self.v[dm.host]),
-            Bed::Free { t0, y0, u0 } => Bed::flight(t0, y0, u0, self.t),
-        }
-    }
-}
-
-/// What happened at an event.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum EventKind {
-    /// The bed left the bottom (`top = false`) or the top.
-    LiftOff { top: bool },
-    /// The bed hit the bottom or the top with this relative speed (m/s) and stayed attached
-    /// (`attached`) or separated at once.
-    Impact { top: bool, speed: f64, attached: bool },
-    /// Two grains of a column met (the event's bed is the upper one) at this relative speed,
-    /// m/s, and bounced apart or stuck together (`stuck`).
-    Collision { lower: usize, speed: f64, stuck: bool },
-}
-
-/// One event of one bed.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Event {
-    pub t: f64,
-    pub bed: usize,
-    pub kind: EventKind,
-    /// Kinetic energy lost in the event, J.
-    pub loss: f64,
-}
 
 /// Why a run stopped early.
 #[derive(Debug, Clone, PartialEq)]

@@ -13,12 +13,7 @@ use super::observe::{stored_energy, Both, Energy, Extrema};
 use super::steady::{EnergyBalance, NoSteady, Steady};
 use super::system::Dynamics;
 
-/// Forcing periods of the long record.
-pub const LONG_RECORD_PERIODS: usize = 200;
-
-/// The second half's amplitudes agree with the whole record's to this, relative to the
-/// largest: the record's amplitude has converged.
-pub const LONG_RECORD_TOL: f64 = 1e-2;
+pub use super::steady::{LONG_RECORD_PERIODS, LONG_RECORD_TOL};
 
 /// Whether a system's unsettled points get the long record: any bed that is not the paper's
 /// plastic single mass.

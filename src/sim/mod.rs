@@ -16,6 +16,7 @@ pub mod periodic;
 pub mod roots;
 pub mod segment;
 pub mod soft;
+pub mod state;
 pub mod steady;
 pub mod strobe;
 pub mod sweep;

@@ -142,7 +142,8 @@ pub enum Watch {
     /// Gap below the container top, `x_p + d - y`, of a free bed.
     GapTop { bed: usize, host: usize, d: f64, y0: f64, u0: f64, tf: f64 },
     /// Gap between two neighbouring free grains of a column, `y_upper - y_lower`: both fly
-    /// under gravity alone, so it is linear in time. Flights as in [`super::engine::Bed::Free`].
+    /// under gravity alone, so it is linear in time. Flights `[t0, y0, u0]` as in
+    /// [`super::state::Bed::Free`].
     Pair { lower: usize, upper: usize, lower_flight: [f64; 3], upper_flight: [f64; 3] },
 }
 
@@ -206,8 +207,8 @@ impl Watch {
                 Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4: seg.bound(d, pt, host, 4) }
             }
             Watch::Pair { lower_flight: [tl, yl, ul], upper_flight: [tu, yu, uu], .. } => {
-                let (a, va) = super::engine::Bed::flight(tl, yl, ul, pt.t);
-                let (b, vb) = super::engine::Bed::flight(tu, yu, uu, pt.t);
+                let (a, va) = super::bed::flight(tl, yl, ul, pt.t);
+                let (b, vb) = super::bed::flight(tu, yu, uu, pt.t);
                 Taylor { h: [b - a, vb - va, 0.0, 0.0], bound4: 0.0 }
             }
         }

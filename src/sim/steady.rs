@@ -104,6 +104,14 @@ pub const TORUS_MARGIN: f64 = 0.05;
 /// the largest) mean the motion is on the torus ([`SteadyOptions::torus_attempts`]).
 pub const TORUS_TOL: f64 = 1e-2;
 
+/// Forcing periods of the long record of a motion that never settles
+/// ([`super::long_record`]).
+pub const LONG_RECORD_PERIODS: usize = 200;
+
+/// The long record's second half agrees with the whole record to this, relative to the
+/// largest amplitude: the record's amplitude has converged.
+pub const LONG_RECORD_TOL: f64 = 1e-2;
+
 /// Longest window of a torus, forcing periods.
 pub const TORUS_WINDOW_MAX: usize = 200;
 
@@ -182,7 +190,7 @@ pub enum NoSteady {
     /// Not periodic after `after` periods (a bed with restitution or a column of grains): the
     /// amplitudes are those of a record of `periods` periods, whose second half differs from
     /// the whole by `spread` (relative to the largest amplitude; converged when at most
-    /// [`super::long_record::LONG_RECORD_TOL`]).
+    /// [`LONG_RECORD_TOL`]).
     Aperiodic { periods: usize, spread: f64, after: usize },
 }
 
@@ -202,7 +210,7 @@ impl std::fmt::Display for NoSteady {
                 f,
                 "aperiodic after {after} periods: amplitude of a {periods}-period record, its second half within {:.2} % ({})",
                 100.0 * spread,
-                if *spread <= super::long_record::LONG_RECORD_TOL { "converged" } else { "NOT converged" }
+                if *spread <= LONG_RECORD_TOL { "converged" } else { "NOT converged" }
             ),
         }
     }

@@ -1,0 +1,87 @@
+//! The simulator's state and its events (docs/model.md section 2): where each bed is, the
+//! masses' displacements and velocities, and what happens at an event. A room below the
+//! engine and the bed models, which all read it.
+
+use nalgebra::DVector;
+
+use super::system::Dynamics;
+
+/// Where a bed is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Bed {
+    /// Resting on the container bottom.
+    Bottom,
+    /// Pressed against the container top.
+    Top,
+    /// In flight since `t0`, from position `y0` with velocity `u0`.
+    Free { t0: f64, y0: f64, u0: f64 },
+}
+
+impl Bed {
+    /// True when the bed moves with its host.
+    pub fn attached(&self) -> bool {
+        !matches!(self, Bed::Free { .. })
+    }
+
+    /// Position and velocity of a free bed at `t`.
+    pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
+        super::bed::flight(t0, y0, u0, t)
+    }
+}
+
+/// The full state: time, primary masses, beds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    pub t: f64,
+    pub x: DVector<f64>,
+    pub v: DVector<f64>,
+    pub beds: Vec<Bed>,
+}
+
+impl State {
+    /// The configuration mask: bit j set when bed j is attached.
+    pub fn mask(&self) -> usize {
+        self.beds.iter().enumerate().filter(|(_, b)| b.attached()).fold(0, |m, (j, _)| m | (1 << j))
+    }
+
+    /// At rest in static equilibrium with every bed on its bottom (docs/model.md section 3).
+    pub fn at_rest(d: &Dynamics) -> State {
+        let n = d.system.dof();
+        let all = (1usize << d.system.dampers.len()) - 1;
+        let x = d.config(all).modes.offset.clone();
+        State { t: 0.0, x, v: DVector::zeros(n), beds: vec![Bed::Bottom; d.system.dampers.len()] }
+    }
+
+    /// Bed position and velocity (attached beds move with their host).
+    pub fn bed_motion(&self, d: &Dynamics, j: usize) -> (f64, f64) {
+        let dm = &d.system.dampers[j];
+        match self.beds[j] {
+            Bed::Bottom => (self.x[dm.host], self.v[dm.host]),
+            Bed::Top => (self.x[dm.host] + dm.clearance, self.v[dm.host]),
+            Bed::Free { t0, y0, u0 } => Bed::flight(t0, y0, u0, self.t),
+        }
+    }
+}
+
+/// What happened at an event.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EventKind {
+    /// The bed left the bottom (`top = false`) or the top.
+    LiftOff { top: bool },
+    /// The bed hit the bottom or the top with this relative speed (m/s) and stayed attached
+    /// (`attached`) or separated at once.
+    Impact { top: bool, speed: f64, attached: bool },
+    /// Two grains of a column met (the event's bed is the upper one) at this relative speed,
+    /// m/s, and bounced apart or stuck together (`stuck`).
+    Collision { lower: usize, speed: f64, stuck: bool },
+}
+
+/// One event of one bed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Event {
+    pub t: f64,
+    pub bed: usize,
+    pub kind: EventKind,
+    /// Kinetic energy lost in the event, J.
+    pub loss: f64,
+}
