@@ -331,3 +331,32 @@ fn a_motion_that_never_settles_gets_a_long_record_whose_halves_are_compared() {
     assert_eq!(kept.amplitude, sp.amplitude);
     assert_eq!(kept.recorded_periods, sp.recorded_periods);
 }
+
+#[test]
+fn an_impulse_decay_with_columns_accounts_for_every_joule_and_a_plastic_column_is_the_single_mass() {
+    use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
+    let opts = ImpulseOptions { mass: 0, kick: Kick::Velocity(0.5), duration: 0.5, dt: 1e-3 };
+    for (e, n) in [(0.0, 10), (0.3, 10), (0.6, 5)] {
+        let sys = fig5(&[0, 1, 2], 0.35e-3)
+            .with_law(ImpactLaw { restitution: e, stick_speed: if e > 0.0 { 1e-3 } else { 0.0 } })
+            .with_grains(&[n, n, n]);
+        let run = free_response(&sys, &opts).unwrap();
+        assert!(run.stop.is_none(), "e = {e}: {:?}", run.stop);
+        let residual = run.energy_residual();
+        println!("e = {e}, n = {n}: {} events, energy residual {residual:.1e}", run.samples.events.len());
+        assert!(residual < 1e-9, "e = {e}, n = {n}: {residual:e}");
+        if e == 0.0 {
+            // The plastic column's history is the single plastic mass's.
+            let single = free_response(&fig5(&[0, 1, 2], 0.35e-3), &opts).unwrap();
+            let scale = single.samples.x.iter().flat_map(|x| x.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+            let apart = run
+                .samples
+                .x
+                .iter()
+                .zip(&single.samples.x)
+                .flat_map(|(a, b)| a.iter().zip(b).map(|(p, q)| (p - q).abs()))
+                .fold(0.0, f64::max);
+            assert!(apart < 1e-9 * scale, "plastic column vs single mass: {apart:e} of {scale:e}");
+        }
+    }
+}

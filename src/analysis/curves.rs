@@ -191,6 +191,26 @@ pub fn linear(exp: &Experiment, case: &Case, id: &str, label: &str, freq_hz: &[f
     }
 }
 
+/// The simulator's beds of each container of a case: one bed, or a column's grains (bottom
+/// grain first).
+pub fn bed_ranges(case: &crate::experiment::Case) -> Vec<std::ops::Range<usize>> {
+    let mut start = 0;
+    (0..case.dampers.len())
+        .map(|k| {
+            let n = case.grains.get(k).copied().unwrap_or(1).max(1);
+            start += n;
+            start - n..start
+        })
+        .collect()
+}
+
+/// Container and grain (both 1-based) of the simulator's bed `bed` in case `case` (0, 0 when
+/// the case is not found).
+pub fn place(exp: &Experiment, case: &str, bed: usize) -> (i64, i64) {
+    let ranges = exp.cases.iter().find(|c| c.id == case).map(bed_ranges).unwrap_or_default();
+    ranges.iter().position(|r| r.contains(&bed)).map_or((0, 0), |k| (k as i64 + 1, (bed - ranges[k].start) as i64 + 1))
+}
+
 /// The simulated system of a case.
 pub fn system(exp: &Experiment, case: &Case) -> System {
     let sys = System {

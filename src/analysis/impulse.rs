@@ -146,7 +146,7 @@ fn tables(
     levels: &[f64],
 ) -> Vec<Table> {
     let n = exp.structure.dof();
-    let beds = exp.cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
+    let beds = exp.cases.iter().map(|c| c.grains.iter().map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
     // Histories: one row per case and sample.
     let rows: Vec<(&Decay, usize)> =
         decays.iter().flat_map(|d| (0..d.run.samples.a.len()).map(move |i| (*d, i))).collect();
@@ -187,19 +187,35 @@ fn tables(
     }
     let ev: Vec<(&Decay, &crate::sim::Event)> =
         decays.iter().flat_map(|d| d.run.samples.events.iter().map(move |e| (*d, e))).collect();
-    let events = Table::new(
+    let columns = exp.cases.iter().any(|c| c.grains.iter().any(|&g| g > 1));
+    let mut events = Table::new(
         "events",
-        "Every event: time (s), bed (1-based), kind, relative speed at impact (m/s), kinetic energy lost (J)",
+        if columns {
+            "Every event: time (s), bed (1-based; a column's grains are beds of their own, bottom grain first), its container and grain (1-based), kind, relative speed at impact (m/s), kinetic energy lost (J)"
+        } else {
+            "Every event: time (s), bed (1-based), kind, relative speed at impact (m/s), kinetic energy lost (J)"
+        },
     )
     .str("case", ev.iter().map(|(d, _)| d.id.clone()).collect())
     .f64("t", ev.iter().map(|(_, e)| e.t).collect())
-    .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect())
-    .str("kind", ev.iter().map(|(_, e)| super::waveform::event_words(&e.kind)).collect())
-    .f64(
-        "speed",
-        ev.iter().map(|(_, e)| if let EventKind::Impact { speed, .. } = e.kind { speed } else { 0.0 }).collect(),
-    )
-    .f64("loss", ev.iter().map(|(_, e)| e.loss).collect());
+    .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect());
+    if columns {
+        events = events
+            .i64("container", ev.iter().map(|(d, e)| super::curves::place(exp, &d.id, e.bed).0).collect())
+            .i64("grain", ev.iter().map(|(d, e)| super::curves::place(exp, &d.id, e.bed).1).collect());
+    }
+    let events = events
+        .str("kind", ev.iter().map(|(_, e)| super::waveform::event_words(&e.kind)).collect())
+        .f64(
+            "speed",
+            ev.iter()
+                .map(|(_, e)| match e.kind {
+                    EventKind::Impact { speed, .. } | EventKind::Collision { speed, .. } => speed,
+                    EventKind::LiftOff { .. } => 0.0,
+                })
+                .collect(),
+        )
+        .f64("loss", ev.iter().map(|(_, e)| e.loss).collect());
     // Decay times per case and mass.
     let drows: Vec<(&Decay, usize)> = decays.iter().flat_map(|d| (0..n).map(move |k| (*d, k))).collect();
     let mut decay = Table::new(

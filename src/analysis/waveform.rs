@@ -27,19 +27,6 @@ struct Record {
     settled: bool,
 }
 
-/// The simulator's beds of each container of a case: one bed, or a column's grains (bottom
-/// grain first).
-pub fn bed_ranges(case: &crate::experiment::Case) -> Vec<std::ops::Range<usize>> {
-    let mut start = 0;
-    (0..case.dampers.len())
-        .map(|k| {
-            let n = case.grains.get(k).copied().unwrap_or(1).max(1);
-            start += n;
-            start - n..start
-        })
-        .collect()
-}
-
 /// The motion type of the bed in container `beds` (one bed, or a column's grains) from the
 /// events of the record (paper section 2.2).
 fn motion_type(s: &Sampler, beds: std::ops::Range<usize>, periods: usize, finite: bool) -> String {
@@ -117,7 +104,7 @@ pub fn run(
             let times: Vec<f64> = (0..=m).map(|k| t0 + period * periods as f64 * k as f64 / m as f64).collect();
             let mut sampler = Sampler::new(times.clone());
             let _ = Engine::new(&d).advance(&mut s, t0 + period * periods as f64, &mut sampler);
-            let types = bed_ranges(case)
+            let types = curves::bed_ranges(case)
                 .into_iter()
                 .enumerate()
                 .map(|(k, beds)| motion_type(&sampler, beds, periods, case.dampers[k].clearance.is_finite()))
@@ -201,13 +188,7 @@ fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
     .f64("t", ev.iter().map(|(_, e)| e.t).collect())
     .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect());
     if columns {
-        let place = |case: &str, bed: usize| -> (i64, i64) {
-            let ranges = exp.cases.iter().find(|c| c.id == case).map(bed_ranges).unwrap_or_default();
-            ranges
-                .iter()
-                .position(|r| r.contains(&bed))
-                .map_or((0, 0), |k| (k as i64 + 1, (bed - ranges[k].start) as i64 + 1))
-        };
+        let place = |case: &str, bed: usize| curves::place(exp, case, bed);
         events = events
             .i64("container", ev.iter().map(|(r, e)| place(&r.case, e.bed).0).collect())
             .i64("grain", ev.iter().map(|(r, e)| place(&r.case, e.bed).1).collect());
@@ -236,7 +217,7 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
             let mut type_lines = Vec::new();
             for r in &recs {
                 let mut series = Vec::new();
-                for ((j, dm), beds) in case.dampers.iter().enumerate().zip(bed_ranges(case)) {
+                for ((j, dm), beds) in case.dampers.iter().enumerate().zip(curves::bed_ranges(case)) {
                     let host: Vec<f64> = r.sampler.x.iter().map(|x| 1e3 * x[dm.host]).collect();
                     series.push(Series::line(format!("m{} (host)", dm.host + 1), r.phase_deg.clone(), host.clone(), j));
                     let grains = beds.len();

@@ -83,14 +83,15 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
             }
         }
     }
-    // A column of grains runs where the motion is simulated from rest; the orbit-based
-    // analyses (continuation with its orbit branches, SDOF orbits, designs) and impulse decay
-    // do not model grains yet.
+    // A column of grains runs where the motion is simulated (from rest, or after an impulse);
+    // the orbit-based analyses (continuation with its orbit branches, SDOF orbits, designs) do
+    // not model grains yet.
     let columns_allowed = matches!(
         analysis,
         Analysis::Sweep { start: super::Start::Rest, .. }
             | Analysis::ClearanceStudy { .. }
             | Analysis::Waveform { .. }
+            | Analysis::Impulse { .. }
             | Analysis::LinearFrf { .. }
             | Analysis::Modal
     );
@@ -102,7 +103,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
                     format!("cases[{ci}].dampers[{di}].grains"),
                     case.grains[di],
                     format!(
-                        "a column of grains runs in a sweep from rest, a clearance study or waveforms (this analysis is {}{}): use one mass (bed = \"plastic\" or \"restitution\")",
+                        "a column of grains runs in a sweep from rest, a clearance study, waveforms or an impulse decay (this analysis is {}{}): use one mass (bed = \"plastic\" or \"restitution\")",
                         analysis.kind(),
                         if matches!(analysis, Analysis::Sweep { .. }) { " with start = \"continuation\"" } else { "" }
                     ),
