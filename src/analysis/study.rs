@@ -450,6 +450,10 @@ pub struct Deviation {
     pub settled: Option<(f64, Vec<f64>)>,
     /// The same over samples that rest on a point that did not settle.
     pub unsettled: Option<(f64, Vec<f64>)>,
+    /// Evaluable samples of the group, and how many of them have another verdict (holds or
+    /// fails) than the paper's bed.
+    pub samples: usize,
+    pub verdict_changes: usize,
 }
 
 /// Per value of the first varied key, the largest relative moves of the claim `check` on
@@ -468,10 +472,14 @@ pub fn deviations(model: &str, check: usize, rows: &[ClaimRow]) -> Option<(f64, 
         let i = match groups.iter().position(|d| d.group.to_bits() == g.to_bits()) {
             Some(i) => i,
             None => {
-                groups.push(Deviation { group: g, settled: None, unsettled: None });
+                groups.push(Deviation { group: g, settled: None, unsettled: None, samples: 0, verdict_changes: 0 });
                 groups.len() - 1
             }
         };
+        groups[i].samples += 1;
+        if r.outcome != base.outcome {
+            groups[i].verdict_changes += 1;
+        }
         let slot = if r.settled { &mut groups[i].settled } else { &mut groups[i].unsettled };
         if slot.as_ref().is_none_or(|(x, _)| moved > *x) {
             *slot = Some((moved, r.values.clone()));
@@ -526,6 +534,12 @@ pub fn deviation_sentences(models: &[(String, String)], names: &[String], rows: 
                                 if let Some((x, v)) = &d.unsettled {
                                     words.push(format!("{} on a point that did not settle ({})", percent(*x), at(v)));
                                 }
+                                if d.verdict_changes > 0 {
+                                    words.push(format!(
+                                        "the verdict changes at {} of {} samples",
+                                        d.verdict_changes, d.samples
+                                    ));
+                                }
                                 format!(
                                     "{} {}: {}",
                                     names.first().map_or("", String::as_str),
@@ -549,6 +563,7 @@ pub fn deviation_sentences(models: &[(String, String)], names: &[String], rows: 
 pub fn deviation_summary(models: &[(String, String)], names: &[String], rows: &[ClaimRow]) -> String {
     let n_checks = rows.iter().map(|r| r.check + 1).max().unwrap_or(0);
     let mut worst: Vec<(f64, Option<f64>, Option<f64>)> = Vec::new(); // group, settled, unsettled
+    let mut changes: Vec<(usize, usize)> = Vec::new(); // per group: verdict changes, samples
     for (id, _) in models {
         for check in 0..n_checks {
             let Some((_, groups)) = deviations(id, check, rows) else { continue };
@@ -557,9 +572,12 @@ pub fn deviation_summary(models: &[(String, String)], names: &[String], rows: &[
                     Some(i) => i,
                     None => {
                         worst.push((d.group, None, None));
+                        changes.push((0, 0));
                         worst.len() - 1
                     }
                 };
+                changes[i].0 += d.verdict_changes;
+                changes[i].1 += d.samples;
                 let max = |a: Option<f64>, b: Option<&(f64, Vec<f64>)>| match (a, b) {
                     (Some(a), Some((b, _))) => Some(a.max(*b)),
                     (a, b) => a.or(b.map(|x| x.0)),
@@ -572,14 +590,20 @@ pub fn deviation_summary(models: &[(String, String)], names: &[String], rows: &[
     let name = names.first().map_or("", String::as_str);
     let parts: Vec<String> = worst
         .iter()
-        .map(|(g, s, u)| {
+        .zip(&changes)
+        .map(|((g, s, u), (changed, of))| {
             let settled = s.map_or("no settled sample".to_string(), |s| format!("by {}", up_to(s)));
             let unsettled = match (s, u) {
                 (Some(s), Some(u)) if u > s => format!(" ({} on a point that did not settle)", percent(*u)),
                 (None, Some(u)) => format!(" ({} on points that did not settle)", percent(*u)),
                 _ => String::new(),
             };
-            format!("{name} {}: {settled}{unsettled}", crate::number::fmt_num(*g))
+            let verdicts = if *changed > 0 {
+                format!(", the verdict changes at {changed} of {of} claim samples")
+            } else {
+                String::new()
+            };
+            format!("{name} {}: {settled}{unsettled}{verdicts}", crate::number::fmt_num(*g))
         })
         .collect();
     format!("the claims move from their values with the paper's bed: {}", parts.join("; "))
@@ -608,7 +632,7 @@ mod tests {
     #[test]
     fn deviations_are_measured_from_the_first_sample_per_group() {
         // grains 1 / 10 x restitution 0 / 0.3 / 0.6; the first sample is the paper's bed.
-        let rows = vec![
+        let mut rows = vec![
             row(0, &[1.0, 0.0], 2.0, true),
             row(1, &[1.0, 0.3], 2.2, true),
             row(2, &[1.0, 0.6], 1.0, false),
@@ -616,6 +640,7 @@ mod tests {
             row(4, &[10.0, 0.3], 2.002, true),
             row(5, &[10.0, 0.6], f64::NAN, true),
         ];
+        rows[1].outcome = Verdict::Holds;
         let (base, groups) = deviations("stated", 0, &rows).unwrap();
         assert_eq!(base, 2.0);
         assert_eq!(groups.len(), 2);
@@ -630,11 +655,11 @@ mod tests {
         let s = deviation_sentences(&models, &names, &rows);
         assert_eq!(
             s,
-            vec!["peak ratio: stated chain: 2 with the paper's bed; grains 1: up to 10 % (restitution 0.3), 50 % on a point that did not settle (restitution 0.6); grains 10: up to 0.1 % (restitution 0.3)"]
+            vec!["peak ratio: stated chain: 2 with the paper's bed; grains 1: up to 10 % (restitution 0.3), 50 % on a point that did not settle (restitution 0.6), the verdict changes at 1 of 2 samples; grains 10: up to 0.1 % (restitution 0.3)"]
         );
         assert_eq!(
             deviation_summary(&models, &names, &rows),
-            "the claims move from their values with the paper's bed: grains 1: by up to 10 % (50 % on a point that did not settle); grains 10: by up to 0.1 %"
+            "the claims move from their values with the paper's bed: grains 1: by up to 10 % (50 % on a point that did not settle), the verdict changes at 1 of 2 claim samples; grains 10: by up to 0.1 %"
         );
     }
 }
