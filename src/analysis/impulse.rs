@@ -187,35 +187,17 @@ fn tables(
     }
     let ev: Vec<(&Decay, &crate::sim::Event)> =
         decays.iter().flat_map(|d| d.run.samples.events.iter().map(move |e| (*d, e))).collect();
-    let columns = exp.cases.iter().any(|c| c.grains.iter().any(|&g| g > 1));
-    let mut events = Table::new(
+    let events = Table::new(
         "events",
-        if columns {
-            "Every event: time (s), bed (1-based; a column's grains are beds of their own, bottom grain first), its container and grain (1-based), kind, relative speed at impact (m/s), kinetic energy lost (J)"
-        } else {
-            "Every event: time (s), bed (1-based), kind, relative speed at impact (m/s), kinetic energy lost (J)"
-        },
+        format!(
+            "Every event: time (s), {}, kind, relative speed at impact (m/s), kinetic energy lost (J)",
+            super::waveform::bed_words(exp)
+        ),
     )
     .str("case", ev.iter().map(|(d, _)| d.id.clone()).collect())
-    .f64("t", ev.iter().map(|(_, e)| e.t).collect())
-    .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect());
-    if columns {
-        events = events
-            .i64("container", ev.iter().map(|(d, e)| super::curves::place(exp, &d.id, e.bed).0).collect())
-            .i64("grain", ev.iter().map(|(d, e)| super::curves::place(exp, &d.id, e.bed).1).collect());
-    }
-    let events = events
-        .str("kind", ev.iter().map(|(_, e)| super::waveform::event_words(&e.kind)).collect())
-        .f64(
-            "speed",
-            ev.iter()
-                .map(|(_, e)| match e.kind {
-                    EventKind::Impact { speed, .. } | EventKind::Collision { speed, .. } => speed,
-                    EventKind::LiftOff { .. } => 0.0,
-                })
-                .collect(),
-        )
-        .f64("loss", ev.iter().map(|(_, e)| e.loss).collect());
+    .f64("t", ev.iter().map(|(_, e)| e.t).collect());
+    let ev: Vec<(&str, &crate::sim::Event)> = ev.iter().map(|(d, e)| (d.id.as_str(), *e)).collect();
+    let events = super::waveform::event_columns(events, exp, &ev);
     // Decay times per case and mass.
     let drows: Vec<(&Decay, usize)> = decays.iter().flat_map(|d| (0..n).map(move |k| (*d, k))).collect();
     let mut decay = Table::new(

@@ -58,6 +58,43 @@ fn motion_type(s: &Sampler, beds: std::ops::Range<usize>, periods: usize, finite
     format!("{kind}; per period {} bottom and {} top impacts{of}", per(bottom), per(top_stick + top_bounce))
 }
 
+/// Whether a case of `exp` has a column of grains (its events tables then name the container
+/// and the grain of each bed).
+fn has_columns(exp: &Experiment) -> bool {
+    exp.cases.iter().any(|c| c.grains.iter().any(|&g| g > 1))
+}
+
+/// The bed columns of an events table in words, for its description.
+pub fn bed_words(exp: &Experiment) -> &'static str {
+    if has_columns(exp) {
+        "bed (1-based; a column's grains are beds of their own, bottom grain first), its container and grain (1-based)"
+    } else {
+        "bed (1-based)"
+    }
+}
+
+/// The columns of an events table after its leading ones: bed, its container and grain (when
+/// a case has a column), kind, relative speed (of an impact or a collision) and loss. `ev`:
+/// each event with its case's id.
+pub fn event_columns(t: Table, exp: &Experiment, ev: &[(&str, &crate::sim::Event)]) -> Table {
+    let mut t = t.i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect());
+    if has_columns(exp) {
+        let places: Vec<(i64, i64)> = ev.iter().map(|(case, e)| curves::place(exp, case, e.bed)).collect();
+        t = t.i64("container", places.iter().map(|p| p.0).collect()).i64("grain", places.iter().map(|p| p.1).collect());
+    }
+    t.str("kind", ev.iter().map(|(_, e)| event_words(&e.kind)).collect())
+        .f64(
+            "speed",
+            ev.iter()
+                .map(|(_, e)| match e.kind {
+                    EventKind::Impact { speed, .. } | EventKind::Collision { speed, .. } => speed,
+                    EventKind::LiftOff { .. } => 0.0,
+                })
+                .collect(),
+        )
+        .f64("loss", ev.iter().map(|(_, e)| e.loss).collect())
+}
+
 /// An event kind in words, for tables.
 pub fn event_words(kind: &EventKind) -> String {
     match *kind {
@@ -174,37 +211,18 @@ fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
     }
     let ev: Vec<(&Record, &crate::sim::Event)> =
         records.iter().flat_map(|r| r.sampler.events.iter().map(move |e| (r, e))).collect();
-    let columns = exp.cases.iter().any(|c| c.grains.iter().any(|&g| g > 1));
-    let mut events = Table::new(
+    let events = Table::new(
         "events",
-        if columns {
-            "Every event of the drawn periods: time (s), bed (1-based; a column's grains are beds of their own, bottom grain first), its container and grain (1-based), kind, relative speed (m/s) and kinetic energy lost (J)"
-        } else {
-            "Every event of the drawn periods: time (s), bed (1-based), kind, relative speed (m/s) and kinetic energy lost (J)"
-        },
+        format!(
+            "Every event of the drawn periods: time (s), {}, kind, relative speed (m/s) and kinetic energy lost (J)",
+            bed_words(exp)
+        ),
     )
     .str("case", ev.iter().map(|(r, _)| r.case.clone()).collect())
     .str("label", ev.iter().map(|(r, _)| r.label.clone()).collect())
-    .f64("t", ev.iter().map(|(_, e)| e.t).collect())
-    .i64("bed", ev.iter().map(|(_, e)| e.bed as i64 + 1).collect());
-    if columns {
-        let place = |case: &str, bed: usize| curves::place(exp, case, bed);
-        events = events
-            .i64("container", ev.iter().map(|(r, e)| place(&r.case, e.bed).0).collect())
-            .i64("grain", ev.iter().map(|(r, e)| place(&r.case, e.bed).1).collect());
-    }
-    let events = events
-        .str("kind", ev.iter().map(|(_, e)| event_words(&e.kind)).collect())
-        .f64(
-            "speed",
-            ev.iter()
-                .map(|(_, e)| match e.kind {
-                    EventKind::Impact { speed, .. } | EventKind::Collision { speed, .. } => speed,
-                    EventKind::LiftOff { .. } => 0.0,
-                })
-                .collect(),
-        )
-        .f64("loss", ev.iter().map(|(_, e)| e.loss).collect());
+    .f64("t", ev.iter().map(|(_, e)| e.t).collect());
+    let ev: Vec<(&str, &crate::sim::Event)> = ev.iter().map(|(r, e)| (r.case.as_str(), *e)).collect();
+    let events = event_columns(events, exp, &ev);
     vec![t, events]
 }
 
