@@ -457,16 +457,32 @@ pub struct Deviation {
 }
 
 /// Per value of the first varied key, the largest relative moves of the claim `check` on
-/// `model` from the first sample (every key at its first value: the paper's bed), or `None`
-/// when the first sample is not evaluable. Groups without an evaluable sample are left out.
+/// `model` from the paper's bed, or `None` when the first sample (every key at its first
+/// value) is not evaluable. The first two varied keys are the bed's (e.g. grains and
+/// restitution); a sample is compared with the sample that has those two at their first
+/// values (the paper's bed) and every further key (a clearance, a force) at its own. Samples
+/// whose paper's-bed sample is not evaluable, and groups without an evaluable sample, are
+/// left out. Returns the first sample's value and the groups.
 pub fn deviations(model: &str, check: usize, rows: &[ClaimRow]) -> Option<(f64, Vec<Deviation>)> {
     let of: Vec<&ClaimRow> = rows.iter().filter(|r| r.model == model && r.check == check).collect();
-    let base = of.iter().min_by_key(|r| r.sample)?;
-    if !base.value.is_finite() || base.value == 0.0 {
+    let first = of.iter().min_by_key(|r| r.sample)?;
+    if !first.value.is_finite() || first.value == 0.0 {
         return None;
     }
+    let bed_keys = first.values.len().min(2);
+    let base_of = |r: &ClaimRow| {
+        of.iter().copied().find(|b| {
+            b.values.iter().zip(&r.values).enumerate().all(|(k, (bv, rv))| {
+                let want = if k < bed_keys { first.values[k] } else { *rv };
+                bv.to_bits() == want.to_bits()
+            })
+        })
+    };
     let mut groups: Vec<Deviation> = Vec::new();
-    for r in of.iter().filter(|r| r.sample != base.sample && r.value.is_finite()) {
+    for r in of.iter().filter(|r| r.value.is_finite()) {
+        let Some(base) = base_of(r).filter(|b| b.sample != r.sample && b.value.is_finite() && b.value != 0.0) else {
+            continue;
+        };
         let g = r.values.first().copied().unwrap_or(f64::NAN);
         let moved = (r.value / base.value - 1.0).abs();
         let i = match groups.iter().position(|d| d.group.to_bits() == g.to_bits()) {
@@ -485,7 +501,7 @@ pub fn deviations(model: &str, check: usize, rows: &[ClaimRow]) -> Option<(f64, 
             *slot = Some((moved, r.values.clone()));
         }
     }
-    Some((base.value, groups))
+    Some((first.value, groups))
 }
 
 /// A relative move in words: "3.5 %", "0.05 %" (the smallest shown).
@@ -548,7 +564,19 @@ pub fn deviation_sentences(models: &[(String, String)], names: &[String], rows: 
                                 )
                             })
                             .collect();
-                        format!("{label}: {} with the paper's bed; {}", crate::number::fmt_num(base), moves.join("; "))
+                        let own = if names.len() > 2 {
+                            format!(
+                                " at the first sample (each sample against the paper's bed at its own {})",
+                                names[2..].join(", ")
+                            )
+                        } else {
+                            String::new()
+                        };
+                        format!(
+                            "{label}: {} with the paper's bed{own}; {}",
+                            crate::number::fmt_num(base),
+                            moves.join("; ")
+                        )
                     }
                 })
                 .collect();
@@ -661,5 +689,22 @@ mod tests {
             deviation_summary(&models, &names, &rows),
             "the claims move from their values with the paper's bed: grains 1: by up to 10 % (50 % on a point that did not settle), the verdict changes at 1 of 2 claim samples; grains 10: by up to 0.1 %"
         );
+    }
+
+    #[test]
+    fn further_keys_are_compared_within_their_own_values() {
+        // grains x restitution x force: each force has its own paper's bed.
+        let rows = vec![
+            row(0, &[1.0, 0.0, 1.0], 2.0, true),
+            row(1, &[1.0, 0.0, 2.0], 4.0, true),
+            row(2, &[1.0, 0.3, 1.0], 2.2, true),
+            row(3, &[1.0, 0.3, 2.0], 4.0, true),
+        ];
+        let (first, groups) = deviations("stated", 0, &rows).unwrap();
+        assert_eq!(first, 2.0);
+        // Sample 1 is the paper's bed at force 2 (not a move of 100 %); sample 3 does not move.
+        let (x, at) = groups[0].settled.clone().unwrap();
+        assert!((x - 0.1).abs() < 1e-12 && at == vec![1.0, 0.3, 1.0]);
+        assert_eq!(groups[0].samples, 2);
     }
 }
