@@ -56,6 +56,13 @@ fn the_contact_damping_gives_the_restitution() {
         damping_ratio(0.1).is_none()
             && (shotdamp::sim::soft::restitution_of(1.0 - 1e-9) - (-2.0f64).exp()).abs() < 1e-4
     );
+    // A container whose bed is too inelastic for a contact that never pulls: no soft model,
+    // whichever container it is.
+    let mut mixed = column(3, 0.3);
+    mixed.dampers.push(Damper { host: 0, mass: 0.074, clearance: 0.35e-3 });
+    mixed.laws.push(ImpactLaw { restitution: 0.05, stick_speed: 1e-3 });
+    let opts = SoftOptions { stiffness: 1e6, steps_per_contact: 40 };
+    assert!(amplitude(&mixed, 2.0 * PI * 48.0, &opts, 1, 1).is_none());
 }
 
 #[test]

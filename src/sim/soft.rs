@@ -70,8 +70,10 @@ pub fn contact_time(mu: f64, k: f64, zeta: f64) -> f64 {
 
 /// The amplitude (half the peak-to-peak displacement) of each mass over the last `record` of
 /// `periods` forcing periods from rest, with every bed (a single bed is a column of one) made
-/// of soft contacts; and the number of steps taken. `None` when the beds' restitution is
-/// below [`MIN_RESTITUTION`] (a contact that never pulls cannot be that inelastic).
+/// of soft contacts (each container with its own restitution); and the number of steps taken.
+/// `None` when a bed's restitution is below [`MIN_RESTITUTION`] (a contact that never pulls
+/// cannot be that inelastic). The step is `1 / steps_per_contact` of the shortest grain-grain
+/// contact.
 pub fn amplitude(
     sys: &System,
     omega: f64,
@@ -86,13 +88,19 @@ pub fn amplitude(
     // Beds in columns: (first, last) bed of each container's grains.
     let groups = sys.groups();
     let nb = sys.dampers.len();
-    let e = if nb > 0 { sys.impact_law(0).restitution } else { 0.0 };
-    let zeta = damping_ratio(e)?;
     let kc = opts.stiffness;
-    let damper = |mu: f64| 2.0 * zeta * (kc * mu).sqrt();
-    let mg_min = sys.dampers.iter().map(|d| d.mass).fold(f64::INFINITY, f64::min);
-    let tc = contact_time(0.5 * mg_min, kc, zeta);
-    let dt = tc / opts.steps_per_contact as f64;
+    // Each container's damping ratio from its own restitution, and the dashpots of its
+    // contacts with the walls and between its grains.
+    let mut dashpots = Vec::with_capacity(groups.len());
+    let mut dt = f64::INFINITY;
+    for g in &groups {
+        let dm = sys.dampers[g.start];
+        let zeta = damping_ratio(sys.impact_law(g.start).restitution)?;
+        let m0p = sys.structure.masses[dm.host];
+        let (mu_wall, mu_pair) = (dm.mass * m0p / (dm.mass + m0p), 0.5 * dm.mass);
+        dashpots.push((2.0 * zeta * (kc * mu_wall).sqrt(), 2.0 * zeta * (kc * mu_pair).sqrt()));
+        dt = dt.min(contact_time(mu_pair, kc, zeta) / opts.steps_per_contact as f64);
+    }
     // Start at rest in static equilibrium with every grain on its bottom (the event-driven
     // start), the grains at zero overlap.
     let rest = Dynamics::unforced(sys).map(|d| d.config((1usize << nb) - 1).modes.offset.clone());
@@ -122,11 +130,9 @@ pub fn amplitude(
         for (j, f) in fy.iter_mut().enumerate() {
             *f = -sys.dampers[j].mass * GRAVITY;
         }
-        for g in &groups {
+        for (g, &(c_wall, c_pair)) in groups.iter().zip(&dashpots) {
             let dm = sys.dampers[g.start];
             let p = dm.host;
-            let mu_wall = dm.mass * m0[p] / (dm.mass + m0[p]);
-            let (c_wall, c_pair) = (damper(mu_wall), damper(0.5 * dm.mass));
             // Bottom and lowest grain.
             let j0 = g.start;
             let f = push(x[p] - y[j0], v[p] - u[j0], c_wall);
