@@ -6,7 +6,10 @@
 //! solvers of [`model`], check against [`checks::reference`]) -> [`output`] (tables,
 //! plots, HTML report). Analyses hand results over as [`table::Table`]s and [`figure::Figure`]s,
 //! plain data below both. Physics knows nothing of files; rendering knows nothing of physics.
-//! [`runner`] runs experiment files into a report as the command line does.
+//! [`runner`] runs experiment files into a report as the command line does
+//! ([`runner::report`]: the whole report); [`experiment::parts`] builds a structure, dampers
+//! and settings from the keys of an experiment file, with the files' validation and messages
+//! (what the Python package in `python/` calls).
 //!
 //! # From Rust
 //!

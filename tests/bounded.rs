@@ -229,3 +229,29 @@ proptest! {
         }
     }
 }
+
+/// Forcing frequencies far below the structure's modes are refused before anything runs: at
+/// 1e-6 Hz one point of the paper's structure never ended (the event search steps through
+/// every oscillation of the fastest mode), at 1e-3 Hz it took 2 s; the floor is 1e-5 times
+/// the highest natural frequency, and the point just above it ends.
+#[test]
+fn forcing_frequencies_below_the_floor_are_input_errors_and_those_above_end() {
+    use shotdamp::experiment::parts::{check_frequencies, MIN_FREQUENCY_RATIO};
+    use shotdamp::model::{Damper, Damping, Structure};
+    let paper = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    let top = shotdamp::model::modal::modal_summary(&paper, &[])[2].freq_hz;
+    let floor = MIN_FREQUENCY_RATIO * top;
+    let err = check_frequencies("file.toml", "analysis.freq_hz", &[48.0, 1e-6], &paper).unwrap_err();
+    let text = err.to_string();
+    assert!(err.is_input() && text.starts_with("file.toml: analysis.freq_hz[1] = 0.000001: "), "{text}");
+    assert!(check_frequencies("f", "k", &[floor * 0.999], &paper).is_err());
+    assert!(check_frequencies("f", "k", &[f64::NAN], &paper).is_err());
+    assert!(check_frequencies("f", "k", &[floor * 1.001, 48.0, 1e9], &paper).is_ok());
+    let system =
+        shotdamp::sim::System::plastic(paper, vec![Damper { host: 1, mass: 0.071, clearance: 0.3e-3 }], 0, 2.6);
+    let f = floor * 1.001;
+    let points = within(Duration::from_secs(60), move || {
+        shotdamp::sim::sweep::from_rest(&system, &[f], &shotdamp::sim::SteadyOptions::default(), &|| {})
+    });
+    assert!(points[0].result.as_ref().is_ok_and(|s| s.converged));
+}

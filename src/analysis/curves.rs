@@ -213,15 +213,7 @@ pub fn place(exp: &Experiment, case: &str, bed: usize) -> (i64, i64) {
 
 /// The simulated system of a case.
 pub fn system(exp: &Experiment, case: &Case) -> System {
-    let sys = System {
-        laws: case.laws.clone(),
-        ..System::plastic(exp.structure.clone(), case.dampers.clone(), exp.excitation.mass, exp.excitation.force)
-    };
-    if case.grains.iter().any(|&g| g > 1) {
-        sys.with_grains(&case.grains)
-    } else {
-        sys
-    }
+    crate::experiment::parts::system(&exp.structure, &exp.excitation, case)
 }
 
 /// The sorted union of a grid and extra frequencies (duplicates within 1e-9 Hz dropped).

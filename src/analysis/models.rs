@@ -15,7 +15,7 @@ const MAX_CASES: usize = 2;
 
 /// The compliance plots of the first run with every run's curves overlaid: one panel per
 /// mass, colour by model, dash by case, over the analysis's frequency range. Empty when the
-/// experiment draws no compliance plot of at most [`MAX_CASES`] cases or the runs are not of
+/// experiment draws no compliance plot of at most `MAX_CASES` (2) cases or the runs are not of
 /// one experiment on several models.
 pub fn overlay(runs: &[&ExperimentResult]) -> Vec<Figure> {
     let Some(first) = runs.first() else { return Vec::new() };

@@ -13,6 +13,8 @@ use crate::experiment::study::{is_claim, Sample, Study};
 use crate::experiment::{CheckKind, Experiment, Exports};
 use crate::table::Table;
 
+use super::result::Tick;
+
 /// One claim at one sample.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ClaimRow {
@@ -147,14 +149,16 @@ pub fn run_sample(
     refs: &ReferenceStore,
     reference_dir: &Path,
     cache: &DependencyCache,
+    tick: &Tick,
 ) -> Result<Vec<ClaimRow>> {
     let exp = prepare(study, sample, refs, reference_dir, cache)?;
-    run_prepared(&exp, sample, refs)
+    run_prepared(&exp, sample, refs, tick)
 }
 
-/// Evaluates one prepared sample ([`prepare`]): its claim rows, in check order.
-pub fn run_prepared(exp: &Experiment, sample: &Sample, refs: &ReferenceStore) -> Result<Vec<ClaimRow>> {
-    let result = super::run(exp, refs, &|| {})?;
+/// Evaluates one prepared sample ([`prepare`]): its claim rows, in check order. `tick` is
+/// called at every simulated point.
+pub fn run_prepared(exp: &Experiment, sample: &Sample, refs: &ReferenceStore, tick: &Tick) -> Result<Vec<ClaimRow>> {
+    let result = super::run(exp, refs, tick)?;
     Ok(exp
         .checks
         .iter()
@@ -216,13 +220,13 @@ fn dependency_exports(
 
 /// Every sample of a study, in parallel (on the caller's pool), rows in sample order: the
 /// same rows whatever the number of threads.
-pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path) -> Result<Vec<ClaimRow>> {
+pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path, tick: &Tick) -> Result<Vec<ClaimRow>> {
     use rayon::prelude::*;
     let cache = DependencyCache::default();
     let samples: Vec<&Sample> = study.samples.iter().collect();
     let exps = prepare_all(study, &samples, refs, reference_dir, &cache)?;
     let rows: Vec<Result<Vec<ClaimRow>>> =
-        exps.par_iter().zip(&samples).map(|(e, s)| run_prepared(e, s, refs)).collect();
+        exps.par_iter().zip(&samples).map(|(e, s)| run_prepared(e, s, refs, tick)).collect();
     let rows: Vec<Vec<ClaimRow>> = rows.into_iter().collect::<Result<_>>()?;
     Ok(rows.into_iter().flatten().collect())
 }

@@ -340,32 +340,21 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             Ok(true)
         }
         Command::Report { out, jobs, writing, bless } => {
-            let files = experiment::discover(&cli.experiments)?;
-            if files.is_empty() {
-                anyhow::bail!("{}: no experiment files (*.toml) found", cli.experiments.display());
-            }
-            let mut exps = experiment::load_all(&files, &cli.reference)?;
-            let designs_dir = cli
-                .designs
-                .clone()
-                .unwrap_or_else(|| cli.experiments.parent().unwrap_or(Path::new("")).join("designs"));
-            exps.extend(runner::designs::report_designs(&designs_dir, &cli.reference)?);
-            let dir = cli
-                .studies
-                .clone()
-                .unwrap_or_else(|| cli.experiments.parent().unwrap_or(Path::new("")).join("studies"));
-            let studies = runner::report_studies(&dir, &cli.reference)?;
-            let mode = if *bless { BaselineMode::Off } else { BaselineMode::Required };
-            crate::output::destination::refuse_overlap(
-                out,
-                &[
-                    ("the experiments folder", &cli.experiments),
-                    ("the studies folder", &dir),
-                    ("the designs folder", &designs_dir),
-                ],
-            )?;
-            let writing = ReportOptions { complete: true, ..writing.options() };
-            Ok(run_and_write(&exps, &studies, &cli.reference, out, *jobs, &writing, mode, *bless)?.0)
+            let inputs = runner::ReportInputs {
+                experiments: cli.experiments.clone(),
+                reference: cli.reference.clone(),
+                studies: cli.studies.clone(),
+                designs: cli.designs.clone(),
+            };
+            let settings = runner::Settings {
+                reference: cli.reference.clone(),
+                out: out.clone(),
+                jobs: *jobs,
+                writing: writing.options(),
+                baseline_mode: BaselineMode::Required,
+                bless: *bless,
+            };
+            Ok(finish(|progress, log, staging| runner::report(&inputs, &settings, progress, log, staging))?.0)
         }
     }
 }
@@ -670,14 +659,20 @@ fn run_and_write(
         baseline_mode,
         bless,
     };
+    finish(|progress, log, staging| runner::run_and_write(exps, studies, &settings, progress, log, staging))
+}
+
+/// Runs `run` (a [`crate::runner`] call) with progress bars on a terminal and the interrupt
+/// handler in place, and prints a summary.
+fn finish(
+    run: impl FnOnce(&dyn Progress, &(dyn Fn(String) + Sync), &dyn Fn(PathBuf)) -> crate::Result<runner::Finished>,
+) -> anyhow::Result<(bool, Vec<crate::analysis::ExperimentResult>)> {
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };
     let log = tty || std::env::var_os("CI").is_some();
     // The handler is in place before the staging folder exists: an interrupt at any moment
     // removes it.
-    let done = runner::run_and_write(exps, studies, &settings, &bars, &|msg| bars.log(log, msg), &|staging| {
-        remove_on_interrupt(staging)
-    })?;
+    let done = run(&bars, &|msg| bars.log(log, msg), &|staging| remove_on_interrupt(staging))?;
     if let Some(dir) = &done.blessed {
         say!("blessed: {} experiments sampled into {} (review the diff, commit it)", done.results.len(), dir.display());
     }

@@ -61,10 +61,8 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
         return Err(Error::invalid("(command line)", "FILE", "(missing)", "give a study file, or `merge DIR`").into());
     };
     let study = study::load(file, reference)?;
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("study-runs").join(&study.id));
-    let mut inputs: Vec<(&str, &Path)> = vec![("the study file", file.as_path()), ("the reference folder", reference)];
-    inputs.extend(study.base.iter().map(|e| ("the study's experiment file", e.path.as_path())));
-    crate::output::destination::refuse_overlap(&out, &inputs)?;
+    let out = args.out.clone().unwrap_or_else(|| shards::default_out(&study));
+    shards::refuse_overlap(&study, reference, &out)?;
     let manifest = Manifest::of(&study, &file.display().to_string());
     let shard = shard(args, &out, &manifest)?;
     let pool = crate::runner::pool(args.jobs)?;

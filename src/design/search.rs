@@ -183,7 +183,7 @@ fn coarse_start(problem: &Problem, bare: &[Vec<f64>], hosts: &[usize], space: &S
 
 /// The best layout for each placement of `space`, in the order of `space.placements` (every
 /// placement's starts run in parallel; each run is sequential). The first start of each
-/// placement comes from a coarse scan of the clearance ([`COARSE`]), the others are seeded.
+/// placement comes from a coarse scan of the clearance (`COARSE`), the others are seeded.
 pub fn optimise(problem: &Problem, bare: &[Vec<f64>], space: &Space, opts: &Options) -> Vec<Found> {
     let firsts: Vec<Vec<f64>> =
         space.placements.par_iter().map(|hosts| coarse_start(problem, bare, hosts, space)).collect();

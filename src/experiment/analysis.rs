@@ -76,7 +76,12 @@ fn positive_int(path: &Path, key: &str, v: Option<i64>, default: usize, max: usi
 }
 
 /// Steady-state settings: the defaults of [`SteadyOptions`] with the file's overrides.
-fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
+pub(super) fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
+    steady_at(path, "analysis.steady.", s)
+}
+
+/// [`steady`] with its keys named `{prefix}KEY`.
+pub(super) fn steady_at(path: &Path, prefix: &str, s: Option<&RawSteady>) -> Result<SteadyOptions> {
     let mut o = SteadyOptions::default();
     let Some(s) = s else { return Ok(o) };
     if let Some(m) = &s.method {
@@ -86,7 +91,7 @@ fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
             other => {
                 return Err(Error::invalid(
                     path,
-                    "analysis.steady.method",
+                    format!("{prefix}method"),
                     format!("\"{other}\""),
                     "\"orbit\" (solve for the periodic orbit, the default) or \"transient\" (wait for the transient to die out)",
                 ))
@@ -95,22 +100,22 @@ fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
     }
     if let Some(tol) = s.orbit_tol {
         if !(tol.is_finite() && tol > 0.0 && tol < 1e-3) {
-            return Err(Error::invalid(path, "analysis.steady.orbit_tol", tol, "a relative residual in (0, 1e-3)"));
+            return Err(Error::invalid(path, format!("{prefix}orbit_tol"), tol, "a relative residual in (0, 1e-3)"));
         }
         o.orbit_tol = tol;
     }
-    o.max_newton = positive_int(path, "analysis.steady.max_newton", s.max_newton, o.max_newton, 100)?;
+    o.max_newton = positive_int(path, &format!("{prefix}max_newton"), s.max_newton, o.max_newton, 100)?;
     if let Some(tol) = s.tol {
         if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
-            return Err(Error::invalid(path, "analysis.steady.tol", tol, "a relative tolerance in (0, 1)"));
+            return Err(Error::invalid(path, format!("{prefix}tol"), tol, "a relative tolerance in (0, 1)"));
         }
         o.tol = tol;
     }
-    o.consecutive = positive_int(path, "analysis.steady.consecutive", s.consecutive, o.consecutive, 1000)?;
-    o.min_periods = positive_int(path, "analysis.steady.min_periods", s.min_periods, o.min_periods, 1_000_000)?;
-    o.max_periods = positive_int(path, "analysis.steady.max_periods", s.max_periods, o.max_periods, 1_000_000)?;
+    o.consecutive = positive_int(path, &format!("{prefix}consecutive"), s.consecutive, o.consecutive, 1000)?;
+    o.min_periods = positive_int(path, &format!("{prefix}min_periods"), s.min_periods, o.min_periods, 1_000_000)?;
+    o.max_periods = positive_int(path, &format!("{prefix}max_periods"), s.max_periods, o.max_periods, 1_000_000)?;
     o.record_periods =
-        positive_int(path, "analysis.steady.record_periods", s.record_periods, o.record_periods, 10_000)?;
+        positive_int(path, &format!("{prefix}record_periods"), s.record_periods, o.record_periods, 10_000)?;
     if let Some(f) = s.follow {
         o.follow = f;
     }
@@ -120,7 +125,7 @@ fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
         Some(x) => {
             return Err(Error::invalid(
                 path,
-                "analysis.steady.torus_attempts",
+                format!("{prefix}torus_attempts"),
                 x,
                 "give a whole number from 0 (never stop early on a torus) to 100",
             ))
@@ -129,7 +134,7 @@ fn steady(path: &Path, s: Option<&RawSteady>) -> Result<SteadyOptions> {
     if o.min_periods > o.max_periods {
         return Err(Error::invalid(
             path,
-            "analysis.steady.min_periods",
+            format!("{prefix}min_periods"),
             o.min_periods,
             format!("must not exceed max_periods = {}", o.max_periods),
         ));
@@ -357,7 +362,7 @@ pub fn analysis(
 }
 
 /// Validates an impulse analysis.
-fn impulse(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
+pub(super) fn impulse(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
     let key = |k: &str| format!("analysis.{k}");
     let mass = match a.struck_mass {
         Some(m) => super::fields::mass_index(path, &key("struck_mass"), m, n)?,

@@ -7,6 +7,7 @@ mod design;
 mod fields;
 mod load;
 mod outputs;
+pub mod parts;
 pub mod raw;
 pub mod study;
 pub mod texts;

@@ -14,7 +14,7 @@ use super::analysis::{analysis, export_ref};
 use super::checks::check;
 use super::fields::{is_identifier, mass_index};
 use super::outputs::plot;
-use super::raw::{RawCase, RawExperiment, RawFit, RawStructure};
+use super::raw::{RawCase, RawDamper, RawExcitation, RawExperiment, RawFit, RawStructure};
 use super::{Analysis, Case, Clearance, Excitation, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
@@ -44,12 +44,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let Built { structure, source, damping_assumption, fit } = structure(path, raw.structure)?;
     let n = structure.dof();
 
-    let e = raw.excitation;
-    let driven = mass_index(path, "excitation.mass", e.mass, n)?;
-    if !(e.force_n.is_finite() && e.force_n > 0.0) {
-        return Err(bad("excitation.force_n", &e.force_n, "the force amplitude must be positive and finite (N)"));
-    }
-    let excitation = Excitation { mass: driven, force: e.force_n };
+    let excitation = excitation(path, &raw.excitation, n)?;
 
     let cases = cases(path, raw.cases, &structure)?;
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
@@ -70,6 +65,25 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
                 ));
             }
         }
+    }
+    let (key, simulated): (&str, Vec<f64>) = match &analysis {
+        Analysis::Sweep { freq_hz, .. } | Analysis::ClearanceStudy { freq_hz, .. } => {
+            ("analysis.freq_hz", freq_hz.clone())
+        }
+        Analysis::Waveform { frequencies, .. } => (
+            "analysis.frequencies_hz",
+            frequencies
+                .iter()
+                .filter_map(|f| match f {
+                    super::Number::Value(v) => Some(*v),
+                    super::Number::Export(_) => None,
+                })
+                .collect(),
+        ),
+        _ => ("", Vec::new()),
+    };
+    if cases.iter().any(|c| !c.dampers.is_empty()) {
+        super::parts::check_frequencies(&path.display().to_string(), key, &simulated, &structure)?;
     }
     if matches!(analysis, Analysis::SdofPeriodic { .. } | Analysis::Design { .. }) {
         for (ci, case) in cases.iter().enumerate() {
@@ -154,6 +168,20 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     })
 }
 
+/// The excitation: a 1-based driven mass of `n` and a positive force amplitude.
+pub(super) fn excitation(path: &Path, e: &RawExcitation, n: usize) -> Result<Excitation> {
+    let mass = mass_index(path, "excitation.mass", e.mass, n)?;
+    if !(e.force_n.is_finite() && e.force_n > 0.0) {
+        return Err(Error::invalid(
+            path,
+            "excitation.force_n",
+            e.force_n,
+            "the force amplitude must be positive and finite (N)",
+        ));
+    }
+    Ok(Excitation { mass, force: e.force_n })
+}
+
 fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<()> {
     if values.is_empty() {
         return Err(Error::invalid(path, key, "[]", format!("give at least one {what}")));
@@ -172,14 +200,14 @@ fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<(
 }
 
 /// A validated structure with where its numbers come from.
-struct Built {
-    structure: Structure,
+pub(super) struct Built {
+    pub(super) structure: Structure,
     source: Option<String>,
     damping_assumption: Option<String>,
     fit: Option<StiffnessFit>,
 }
 
-fn structure(path: &Path, s: RawStructure) -> Result<Built> {
+pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
     positive_list(path, "structure.masses_kg", &s.masses_kg, "mass")?;
     let n = s.masses_kg.len();
     let mut fit = None;
@@ -333,7 +361,6 @@ fn stiffness_matrix(path: &Path, rows: &[Vec<f64>], n: usize) -> Result<DMatrix<
 }
 
 fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
-    let n = s.dof();
     let mut out: Vec<Case> = Vec::with_capacity(raw.len());
     for (ci, c) in raw.into_iter().enumerate() {
         if !is_identifier(&c.id) {
@@ -352,62 +379,73 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
                 "case ids must be unique",
             ));
         }
-        if c.dampers.len() > MAX_BEDS {
-            return Err(Error::invalid(
-                path,
-                format!("cases[{ci}].dampers"),
-                format!("{} dampers", c.dampers.len()),
-                format!("at most {MAX_BEDS} dampers per case (every one of the 2^N configurations is decomposed)"),
-            ));
-        }
-        let mut dampers = Vec::with_capacity(c.dampers.len());
-        let mut clearances = Vec::with_capacity(c.dampers.len());
-        let mut laws = Vec::with_capacity(c.dampers.len());
-        let mut grains = Vec::with_capacity(c.dampers.len());
-        for (di, d) in c.dampers.into_iter().enumerate() {
-            let key = |k: &str| format!("cases[{ci}].dampers[{di}].{k}");
-            let host = mass_index(path, &key("mass"), d.mass, n)?;
-            let mass = match (d.mass_ratio, d.mass_kg) {
-                (Some(r), None) => {
-                    if !(r.is_finite() && r > 0.0) {
-                        return Err(Error::invalid(path, key("mass_ratio"), r, "a mass ratio must be positive"));
-                    }
-                    r * s.masses[host]
-                }
-                (None, Some(m)) => {
-                    if !(m.is_finite() && m > 0.0) {
-                        return Err(Error::invalid(path, key("mass_kg"), m, "a damper mass must be positive"));
-                    }
-                    m
-                }
-                _ => {
-                    return Err(Error::invalid(
-                        path,
-                        key("mass_ratio"),
-                        "(missing)",
-                        "give exactly one of mass_ratio and mass_kg",
-                    ))
-                }
-            };
-            let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
-            dampers.push(Damper { host, mass, clearance });
-            clearances.push(spec);
-            let (law, n) = bed_model(path, &key, &d)?;
-            laws.push(law);
-            grains.push(n);
-        }
-        let configs = grains.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS));
-        if configs.is_none() {
-            return Err(Error::invalid(
-                path,
-                format!("cases[{ci}].dampers"),
-                format!("{} dampers with grains {grains:?}", dampers.len()),
-                format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
-            ));
-        }
+        let (dampers, clearances, laws, grains) = dampers(path, &format!("cases[{ci}]."), c.dampers, s)?;
         out.push(Case { id: c.id, label: c.label, dampers, clearances, laws, grains });
     }
     Ok(out)
+}
+
+/// The dampers of a case, one per container: their masses and clearances, clearance specs,
+/// impact laws and grains. Keys are named `{prefix}dampers[i].KEY` (`prefix` "cases[0]." in an
+/// experiment file).
+pub(super) type CaseDampers = (Vec<Damper>, Vec<Clearance>, Vec<crate::sim::bed::ImpactLaw>, Vec<usize>);
+
+pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Structure) -> Result<CaseDampers> {
+    let n = s.dof();
+    if raw.len() > MAX_BEDS {
+        return Err(Error::invalid(
+            path,
+            format!("{prefix}dampers"),
+            format!("{} dampers", raw.len()),
+            format!("at most {MAX_BEDS} dampers per case (every one of the 2^N configurations is decomposed)"),
+        ));
+    }
+    let mut dampers = Vec::with_capacity(raw.len());
+    let mut clearances = Vec::with_capacity(raw.len());
+    let mut laws = Vec::with_capacity(raw.len());
+    let mut grains = Vec::with_capacity(raw.len());
+    for (di, d) in raw.into_iter().enumerate() {
+        let key = |k: &str| format!("{prefix}dampers[{di}].{k}");
+        let host = mass_index(path, &key("mass"), d.mass, n)?;
+        let mass = match (d.mass_ratio, d.mass_kg) {
+            (Some(r), None) => {
+                if !(r.is_finite() && r > 0.0) {
+                    return Err(Error::invalid(path, key("mass_ratio"), r, "a mass ratio must be positive"));
+                }
+                r * s.masses[host]
+            }
+            (None, Some(m)) => {
+                if !(m.is_finite() && m > 0.0) {
+                    return Err(Error::invalid(path, key("mass_kg"), m, "a damper mass must be positive"));
+                }
+                m
+            }
+            _ => {
+                return Err(Error::invalid(
+                    path,
+                    key("mass_ratio"),
+                    "(missing)",
+                    "give exactly one of mass_ratio and mass_kg",
+                ))
+            }
+        };
+        let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
+        dampers.push(Damper { host, mass, clearance });
+        clearances.push(spec);
+        let (law, n) = bed_model(path, &key, &d)?;
+        laws.push(law);
+        grains.push(n);
+    }
+    let configs = grains.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS));
+    if configs.is_none() {
+        return Err(Error::invalid(
+            path,
+            format!("{prefix}dampers"),
+            format!("{} dampers with grains {grains:?}", dampers.len()),
+            format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
+        ));
+    }
+    Ok((dampers, clearances, laws, grains))
 }
 
 /// Default sticking speed of a bed with restitution, m/s: slower impacts are plastic (what

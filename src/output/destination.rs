@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 /// or after it (the new report stays and the run ends by itself).
 static COMMITTED: Mutex<bool> = Mutex::new(false);
 
-/// The commit lock (see [`COMMITTED`]); a poisoned lock is taken as it is.
+/// The commit lock (see `COMMITTED`); a poisoned lock is taken as it is.
 pub fn commit_lock() -> MutexGuard<'static, bool> {
     COMMITTED.lock().unwrap_or_else(|e| e.into_inner())
 }

@@ -125,7 +125,7 @@ pub fn run_and_write(
     let (results, study_runs) = pool.install(|| {
         rayon::join(
             || schedule::run(exps, &graph, &refs, &writer, &pool, progress, log),
-            || run_studies(studies, &study_refs, reference, log),
+            || run_studies(studies, &study_refs, reference, progress, log),
         )
     });
     let (mut results, mut study_runs) = match (results, study_runs) {
@@ -170,18 +170,101 @@ pub fn run_and_write(
     Ok(Finished { results, dest, checks, failed, blessed })
 }
 
+/// Where a whole report reads from (`shotdamp report`'s folders).
+#[derive(Debug, Clone)]
+pub struct ReportInputs {
+    /// Folder of experiment files (`experiments/`).
+    pub experiments: PathBuf,
+    /// Folder of reference data (`reference/`).
+    pub reference: PathBuf,
+    /// Folder of study files (`None`: `studies/` beside the experiments folder).
+    pub studies: Option<PathBuf>,
+    /// Folder of design files (`None`: `designs/` beside the experiments folder).
+    pub designs: Option<PathBuf>,
+}
+
+impl ReportInputs {
+    /// The folders of a checkout: `experiments/`, `reference/`, `studies/` and `designs/`
+    /// below `root`.
+    pub fn at(root: &Path) -> ReportInputs {
+        // "." gives the command line's relative paths (they are quoted in the report).
+        let under = |name: &str| if root == Path::new(".") { PathBuf::from(name) } else { root.join(name) };
+        ReportInputs { experiments: under("experiments"), reference: under("reference"), studies: None, designs: None }
+    }
+
+    fn beside(&self, name: &str) -> PathBuf {
+        self.experiments.parent().unwrap_or(Path::new("")).join(name)
+    }
+
+    /// The studies folder used.
+    pub fn studies_dir(&self) -> PathBuf {
+        self.studies.clone().unwrap_or_else(|| self.beside("studies"))
+    }
+
+    /// The designs folder used.
+    pub fn designs_dir(&self) -> PathBuf {
+        self.designs.clone().unwrap_or_else(|| self.beside("designs"))
+    }
+}
+
+/// The whole report, as `shotdamp report` writes it: every experiment file of the folder, the
+/// stored answers of the design files, the studies marked `report = true`, each experiment
+/// compared with its blessed baseline (or its baseline written, `bless`). `settings.reference`
+/// is taken from `inputs`; `settings.writing.complete` is set. The arguments after `settings`
+/// are those of [`run_and_write`].
+pub fn report(
+    inputs: &ReportInputs,
+    settings: &Settings,
+    progress: &dyn Progress,
+    log: &(dyn Fn(String) + Sync),
+    staging: &dyn Fn(PathBuf),
+) -> Result<Finished> {
+    let reference = inputs.reference.as_path();
+    let files = experiment::discover(&inputs.experiments)?;
+    if files.is_empty() {
+        return Err(Error::Parse {
+            file: inputs.experiments.display().to_string(),
+            message: "no experiment files (*.toml) found".into(),
+        });
+    }
+    let mut exps = experiment::load_all(&files, reference)?;
+    let designs_dir = inputs.designs_dir();
+    exps.extend(designs::report_designs(&designs_dir, reference)?);
+    let studies_dir = inputs.studies_dir();
+    let studies = report_studies(&studies_dir, reference)?;
+    crate::output::destination::refuse_overlap(
+        &settings.out,
+        &[
+            ("the experiments folder", &inputs.experiments),
+            ("the studies folder", &studies_dir),
+            ("the designs folder", &designs_dir),
+        ],
+    )?;
+    let settings = Settings {
+        reference: reference.to_path_buf(),
+        writing: ReportOptions { complete: true, ..settings.writing.clone() },
+        baseline_mode: if settings.bless { BaselineMode::Off } else { BaselineMode::Required },
+        ..settings.clone()
+    };
+    run_and_write(&exps, &studies, &settings, progress, log, staging)
+}
+
 /// Runs the report's studies, each over its samples in parallel, with its references
 /// (`refs`, one store per study, without baselines).
 fn run_studies(
     studies: &[Study],
     refs: &[ReferenceStore],
     reference: &Path,
+    progress: &dyn Progress,
     log: &(dyn Fn(String) + Sync),
 ) -> Result<Vec<StudyRun>> {
     let mut out = Vec::new();
     for (s, refs) in studies.iter().zip(refs) {
         let started = std::time::Instant::now();
-        let rows = analysis::study::run_all(s, refs, reference)?;
+        // No count of points before the samples are built: a counter of unknown total (the
+        // command line draws no bar for it; a caller may stop the run at any point).
+        let tick = progress.start(&s.id, 0);
+        let rows = analysis::study::run_all(s, refs, reference, &*tick)?;
         log(format!("  ok {:<36} study: {} samples ({:.2} s)", s.id, s.samples.len(), started.elapsed().as_secs_f64()));
         out.push(StudyRun {
             manifest: Manifest::of(s, &s.path.display().to_string()),

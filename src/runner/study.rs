@@ -51,6 +51,20 @@ pub fn estimate(study: &Study, reference: &Path, shard: Shard, pool: &rayon::Thr
         .sum())
 }
 
+/// The folder a study is written to by default: `study-runs/ID`.
+pub fn default_out(study: &Study) -> PathBuf {
+    PathBuf::from("study-runs").join(&study.id)
+}
+
+/// Refuses an output folder that holds, or lies inside, the study's inputs (its file, the
+/// reference folder, its experiment files).
+pub fn refuse_overlap(study: &Study, reference: &Path, out: &Path) -> Result<()> {
+    let mut inputs: Vec<(&str, &Path)> =
+        vec![("the study file", study.path.as_path()), ("the reference folder", reference)];
+    inputs.extend(study.base.iter().map(|e| ("the study's experiment file", e.path.as_path())));
+    crate::output::destination::refuse_overlap(out, &inputs)
+}
+
 /// How a shard's run ended.
 #[derive(Debug)]
 pub enum ShardEnd {
@@ -135,7 +149,7 @@ fn compute(
             chunk
                 .par_iter()
                 .map(|(s, e)| {
-                    let r = run::run_prepared(e, s, refs).map_err(|err| study.at_sample(err, s));
+                    let r = run::run_prepared(e, s, refs, &|| {}).map_err(|err| study.at_sample(err, s));
                     progress.sample();
                     r
                 })

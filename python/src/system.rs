@@ -1,0 +1,425 @@
+//! A structure with its dampers, driven by a force: steady states with their certificates,
+//! sweeps (the command line's compliance table, column for column) and impulse responses.
+
+use num_complex::Complex64;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use shotdamp::analysis::curves;
+use shotdamp::experiment::{parts, Case};
+use shotdamp::sim::steady::{Certificate, Steady as Found};
+use shotdamp::sim::sweep::{self, Direction, SweepPoint};
+use shotdamp::sim::{SteadyOptions, System as Sim};
+
+use crate::compute::{self, error};
+use crate::convert::{array1, array2, floats, table};
+use crate::structure::{Damper, Structure};
+
+/// Most frequencies one call takes (as an experiment file's grid).
+const MAX_FREQUENCIES: usize = 100_000;
+
+/// The case of `dampers` (a sequence of `Damper`) on `structure`, validated as an experiment
+/// file's case.
+pub fn case(structure: &shotdamp::model::Structure, dampers: &Bound<'_, PyAny>, origin: &str) -> PyResult<Case> {
+    let mut keys = Vec::new();
+    for d in dampers.try_iter()? {
+        let d = d?;
+        let d = d.cast::<Damper>().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "{origin}: dampers must be shotdamp.Damper objects, not {}",
+                d.get_type().name().map(|n| n.to_string()).unwrap_or_default()
+            ))
+        })?;
+        keys.push(d.get().keys.clone());
+    }
+    parts::case(origin, "python", keys, structure).map_err(error)
+}
+
+/// Forcing frequencies to simulate on `structure`, Hz: at most [`MAX_FREQUENCIES`], each as
+/// an experiment file's ([`parts::check_frequencies`]).
+fn simulated(origin: &str, f: &[f64], structure: &shotdamp::model::Structure) -> PyResult<Vec<f64>> {
+    let f = frequencies(origin, f)?;
+    parts::check_frequencies(origin, "freq_hz", &f, structure).map_err(error)?;
+    Ok(f)
+}
+
+/// Frequencies, Hz: positive and finite, at most [`MAX_FREQUENCIES`].
+pub fn frequencies(origin: &str, f: &[f64]) -> PyResult<Vec<f64>> {
+    if f.is_empty() {
+        return Err(error(shotdamp::Error::invalid(origin, "freq_hz", "[]", "give at least one frequency (Hz)")));
+    }
+    if f.len() > MAX_FREQUENCIES {
+        return Err(error(shotdamp::Error::invalid(
+            origin,
+            "freq_hz",
+            format!("{} frequencies", f.len()),
+            format!("at most {MAX_FREQUENCIES} frequencies"),
+        )));
+    }
+    if let Some((i, x)) = f.iter().enumerate().find(|(_, x)| !(x.is_finite() && **x > 0.0)) {
+        return Err(error(shotdamp::Error::invalid(
+            origin,
+            format!("freq_hz[{i}]"),
+            x,
+            "frequencies must be positive and finite (Hz)",
+        )));
+    }
+    Ok(f.to_vec())
+}
+
+/// Steady-state settings from a dict with the keys of `[analysis.steady]`.
+fn steady_options(origin: &str, steady: Option<&Bound<'_, PyDict>>) -> PyResult<SteadyOptions> {
+    let t = match steady {
+        Some(d) => table("steady", d)?,
+        None => toml::Table::new(),
+    };
+    parts::steady(origin, t).map_err(error)
+}
+
+/// A structure with dampers, driven by `force_n` sin(omega t) on `force_mass`.
+#[pyclass(module = "shotdamp._native", frozen)]
+pub struct System {
+    sim: Sim,
+    case: Case,
+    force: f64,
+}
+
+impl System {
+    /// A system built by the library (an experiment's case).
+    pub fn from_parts(sim: Sim, case: Case, force: f64) -> System {
+        System { sim, case, force }
+    }
+}
+
+#[pymethods]
+impl System {
+    /// `dampers`: a sequence of `Damper` (none: the bare structure); `force_mass` 1-based.
+    #[new]
+    #[pyo3(signature = (structure, dampers=None, *, force_mass=1, force_n))]
+    fn new(
+        structure: &Bound<'_, Structure>,
+        dampers: Option<&Bound<'_, PyAny>>,
+        force_mass: i64,
+        force_n: f64,
+    ) -> PyResult<System> {
+        let origin = "shotdamp.System";
+        let bare = &structure.get().bare;
+        let excitation = parts::excitation(origin, force_mass, force_n, bare).map_err(error)?;
+        let case = match dampers {
+            Some(d) => case(bare, d, origin)?,
+            None => parts::case(origin, "python", Vec::new(), bare).map_err(error)?,
+        };
+        let sim = parts::system(bare, &excitation, &case);
+        Ok(System { sim, case, force: force_n })
+    }
+
+    /// Number of masses of the structure.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.sim.dof()
+    }
+
+    /// Number of containers.
+    #[getter]
+    fn containers(&self) -> usize {
+        self.case.dampers.len()
+    }
+
+    /// The steady state at `freq_hz` from rest (the same computation as one point of a sweep
+    /// from rest): a `Steady`, with its certificate (`orbit`) when it is a periodic orbit.
+    /// `steady`: a dict with the keys of an experiment file's `[analysis.steady]`.
+    #[pyo3(signature = (freq_hz, *, steady=None))]
+    fn steady_state(&self, py: Python<'_>, freq_hz: f64, steady: Option<&Bound<'_, PyDict>>) -> PyResult<Steady> {
+        let origin = "shotdamp.System.steady_state";
+        let f = simulated(origin, &[freq_hz], &self.sim.structure)?;
+        let opts = steady_options(origin, steady)?;
+        let sim = &self.sim;
+        let mut points = compute::run(py, Some(1), None, |t| Ok(sweep::from_rest(sim, &f, &opts, &|| t.tick())))?;
+        let p = points.pop().ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no point computed"))?;
+        match p.result {
+            Ok(s) => Steady::of(py, p.freq_hz, s, self.force, &self.case.grains),
+            Err(e) => Err(pyo3::exceptions::PyValueError::new_err(format!("{origin}: {e}"))),
+        }
+    }
+
+    /// A sweep: every frequency from rest (`start="rest"`, in parallel on `jobs` threads, the
+    /// same numbers for any number), or by continuation upward or downward (`"up"`, `"down"`).
+    /// Returns the columns of the command line's `compliance` table (curve, freq_hz, c1..cn in
+    /// m/N, converged, period, impacts per period and highest flight per container,
+    /// transient_periods, orbit_residual, max_multiplier, stop), rows in order of frequency
+    /// (continuation: in the order computed). `progress(done, total)` is called as points
+    /// finish.
+    #[pyo3(signature = (freq_hz, *, start="rest", steady=None, curve="sweep", jobs=None, progress=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        freq_hz: &Bound<'py, PyAny>,
+        start: &str,
+        steady: Option<&Bound<'py, PyDict>>,
+        curve: &str,
+        jobs: Option<usize>,
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let origin = "shotdamp.System.sweep";
+        let f = simulated(origin, &floats("freq_hz", freq_hz)?, &self.sim.structure)?;
+        let opts = steady_options(origin, steady)?;
+        let dir = match start {
+            "rest" => None,
+            "up" => Some(Direction::Up),
+            "down" => Some(Direction::Down),
+            other => {
+                return Err(error(shotdamp::Error::invalid(
+                    origin,
+                    "start",
+                    format!("\"{other}\""),
+                    "\"rest\" (every point from rest), \"up\" or \"down\" (continuation)",
+                )))
+            }
+        };
+        let sim = &self.sim;
+        let points: Vec<SweepPoint> = compute::run(py, jobs, progress, |t| {
+            t.expect(f.len() as u64);
+            Ok(match dir {
+                None => sweep::from_rest(sim, &f, &opts, &|| t.tick()),
+                Some(d) => sweep::continued(sim, &f, d, &opts, &|| t.tick()),
+            })
+        })?;
+        let n = self.sim.dof();
+        let c = curves::from_sweep(curve, curve, points, self.force, &self.case.grains, n);
+        let t = curves::table("compliance", "", &[&c], n, self.case.dampers.len());
+        crate::convert::columns(py, &t)
+    }
+
+    /// The free response after a kick (no force): the keys of an impulse experiment's
+    /// `[analysis]` (`struck_mass` 1-based, `initial_velocity_m_s` or `impulse_n_s`,
+    /// `duration_s`, `sample_rate_hz`). Returns a dict: `t_s`, `x_m` and `v_m_s` (samples x
+    /// masses, from the static rest), `y_m` (samples x beds, bed positions), the energy
+    /// given, left and lost (J), `events` and the energy residual.
+    #[pyo3(signature = (*, struck_mass=1, initial_velocity_m_s=None, impulse_n_s=None, duration_s=None, sample_rate_hz=None))]
+    fn impulse<'py>(
+        &self,
+        py: Python<'py>,
+        struck_mass: i64,
+        initial_velocity_m_s: Option<&Bound<'py, PyAny>>,
+        impulse_n_s: Option<&Bound<'py, PyAny>>,
+        duration_s: Option<&Bound<'py, PyAny>>,
+        sample_rate_hz: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let origin = "shotdamp.System.impulse";
+        let mut t = crate::convert::named(&[
+            ("initial_velocity_m_s", initial_velocity_m_s),
+            ("impulse_n_s", impulse_n_s),
+            ("duration_s", duration_s),
+            ("sample_rate_hz", sample_rate_hz),
+        ])?;
+        t.insert("struck_mass".into(), toml::Value::Integer(struck_mass));
+        let opts = parts::impulse(origin, t, &self.sim.structure).map_err(error)?;
+        let sim = &self.sim;
+        let run = compute::run(py, Some(1), None, |_| {
+            shotdamp::sim::impulse::free_response(sim, &opts)
+                .map_err(|e| shotdamp::Error::invalid(origin, "system", "(setup)", e.to_string()))
+        })?;
+        let s = &run.samples;
+        let d = PyDict::new(py);
+        d.set_item("t_s", array1(py, s.times.clone()))?;
+        d.set_item("x_m", array2(py, &s.x, self.sim.dof())?)?;
+        d.set_item("v_m_s", array2(py, &s.v, self.sim.dof())?)?;
+        d.set_item("y_m", array2(py, &s.y, self.sim.dampers.len())?)?;
+        d.set_item("rest_m", array1(py, run.rest.clone()))?;
+        d.set_item("initial_velocity_m_s", run.initial_velocity)?;
+        d.set_item("initial_energy_j", run.initial_energy)?;
+        d.set_item("remaining_energy_j", array1(py, run.remaining.clone()))?;
+        d.set_item("impact_loss_until_j", array1(py, run.impact_loss_until.clone()))?;
+        d.set_item("viscous_loss_j", run.viscous_loss)?;
+        d.set_item("impact_loss_j", run.impact_loss)?;
+        d.set_item("final_energy_j", run.final_energy)?;
+        d.set_item("energy_residual", run.energy_residual())?;
+        d.set_item("events", s.events.len())?;
+        d.set_item("stop", run.stop.as_ref().map(|s| format!("{s:?}")))?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("System(dof={}, containers={}, force_n={})", self.sim.dof(), self.case.dampers.len(), self.force)
+    }
+}
+
+/// The steady state of one frequency.
+#[pyclass(module = "shotdamp._native", frozen)]
+pub struct Steady {
+    /// Forcing frequency, Hz.
+    #[pyo3(get)]
+    freq_hz: f64,
+    /// Settled (a stable orbit found, or the transient died out).
+    #[pyo3(get)]
+    converged: bool,
+    /// Period of the motion in forcing periods (0: none found).
+    #[pyo3(get)]
+    period: usize,
+    /// Periods simulated before recording.
+    #[pyo3(get)]
+    transient_periods: usize,
+    /// Why the point has no steady state, or stopped early ("" when it has one).
+    #[pyo3(get)]
+    stop: String,
+    /// The certificate of a periodic orbit (None when the point is not one).
+    #[pyo3(get)]
+    orbit: Option<Py<Orbit>>,
+    compliance: Vec<f64>,
+    amplitude: Vec<f64>,
+    bottom: Vec<f64>,
+    top: Vec<f64>,
+    flight: Vec<f64>,
+}
+
+impl Steady {
+    fn of(py: Python<'_>, freq_hz: f64, s: Found, force: f64, grains: &[usize]) -> PyResult<Steady> {
+        let stop = match (&s.stop, &s.failure) {
+            (Some(shotdamp::sim::Stop::Chatter { t, events }), _) => {
+                format!("chatter: {events} events before t = {t:.4} s")
+            }
+            (None, Some(why)) => why.to_string(),
+            (None, None) => String::new(),
+        };
+        let orbit = s.certificate.as_ref().map(|c| Orbit::of(freq_hz, s.period, c));
+        Ok(Steady {
+            freq_hz,
+            converged: s.converged,
+            period: s.period,
+            transient_periods: s.transient_periods,
+            stop,
+            orbit: orbit.map(|o| Py::new(py, o)).transpose()?,
+            compliance: s.amplitude.iter().map(|a| a / force).collect(),
+            amplitude: s.amplitude.clone(),
+            bottom: curves::per_container(s.bottom_impacts, grains, false),
+            top: curves::per_container(s.top_impacts, grains, false),
+            flight: curves::per_container(s.max_flight, grains, true),
+        })
+    }
+}
+
+#[pymethods]
+impl Steady {
+    /// Compliance of each mass, m/N: half peak-to-peak displacement over the force.
+    #[getter(compliance)]
+    fn compliance_array<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.compliance.clone())
+    }
+
+    /// Half peak-to-peak displacement of each mass, m.
+    #[getter(amplitude_m)]
+    fn amplitude_array<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.amplitude.clone())
+    }
+
+    /// Impacts per forcing period on the bottom of each container.
+    #[getter]
+    fn bottom_impacts<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.bottom.clone())
+    }
+
+    /// Impacts per forcing period on the top of each container.
+    #[getter]
+    fn top_impacts<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.top.clone())
+    }
+
+    /// Highest flight above the bottom in each container, m.
+    #[getter]
+    fn max_flight_m<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.flight.clone())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Steady(freq_hz={}, converged={}, period={}, compliance={:?}{})",
+            self.freq_hz,
+            if self.converged { "True" } else { "False" },
+            self.period,
+            self.compliance,
+            if self.stop.is_empty() { String::new() } else { format!(", stop={:?}", self.stop) }
+        )
+    }
+}
+
+/// A periodic orbit with its certificate: the fixed-point residual and the Floquet
+/// multipliers of the stroboscopic map.
+#[pyclass(module = "shotdamp._native", frozen)]
+pub struct Orbit {
+    /// Forcing frequency, Hz.
+    #[pyo3(get)]
+    freq_hz: f64,
+    /// Period in forcing periods.
+    #[pyo3(get)]
+    period: usize,
+    /// Max-norm of P(u) - u, relative to the amplitude scale.
+    #[pyo3(get)]
+    residual: f64,
+    /// Every multiplier inside the unit circle.
+    #[pyo3(get)]
+    stable: bool,
+    /// No graze and no simultaneous impacts on the orbit.
+    #[pyo3(get)]
+    smooth: bool,
+    /// The largest multiplier modulus.
+    #[pyo3(get)]
+    spectral_radius: f64,
+    /// Forcing phase of the section, rad.
+    #[pyo3(get)]
+    phase: f64,
+    /// Newton iterations of the successful attempt, and attempts made.
+    #[pyo3(get)]
+    iterations: usize,
+    #[pyo3(get)]
+    attempts: usize,
+    multipliers_: Vec<Complex64>,
+    x: Vec<f64>,
+    v: Vec<f64>,
+}
+
+impl Orbit {
+    fn of(freq_hz: f64, period: usize, c: &Certificate) -> Orbit {
+        Orbit {
+            freq_hz,
+            period,
+            residual: c.residual,
+            stable: c.stable,
+            smooth: c.smooth,
+            spectral_radius: c.spectral_radius(),
+            phase: c.phase,
+            iterations: c.iterations,
+            attempts: c.attempts,
+            multipliers_: c.multipliers.clone(),
+            x: c.section.x.iter().copied().collect(),
+            v: c.section.v.iter().copied().collect(),
+        }
+    }
+}
+
+#[pymethods]
+impl Orbit {
+    /// Floquet multipliers, largest modulus first (complex).
+    #[getter]
+    fn multipliers<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<Complex64>> {
+        PyArray1::from_slice(py, &self.multipliers_)
+    }
+
+    /// Displacements (m) and velocities (m/s) of the masses at the section.
+    #[getter]
+    fn section<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        PyList::new(py, [array1(py, self.x.clone()), array1(py, self.v.clone())])
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Orbit(freq_hz={}, period={}, stable={}, spectral_radius={:.6}, residual={:.3e})",
+            self.freq_hz,
+            self.period,
+            if self.stable { "True" } else { "False" },
+            self.spectral_radius,
+            self.residual
+        )
+    }
+}

@@ -1,0 +1,114 @@
+"""The package's physics against closed forms and the library's own invariants."""
+
+import doctest
+import math
+
+import numpy as np
+import pytest
+
+import shotdamp as sd
+from conftest import paper_structure
+
+
+def test_the_package_docstring_runs():
+    failed, tried = doctest.testmod(sd, verbose=False)
+    assert tried > 0 and failed == 0
+
+
+def test_one_mass_frf_is_the_closed_form():
+    m, k, zeta = 2.0, 8.0e4, 0.02
+    s = sd.Structure(masses_kg=[m], chain_stiffness_n_per_m=[k], modal_ratios=[zeta])
+    f = np.linspace(5.0, 60.0, 56)
+    w = 2 * math.pi * f
+    c = 2 * zeta * math.sqrt(k * m)
+    exact = 1.0 / np.sqrt((k - m * w**2) ** 2 + (c * w) ** 2)
+    got = s.frf(f)[:, 0]
+    assert np.max(np.abs(got / exact - 1)) < 1e-12
+
+
+def test_modes_of_the_paper_structure():
+    modes = paper_structure().modes()
+    assert modes["freq_hz"].shape == (3,)
+    assert np.all(np.diff(modes["freq_hz"]) > 0)
+    assert np.allclose(modes["damping_ratio"], 0.01, rtol=1e-10)
+    assert np.allclose(np.abs(modes["shape"]).max(axis=1), 1.0)
+    # Eq. 13: with a damper of mass m_d on mass j, mu_i = |phibar_ij| m_d / M_i.
+    d = sd.Damper(mass=2, mass_kg=0.071, clearance_mm="inf")
+    mu = paper_structure().modes([d])["mass_ratio"]
+    expected = np.abs(modes["shape"][:, 1]) * 0.071 / modes["modal_mass_kg"]
+    assert np.allclose(mu, expected, rtol=1e-12)
+
+
+def test_infinite_clearance_far_above_the_flight_equals_stuck_masses_below_lift_off():
+    # Far below resonance the bed never lifts off (acceleration below g): the response is the
+    # linear one of the structure with the damper mass rigidly added.
+    s = paper_structure()
+    d = sd.Damper(mass=1, mass_ratio=0.1, clearance_mm="inf")
+    system = sd.System(s, [d], force_n=0.01)
+    st = system.steady_state(5.0)
+    stuck = s.frf([5.0], dampers=[d])[0]
+    assert st.converged
+    assert np.max(np.abs(st.compliance / stuck - 1)) < 1e-9
+
+
+def test_a_certified_orbit_has_its_multipliers():
+    system = sd.System(paper_structure(), [sd.Damper(mass=2, mass_ratio=0.1, clearance_mm=0.3)], force_n=2.6)
+    st = system.steady_state(48.0)
+    o = st.orbit
+    assert st.converged and o is not None and o.stable and o.residual < 1e-10
+    assert o.multipliers.dtype == np.complex128
+    assert np.all(np.abs(o.multipliers) < 1.0)
+    assert o.spectral_radius == pytest.approx(np.abs(o.multipliers).max(), rel=1e-15)
+    x, v = o.section
+    assert x.shape == (3,) and v.shape == (3,)
+
+
+def test_impulse_energy_balance_for_every_bed_model():
+    for d in (
+        sd.Damper(mass=1, mass_ratio=0.1, clearance_mm=0.5),
+        sd.Damper(mass=1, mass_ratio=0.1, clearance_mm=0.5, bed="restitution", restitution=0.4),
+        sd.Damper(mass=1, mass_ratio=0.1, clearance_mm=0.5, bed="column", grains=5, restitution=0.3),
+    ):
+        system = sd.System(paper_structure(), [d], force_n=1.0)
+        r = system.impulse(struck_mass=1, initial_velocity_m_s=0.3, duration_s=0.3, sample_rate_hz=2000)
+        assert r["energy_residual"] < 1e-9
+        assert r["x_m"].shape == (r["t_s"].shape[0], 3)
+        assert r["initial_energy_j"] == pytest.approx(
+            r["final_energy_j"] + r["viscous_loss_j"] + r["impact_loss_j"], rel=1e-9
+        )
+
+
+def test_sweeps_are_the_same_for_any_number_of_threads():
+    system = sd.System(paper_structure(), [sd.Damper(mass=m, mass_ratio=0.1, clearance_mm=0.3) for m in (1, 2, 3)], force_n=2.6)
+    f = np.round(np.arange(46.0, 52.01, 0.25), 2)
+    one, two = system.sweep(f, jobs=1), system.sweep(f, jobs=2)
+    for k in one:
+        if isinstance(one[k], list):
+            assert one[k] == two[k]
+        else:
+            assert np.array_equal(one[k], two[k], equal_nan=True), k
+
+
+def test_tables_convert_when_the_libraries_are_there():
+    system = sd.System(paper_structure(), [sd.Damper(mass=2, mass_ratio=0.1, clearance_mm=0.3)], force_n=2.6)
+    t = system.sweep([47.0, 48.0])
+    assert t.rows == 2 and t.name == "compliance"
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        pandas = None
+    if pandas is not None:
+        assert list(t.to_pandas().columns) == t.columns
+
+
+def test_experiments_load_with_their_models():
+    exps = sd.load("experiments/fig05_hysteresis.toml")
+    assert [e.model for e in exps] == ["stated", "coil", "fitted"]
+    e = exps[0]
+    assert e.kind == "sweep" and e.cases == ["single"] and e.force_mass == 1 and e.force_n == 2.6
+    assert e.structure.dof == 3
+    with pytest.raises(ValueError, match="one of the file's cases"):
+        e.system("nothing")
+    scan = sd.load("experiments/fig05_clearance_scan.toml")[0]
+    with pytest.raises(ValueError, match="set by a run"):
+        scan.system("single")

@@ -1,0 +1,136 @@
+"""Bad arguments raise ValueError with the command line's text: each case is written as an
+experiment file and run by the binary, and the message after the file's name must equal
+the package's after its origin (a damper's key is relative to its case: `dampers[0].KEY`
+where the file says `cases[0].dampers[0].KEY`)."""
+
+import subprocess
+
+import pytest
+
+import shotdamp as sd
+
+GOOD_STRUCTURE = dict(
+    masses_kg=[0.74, 0.71, 0.64],
+    chain_stiffness_n_per_m=[24.3e3, 21.8e3, 19.8e3],
+    modal_ratios=[0.01, 0.01, 0.01],
+)
+GOOD_DAMPER = dict(mass=2, mass_ratio=0.1, clearance_mm=0.3)
+
+
+def toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return f'"{v}"'
+    if isinstance(v, float):
+        if v != v:
+            return "nan"
+        if v in (float("inf"), float("-inf")):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
+    return str(v)
+
+
+def experiment_file(path, structure, damper, force_n=2.6):
+    damping = {k: structure[k] for k in ("modal_ratios", "rayleigh_alpha", "rayleigh_beta") if k in structure}
+    rest = {k: v for k, v in structure.items() if k not in damping}
+    lines = [
+        "[experiment]",
+        'id = "bad"',
+        'title = "bad input"',
+        'figure = "none"',
+        'caption = "a bad value"',
+        'claim = "none"',
+        "[structure]",
+        *[f"{k} = {toml_value(v)}" for k, v in rest.items()],
+        "[structure.damping]",
+        *[f"{k} = {toml_value(v)}" for k, v in damping.items()],
+        "[excitation]",
+        "mass = 1",
+        f"force_n = {toml_value(force_n)}",
+        "[analysis]",
+        'kind = "sweep"',
+        "freq_hz = { start = 44.0, stop = 45.0, step = 0.5 }",
+        "[[cases]]",
+        'id = "one"',
+        'label = "one damper"',
+        "dampers = [{ " + ", ".join(f"{k} = {toml_value(v)}" for k, v in damper.items()) + " }]",
+    ]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def cli_message(cli, tmp_path, structure, damper, force_n=2.6):
+    f = tmp_path / "bad.toml"
+    experiment_file(f, structure, damper, force_n)
+    p = subprocess.run([str(cli), "run", str(f), "--out", str(tmp_path / "out")], capture_output=True, text=True)
+    assert p.returncode == 2, p.stderr
+    line = p.stderr.strip().splitlines()[-1]
+    prefix = f"error: {f}: "
+    assert line.startswith(prefix), line
+    return line[len(prefix):].replace("cases[0].dampers", "dampers")
+
+
+def python_message(structure, damper, force_n=2.6):
+    with pytest.raises(ValueError) as e:
+        s = sd.Structure(**structure)
+        sd.System(s, [sd.Damper(**damper)], force_n=force_n)
+    text = str(e.value)
+    origin, _, rest = text.partition(": ")
+    assert origin in ("shotdamp.Structure", "shotdamp.System"), text
+    return rest
+
+
+CASES = [
+    ("negative mass", dict(GOOD_STRUCTURE, masses_kg=[0.74, -0.71, 0.64]), GOOD_DAMPER, 2.6),
+    ("NaN damping", dict(GOOD_STRUCTURE, modal_ratios=[0.01, float("nan"), 0.01]), GOOD_DAMPER, 2.6),
+    ("too few stiffnesses", dict(GOOD_STRUCTURE, chain_stiffness_n_per_m=[24.3e3, 21.8e3]), GOOD_DAMPER, 2.6),
+    ("infinite stiffness", dict(GOOD_STRUCTURE, chain_stiffness_n_per_m=[24.3e3, float("inf"), 1.0]), GOOD_DAMPER, 2.6),
+    (
+        "matrix of the wrong shape",
+        {k: v for k, v in GOOD_STRUCTURE.items() if k != "chain_stiffness_n_per_m"}
+        | {"stiffness_matrix_n_per_m": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]},
+        GOOD_DAMPER,
+        2.6,
+    ),
+    ("no damping", {k: v for k, v in GOOD_STRUCTURE.items() if k != "modal_ratios"}, GOOD_DAMPER, 2.6),
+    ("negative mass ratio", GOOD_STRUCTURE, dict(GOOD_DAMPER, mass_ratio=-0.1), 2.6),
+    ("host mass 4 of 3", GOOD_STRUCTURE, dict(GOOD_DAMPER, mass=4), 2.6),
+    ("negative clearance", GOOD_STRUCTURE, dict(GOOD_DAMPER, clearance_mm=-0.3), 2.6),
+    ("unknown bed", GOOD_STRUCTURE, dict(GOOD_DAMPER, bed="foam"), 2.6),
+    ("half a grain", GOOD_STRUCTURE, dict(GOOD_DAMPER, bed="column", grains=0.5), 2.6),
+    ("restitution above 1", GOOD_STRUCTURE, dict(GOOD_DAMPER, bed="restitution", restitution=1.5), 2.6),
+    ("negative force", GOOD_STRUCTURE, GOOD_DAMPER, -1.0),
+    ("NaN force", GOOD_STRUCTURE, GOOD_DAMPER, float("nan")),
+]
+
+
+@pytest.mark.parametrize("name,structure,damper,force_n", CASES, ids=[c[0] for c in CASES])
+def test_bad_arguments_raise_the_command_lines_message(cli, tmp_path, name, structure, damper, force_n):
+    assert python_message(structure, damper, force_n) == cli_message(cli, tmp_path, structure, damper, force_n)
+
+
+def test_unknown_keys_and_wrong_types_name_the_key():
+    with pytest.raises(ValueError, match=r"dampers\[0\]\.mass_ratio"):
+        sd.System(sd.Structure(**GOOD_STRUCTURE), [sd.Damper(mass=2, mass_ratio="much", clearance_mm=0.3)], force_n=2.6)
+    with pytest.raises(TypeError):
+        sd.Structure(**GOOD_STRUCTURE, mases_kg=[1.0])  # a misspelt keyword
+
+
+def test_bad_frequencies_and_options_name_the_argument():
+    s = sd.System(sd.Structure(**GOOD_STRUCTURE), [sd.Damper(**GOOD_DAMPER)], force_n=2.6)
+    with pytest.raises(ValueError, match=r"freq_hz\[1\] = NaN: frequencies must be positive and finite"):
+        s.sweep([44.0, float("nan")])
+    with pytest.raises(ValueError, match=r"freq_hz: a one-dimensional sequence"):
+        s.sweep([[44.0, 45.0], [46.0, 47.0]])
+    with pytest.raises(ValueError, match=r"steady\.method = \"slow\""):
+        s.steady_state(48.0, steady={"method": "slow"})
+    with pytest.raises(ValueError, match=r"steady\.min_periods"):
+        s.steady_state(48.0, steady={"min_periods": 10, "max_periods": 5})
+    with pytest.raises(ValueError, match=r"start = \"sideways\""):
+        s.sweep([44.0], start="sideways")
+    with pytest.raises(ValueError, match=r"analysis\.initial_velocity_m_s"):
+        s.impulse(struck_mass=1)
+    with pytest.raises(OSError):
+        sd.load("experiments/no_such_file.toml")

@@ -1,0 +1,135 @@
+//! Parts of an experiment built outside a file: a structure, a case's dampers, an excitation
+//! and steady-state settings from TOML-shaped tables (what the Python package passes), through
+//! the same reading and validation as an experiment file, so that a bad value gets the same
+//! message. `origin` stands where a file's path would (e.g. "shotdamp.Structure").
+
+use serde::de::DeserializeOwned;
+
+use crate::error::{Error, Result};
+use crate::model::Structure;
+use crate::sim::impulse::ImpulseOptions;
+use crate::sim::{SteadyOptions, System};
+
+use super::raw::{RawAnalysis, RawDamper, RawExcitation, RawSteady, RawStructure};
+use super::{Analysis, Case, Clearance, Excitation};
+
+/// Reads `value` as a `T`, naming a wrong key `{prefix}KEY` as an experiment file would.
+fn read<T: DeserializeOwned>(origin: &str, prefix: &str, value: toml::Value) -> Result<T> {
+    serde_path_to_error::deserialize(value).map_err(|e: serde_path_to_error::Error<toml::de::Error>| {
+        let key = e.path().to_string();
+        let inner = e.into_inner();
+        let key = if key == "." || key.is_empty() {
+            prefix.trim_end_matches('.').to_string()
+        } else {
+            format!("{prefix}{key}")
+        };
+        Error::Parse {
+            file: origin.to_string(),
+            message: if key.is_empty() { inner.message().to_string() } else { format!("{key}: {}", inner.message()) },
+        }
+    })
+}
+
+/// A structure from the keys of an experiment file's `[structure]` table (`masses_kg`, one of
+/// `chain_stiffness_n_per_m`, `stiffness_matrix_n_per_m` and `fit`, `ground_stiffness_n_per_m`,
+/// `damping`).
+pub fn structure(origin: &str, table: toml::Table) -> Result<Structure> {
+    let raw: RawStructure = read(origin, "structure.", toml::Value::Table(table))?;
+    Ok(super::validate::structure(origin.as_ref(), raw)?.structure)
+}
+
+/// The dampers of one case from tables with the keys of an experiment file's
+/// `[[cases]].dampers` entries (`mass`, `mass_ratio` or `mass_kg`, `clearance_mm` as a number
+/// or "inf", `bed`, `grains`, `restitution`, `stick_speed_m_s`); keys are named
+/// `dampers[i].KEY`. The case is named `id`.
+pub fn case(origin: &str, id: &str, dampers: Vec<toml::Table>, structure: &Structure) -> Result<Case> {
+    let mut raw = Vec::with_capacity(dampers.len());
+    for (i, d) in dampers.into_iter().enumerate() {
+        raw.push(read::<RawDamper>(origin, &format!("dampers[{i}]."), toml::Value::Table(d))?);
+    }
+    let (dampers, clearances, laws, grains) = super::validate::dampers(origin.as_ref(), "", raw, structure)?;
+    if let Some(i) = clearances.iter().position(|c| *c != Clearance::Fixed) {
+        return Err(Error::invalid(
+            origin,
+            format!("dampers[{i}].clearance_mm"),
+            "(scan or @EXPERIMENT.KEY)",
+            "a clearance outside an experiment file is a number of millimetres >= 0 or \"inf\"",
+        ));
+    }
+    Ok(Case { id: id.into(), label: id.into(), dampers, clearances, laws, grains })
+}
+
+/// The excitation: `mass` (1-based) driven by `force_n` sin(omega t), as an experiment file's
+/// `[excitation]`.
+pub fn excitation(origin: &str, mass: i64, force_n: f64, structure: &Structure) -> Result<Excitation> {
+    super::validate::excitation(origin.as_ref(), &RawExcitation { mass, force_n }, structure.dof())
+}
+
+/// Steady-state settings from the keys of an experiment file's `[analysis.steady]` (the
+/// defaults for an empty table); keys are named `steady.KEY`.
+pub fn steady(origin: &str, table: toml::Table) -> Result<SteadyOptions> {
+    let raw: RawSteady = read(origin, "steady.", toml::Value::Table(table))?;
+    super::analysis::steady_at(origin.as_ref(), "steady.", Some(&raw))
+}
+
+/// An impulse's settings from the keys of an impulse experiment's `[analysis]` table
+/// (`struck_mass`, `initial_velocity_m_s` or `impulse_n_s`, `duration_s`, `sample_rate_hz`)
+/// on `structure`; keys are named `analysis.KEY`.
+pub fn impulse(origin: &str, mut table: toml::Table, structure: &Structure) -> Result<ImpulseOptions> {
+    table.insert("kind".into(), toml::Value::String("impulse".into()));
+    let raw: RawAnalysis = read(origin, "analysis.", toml::Value::Table(table))?;
+    match super::analysis::impulse(origin.as_ref(), &raw, structure.dof())? {
+        Analysis::Impulse { options, .. } => Ok(options),
+        other => Err(Error::invalid(origin, "analysis.kind", other.kind(), "an impulse analysis")),
+    }
+}
+
+/// The simulated system of a case: the structure, the case's dampers with their impact laws
+/// (a column's grains as beds of their own), driven by the excitation.
+pub fn system(structure: &Structure, excitation: &Excitation, case: &Case) -> System {
+    let sys = System {
+        laws: case.laws.clone(),
+        ..System::plastic(structure.clone(), case.dampers.clone(), excitation.mass, excitation.force)
+    };
+    if case.grains.iter().any(|&g| g > 1) {
+        sys.with_grains(&case.grains)
+    } else {
+        sys
+    }
+}
+
+/// Lowest forcing frequency simulated, relative to the structure's highest natural
+/// frequency: below it one forcing period holds more than 10^5 oscillations of the fastest
+/// mode, which the event search steps through (a point would take minutes, and at 1e-6 Hz
+/// on the paper's structure, for ever).
+pub const MIN_FREQUENCY_RATIO: f64 = 1e-5;
+
+/// Checks that forcing frequencies (Hz) are positive, finite and at least
+/// [`MIN_FREQUENCY_RATIO`] times the structure's highest natural frequency; a bad one is
+/// named `{key}[i]`.
+pub fn check_frequencies(origin: &str, key: &str, freq_hz: &[f64], structure: &Structure) -> Result<()> {
+    let modes = crate::model::modal::symmetric_modes(&structure.mass_matrix(), &structure.stiffness);
+    let top = modes.omegas.last().copied().unwrap_or(0.0) / (2.0 * std::f64::consts::PI);
+    let floor = MIN_FREQUENCY_RATIO * top;
+    for (i, &f) in freq_hz.iter().enumerate() {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(Error::invalid(
+                origin,
+                format!("{key}[{i}]"),
+                f,
+                "frequencies must be positive and finite (Hz)",
+            ));
+        }
+        if f < floor {
+            return Err(Error::invalid(
+                origin,
+                format!("{key}[{i}]"),
+                f,
+                format!(
+                    "a forcing frequency must be at least {MIN_FREQUENCY_RATIO:e} times the structure's highest natural frequency ({top:.4} Hz), i.e. {floor:.4e} Hz: a longer period holds too many oscillations of the fastest mode to simulate"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
