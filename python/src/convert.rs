@@ -123,3 +123,35 @@ pub fn columns<'py>(py: Python<'py>, t: &shotdamp::table::Table) -> PyResult<Bou
     }
     py.import("shotdamp")?.getattr("Table")?.call1((d, &t.name, &t.description))
 }
+
+/// Most frequencies one call takes (as an experiment file's grid).
+const MAX_FREQUENCIES: usize = 100_000;
+
+/// Frequencies, Hz: positive and finite, at most [`MAX_FREQUENCIES`].
+pub fn frequencies(origin: &str, f: &[f64]) -> PyResult<Vec<f64>> {
+    if f.is_empty() {
+        return Err(crate::compute::error(shotdamp::Error::invalid(
+            origin,
+            "freq_hz",
+            "[]",
+            "give at least one frequency (Hz)",
+        )));
+    }
+    if f.len() > MAX_FREQUENCIES {
+        return Err(crate::compute::error(shotdamp::Error::invalid(
+            origin,
+            "freq_hz",
+            format!("{} frequencies", f.len()),
+            format!("at most {MAX_FREQUENCIES} frequencies"),
+        )));
+    }
+    if let Some((i, x)) = f.iter().enumerate().find(|(_, x)| !(x.is_finite() && **x > 0.0)) {
+        return Err(crate::compute::error(shotdamp::Error::invalid(
+            origin,
+            format!("freq_hz[{i}]"),
+            x,
+            "frequencies must be positive and finite (Hz)",
+        )));
+    }
+    Ok(f.to_vec())
+}

@@ -86,7 +86,7 @@ impl Structure {
     #[pyo3(signature = (dampers=None))]
     fn modes<'py>(&self, py: Python<'py>, dampers: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyDict>> {
         let beds = match dampers {
-            Some(d) => crate::system::case(&self.bare, d, "shotdamp.Structure.modes")?.dampers,
+            Some(d) => case(&self.bare, d, "shotdamp.Structure.modes")?.dampers,
             None => Vec::new(),
         };
         let modes = shotdamp::model::modal::modal_summary(&self.bare, &beds);
@@ -119,12 +119,12 @@ impl Structure {
         force_mass: i64,
         dampers: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let f = crate::system::frequencies("shotdamp.Structure.frf", &floats("freq_hz", freq_hz)?)?;
+        let f = crate::convert::frequencies("shotdamp.Structure.frf", &floats("freq_hz", freq_hz)?)?;
         let driven = parts::excitation("shotdamp.Structure.frf", force_mass, 1.0, &self.bare).map_err(error)?.mass;
         let added = match dampers {
-            Some(d) => shotdamp::model::structure::added_masses(
-                &crate::system::case(&self.bare, d, "shotdamp.Structure.frf")?.dampers,
-            ),
+            Some(d) => {
+                shotdamp::model::structure::added_masses(&case(&self.bare, d, "shotdamp.Structure.frf")?.dampers)
+            }
             None => Vec::new(),
         };
         let mass = self.bare.mass_matrix_with(&added);
@@ -202,4 +202,25 @@ impl Damper {
         let keys: Vec<String> = self.keys.iter().map(|(k, v)| format!("{k}={v}")).collect();
         format!("Damper({})", keys.join(", "))
     }
+}
+
+/// The case of `dampers` (a sequence of `Damper`) on `structure`, validated as an experiment
+/// file's case.
+pub fn case(
+    structure: &shotdamp::model::Structure,
+    dampers: &Bound<'_, PyAny>,
+    origin: &str,
+) -> PyResult<shotdamp::experiment::Case> {
+    let mut keys = Vec::new();
+    for d in dampers.try_iter()? {
+        let d = d?;
+        let d = d.cast::<Damper>().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "{origin}: dampers must be shotdamp.Damper objects, not {}",
+                d.get_type().name().map(|n| n.to_string()).unwrap_or_default()
+            ))
+        })?;
+        keys.push(d.get().keys.clone());
+    }
+    parts::case(origin, "python", keys, structure).map_err(error)
 }

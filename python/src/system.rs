@@ -13,28 +13,8 @@ use shotdamp::sim::sweep::{self, Direction, SweepPoint};
 use shotdamp::sim::{SteadyOptions, System as Sim};
 
 use crate::compute::{self, error};
-use crate::convert::{array1, array2, floats, table};
-use crate::structure::{Damper, Structure};
-
-/// Most frequencies one call takes (as an experiment file's grid).
-const MAX_FREQUENCIES: usize = 100_000;
-
-/// The case of `dampers` (a sequence of `Damper`) on `structure`, validated as an experiment
-/// file's case.
-pub fn case(structure: &shotdamp::model::Structure, dampers: &Bound<'_, PyAny>, origin: &str) -> PyResult<Case> {
-    let mut keys = Vec::new();
-    for d in dampers.try_iter()? {
-        let d = d?;
-        let d = d.cast::<Damper>().map_err(|_| {
-            pyo3::exceptions::PyTypeError::new_err(format!(
-                "{origin}: dampers must be shotdamp.Damper objects, not {}",
-                d.get_type().name().map(|n| n.to_string()).unwrap_or_default()
-            ))
-        })?;
-        keys.push(d.get().keys.clone());
-    }
-    parts::case(origin, "python", keys, structure).map_err(error)
-}
+use crate::convert::{array1, array2, floats, frequencies, table};
+use crate::structure::{case, Structure};
 
 /// Forcing frequencies to simulate on `structure`, Hz: at most [`MAX_FREQUENCIES`], each as
 /// an experiment file's ([`parts::check_frequencies`]).
@@ -42,30 +22,6 @@ fn simulated(origin: &str, f: &[f64], structure: &shotdamp::model::Structure) ->
     let f = frequencies(origin, f)?;
     parts::check_frequencies(origin, "freq_hz", &f, structure).map_err(error)?;
     Ok(f)
-}
-
-/// Frequencies, Hz: positive and finite, at most [`MAX_FREQUENCIES`].
-pub fn frequencies(origin: &str, f: &[f64]) -> PyResult<Vec<f64>> {
-    if f.is_empty() {
-        return Err(error(shotdamp::Error::invalid(origin, "freq_hz", "[]", "give at least one frequency (Hz)")));
-    }
-    if f.len() > MAX_FREQUENCIES {
-        return Err(error(shotdamp::Error::invalid(
-            origin,
-            "freq_hz",
-            format!("{} frequencies", f.len()),
-            format!("at most {MAX_FREQUENCIES} frequencies"),
-        )));
-    }
-    if let Some((i, x)) = f.iter().enumerate().find(|(_, x)| !(x.is_finite() && **x > 0.0)) {
-        return Err(error(shotdamp::Error::invalid(
-            origin,
-            format!("freq_hz[{i}]"),
-            x,
-            "frequencies must be positive and finite (Hz)",
-        )));
-    }
-    Ok(f.to_vec())
 }
 
 /// Steady-state settings from a dict with the keys of `[analysis.steady]`.
@@ -276,13 +232,7 @@ pub struct Steady {
 
 impl Steady {
     fn of(py: Python<'_>, freq_hz: f64, s: Found, force: f64, grains: &[usize]) -> PyResult<Steady> {
-        let stop = match (&s.stop, &s.failure) {
-            (Some(shotdamp::sim::Stop::Chatter { t, events }), _) => {
-                format!("chatter: {events} events before t = {t:.4} s")
-            }
-            (None, Some(why)) => why.to_string(),
-            (None, None) => String::new(),
-        };
+        let stop = curves::stop_text(&s);
         let orbit = s.certificate.as_ref().map(|c| Orbit::of(freq_hz, s.period, c));
         Ok(Steady {
             freq_hz,

@@ -134,6 +134,7 @@ pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64
         c.freq_hz.push(p.freq_hz);
         match p.result {
             Ok(s) => {
+                c.stop.push(stop_text(&s));
                 c.compliance.push(s.amplitude.iter().map(|a| a / force).collect());
                 c.converged.push(s.converged);
                 c.period.push(s.period);
@@ -143,11 +144,6 @@ pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64
                 c.transient.push(s.transient_periods);
                 c.residual.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.residual));
                 c.radius.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.spectral_radius()));
-                c.stop.push(match (&s.stop, &s.failure) {
-                    (Some(Stop::Chatter { t, events }), _) => format!("chatter: {events} events before t = {t:.4} s"),
-                    (None, Some(why)) => why.to_string(),
-                    (None, None) => String::new(),
-                });
             }
             Err(e) => {
                 c.compliance.push(vec![f64::NAN; n]);
@@ -164,6 +160,16 @@ pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64
         }
     }
     c
+}
+
+/// Why a point stopped early or has no steady state, as the `stop` column says it ("" when
+/// it has one).
+pub fn stop_text(s: &crate::sim::Steady) -> String {
+    match (&s.stop, &s.failure) {
+        (Some(Stop::Chatter { t, events }), _) => format!("chatter: {events} events before t = {t:.4} s"),
+        (None, Some(why)) => why.to_string(),
+        (None, None) => String::new(),
+    }
 }
 
 /// The exact linear curve of a case: bare without dampers, damper masses rigidly added

@@ -1,9 +1,11 @@
-//! Field rules shared by the validators of experiment files: identifiers and mass numbers.
+//! Field rules shared by the validators of experiment files: identifiers, mass numbers and
+//! the frequencies that can be simulated.
 //! A leaf of the experiment room.
 
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::model::Structure;
 
 /// Letters, digits, '_' and '-'.
 pub fn is_identifier(s: &str) -> bool {
@@ -21,4 +23,40 @@ pub fn mass_index(path: &Path, key: &str, value: i64, n: usize) -> Result<usize>
         ));
     }
     Ok(value as usize - 1)
+}
+
+/// Lowest forcing frequency simulated, relative to the structure's highest natural
+/// frequency: below it one forcing period holds more than 10^5 oscillations of the fastest
+/// mode, which the event search steps through (a point would take minutes, and at 1e-6 Hz
+/// on the paper's structure, for ever).
+pub const MIN_FREQUENCY_RATIO: f64 = 1e-5;
+
+/// Checks that forcing frequencies (Hz) are positive, finite and at least
+/// [`MIN_FREQUENCY_RATIO`] times the structure's highest natural frequency; a bad one is
+/// named `{key}[i]`.
+pub fn check_frequencies(origin: &str, key: &str, freq_hz: &[f64], structure: &Structure) -> Result<()> {
+    let modes = crate::model::modal::symmetric_modes(&structure.mass_matrix(), &structure.stiffness);
+    let top = modes.omegas.last().copied().unwrap_or(0.0) / (2.0 * std::f64::consts::PI);
+    let floor = MIN_FREQUENCY_RATIO * top;
+    for (i, &f) in freq_hz.iter().enumerate() {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(Error::invalid(
+                origin,
+                format!("{key}[{i}]"),
+                f,
+                "frequencies must be positive and finite (Hz)",
+            ));
+        }
+        if f < floor {
+            return Err(Error::invalid(
+                origin,
+                format!("{key}[{i}]"),
+                f,
+                format!(
+                    "a forcing frequency must be at least {MIN_FREQUENCY_RATIO:e} times the structure's highest natural frequency ({top:.4} Hz), i.e. {floor:.4e} Hz: a longer period holds too many oscillations of the fastest mode to simulate"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }

@@ -83,7 +83,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         _ => ("", Vec::new()),
     };
     if cases.iter().any(|c| !c.dampers.is_empty()) {
-        super::parts::check_frequencies(&path.display().to_string(), key, &simulated, &structure)?;
+        super::fields::check_frequencies(&path.display().to_string(), key, &simulated, &structure)?;
     }
     if matches!(analysis, Analysis::SdofPeriodic { .. } | Analysis::Design { .. }) {
         for (ci, case) in cases.iter().enumerate() {

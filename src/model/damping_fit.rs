@@ -14,7 +14,9 @@ use super::structure::{Damping, Structure};
 pub struct Measured {
     /// 0-based mass.
     pub mass: usize,
+    /// Measured frequencies, Hz.
     pub freq_hz: Vec<f64>,
+    /// Measured compliance at each frequency, m/N.
     pub compliance: Vec<f64>,
 }
 
@@ -36,9 +38,17 @@ pub struct DampingFit {
 #[derive(Debug, Clone, PartialEq)]
 pub enum DampingFitError {
     /// A point is not positive and finite, or a mass index is out of range.
-    BadPoint { what: String },
+    BadPoint {
+        /// What is wrong, in words.
+        what: String,
+    },
     /// No measured point lies near this mode's natural frequency (0-based).
-    NoPointsNear { mode: usize, freq_hz: f64 },
+    NoPointsNear {
+        /// 1-based mode.
+        mode: usize,
+        /// Its natural frequency, Hz.
+        freq_hz: f64,
+    },
 }
 
 impl std::fmt::Display for DampingFitError {

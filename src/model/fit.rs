@@ -36,13 +36,29 @@ pub const STARTS: usize = 12;
 #[derive(Debug, Clone, PartialEq)]
 pub enum FitError {
     /// The number of modes or of shape elements does not match the masses.
-    Shape { what: String },
+    Shape {
+        /// What does not match, in words.
+        what: String,
+    },
     /// A frequency is not positive and finite, or the frequencies are not increasing.
-    Frequency { mode: usize, value: f64 },
+    Frequency {
+        /// 1-based mode.
+        mode: usize,
+        /// The frequency given, rad/s.
+        value: f64,
+    },
     /// A shape element or weight is not finite (or a weight negative).
-    Value { what: String, value: f64 },
+    Value {
+        /// Which element or weight.
+        what: String,
+        /// The value given.
+        value: f64,
+    },
     /// The shapes are (nearly) linearly dependent: smallest over largest singular value.
-    Dependent { ratio: f64 },
+    Dependent {
+        /// Smallest over largest singular value of the shapes.
+        ratio: f64,
+    },
     /// No start reached a positive definite stiffness matrix.
     NotPositiveDefinite,
 }
@@ -85,6 +101,7 @@ pub struct StiffnessFit {
     pub condition: f64,
     /// Starts tried, and how many reached the best cost (to 1e-8 relative).
     pub starts: usize,
+    /// Index of the start that gave the best fit.
     pub starts_at_best: usize,
     /// Largest difference between the stiffness matrices of the starts at the best cost,
     /// relative to the largest entry of the best one.

@@ -24,10 +24,13 @@ impl Default for LmOptions {
 /// The minimiser found.
 #[derive(Debug, Clone)]
 pub struct LmResult {
+    /// The parameters found.
     pub x: DVector<f64>,
     /// `1/2 |r(x)|^2`.
     pub cost: f64,
+    /// The residuals at `x`.
     pub residuals: DVector<f64>,
+    /// Iterations made.
     pub iterations: usize,
 }
 

@@ -15,7 +15,12 @@ pub enum Damping {
     /// `C = M0 Phi diag(2 zeta_i omega_i) Phi^T M0`, Phi mass-normalised.
     ModalRatios(Vec<f64>),
     /// Rayleigh damping `C = alpha M0 + beta K` (paper Eq. 12).
-    Rayleigh { alpha: f64, beta: f64 },
+    Rayleigh {
+        /// Mass-proportional coefficient, 1/s.
+        alpha: f64,
+        /// Stiffness-proportional coefficient, s.
+        beta: f64,
+    },
 }
 
 /// The bare primary structure: `M0 xddot + C xdot + K x = f`.

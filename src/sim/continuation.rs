@@ -36,15 +36,19 @@ pub enum Parameter {
 pub struct ContinuationOptions {
     /// The parameter range; the branch stops when it leaves it.
     pub p_min: f64,
+    /// Upper end of the parameter range.
     pub p_max: f64,
     /// Unit of the parameter in the arclength (e.g. 1 Hz).
     pub p_scale: f64,
     /// First, smallest and largest arclength step.
     pub ds: f64,
+    /// Smallest arclength step.
     pub ds_min: f64,
+    /// Largest arclength step.
     pub ds_max: f64,
     /// Most points on the branch.
     pub max_points: usize,
+    /// Newton's method at each corrector.
     pub newton: NewtonOptions,
     /// What `p` is.
     pub parameter: Parameter,
@@ -53,7 +57,9 @@ pub struct ContinuationOptions {
 /// One point of a branch.
 #[derive(Debug, Clone)]
 pub struct BranchPoint {
+    /// The parameter (forcing frequency, rad/s, or as the caller defines it).
     pub p: f64,
+    /// The orbit at `p`.
     pub orbit: Orbit,
     /// The parameter component of the unit tangent (changes sign at a fold).
     pub dp_ds: f64,
@@ -76,12 +82,21 @@ pub enum BranchEnd {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Special {
     /// A fold (saddle-node): the branch turns back in the parameter.
-    Fold { p: f64 },
+    Fold {
+        /// The parameter where the branch turns.
+        p: f64,
+    },
     /// A real multiplier crosses -1.
-    PeriodDoubling { p: f64 },
+    PeriodDoubling {
+        /// The parameter of the crossing.
+        p: f64,
+    },
     /// The branch turns back where an impact appears or vanishes (a graze): a non-smooth
     /// turning point, somewhere between the two points around it; `p` is the outer one.
-    Grazing { p: f64 },
+    Grazing {
+        /// The parameter of the point after the change.
+        p: f64,
+    },
 }
 
 impl Special {
@@ -105,8 +120,11 @@ impl Special {
 /// A continued branch.
 #[derive(Debug, Clone)]
 pub struct Branch {
+    /// The points in the order continued.
     pub points: Vec<BranchPoint>,
+    /// Folds, period doublings and grazings found between them.
     pub special: Vec<Special>,
+    /// Why the continuation stopped.
     pub end: BranchEnd,
 }
 

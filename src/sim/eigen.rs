@@ -26,7 +26,10 @@ pub enum EigenError {
     NotFinite,
     /// The QR iteration did not converge within its bound on any of the three similar
     /// matrices: the bound per attempt, in sweeps.
-    NoConvergence { sweeps: usize },
+    NoConvergence {
+        /// QR sweeps made before giving up.
+        sweeps: usize,
+    },
 }
 
 impl std::fmt::Display for EigenError {
@@ -76,6 +79,7 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, EigenError> {
 /// `A = V diag(lambda) V^-1`, with complex eigenvalues in exact conjugate pairs.
 #[derive(Debug, Clone)]
 pub struct Eigen {
+    /// Eigenvalues, largest modulus first.
     pub values: Vec<Complex64>,
     /// Eigenvectors as columns.
     pub vectors: DMatrix<Complex64>,

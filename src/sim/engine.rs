@@ -13,7 +13,12 @@ use super::system::Dynamics;
 #[derive(Debug, Clone, PartialEq)]
 pub enum Stop {
     /// More events than allowed in one call: chatter (or a Zeno sequence with restitution).
-    Chatter { t: f64, events: usize },
+    Chatter {
+        /// Time reached, s.
+        t: f64,
+        /// Events in the call.
+        events: usize,
+    },
 }
 
 /// Receives the motion as it is computed.
@@ -68,11 +73,14 @@ fn fresh_tol(w: &Watch, omega: f64) -> [f64; 3] {
 
 /// The simulator for one system at one forcing frequency.
 pub struct Engine<'a> {
+    /// The closed-form dynamics the engine steps.
     pub d: &'a Dynamics,
+    /// Its limits and tolerances.
     pub settings: Settings,
 }
 
 impl<'a> Engine<'a> {
+    /// An engine over `d` with the default settings.
     pub fn new(d: &'a Dynamics) -> Engine<'a> {
         Engine { d, settings: Settings::default() }
     }

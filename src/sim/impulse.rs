@@ -22,6 +22,7 @@ pub enum Kick {
 pub struct ImpulseOptions {
     /// 0-based struck mass.
     pub mass: usize,
+    /// What the struck mass is given.
     pub kick: Kick,
     /// Simulated time, s.
     pub duration: f64,
@@ -44,7 +45,9 @@ pub struct ImpulseRun {
     pub impact_loss_until: Vec<f64>,
     /// Totals over the run: viscous loss (integrated), impact loss, energy left at the end.
     pub viscous_loss: f64,
+    /// Energy lost in impacts over the run, J.
     pub impact_loss: f64,
+    /// Energy above the rest state at the end, J.
     pub final_energy: f64,
     /// Static displacement of every mass at rest with the beds on their bottoms, m.
     pub rest: Vec<f64>,

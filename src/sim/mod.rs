@@ -3,6 +3,9 @@
 //! per configuration, computed once); events are located by a certified search; solvers
 //! return data and a stop reason and do no I/O.
 
+// Every public item of this room is documented (the library's physics API).
+#![warn(missing_docs)]
+
 pub mod bed;
 pub mod column;
 pub mod continuation;

@@ -13,17 +13,22 @@ use super::system::Dynamics;
 /// roots of the velocities in closed form, plus event counts.
 #[derive(Debug, Clone)]
 pub struct Extrema {
+    /// Lowest displacement of each mass, m.
     pub min: Vec<f64>,
+    /// Highest displacement of each mass, m.
     pub max: Vec<f64>,
     /// Per bed: bottom impacts, top impacts, lift-offs.
     pub bottom_impacts: Vec<usize>,
+    /// Impacts on the top of each bed's container.
     pub top_impacts: Vec<usize>,
+    /// Lift-offs of each bed.
     pub liftoffs: Vec<usize>,
     /// Highest flight of each bed above its container bottom, m.
     pub max_flight: Vec<f64>,
 }
 
 impl Extrema {
+    /// Empty extrema for `n` masses and `beds` beds.
     pub fn new(n: usize, beds: usize) -> Extrema {
         Extrema {
             min: vec![f64::INFINITY; n],
@@ -146,8 +151,11 @@ impl Observer for Extrema {
 /// Energy terms over the observed time: work of the force, viscous loss, impact loss.
 #[derive(Debug, Clone, Default)]
 pub struct Energy {
+    /// Work of the force, J.
     pub work: f64,
+    /// Energy dissipated by the structure's damping, J.
     pub viscous: f64,
+    /// Energy lost in impacts, J.
     pub impact: f64,
 }
 
@@ -280,21 +288,27 @@ pub fn flat(d: &Dynamics, s: &State) -> DVector<f64> {
 /// position, velocity and state of every bed, and the events in between.
 #[derive(Debug, Clone, Default)]
 pub struct Sampler {
+    /// Sample times, s, ascending.
     pub times: Vec<f64>,
     next: usize,
     /// Per sample, per mass.
     pub x: Vec<Vec<f64>>,
+    /// Per sample, per mass: velocity, m/s.
     pub v: Vec<Vec<f64>>,
+    /// Per sample, per mass: acceleration, m/s^2.
     pub a: Vec<Vec<f64>>,
     /// Per sample, per bed: position and velocity.
     pub y: Vec<Vec<f64>>,
+    /// Per sample, per bed: velocity, m/s.
     pub u: Vec<Vec<f64>>,
     /// Per sample, per bed: 'B' bottom, 'T' top, 'F' free.
     pub state: Vec<Vec<char>>,
+    /// Every event between the first and the last sample.
     pub events: Vec<Event>,
 }
 
 impl Sampler {
+    /// A sampler at `times` (s, ascending).
     pub fn new(times: Vec<f64>) -> Sampler {
         Sampler { times, ..Sampler::default() }
     }

@@ -285,6 +285,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
 
 /// A certified steady state at its forcing frequency (a point of a continuation sweep).
 pub struct Known<'a> {
+    /// The steady state found at the previous frequency.
     pub steady: &'a Steady,
     /// Its forcing frequency, Hz.
     pub freq_hz: f64,

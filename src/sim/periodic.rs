@@ -381,6 +381,7 @@ impl Orbit {
 pub struct NewtonOptions {
     /// Converged when the max-norm of the residual is below this (scaled units).
     pub tol: f64,
+    /// Most Newton iterations.
     pub max_iter: usize,
     /// Largest Newton step (max-norm, scaled units); longer steps are shortened.
     pub max_step: f64,

@@ -11,13 +11,17 @@ use super::system::{Dynamics, MAX_TERMS};
 /// The homogeneous part's coefficients from a start state: `c = V^-1 (z0 - z_p(t0))`.
 #[derive(Debug, Clone)]
 pub struct Segment {
+    /// Start time, s.
     pub t0: f64,
+    /// The configuration: bit `j` set when bed `j` rides its host.
     pub mask: usize,
     /// Its configuration's number ([`Dynamics::slot`]).
     pub slot: usize,
     /// Number of representative terms.
     pub len: usize,
+    /// Coefficients `c_r` of the representative terms.
     pub c: [Complex64; MAX_TERMS],
+    /// Their moduli (for derivative bounds).
     pub c_abs: [f64; MAX_TERMS],
 }
 
@@ -25,10 +29,15 @@ pub struct Segment {
 /// at that time shares.
 #[derive(Debug, Clone)]
 pub struct Point {
+    /// The time, s.
     pub t: f64,
+    /// `c_r e^{lambda_r (t - t0)}` of each representative term.
     pub e: [Complex64; MAX_TERMS],
+    /// Their moduli.
     pub e_abs: [f64; MAX_TERMS],
+    /// `sin(omega t)`.
     pub sin: f64,
+    /// `cos(omega t)`.
     pub cos: f64,
 }
 
@@ -136,22 +145,64 @@ impl Segment {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Watch {
     /// Contact force per unit bed mass, `sigma (xddot_p + g)` (sigma +1 bottom, -1 top).
-    Contact { bed: usize, host: usize, sigma: f64 },
+    Contact {
+        /// The bed.
+        bed: usize,
+        /// Its host mass (0-based).
+        host: usize,
+        /// +1 on the bottom, -1 against the top.
+        sigma: f64,
+    },
     /// Gap above the container bottom, `y - x_p`, of a free bed.
-    GapBottom { bed: usize, host: usize, y0: f64, u0: f64, tf: f64 },
+    GapBottom {
+        /// The bed.
+        bed: usize,
+        /// Its host mass (0-based).
+        host: usize,
+        /// Position at the start of the flight, m.
+        y0: f64,
+        /// Velocity at the start of the flight, m/s.
+        u0: f64,
+        /// Time the flight started, s.
+        tf: f64,
+    },
     /// Gap below the container top, `x_p + d - y`, of a free bed.
-    GapTop { bed: usize, host: usize, d: f64, y0: f64, u0: f64, tf: f64 },
+    GapTop {
+        /// The bed.
+        bed: usize,
+        /// Its host mass (0-based).
+        host: usize,
+        /// The clearance, m.
+        d: f64,
+        /// Position at the start of the flight, m.
+        y0: f64,
+        /// Velocity at the start of the flight, m/s.
+        u0: f64,
+        /// Time the flight started, s.
+        tf: f64,
+    },
     /// Gap between two neighbouring free grains of a column, `y_upper - y_lower`: both fly
     /// under gravity alone, so it is linear in time. Flights `[t0, y0, u0]` as in
     /// [`super::state::Bed::Free`].
-    Pair { lower: usize, upper: usize, lower_flight: [f64; 3], upper_flight: [f64; 3] },
+    Pair {
+        /// The lower grain.
+        lower: usize,
+        /// The grain above it.
+        upper: usize,
+        /// The lower grain's flight `[t0, y0, u0]`.
+        lower_flight: [f64; 3],
+        /// The upper grain's flight `[t0, y0, u0]`.
+        upper_flight: [f64; 3],
+    },
 }
 
 /// A function value with three derivatives at a point, and a bound on the fourth derivative
 /// valid from that point on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Taylor {
+    /// The value and its first three derivatives in time.
     pub h: [f64; 4],
+    /// A bound on the fourth derivative from the point on.
     pub bound4: f64,
 }
 

@@ -14,7 +14,14 @@ pub enum Bed {
     /// Pressed against the container top.
     Top,
     /// In flight since `t0`, from position `y0` with velocity `u0`.
-    Free { t0: f64, y0: f64, u0: f64 },
+    Free {
+        /// Time the flight started, s.
+        t0: f64,
+        /// Position then, m.
+        y0: f64,
+        /// Velocity then, m/s.
+        u0: f64,
+    },
 }
 
 impl Bed {
@@ -32,9 +39,13 @@ impl Bed {
 /// The full state: time, primary masses, beds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct State {
+    /// Time, s.
     pub t: f64,
+    /// Displacements of the masses from the bare structure's static equilibrium, m.
     pub x: DVector<f64>,
+    /// Velocities of the masses, m/s.
     pub v: DVector<f64>,
+    /// Each bed's state.
     pub beds: Vec<Bed>,
 }
 
@@ -67,20 +78,40 @@ impl State {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum EventKind {
     /// The bed left the bottom (`top = false`) or the top.
-    LiftOff { top: bool },
+    LiftOff {
+        /// True when it left the top.
+        top: bool,
+    },
     /// The bed hit the bottom or the top with this relative speed (m/s) and stayed attached
     /// (`attached`) or separated at once.
-    Impact { top: bool, speed: f64, attached: bool },
+    Impact {
+        /// True on the top.
+        top: bool,
+        /// Relative speed before the impact, m/s.
+        speed: f64,
+        /// True when the bed stays on the container.
+        attached: bool,
+    },
     /// Two grains of a column met (the event's bed is the upper one) at this relative speed,
     /// m/s, and bounced apart or stuck together (`stuck`).
-    Collision { lower: usize, speed: f64, stuck: bool },
+    Collision {
+        /// The lower grain (the upper one is the event's bed).
+        lower: usize,
+        /// Relative speed before the collision, m/s.
+        speed: f64,
+        /// True when the two move on together.
+        stuck: bool,
+    },
 }
 
 /// One event of one bed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Event {
+    /// Time, s.
     pub t: f64,
+    /// The bed (a grain of a column, or a single bed).
     pub bed: usize,
+    /// What happened.
     pub kind: EventKind,
     /// Kinetic energy lost in the event, J.
     pub loss: f64,

@@ -27,6 +27,7 @@ pub enum SteadyMethod {
 }
 
 impl SteadyMethod {
+    /// The method's name in experiment files and tables.
     pub fn name(&self) -> &'static str {
         match self {
             SteadyMethod::Orbit => "orbit",
@@ -38,6 +39,7 @@ impl SteadyMethod {
 /// How a steady state is sought.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SteadyOptions {
+    /// How the steady state is found.
     pub method: SteadyMethod,
     /// Transient: relative change of the once-per-period state that counts as settled.
     pub tol: f64,
@@ -126,8 +128,11 @@ pub fn torus_window(angle: f64, p: usize, record_periods: usize) -> usize {
 /// Energy terms over the recorded periods, J.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnergyBalance {
+    /// Work of the force, J.
     pub work: f64,
+    /// Energy dissipated by the structure's damping, J.
     pub viscous: f64,
+    /// Energy lost in impacts, J.
     pub impact: f64,
     /// Stored energy at the end minus at the start of the record.
     pub stored_change: f64,
@@ -154,6 +159,7 @@ pub struct Certificate {
     pub smooth: bool,
     /// Newton iterations of the successful attempt, and attempts made.
     pub iterations: usize,
+    /// Attempts made.
     pub attempts: usize,
     /// Forcing phase of the section, rad.
     pub phase: f64,
@@ -176,22 +182,44 @@ impl Certificate {
 pub enum NoSteady {
     /// The motion did not settle (transient) or its pattern of events never repeated long
     /// enough to solve for an orbit (orbit) within this many periods.
-    Budget { periods: usize },
+    Budget {
+        /// Forcing periods simulated.
+        periods: usize,
+    },
     /// Every orbit found with the motion's pattern was unstable (chaotic or quasi-periodic
     /// motion near it): the largest multiplier modulus of the last one.
-    Unstable { radius: f64 },
+    Unstable {
+        /// The largest multiplier modulus of the last orbit.
+        radius: f64,
+    },
     /// Newton's method found no orbit with the motion's pattern: the last reason.
     NoOrbit(String),
     /// Quasi-periodic motion recognised early ([`SteadyOptions::torus_attempts`]): at
     /// `attempts` attempts in a row the orbit with the motion's events was unstable through a
     /// complex pair of multipliers of modulus `radius` (just above 1) and argument `angle`
     /// (rad); after `periods` periods two windows of one turn gave the same amplitudes.
-    Torus { radius: f64, angle: f64, attempts: usize, periods: usize },
+    Torus {
+        /// Modulus of the complex pair.
+        radius: f64,
+        /// Their argument, rad.
+        angle: f64,
+        /// Attempts in a row that found it.
+        attempts: usize,
+        /// Forcing periods simulated.
+        periods: usize,
+    },
     /// Not periodic after `after` periods (a bed with restitution or a column of grains): the
     /// amplitudes are those of a record of `periods` periods, whose second half differs from
     /// the whole by `spread` (relative to the largest amplitude; converged when at most
     /// [`LONG_RECORD_TOL`]).
-    Aperiodic { periods: usize, spread: f64, after: usize },
+    Aperiodic {
+        /// Periods of the long record.
+        periods: usize,
+        /// Its second half against the whole, relative to the largest amplitude.
+        spread: f64,
+        /// Periods simulated before the record.
+        after: usize,
+    },
 }
 
 impl std::fmt::Display for NoSteady {
@@ -221,6 +249,7 @@ impl std::fmt::Display for NoSteady {
 pub struct Steady {
     /// Forcing frequency, rad/s.
     pub omega: f64,
+    /// How it was found.
     pub method: SteadyMethod,
     /// Settled (transient) or a stable orbit found (orbit) within `max_periods`.
     pub converged: bool,
@@ -236,12 +265,15 @@ pub struct Steady {
     pub amplitude: Vec<f64>,
     /// Per bed, per forcing period: bottom impacts, top impacts, lift-offs.
     pub bottom_impacts: Vec<f64>,
+    /// Per bed, per forcing period: top impacts.
     pub top_impacts: Vec<f64>,
+    /// Per bed, per forcing period: lift-offs.
     pub liftoffs: Vec<f64>,
     /// Highest flight of each bed above its bottom over the record, m.
     pub max_flight: Vec<f64>,
     /// Periods recorded.
     pub recorded_periods: usize,
+    /// Energy terms over the record (when asked for).
     pub energy: Option<EnergyBalance>,
     /// Set when the simulation stopped early (chatter).
     pub stop: Option<Stop>,

@@ -26,8 +26,11 @@ use super::tangent::{Tangent, GRAZE};
 /// Where a bed is on the section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Rest {
+    /// On the bottom of its container.
     Bottom,
+    /// Against the top.
     Top,
+    /// In flight.
     Free,
 }
 

@@ -14,14 +14,18 @@ use super::system::{Dynamics, SetupError, System};
 /// Direction of a continuation sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Direction {
+    /// Ascending frequencies.
     Up,
+    /// Descending frequencies.
     Down,
 }
 
 /// One point of a sweep.
 #[derive(Debug, Clone)]
 pub struct SweepPoint {
+    /// Forcing frequency, Hz.
     pub freq_hz: f64,
+    /// The steady state, or why the system could not be set up there.
     pub result: Result<Steady, SetupError>,
 }
 

@@ -34,7 +34,9 @@ pub const MAX_GRAINS: usize = 63;
 /// What the simulator integrates: the structure, its dampers, the force.
 #[derive(Debug, Clone)]
 pub struct System {
+    /// The bare structure.
     pub structure: Structure,
+    /// The beds (a column's grains are beds of their own), in order.
     pub dampers: Vec<Damper>,
     /// 0-based driven mass.
     pub driven: usize,
@@ -173,19 +175,39 @@ fn check_columns(system: &System) -> Result<(), SetupError> {
 #[derive(Debug, Clone, PartialEq)]
 pub enum SetupError {
     /// A configuration's state matrix has no complete set of eigenvectors.
-    Defective { mask: usize },
+    Defective {
+        /// The configuration.
+        mask: usize,
+    },
     /// The dynamic stiffness is singular at the forcing frequency (undamped resonance).
-    Singular { mask: usize },
+    Singular {
+        /// The configuration.
+        mask: usize,
+    },
     /// More masses than the closed form supports.
-    TooLarge { masses: usize },
+    TooLarge {
+        /// Masses given.
+        masses: usize,
+    },
     /// More single beds than [`MAX_BEDS`], or more configurations than [`MAX_CONFIGS`].
-    TooManyBeds { beds: usize },
+    TooManyBeds {
+        /// Beds given.
+        beds: usize,
+    },
     /// A column whose grains differ (host, clearance, mass or law), overlap another, or leave
     /// the bed list.
-    Column { first: usize },
+    Column {
+        /// First bed of the column.
+        first: usize,
+    },
     /// The decomposition cannot be trusted: an eigenvalue grows (a passive structure has
     /// none) or the eigenvectors are nearly dependent (condition number given).
-    IllConditioned { mask: usize, condition: f64 },
+    IllConditioned {
+        /// The configuration.
+        mask: usize,
+        /// Condition number of the eigenvectors.
+        condition: f64,
+    },
 }
 
 impl std::fmt::Display for SetupError {
@@ -230,6 +252,7 @@ pub struct Modes {
     pub offset: DVector<f64>,
     /// `M` and `M^-1` (accelerations at events).
     pub mass: DMatrix<f64>,
+    /// `M^-1`.
     pub mass_inv: DMatrix<f64>,
     /// Largest `|Im lambda|`.
     pub max_rate: f64,
@@ -242,6 +265,7 @@ pub struct Modes {
 /// summed over one eigenvalue of each conjugate pair (weight 2) and the real ones (weight 1).
 #[derive(Debug, Clone)]
 pub struct Config {
+    /// The configuration: bit `j` set when bed `j` rides its host.
     pub mask: usize,
     /// The decomposition (does not depend on the forcing frequency).
     pub modes: Arc<Modes>,
@@ -249,21 +273,26 @@ pub struct Config {
     pub amp: DVector<f64>,
     /// Forced response coefficients.
     pub p: DVector<f64>,
+    /// Sine coefficients of the forced response, m.
     pub q: DVector<f64>,
     /// Their derivatives in the forcing frequency, s.
     pub dp: DVector<f64>,
+    /// Derivative of `q` in the forcing frequency, m s.
     pub dq: DVector<f64>,
 }
 
 /// All configurations of a system at one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct Dynamics {
+    /// The system.
     pub system: System,
     /// Forcing frequency, rad/s (any positive value for free motion).
     pub omega: f64,
+    /// Every configuration, numbered by [`Dynamics::slot`].
     pub configs: Vec<Config>,
     /// Stiffness and damping (shared by all configurations).
     pub k: DMatrix<f64>,
+    /// Damping matrix, N s/m.
     pub c: DMatrix<f64>,
     /// Shortest natural or forcing period over all configurations, s.
     pub min_period: f64,
