@@ -120,3 +120,26 @@ def test_run_experiment_returns_the_tables_it_writes(tmp_path):
     for i, r in enumerate(rows):
         assert same(r["c2"], table["c2"][i].item())
     assert all(c["status"] in ("pass", "known deviation") for c in stated["checks"])
+
+
+def test_study_shards_in_threads_equal_the_command_lines_whole_study(cli, tmp_path):
+    import threading
+
+    whole, parts = tmp_path / "whole", tmp_path / "parts"
+    subprocess.run([str(cli), "study", "studies/fig08_report.toml", "--out", str(whole)], check=True, capture_output=True)
+    threads = [
+        threading.Thread(target=sd.study, args=("studies/fig08_report.toml",), kwargs=dict(out=parts, shard=f"{i}/3", jobs=1))
+        for i in range(3)
+    ]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    merged = sd.study_merge(parts)
+    assert merged["rows"] > 0 and merged["summaries"]
+    tables = sorted(p.name for p in whole.glob("*.csv"))
+    assert tables and tables == sorted(p.name for p in parts.glob("*.csv"))
+    for name in tables:
+        assert filecmp.cmp(whole / name, parts / name, shallow=False), name
+    with pytest.raises(ValueError, match="shard"):
+        sd.study("studies/fig08_report.toml", out=tmp_path / "bad", shard="3/3")
