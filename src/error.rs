@@ -10,23 +10,57 @@ use thiserror::Error;
 pub enum Error {
     /// A value in an input file is not allowed.
     #[error("{file}: {key} = {value}: {message}")]
-    Invalid { file: String, key: String, value: String, message: String },
+    Invalid {
+        /// The file (or the caller, outside files).
+        file: String,
+        /// The key path, e.g. `structure.masses_kg[1]`.
+        key: String,
+        /// The value given.
+        value: String,
+        /// What is allowed.
+        message: String,
+    },
     /// An input file is not valid TOML or does not have the expected shape.
     #[error("{file}: {message}")]
-    Parse { file: String, message: String },
+    Parse {
+        /// The file.
+        file: String,
+        /// What is wrong, with the key when known.
+        message: String,
+    },
     /// Reading or writing a file failed. (The OS error is part of the message, not a
     /// `source`: printed with its chain, it would otherwise appear twice.)
     #[error("{path}: {error}")]
-    Io { path: PathBuf, error: std::io::Error },
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
     /// An output folder that shotdamp may not replace.
     #[error("{path}: {message}")]
-    Destination { path: PathBuf, message: String },
+    Destination {
+        /// The folder.
+        path: PathBuf,
+        /// Why it may not be replaced, and what to do.
+        message: String,
+    },
     /// A data table could not be written or read.
     #[error("{path}: {message}")]
-    Table { path: PathBuf, message: String },
+    Table {
+        /// The table's file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
     /// Rendering a plot or a page failed.
     #[error("rendering {what}: {message}")]
-    Render { what: String, message: String },
+    Render {
+        /// What was being rendered.
+        what: String,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 impl Error {

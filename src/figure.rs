@@ -4,33 +4,47 @@
 /// Line pattern of a series.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Dash {
+    /// A solid line.
     Solid,
+    /// Dashes.
     Dashed,
+    /// Dots.
     Dotted,
+    /// Dashes and dots.
     DashDot,
 }
 
 /// Point markers of a series.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Marker {
+    /// No marker.
     None,
+    /// A circle.
     Circle,
+    /// A cross.
     Cross,
+    /// A square.
     Square,
+    /// A triangle.
     Triangle,
 }
 
 /// One drawn series.
 #[derive(Debug, Clone)]
 pub struct Series {
+    /// Legend label (empty: not in the legend).
     pub label: String,
+    /// Abscissae.
     pub x: Vec<f64>,
+    /// Ordinates.
     pub y: Vec<f64>,
     /// Index into the shared palette.
     pub color: usize,
+    /// Line style.
     pub dash: Dash,
     /// Draw a line through the points.
     pub line: bool,
+    /// Marker at each point.
     pub marker: Marker,
     /// Filled markers (hollow otherwise).
     pub filled: bool,
@@ -127,7 +141,9 @@ impl Series {
 /// A vertical marker line with a label (e.g. a natural frequency).
 #[derive(Debug, Clone)]
 pub struct VLine {
+    /// Where, in the panel's x unit.
     pub x: f64,
+    /// Its label.
     pub label: String,
 }
 
@@ -135,27 +151,38 @@ pub struct VLine {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Corner {
     #[default]
+    /// Upper right.
     UpperRight,
+    /// Upper left.
     UpperLeft,
+    /// Lower right.
     LowerRight,
+    /// Lower left.
     LowerLeft,
 }
 
 /// One panel of a figure.
 #[derive(Debug, Clone)]
 pub struct Panel {
+    /// Panel title.
     pub title: String,
+    /// Horizontal axis label, with its unit.
     pub x_label: String,
+    /// Vertical axis label, with its unit.
     pub y_label: String,
+    /// Horizontal range.
     pub x_range: (f64, f64),
     /// Logarithmic axes (values <= 0 are left out).
     pub x_log: bool,
+    /// Logarithmic vertical axis.
     pub y_log: bool,
     /// Vertical range; `None`: from the data.
     pub y_range: Option<(f64, f64)>,
     /// Where the legend goes (keep it off the data that matters).
     pub legend: Corner,
+    /// The curves and points drawn.
     pub series: Vec<Series>,
+    /// Vertical marker lines.
     pub vlines: Vec<VLine>,
 }
 
@@ -199,8 +226,10 @@ impl Panel {
 pub struct Figure {
     /// File stem (`ID.png`, `ID.svg`).
     pub id: String,
+    /// Title above the figure.
     pub title: String,
     /// One sentence under the figure in the report.
     pub caption: String,
+    /// Its panels, drawn one below the other.
     pub panels: Vec<Panel>,
 }

@@ -5,7 +5,9 @@
 /// A tolerance: pass when `|computed - expected| <= abs + rel |expected|`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerance {
+    /// Relative part.
     pub rel: f64,
+    /// Absolute part, in the value's unit.
     pub abs: f64,
 }
 

@@ -8,8 +8,11 @@ use crate::error::{Error, Result};
 /// One column of a table.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ColumnData {
+    /// Floats.
     F64(Vec<f64>),
+    /// Integers.
     I64(Vec<i64>),
+    /// Text.
     Str(Vec<String>),
 }
 
@@ -53,6 +56,7 @@ pub struct Table {
     pub name: String,
     /// One sentence on what it holds, with units.
     pub description: String,
+    /// Columns by name, in order.
     pub columns: Vec<(String, ColumnData)>,
 }
 

@@ -43,16 +43,21 @@ pub const SKIPPED_COLUMNS: [&str; 1] = ["orbit_residual"];
 /// Relative tolerance of a baseline comparison, and the absolute floor as a fraction of the
 /// column's largest magnitude (for values near zero).
 pub const REL_TOL: f64 = 1e-6;
+/// Absolute floor of a baseline comparison, as a fraction of the column's largest magnitude.
 pub const ABS_FLOOR: f64 = 1e-9;
 
 /// One sampled value.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Value {
+    /// The table's name.
     pub table: String,
+    /// The row, 0-based.
     pub row: i64,
     /// The row's text columns and its first numeric column, for people.
     pub key: String,
+    /// The numeric column sampled.
     pub column: String,
+    /// Its value.
     pub value: f64,
 }
 

@@ -93,8 +93,11 @@ pub struct CheckOutcome {
     pub name: String,
     /// What was compared.
     pub description: String,
+    /// The value computed, in `unit`.
     pub computed: f64,
+    /// The reference value, in `unit`.
     pub expected: f64,
+    /// Unit of both values.
     pub unit: String,
     /// `|computed - expected|`.
     pub abs_diff: f64,
@@ -102,6 +105,7 @@ pub struct CheckOutcome {
     pub rel_diff: f64,
     /// The tolerance in words.
     pub tolerance: String,
+    /// Pass, fail or a known deviation.
     pub status: Status,
     /// Where the expected value comes from.
     pub provenance: String,
@@ -178,10 +182,15 @@ pub fn describe_tolerance(t: Tolerance) -> String {
 /// What a check compares: its name, meaning, unit and the reference's provenance.
 #[derive(Debug, Clone)]
 pub struct Subject {
+    /// Short name, e.g. "omega_2".
     pub name: String,
+    /// What is compared.
     pub description: String,
+    /// Unit of the values.
     pub unit: String,
+    /// Where the expected value comes from.
     pub provenance: String,
+    /// The kind of reference.
     pub source: Source,
 }
 

@@ -11,7 +11,9 @@ use crate::reference::values::ValueFile;
 /// A reference curve file (CSV): every numeric column as f64, by name.
 #[derive(Debug, Clone)]
 pub struct Curve {
+    /// The file's path below the reference folder.
     pub path: String,
+    /// Every numeric column, by name.
     pub columns: std::collections::BTreeMap<String, Vec<f64>>,
 }
 
@@ -164,6 +166,7 @@ pub struct ReferenceStore {
     curves: std::collections::BTreeMap<String, Curve>,
     digitised: std::collections::BTreeMap<String, DigitisedFile>,
     baselines: std::collections::BTreeMap<String, Vec<super::baseline::Value>>,
+    /// Whether experiments are compared with their blessed baselines.
     pub baseline_mode: BaselineMode,
     /// Stored answers of design searches, by experiment key (`dir/designs/ID/MODEL.json`).
     designs: std::collections::BTreeMap<String, crate::design::stored::StoredDesign>,

@@ -7,8 +7,11 @@
 /// `ln(1 + rel)` in the logarithm).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct AxisTol {
+    /// Absolute tolerance, in the axis's unit.
     pub abs: f64,
+    /// Relative tolerance.
     pub rel: f64,
+    /// Logarithmic axis: tolerances apply to log10 of the values.
     pub log: bool,
 }
 
@@ -52,7 +55,9 @@ impl AxisTol {
 /// The worst reference point of a comparison.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Worst {
+    /// Its abscissa.
     pub x: f64,
+    /// Its ordinate.
     pub y: f64,
     /// The computed values nearest to it within the x tolerance (lowest, highest).
     pub computed: (f64, f64),
@@ -63,14 +68,18 @@ pub struct Worst {
 /// The outcome of a tube comparison.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TubeResult {
+    /// Reference points compared.
     pub total: usize,
+    /// Of those, points inside the tube.
     pub inside: usize,
     /// Reference points whose x window the computed curve does not reach.
     pub uncovered: usize,
+    /// The point farthest outside (or nearest the edge).
     pub worst: Option<Worst>,
 }
 
 impl TubeResult {
+    /// True when every covered reference point lies inside the tube.
     pub fn pass(&self) -> bool {
         self.total > 0 && self.inside == self.total
     }

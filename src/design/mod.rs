@@ -19,22 +19,30 @@ use crate::sim::{SteadyOptions, System};
 pub struct Spec {
     /// 0-based masses that may carry a container.
     pub candidates: Vec<usize>,
+    /// Most containers of a layout.
     pub max_beds: usize,
     /// Total shot mass, kg.
     pub shot_kg: f64,
     /// Bounds of the clearance, mm.
     pub clearance_mm: (f64, f64),
+    /// One clearance for every container (else one each).
     pub shared_clearance: bool,
+    /// The bands whose response is lowered.
     pub bands: Vec<Band>,
+    /// What is measured over a band (peak or RMS compliance).
     pub measure: Measure,
+    /// How each band is swept (from rest, up, down).
     pub sweeps: Vec<Sweep>,
+    /// The search's settings.
     pub search: search::Options,
     /// Total shot mass ratios of the Pareto front (may be empty).
     pub pareto_mass_ratios: Vec<f64>,
     /// Modal damping ratios (every mode) and force amplitudes (N) of the scenarios: every
     /// combination, the nominal value where a list is empty; no scenarios when both are.
     pub scenario_damping: Vec<f64>,
+    /// Force amplitudes of the scenarios, N.
     pub scenario_force_n: Vec<f64>,
+    /// How the scenarios' objectives combine.
     pub combine: Combine,
     /// The paper's SDOF technique beside the search: the 0-based mode and the candidate
     /// clearances (mm) of its rule (Fig. 9).
@@ -89,6 +97,7 @@ pub enum Sweep {
 pub struct Scenario {
     /// Name for tables, e.g. "damping 0.005, F 2.6 N".
     pub name: String,
+    /// The structure of this scenario.
     pub structure: Structure,
     /// Force amplitude, N.
     pub force: f64,
@@ -112,12 +121,17 @@ pub struct Problem {
     pub driven: usize,
     /// The nominal force amplitude, N.
     pub force: f64,
+    /// The bands whose response is lowered.
     pub bands: Vec<Band>,
+    /// What is measured over a band.
     pub measure: Measure,
+    /// How each band is swept.
     pub sweeps: Vec<Sweep>,
+    /// Steady-state settings of the sweeps.
     pub steady: SteadyOptions,
     /// Scenarios the objective is taken over (empty: the nominal structure and force only).
     pub scenarios: Vec<Scenario>,
+    /// How the scenarios' objectives combine.
     pub combine: Combine,
 }
 
@@ -174,6 +188,7 @@ pub struct Evaluation {
     /// Per scenario: its objective. `bands`, `bare` and `worst` are those of the scenario
     /// with the largest.
     pub scenarios: Vec<f64>,
+    /// Index of the scenario with the largest objective.
     pub worst_scenario: usize,
     /// The band, frequency (Hz) and mass of the largest compliance of the worst band.
     pub worst: (usize, f64, usize),

@@ -33,6 +33,7 @@ pub struct Options {
     pub max_iters: u64,
     /// Stop a start when the standard deviation of the simplex's objectives falls below this.
     pub tolerance: f64,
+    /// Seed of the starts' perturbations (the same seed, the same answer).
     pub seed: u64,
 }
 
@@ -108,12 +109,15 @@ impl CostFunction for Cost<'_> {
 /// The best layout found for one placement, and how it was found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Found {
+    /// The layout.
     pub layout: Layout,
+    /// Its evaluation.
     pub evaluation: Evaluation,
     /// Free coordinates of the best point.
     pub x: Vec<f64>,
     /// Starts run and objective evaluations made.
     pub starts: usize,
+    /// Objective evaluations made.
     pub evaluations: u64,
 }
 

@@ -16,7 +16,9 @@ pub struct StoredLayout {
     pub label: String,
     /// 0-based host masses.
     pub hosts: Vec<usize>,
+    /// Shot mass of each container, kg.
     pub masses_kg: Vec<f64>,
+    /// Clearance of each container, mm.
     pub clearances_mm: Vec<f64>,
     /// The objective the search computed.
     pub objective: f64,
@@ -50,7 +52,9 @@ impl StoredLayout {
 /// A Pareto point: the total shot mass ratio and its best layout.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StoredPareto {
+    /// Total shot mass over the structure's total mass.
     pub mass_ratio: f64,
+    /// The best layout with that much shot.
     pub best: StoredLayout,
 }
 
@@ -63,7 +67,9 @@ pub struct StoredDesign {
     pub fingerprint: String,
     /// How it was computed: the command, shotdamp's version, the date, the time taken.
     pub provenance: String,
+    /// The best layout of each placement.
     pub placements: Vec<StoredLayout>,
+    /// The Pareto front: the best layout per total mass ratio.
     pub pareto: Vec<StoredPareto>,
 }
 

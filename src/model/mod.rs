@@ -1,7 +1,5 @@
 //! The physical model: structure, dampers, modes and the linear response.
 
-// Every public item of this room is documented (the library's physics API).
-#![warn(missing_docs)]
 
 pub mod damping_fit;
 pub mod fit;

@@ -22,17 +22,23 @@ pub struct DigitisedMeta {
     pub figure: String,
     /// What the curves were digitised from (document, page, image).
     pub source: String,
+    /// Who digitised the curves.
     pub digitised_by: String,
     /// The tool and format.
     pub tool: String,
     /// The file imported.
     pub imported_from: String,
+    /// Unit of x.
     pub x_unit: String,
+    /// Unit of y.
     pub y_unit: String,
+    /// Logarithmic x axis in the figure.
     pub x_log: bool,
+    /// Logarithmic y axis in the figure.
     pub y_log: bool,
     /// One pixel in data units on a linear axis, or as a relative size on a log axis.
     pub x_pixel: f64,
+    /// One pixel on the y axis, as `x_pixel`.
     pub y_pixel: f64,
 }
 
@@ -48,7 +54,9 @@ pub struct DigitisedCurve {
     /// The mass (1-based), if known.
     #[serde(default)]
     pub mass: Option<i64>,
+    /// Abscissae, in the file's x unit.
     pub x: Vec<f64>,
+    /// Ordinates, in the file's y unit.
     pub y: Vec<f64>,
 }
 
@@ -56,7 +64,9 @@ pub struct DigitisedCurve {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DigitisedFile {
+    /// Where the curves come from.
     pub meta: DigitisedMeta,
+    /// The curves.
     pub curve: Vec<DigitisedCurve>,
 }
 
@@ -75,18 +85,27 @@ impl DigitisedFile {
 /// What the user says about an import (the digitiser does not know it).
 #[derive(Debug, Clone, Default)]
 pub struct ImportInfo {
+    /// The paper figure, e.g. "Fig. 8".
     pub figure: String,
+    /// What the curves were digitised from.
     pub source: String,
+    /// Who digitised them.
     pub digitised_by: String,
+    /// The file imported.
     pub imported_from: String,
+    /// Unit of x.
     pub x_unit: String,
+    /// Unit of y.
     pub y_unit: String,
     /// Dataset name -> (case, 1-based mass).
     pub mapping: Vec<(String, String, i64)>,
     /// For CSV exports, which carry no calibration: axis scales and pixel sizes.
     pub x_log: bool,
+    /// Logarithmic y axis.
     pub y_log: bool,
+    /// One pixel on the x axis (linear: data units; log: relative size).
     pub x_pixel: Option<f64>,
+    /// One pixel on the y axis, as `x_pixel`.
     pub y_pixel: Option<f64>,
 }
 
@@ -97,9 +116,13 @@ fn bad(file: &str, what: impl Into<String>) -> Error {
 /// The calibration of an XY axis: pixels to values (log10 of values on log axes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Calibration {
+    /// The linear part of the map from pixels: `[x, y] = a [px, py] + c`.
     pub a: [[f64; 2]; 2],
+    /// Its offset.
     pub c: [f64; 2],
+    /// Logarithmic x axis (the map gives log10 x).
     pub x_log: bool,
+    /// Logarithmic y axis (the map gives log10 y).
     pub y_log: bool,
 }
 

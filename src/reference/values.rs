@@ -11,8 +11,10 @@ use crate::error::{read_to_string, Error, Result};
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ValueFile {
+    /// Where the numbers come from.
     pub meta: ValueFileMeta,
     #[serde(rename = "quantity")]
+    /// The quantities.
     pub quantities: Vec<Quantity>,
 }
 
@@ -30,17 +32,22 @@ pub struct ValueFileMeta {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Quantity {
+    /// Identifier the checks name it by.
     pub id: String,
     #[serde(default)]
+    /// A scalar value.
     pub value: Option<f64>,
     #[serde(default)]
+    /// A vector of values.
     pub values: Option<Vec<f64>>,
+    /// Unit of the value(s).
     pub unit: String,
     /// Section of the source that states it.
     pub section: String,
     /// The source's words.
     pub quote: String,
     #[serde(default)]
+    /// A remark on how to read it.
     pub note: Option<String>,
 }
 

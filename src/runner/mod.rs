@@ -30,6 +30,7 @@ pub struct Settings {
     pub out: PathBuf,
     /// Worker threads (`None`: one per core).
     pub jobs: Option<usize>,
+    /// How the report is written.
     pub writing: ReportOptions,
     /// Whether each experiment is compared with its blessed baseline.
     pub baseline_mode: BaselineMode,

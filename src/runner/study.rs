@@ -166,6 +166,7 @@ fn compute(
 
 /// A merged study folder.
 pub struct Merged {
+    /// The study folder's manifest.
     pub manifest: Manifest,
     /// Rows of the long table.
     pub rows: usize,
