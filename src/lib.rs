@@ -89,32 +89,23 @@
 //! # Ok::<(), shotdamp::Error>(())
 //! ```
 
-// Rooms held to a documented public API by the lint (every public item has its doc).
+// Every public item is documented; the lint keeps it so (clippy -D warnings makes it an error).
+#![warn(missing_docs)]
+
 pub mod analysis;
-#[warn(missing_docs)]
 pub mod checks;
 pub mod cli;
-#[warn(missing_docs)]
 pub mod design;
-#[warn(missing_docs)]
 pub mod error;
 pub mod experiment;
-#[warn(missing_docs)]
 pub mod figure;
-#[warn(missing_docs)]
 pub mod model;
-#[warn(missing_docs)]
 pub mod number;
 pub mod output;
-#[warn(missing_docs)]
 pub mod reference;
-#[warn(missing_docs)]
 pub mod runner;
-#[warn(missing_docs)]
 pub mod signal;
-#[warn(missing_docs)]
 pub mod sim;
-#[warn(missing_docs)]
 pub mod table;
 
 pub use error::{Error, Result};

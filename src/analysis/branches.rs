@@ -16,14 +16,19 @@ const MAX_SECTIONS: usize = 6;
 /// A continued branch of orbits, as compliances.
 #[derive(Debug, Clone, Default)]
 pub struct OrbitCurve {
+    /// Key, e.g. "single:orbits-up".
     pub id: String,
+    /// Legend label.
     pub label: String,
+    /// Forcing frequency of each point, Hz.
     pub freq_hz: Vec<f64>,
     /// Per point, per mass, m/N.
     pub compliance: Vec<Vec<f64>>,
+    /// Per point: the orbit is stable.
     pub stable: Vec<bool>,
     /// Largest Floquet multiplier modulus per point.
     pub radius: Vec<f64>,
+    /// Folds, period doublings and grazings on the branch.
     pub special: Vec<Special>,
     /// How the branch ended, in words.
     pub end: String,

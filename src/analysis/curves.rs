@@ -15,15 +15,19 @@ use crate::table::Table;
 pub struct Curve {
     /// Key, e.g. "D", "single:up", "triple@0.2mm".
     pub id: String,
+    /// Legend label.
     pub label: String,
+    /// Forcing frequency of each point, Hz.
     pub freq_hz: Vec<f64>,
     /// Per point, per mass, m/N.
     pub compliance: Vec<Vec<f64>>,
+    /// Per point: settled (a stable orbit, or the transient died out).
     pub converged: Vec<bool>,
     /// Per point: 1 period-1, k a subharmonic, 0 none found.
     pub period: Vec<usize>,
     /// Per point, per bed, per forcing period.
     pub bottom_impacts: Vec<Vec<f64>>,
+    /// Per point, per container, per forcing period: top impacts.
     pub top_impacts: Vec<Vec<f64>>,
     /// Per point, per bed: highest flight above the bottom, m.
     pub max_flight: Vec<Vec<f64>>,
@@ -32,6 +36,7 @@ pub struct Curve {
     /// Per point: the orbit's fixed-point residual relative to its amplitude scale, and its
     /// largest Floquet multiplier modulus (NaN when the point is not a certified orbit).
     pub residual: Vec<f64>,
+    /// Per point: the largest Floquet multiplier modulus (NaN without an orbit).
     pub radius: Vec<f64>,
     /// Per point: why it stopped early, if it did.
     pub stop: Vec<String>,

@@ -27,8 +27,11 @@ pub const ROBUST: f64 = 1.05;
 
 /// What a design run hands over.
 pub struct DesignOutput {
+    /// The design's tables.
     pub tables: Vec<Table>,
+    /// Its figures.
     pub figures: Vec<Figure>,
+    /// Values other experiments may use.
     pub exports: BTreeMap<String, f64>,
     /// The search's answer, to store (`shotdamp design --store`).
     pub stored: StoredDesign,

@@ -27,8 +27,11 @@ const DECREMENT_SPAN: usize = 4;
 /// One case's free decay and what is measured on it.
 #[derive(Debug, Clone)]
 pub struct Decay {
+    /// The case's id.
     pub id: String,
+    /// Its label.
     pub label: String,
+    /// The free response.
     pub run: ImpulseRun,
     /// Per mass: peaks of |acceleration| (time, m/s^2).
     pub envelopes: Vec<Vec<(f64, f64)>>,
@@ -44,8 +47,11 @@ pub struct Decay {
 
 /// What an impulse analysis produced.
 pub struct ImpulseOutput {
+    /// The impulse analysis's tables.
     pub tables: Vec<Table>,
+    /// Its figures.
     pub figures: Vec<Figure>,
+    /// Each case's decay, by case id.
     pub decays: BTreeMap<String, Decay>,
 }
 

@@ -24,17 +24,25 @@ use super::result::Tick;
 /// One periodic orbit as drawn and tabled.
 #[derive(Debug, Clone)]
 pub struct OrbitPoint {
+    /// Forcing frequency, Hz.
     pub freq_hz: f64,
     /// Compliance of each mass of the structure, m/N.
     pub compliance: Vec<f64>,
+    /// Impact phase, rad: the lag of the force behind the bottom impact (docs/periodic.md).
     pub phi: f64,
+    /// Lift-off from the bottom, rad of forcing phase after the bottom impact (0: at once).
     pub tau0: Option<f64>,
+    /// Impact on the top, rad after the bottom impact (None: no top impact).
     pub tau1: Option<f64>,
+    /// Release from the top, rad after the bottom impact (None: no top impact).
     pub tau2: Option<f64>,
+    /// Motion type ("I", "II", "III", ...).
     pub kind: String,
+    /// Every Floquet multiplier inside the unit circle.
     pub stable: bool,
     /// The event sequence survived the difference steps of the Jacobian.
     pub smooth: bool,
+    /// Floquet multipliers, largest modulus first.
     pub multipliers: Vec<Complex64>,
 }
 
@@ -42,10 +50,13 @@ pub struct OrbitPoint {
 /// return map has a kink it cannot cross, e.g. where an impact appears or vanishes).
 #[derive(Debug, Clone, Default)]
 pub struct OrbitBranch {
+    /// Key, e.g. "sdof" or "exact".
     pub id: String,
+    /// Legend label.
     pub label: String,
     /// Each segment in branch order (increasing arclength), so folds show as turns.
     pub segments: Vec<Vec<OrbitPoint>>,
+    /// Folds, period doublings and grazings on the segments.
     pub special: Vec<Special>,
     /// How each end of each segment ended.
     pub ends: Vec<String>,
@@ -106,37 +117,51 @@ const MAX_SEEDS: usize = 16;
 /// The clearance study of the SDOF model: one row per candidate.
 #[derive(Debug, Clone)]
 pub struct ClearanceRow {
+    /// The candidate clearance, mm.
     pub clearance_mm: f64,
+    /// Frequency (Hz) and compliance (m/N) of the SDOF model's peak (None: no orbit found).
     pub peak: Option<(f64, f64)>,
     /// Motion types of the stable orbits within the resonance (compliance >= peak / sqrt 2).
     pub kinds: Vec<String>,
+    /// True when every stable orbit within the resonance is Type II.
     pub only_type_ii: bool,
 }
 
 /// An exact orbit solved at a simulated point, against the simulation there.
 #[derive(Debug, Clone)]
 pub struct OrbitCheckPoint {
+    /// The simulated frequency, Hz.
     pub freq_hz: f64,
     /// Largest relative difference of the compliances (NaN when no orbit was found).
     pub rel_diff: f64,
+    /// The exact orbit found there is stable.
     pub stable: bool,
+    /// What was found, in words.
     pub note: String,
 }
 
 /// Everything an SDOF periodic analysis computed.
 #[derive(Debug, Clone)]
 pub struct OrbitsResult {
+    /// 0-based mode.
     pub mode: usize,
     /// Force amplitude of the structure, N.
     pub force: f64,
+    /// The case analysed (one damper).
     pub case: Case,
+    /// The mode's equivalent SDOF model (Eq. 12-13).
     pub sdof_model: EquivalentSdof,
+    /// The clearance study of the SDOF model (empty with a fixed clearance).
     pub clearance_rows: Vec<ClearanceRow>,
     /// How the clearance was chosen, in words.
     pub clearance_note: String,
+    /// The SDOF model's branch.
     pub sdof: OrbitBranch,
+    /// The full structure's branch of exact orbits.
     pub exact: OrbitBranch,
+    /// The full structure simulated from rest at the grid.
     pub simulation: Curve,
+    /// Exact orbits solved at simulated points, against the simulation.
     pub checked: Vec<OrbitCheckPoint>,
 }
 
@@ -251,7 +276,9 @@ fn seeds(freq_hz: &[f64], natural_hz: f64) -> Vec<f64> {
 /// compliance of `reference` is at least 1/sqrt(2) of its peak), the one with the lowest SDOF
 /// peak; else the lowest SDOF peak. Every candidate's clearance replaces each damper's.
 pub struct SdofChoice {
+    /// The clearance chosen, mm.
     pub clearance_mm: f64,
+    /// Every candidate's row.
     pub rows: Vec<ClearanceRow>,
     /// How the clearance was chosen, in words.
     pub note: String,

@@ -16,6 +16,7 @@ use super::curves;
 /// Everything an experiment produced, ready to be written and rendered.
 #[derive(Debug, Clone)]
 pub struct ExperimentResult {
+    /// The experiment run (exports resolved).
     pub experiment: Experiment,
     /// Modes of the bare structure.
     pub modes: Vec<ModeSummary>,
@@ -23,8 +24,11 @@ pub struct ExperimentResult {
     pub parameters: Vec<(String, String)>,
     /// Every assumption the run rests on.
     pub assumptions: Vec<String>,
+    /// Tables for the report's data folder.
     pub tables: Vec<Table>,
+    /// Figures for the report.
     pub figures: Vec<Figure>,
+    /// Every check's outcome.
     pub checks: Vec<CheckOutcome>,
     /// The compliance curves computed (sweeps, linear responses, scans), by id, for figures
     /// that compare models.

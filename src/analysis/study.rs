@@ -18,7 +18,9 @@ use super::result::Tick;
 /// One claim at one sample.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ClaimRow {
+    /// 0-based sample.
     pub sample: usize,
+    /// The model of the structure.
     pub model: String,
     /// The sample's values, in the order of the study's `vary`.
     pub values: Vec<f64>,
@@ -61,8 +63,11 @@ impl ClaimRow {
 /// "does not hold".
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Verdict {
+    /// The claim holds on settled points.
     Holds,
+    /// The claim fails.
     Fails,
+    /// The claim cannot be evaluated (e.g. no peak in the band).
     NotEvaluable,
 }
 
@@ -271,10 +276,15 @@ pub fn rows_table(id: &str, names: &[String], rows: &[ClaimRow]) -> Table {
 /// Per model and claim: how many samples, in how many it holds, the range of the value.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ClaimSummary {
+    /// The model of the structure.
     pub model: String,
+    /// 0-based position among the experiment's claim checks.
     pub check: usize,
+    /// The check's name.
     pub claim: String,
+    /// The claim's bound, in words.
     pub bound: String,
+    /// Samples evaluated.
     pub samples: usize,
     /// Samples where the claim holds on settled points.
     pub holds: usize,
@@ -283,7 +293,9 @@ pub struct ClaimSummary {
     /// Samples where the claim's value rests on a point that did not settle (counted apart,
     /// whatever their outcome).
     pub unsettled: usize,
+    /// Smallest value of the claimed quantity over the samples.
     pub min: f64,
+    /// Largest value of the claimed quantity over the samples.
     pub max: f64,
     /// Per varied key: the smallest and largest value among the samples where the claim
     /// holds (NaN when it holds nowhere): the box around the region.
@@ -457,6 +469,7 @@ pub struct Deviation {
     /// Evaluable samples of the group, and how many of them have another verdict (holds or
     /// fails) than the paper's bed.
     pub samples: usize,
+    /// Of those, samples whose verdict differs from the paper's bed's.
     pub verdict_changes: usize,
 }
 

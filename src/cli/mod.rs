@@ -61,10 +61,12 @@ pub struct Cli {
     /// under the reference folder; default: `designs` beside the experiments folder).
     #[arg(long, global = true)]
     pub designs: Option<PathBuf>,
+    /// What to do.
     #[command(subcommand)]
     pub command: Command,
 }
 
+/// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// List the experiments and the figures they reproduce.
@@ -101,6 +103,7 @@ pub enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
+        /// How the report is written.
         #[command(flatten)]
         writing: Writing,
     },
@@ -109,6 +112,7 @@ pub enum Command {
     Study(study::StudyArgs),
     /// Work with reference data.
     Reference {
+        /// What to do with reference data.
         #[command(subcommand)]
         command: ReferenceCommand,
     },
@@ -152,6 +156,7 @@ pub enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
+        /// How the report is written.
         #[command(flatten)]
         writing: Writing,
     },
@@ -175,6 +180,7 @@ impl Writing {
     }
 }
 
+/// The commands on reference data.
 #[derive(Debug, Subcommand)]
 pub enum ReferenceCommand {
     /// Import a WebPlotDigitizer export (JSON project, version 4, or CSV) as a digitised

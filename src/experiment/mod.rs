@@ -30,12 +30,19 @@ pub use validate::validate;
 /// Titles and texts that describe an experiment.
 #[derive(Debug, Clone)]
 pub struct Meta {
+    /// The experiment's id (names its report folder).
     pub id: String,
+    /// Title.
     pub title: String,
+    /// The paper figure it reproduces, e.g. "Fig. 5".
     pub figure: String,
+    /// The paper's caption.
     pub caption: String,
+    /// The paper's claim the experiment tests.
     pub claim: String,
+    /// Assumptions in words, on top of those derived from the settings.
     pub assumptions: Vec<String>,
+    /// Free text shown under the figure.
     pub notes: Vec<String>,
     /// The main deviation from the paper and its likely cause, in a sentence.
     pub deviation: Option<String>,
@@ -45,8 +52,11 @@ pub struct Meta {
 /// (`models = [...]`, docs/experiment-format.md).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ModelInfo {
+    /// The model's id, e.g. "stated".
     pub id: String,
+    /// Its label.
     pub label: String,
+    /// What it is, in words.
     pub description: String,
 }
 
@@ -62,7 +72,9 @@ pub struct Excitation {
 /// A value another experiment exports: `"@EXPERIMENT.KEY"` in a file.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ExportRef {
+    /// The experiment's id.
     pub experiment: String,
+    /// The name of its exported value.
     pub key: String,
 }
 
@@ -75,7 +87,9 @@ impl std::fmt::Display for ExportRef {
 /// A number given in the file or exported by another experiment.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Number {
+    /// A number.
     Value(f64),
+    /// A value another experiment exports.
     Export(ExportRef),
 }
 
@@ -93,7 +107,9 @@ pub enum Clearance {
 /// One curve family of a figure: a set of dampers.
 #[derive(Debug, Clone)]
 pub struct Case {
+    /// The case's id (unique in the experiment).
     pub id: String,
+    /// Legend label.
     pub label: String,
     /// The dampers; a clearance that is scanned or exported is infinite until resolved.
     pub dampers: Vec<Damper>,
@@ -122,38 +138,68 @@ pub enum Analysis {
     Modal,
     /// Exact linear compliance of the bare structure and of each case with its damper
     /// masses rigidly added, on a grid in Hz.
-    LinearFrf { freq_hz: Vec<f64> },
+    LinearFrf {
+        /// The grid, Hz.
+        freq_hz: Vec<f64>,
+    },
     /// Steady-state compliance by simulation on a grid in Hz.
-    Sweep { freq_hz: Vec<f64>, start: Start, steady: SteadyOptions },
+    Sweep {
+        /// The grid, Hz.
+        freq_hz: Vec<f64>,
+        /// From rest at every point, or by continuation.
+        start: Start,
+        /// Steady-state settings.
+        steady: SteadyOptions,
+    },
     /// Peak compliance against clearance, from near 0 to where the beds stop reaching the top.
     ClearanceStudy {
+        /// The grid of each sweep, Hz.
         freq_hz: Vec<f64>,
         /// Clearances to scan, mm (`None`: `points` up to the limit found).
         clearances_mm: Option<Vec<f64>>,
+        /// Clearances scanned when none are given.
         points: usize,
         /// 0-based mass whose peak compliance is compared.
         objective_mass: usize,
         /// The case whose peak decides the best clearance.
         objective_case: String,
+        /// Steady-state settings.
         steady: SteadyOptions,
     },
     /// Time histories at a few frequencies.
-    Waveform { frequencies: Vec<Number>, labels: Vec<String>, periods: usize, steady: SteadyOptions },
+    Waveform {
+        /// Forcing frequencies, Hz (or exported values).
+        frequencies: Vec<Number>,
+        /// Their labels, e.g. "a", "b", "c".
+        labels: Vec<String>,
+        /// Steady periods recorded and drawn.
+        periods: usize,
+        /// Steady-state settings.
+        steady: SteadyOptions,
+    },
     /// Periodic orbits of one mode's equivalent SDOF model and of the full structure with one
     /// damper, continued in frequency, with stability; the MDOF simulation beside them.
     SdofPeriodic {
         /// 0-based mode.
         mode: usize,
+        /// The band and the simulation grid, Hz.
         freq_hz: Vec<f64>,
         /// Candidate clearances (mm) when the damper's clearance is "scan".
         clearances_mm: Option<Vec<f64>>,
+        /// Steady-state settings.
         steady: SteadyOptions,
     },
     /// A design search: placements, shot split and clearances lowering the compliance over
     /// bands (`[design]`, docs/design.md), with the cases as reference layouts.
-    Design { spec: Box<crate::design::Spec>, steady: SteadyOptions },
+    Design {
+        /// The design problem as the file states it.
+        spec: Box<crate::design::Spec>,
+        /// Steady-state settings of the sweeps.
+        steady: SteadyOptions,
+    },
     /// Free decay after an impulse: histories, envelopes, decay times, energy, spectrum.
     Impulse {
+        /// The struck mass, the kick, the duration and the sampling.
         options: ImpulseOptions,
         /// Frequencies of the spectrum, Hz.
         spectrum_hz: Vec<f64>,
@@ -181,24 +227,32 @@ impl Analysis {
 /// Vertical axis scale of a plot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scale {
+    /// A linear axis.
     Linear,
+    /// A logarithmic axis.
     Log,
 }
 
 /// A plot to draw.
 #[derive(Debug, Clone)]
 pub struct PlotSpec {
+    /// File stem of the plot.
     pub id: String,
+    /// What is drawn.
     pub kind: PlotKind,
+    /// Title (default: from the experiment).
     pub title: Option<String>,
     /// 0-based masses.
     pub masses: Vec<usize>,
     /// Case ids (all when the file gives none).
     pub cases: Vec<String>,
+    /// Vertical axis scale.
     pub y_scale: Scale,
+    /// Mark the natural frequencies of the bare structure.
     pub mark_natural_frequencies: bool,
     /// Marked frequencies: label and offset from the resonance peak of `marks_relative_to`.
     pub marks: Vec<(String, f64)>,
+    /// The case whose resonance peak the marks are relative to.
     pub marks_relative_to: Option<String>,
     /// Linear curves drawn beside.
     pub linear: Vec<Linear>,
@@ -245,49 +299,135 @@ pub enum PlotKind {
 #[derive(Debug, Clone, PartialEq)]
 pub enum CheckKind {
     /// A natural frequency (rad/s) of the bare structure against a reference value.
-    NaturalFrequency { mode: usize },
+    NaturalFrequency {
+        /// 0-based mode.
+        mode: usize,
+    },
     /// Each element of a normalised mode shape against a reference vector.
     /// `elements` (0-based masses) limits the check to some of them, so that a known
     /// deviation can name exactly the elements it is about.
-    ModeShape { mode: usize, elements: Vec<usize> },
+    ModeShape {
+        /// 0-based mode.
+        mode: usize,
+        /// 0-based masses compared.
+        elements: Vec<usize>,
+    },
     /// The structure's masses, stiffnesses and the force against the paper's values.
     PaperParameters,
     /// A case's compliance curves against a reference curve file, at the reference's own
     /// frequencies: `rel_tol` at `fraction` of the comparable points, `rel_tol_all` at all.
     /// `curve` names the computed curve: the case id, `CASE:up` / `CASE:down` for
     /// continuation, `CASE@0.2mm` for a scanned clearance.
-    Curve { curve: String, columns: String, fraction: f64, rel_tol_all: f64 },
+    Curve {
+        /// The computed curve's id.
+        curve: String,
+        /// Prefix of the reference file's compliance columns (`PREFIXc1`, ...; empty: none).
+        columns: String,
+        /// Share of points that must lie within `rel_tol`.
+        fraction: f64,
+        /// Tolerance at every point.
+        rel_tol_all: f64,
+    },
     /// The ratio of two cases' peak compliances of a mass (within a frequency window, or over
     /// the whole curve) against a bound from a reference: within a range (`reference` is the
     /// lower bound, `range_to` the id of the upper one), at most or at least a value.
     PeakRatio {
+        /// The case in the numerator.
         case: String,
+        /// The case in the denominator.
         over_case: String,
+        /// 0-based mass.
         mass: usize,
+        /// How the ratio is bounded.
         bound: Bound,
+        /// Frequency window, Hz (None: the whole curve).
         window: Option<(f64, f64)>,
+        /// How "around resonance" is read.
         reading: Reading,
     },
     /// A computed curve against a digitised one: every digitised point within `x_px` pixels
     /// along x and `y_px` pixels (plus the check's tolerance) along y of the computed curve.
-    Tube { case: String, mass: usize, curve: String, x_px: f64, y_px: f64 },
+    Tube {
+        /// The case.
+        case: String,
+        /// 0-based mass.
+        mass: usize,
+        /// The digitised curve's name.
+        curve: String,
+        /// Tolerance along x, pixels.
+        x_px: f64,
+        /// Tolerance along y, pixels.
+        y_px: f64,
+    },
     /// The resonance peak of a computed curve in a window against the digitised one's:
     /// frequency within `x_px` pixels, height within `y_px` pixels plus the check's tolerance.
-    Peak { case: String, mass: usize, curve: String, window: (f64, f64), x_px: f64, y_px: f64 },
+    Peak {
+        /// The case.
+        case: String,
+        /// 0-based mass.
+        mass: usize,
+        /// The digitised curve's name.
+        curve: String,
+        /// Frequency window, Hz.
+        window: (f64, f64),
+        /// Tolerance of the peak's frequency, pixels.
+        x_px: f64,
+        /// Tolerance of its height, pixels.
+        y_px: f64,
+    },
     /// The motion types of a case's beds at the waveform frequencies include every type of
     /// `present` and none of `absent` ("I", "II", "III", "rests").
-    MotionTypes { case: String, present: Vec<String>, absent: Vec<String> },
+    MotionTypes {
+        /// The case.
+        case: String,
+        /// Types that must appear.
+        present: Vec<String>,
+        /// Types that must not appear.
+        absent: Vec<String>,
+    },
     /// An ordering claim: the peak ratio of `case` over `over_case` in `window` is smaller than
     /// in `than_window` (e.g. dampers help a higher resonance more than the fundamental).
-    RatioOrder { case: String, over_case: String, mass: usize, window: (f64, f64), than_window: (f64, f64) },
+    RatioOrder {
+        /// The case in the numerator.
+        case: String,
+        /// The case in the denominator.
+        over_case: String,
+        /// 0-based mass.
+        mass: usize,
+        /// The window whose ratio must be smaller, Hz.
+        window: (f64, f64),
+        /// The window it is compared with, Hz.
+        than_window: (f64, f64),
+    },
     /// An impulse history (x, v, a of every mass) against a reference file over the first
     /// `window` seconds: the largest difference relative to the column's largest value.
-    ImpulseHistory { case: String, window: f64 },
+    ImpulseHistory {
+        /// The case.
+        case: String,
+        /// Seconds from the kick compared.
+        window: f64,
+    },
     /// Envelope decay times of a mass's acceleration against those of a reference history,
     /// the same estimator applied to both.
-    DecayTime { case: String, mass: usize, levels: Vec<f64> },
+    DecayTime {
+        /// The case.
+        case: String,
+        /// 0-based mass.
+        mass: usize,
+        /// Envelope levels, fractions of the first peak.
+        levels: Vec<f64>,
+    },
     /// The decay time of `case` over that of `over_case` at most a reference value.
-    DecayRatio { case: String, over_case: String, mass: usize, level: f64 },
+    DecayRatio {
+        /// The case in the numerator.
+        case: String,
+        /// The case in the denominator.
+        over_case: String,
+        /// 0-based mass.
+        mass: usize,
+        /// Envelope level, a fraction of the first peak.
+        level: f64,
+    },
     /// The exact periodic orbits of the full structure against the simulation of it, at the
     /// simulated points that settled on a period-1 motion on a stable part of the branch.
     OrbitVsSimulation,
@@ -324,7 +464,10 @@ impl Reading {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Bound {
     /// Between the reference value and the value named `upper_id`.
-    Within { upper_id: String },
+    Within {
+        /// Id of the upper bound in the same reference file.
+        upper_id: String,
+    },
     /// At most the reference value.
     AtMost,
     /// At least the reference value.
@@ -334,13 +477,17 @@ pub enum Bound {
 /// A check to make against a reference.
 #[derive(Debug, Clone)]
 pub struct CheckSpec {
+    /// What is checked.
     pub kind: CheckKind,
     /// The name texts quote it by (`{ID}`), unique in the experiment.
     pub id: Option<String>,
     /// File under `reference/` and, for values, the id after `#`.
     pub reference_file: String,
+    /// The value's id in a value file (after `#`).
     pub reference_id: Option<String>,
+    /// Pass when within it.
     pub tolerance: Tolerance,
+    /// An expected difference and its reason (a failure is then a known deviation).
     pub known_deviation: Option<String>,
 }
 
@@ -356,11 +503,13 @@ impl CheckSpec {
 pub struct Experiment {
     /// The file it came from.
     pub path: PathBuf,
+    /// Title, figure, caption, claim and notes.
     pub meta: Meta,
     /// The model this copy runs on (`None`: the file has one structure of its own).
     pub model: Option<ModelInfo>,
     /// Every model the file runs on, in its order (empty without `models`).
     pub models: Vec<ModelInfo>,
+    /// The structure of this model.
     pub structure: Structure,
     /// The stiffness fit, when the structure is fitted to measured modes.
     pub fit: Option<StiffnessFit>,
@@ -368,10 +517,15 @@ pub struct Experiment {
     pub structure_source: Option<String>,
     /// Why the damping has the values it has.
     pub damping_assumption: Option<String>,
+    /// The driven mass and the force amplitude.
     pub excitation: Excitation,
+    /// What to compute.
     pub analysis: Analysis,
+    /// The cases (curve families).
     pub cases: Vec<Case>,
+    /// The plots to draw.
     pub plots: Vec<PlotSpec>,
+    /// The checks to make.
     pub checks: Vec<CheckSpec>,
 }
 

@@ -15,28 +15,41 @@ pub struct RawExperiment {
     /// The model this copy of the experiment runs on (from a model file listed in `models`).
     #[serde(default)]
     pub model: Option<RawModel>,
+    /// `[experiment]`: title, figure, caption, claim.
     pub experiment: RawMeta,
+    /// `[structure]`.
     pub structure: RawStructure,
+    /// `[excitation]`.
     pub excitation: RawExcitation,
+    /// `[analysis]`.
     pub analysis: RawAnalysis,
     /// The design search of `kind = "design"` (docs/design.md).
     #[serde(default)]
     pub design: Option<RawDesign>,
     #[serde(default)]
+    /// `[[cases]]`.
     pub cases: Vec<RawCase>,
     #[serde(default)]
+    /// `[[plots]]`.
     pub plots: Vec<RawPlot>,
     #[serde(default)]
+    /// `[[checks]]`.
     pub checks: Vec<RawCheck>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[experiment]`: what the experiment reproduces.
 pub struct RawMeta {
+    /// Id (names the report folder).
     pub id: String,
+    /// Title.
     pub title: String,
+    /// The paper figure.
     pub figure: String,
+    /// The paper's caption.
     pub caption: String,
+    /// The paper's claim.
     pub claim: String,
     /// Assumptions in words, on top of those derived from the model settings.
     #[serde(default)]
@@ -54,14 +67,19 @@ pub struct RawMeta {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawModel {
+    /// The model's id.
     pub id: String,
+    /// Its label.
     pub label: String,
+    /// What it is.
     pub description: String,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[structure]`: masses, stiffness, damping.
 pub struct RawStructure {
+    /// Lumped masses, kg.
     pub masses_kg: Vec<f64>,
     /// Chain stiffnesses k_1..k_n (ground - k_1 - m_1 - k_2 - m_2 ...).
     #[serde(default)]
@@ -75,8 +93,10 @@ pub struct RawStructure {
     /// Springs from each mass to ground, added to the stiffness (0: none).
     #[serde(default)]
     pub ground_stiffness_n_per_m: Option<Vec<f64>>,
+    /// `[structure.damping]`.
     pub damping: RawDamping,
     #[serde(default)]
+    /// Where the numbers come from.
     pub source: Option<String>,
 }
 
@@ -84,6 +104,7 @@ pub struct RawStructure {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawFit {
+    /// Measured natural frequencies, rad/s.
     pub omegas_rad_per_s: Vec<f64>,
     /// One row per mode.
     pub shapes: Vec<Vec<f64>>,
@@ -94,17 +115,22 @@ pub struct RawFit {
     #[serde(default)]
     pub shape_weights: Option<Vec<Vec<f64>>>,
     #[serde(default)]
+    /// Where the measurements come from.
     pub source: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[structure.damping]`: modal ratios, or Rayleigh coefficients.
 pub struct RawDamping {
     #[serde(default)]
+    /// One damping ratio per mode.
     pub modal_ratios: Option<Vec<f64>>,
     #[serde(default)]
+    /// Rayleigh's mass-proportional coefficient, 1/s.
     pub rayleigh_alpha: Option<f64>,
     #[serde(default)]
+    /// Rayleigh's stiffness-proportional coefficient, s.
     pub rayleigh_beta: Option<f64>,
     /// Why these values (the paper gives none).
     #[serde(default)]
@@ -113,17 +139,22 @@ pub struct RawDamping {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[excitation]`: `F sin(omega t)` on one mass.
 pub struct RawExcitation {
     /// 1-based index of the driven mass.
     pub mass: i64,
+    /// Force amplitude, N.
     pub force_n: f64,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[analysis]`: what to compute, and its settings.
 pub struct RawAnalysis {
+    /// The kind ("sweep", "impulse", ...).
     pub kind: String,
     #[serde(default)]
+    /// The frequency grid.
     pub freq_hz: Option<RawGrid>,
     /// Sweeps: "rest" (independent points) or "continuation" (upward and downward).
     #[serde(default)]
@@ -136,6 +167,7 @@ pub struct RawAnalysis {
     #[serde(default)]
     pub clearances_mm: Option<Vec<f64>>,
     #[serde(default)]
+    /// Clearance study: clearances scanned when `clearances_mm` is not given.
     pub clearance_points: Option<i64>,
     /// Clearance study: the mass whose peak compliance is minimised (1-based).
     #[serde(default)]
@@ -186,18 +218,25 @@ pub struct RawSteady {
     #[serde(default)]
     pub method: Option<String>,
     #[serde(default)]
+    /// Transient: relative change that counts as settled.
     pub tol: Option<f64>,
     #[serde(default)]
+    /// Orbit: Newton's tolerance on the relative residual.
     pub orbit_tol: Option<f64>,
     #[serde(default)]
+    /// Orbit: most Newton iterations per attempt.
     pub max_newton: Option<i64>,
     #[serde(default)]
+    /// Periods in a row (settled, or the pattern repeated).
     pub consecutive: Option<i64>,
     #[serde(default)]
+    /// Periods before the motion is judged.
     pub min_periods: Option<i64>,
     #[serde(default)]
+    /// Most periods simulated.
     pub max_periods: Option<i64>,
     #[serde(default)]
+    /// Periods recorded once settled.
     pub record_periods: Option<i64>,
     /// Attempts in a row that find a torus before the search stops (0: never).
     #[serde(default)]
@@ -238,8 +277,10 @@ pub struct RawDesign {
     #[serde(default)]
     pub starts: Option<i64>,
     #[serde(default)]
+    /// Nelder-Mead iterations per start (default 100).
     pub max_iters: Option<i64>,
     #[serde(default)]
+    /// Seed of the starts (default 1).
     pub seed: Option<i64>,
     /// Total shot mass ratios of the Pareto front (optional).
     #[serde(default)]
@@ -247,6 +288,7 @@ pub struct RawDesign {
     /// `shotdamp report` shows this design (its stored answer evaluated again); default false.
     #[serde(default)]
     pub report: Option<bool>,
+    /// The bands whose response is lowered.
     pub bands: Vec<RawBand>,
     /// Values the objective is taken over (the paper leaves them unstated).
     #[serde(default)]
@@ -262,6 +304,7 @@ pub struct RawDesign {
 pub struct RawDesignSdof {
     /// 1-based mode.
     pub mode: i64,
+    /// Candidate clearances, mm.
     pub clearances_mm: Vec<f64>,
 }
 
@@ -287,7 +330,9 @@ pub struct RawScenarios {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawBand {
+    /// The band's name.
     pub name: String,
+    /// Its frequency grid.
     pub freq_hz: RawGrid,
     /// 1-based masses whose compliance counts.
     pub masses: Vec<i64>,
@@ -297,25 +342,34 @@ pub struct RawBand {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawGrid {
+    /// First frequency, Hz.
     pub start: f64,
+    /// Last frequency, Hz.
     pub stop: f64,
     #[serde(default)]
+    /// Number of points (or `step`).
     pub points: Option<i64>,
     #[serde(default)]
+    /// Spacing, Hz (or `points`).
     pub step: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[[cases]]`: one curve family.
 pub struct RawCase {
+    /// Id (unique in the file).
     pub id: String,
+    /// Legend label.
     pub label: String,
     #[serde(default)]
+    /// Its containers.
     pub dampers: Vec<RawDamper>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// One container of shot.
 pub struct RawDamper {
     /// 1-based host mass, as in the paper.
     pub mass: i64,
@@ -348,10 +402,14 @@ pub struct RawDamper {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[[plots]]`: a plot to draw.
 pub struct RawPlot {
+    /// File stem.
     pub id: String,
+    /// The kind of plot.
     pub kind: String,
     #[serde(default)]
+    /// Title (default: from the experiment).
     pub title: Option<String>,
     /// 1-based masses to draw.
     #[serde(default)]
@@ -360,13 +418,16 @@ pub struct RawPlot {
     #[serde(default)]
     pub cases: Option<Vec<String>>,
     #[serde(default)]
+    /// "linear" or "log".
     pub y_scale: Option<String>,
     #[serde(default)]
+    /// Mark the natural frequencies.
     pub mark_natural_frequencies: Option<bool>,
     /// Frequencies to mark, relative to the resonance peak of `marks_relative_to`.
     #[serde(default)]
     pub marks: Option<Vec<RawMark>>,
     #[serde(default)]
+    /// The case whose resonance peak the marks are relative to.
     pub marks_relative_to: Option<String>,
     /// Linear curves drawn beside: "bare" and/or "stuck".
     #[serde(default)]
@@ -380,13 +441,17 @@ pub struct RawPlot {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawMark {
+    /// The mark's label.
     pub label: String,
+    /// Offset from the peak, Hz.
     pub offset_hz: f64,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+/// `[[checks]]`: a check against a reference.
 pub struct RawCheck {
+    /// The kind of check.
     pub kind: String,
     /// A name for the check, unique in the experiment, by which texts quote its values
     /// (`{ID}`, docs/experiment-format.md).
@@ -396,10 +461,13 @@ pub struct RawCheck {
     #[serde(default)]
     pub reference: Option<String>,
     #[serde(default)]
+    /// 1-based mode (modal checks).
     pub mode: Option<i64>,
     #[serde(default)]
+    /// Relative tolerance.
     pub rel_tol: Option<f64>,
     #[serde(default)]
+    /// Absolute tolerance.
     pub abs_tol: Option<f64>,
     /// An expected difference, with its reason: a failure is then reported as a known
     /// deviation, and a pass as a known deviation that now passes.
@@ -459,6 +527,7 @@ pub struct RawCheck {
     #[serde(default)]
     pub x_tol_px: Option<f64>,
     #[serde(default)]
+    /// Tolerance along y, pixels.
     pub y_tol_px: Option<f64>,
     /// Impulse history checks: the compared window from t = 0, s.
     #[serde(default)]

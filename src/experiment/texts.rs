@@ -37,9 +37,21 @@ pub enum Format {
 pub enum Target {
     /// A check (by its `id`) and a value of it: `computed`, `expected` or one of its named
     /// values.
-    Check { experiment: Option<String>, id: String, field: String },
+    Check {
+        /// The experiment (None: the text's own).
+        experiment: Option<String>,
+        /// The check's id.
+        id: String,
+        /// `computed`, `expected` or a named value.
+        field: String,
+    },
     /// An exported value of an experiment.
-    Export { experiment: String, name: String },
+    Export {
+        /// The experiment's id.
+        experiment: String,
+        /// The exported value's name.
+        name: String,
+    },
 }
 
 /// One placeholder.
@@ -49,14 +61,18 @@ pub struct Placeholder {
     pub text: String,
     /// The model of the run it reads (`None`: the text's own).
     pub model: Option<String>,
+    /// What it names.
     pub target: Target,
+    /// How the value is written.
     pub format: Format,
 }
 
 /// A text cut into literal pieces and placeholders.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Piece {
+    /// Text as written.
     Literal(String),
+    /// A placeholder.
     Value(Placeholder),
 }
 

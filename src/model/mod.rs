@@ -1,6 +1,5 @@
 //! The physical model: structure, dampers, modes and the linear response.
 
-
 pub mod damping_fit;
 pub mod fit;
 pub mod frf;

@@ -14,35 +14,51 @@ use crate::error::{read_to_string, Error, Result};
 /// One figure of both reports.
 #[derive(Debug, Serialize)]
 pub struct FigurePair {
+    /// The experiment's key.
     pub experiment: String,
+    /// The figure's file name.
     pub name: String,
     /// Relative paths in the comparison folder ("" when a report lacks it).
     pub a: String,
+    /// The same in report B.
     pub b: String,
 }
 
 /// One check whose outcome differs.
 #[derive(Debug, Serialize)]
 pub struct CheckChange {
+    /// The experiment's key.
     pub experiment: String,
+    /// The check's name.
     pub name: String,
+    /// Its status in report A ("" when absent).
     pub status_a: String,
+    /// Its status in report B ("" when absent).
     pub status_b: String,
+    /// Its computed value in report A.
     pub computed_a: String,
+    /// Its computed value in report B.
     pub computed_b: String,
+    /// What changed, in words.
     pub change: String,
 }
 
 /// The comparison page's context.
 #[derive(Debug, Serialize)]
 pub struct CompareView {
+    /// Report A's folder.
     pub a: String,
+    /// Report B's folder.
     pub b: String,
+    /// Every figure of both reports.
     pub figures: Vec<FigurePair>,
+    /// The checks that changed.
     pub changes: Vec<CheckChange>,
+    /// Checks with the same status and value in both.
     pub unchanged: usize,
     /// Experiments that only one report has.
     pub only_a: Vec<String>,
+    /// Experiments only report B has.
     pub only_b: Vec<String>,
 }
 

@@ -12,8 +12,11 @@ use crate::experiment::Analysis;
 /// One sentence, with the design page it comes from.
 #[derive(Debug, Serialize)]
 pub struct Conclusion {
+    /// The experiment's key.
     pub experiment: String,
+    /// Link to its page.
     pub link: String,
+    /// The sentence.
     pub text: String,
 }
 

@@ -71,7 +71,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Who holds a lock: host, process id and PID namespace, and since when.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Holder {
+    /// Host name.
     pub host: String,
+    /// Process id.
     pub pid: u32,
     /// The PID namespace (`/proc/self/ns/pid`): a process id means something only inside it.
     pub namespace: String,

@@ -46,21 +46,32 @@ impl Mark {
 /// panel is not the experiment's own).
 #[derive(Debug, Clone)]
 pub struct MapPanel {
+    /// Panel title.
     pub title: String,
+    /// Samples as (x, y, value, mark).
     pub points: Vec<(f64, f64, f64, Mark)>,
+    /// Where the experiment itself sits (x, y), when known.
     pub assumed: Option<(f64, f64)>,
 }
 
 /// A heat map of one claim.
 #[derive(Debug, Clone)]
 pub struct HeatMap {
+    /// File stem.
     pub id: String,
+    /// Title above the panels.
     pub title: String,
+    /// Horizontal axis label.
     pub x_label: String,
+    /// Vertical axis label.
     pub y_label: String,
+    /// Logarithmic horizontal axis.
     pub x_log: bool,
+    /// Logarithmic vertical axis.
     pub y_log: bool,
+    /// The samples lie on a grid (cells drawn) rather than scattered (dots).
     pub grid: bool,
+    /// One panel per claim.
     pub panels: Vec<MapPanel>,
 }
 

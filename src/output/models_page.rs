@@ -13,30 +13,41 @@ use super::view::{counts, dependence, status_class, FigureView};
 /// One model's column.
 #[derive(Debug, Serialize)]
 pub struct ModelColumn {
+    /// The model's id.
     pub id: String,
+    /// Its label.
     pub label: String,
+    /// What the model is.
     pub description: String,
+    /// Link to the model's page.
     pub link: String,
     /// Against the paper only (as in the index).
     pub verdict: String,
+    /// CSS class of the verdict.
     pub verdict_class: String,
     /// Every check, in words.
     pub counts: String,
+    /// The main deviation on this model, in words.
     pub deviation: String,
 }
 
 /// One check across the models: (CSS class, text) per model, empty where it does not run.
 #[derive(Debug, Serialize)]
 pub struct MatrixRow {
+    /// The check's name.
     pub name: String,
+    /// What it compares.
     pub description: String,
+    /// Where the expected value comes from.
     pub source: String,
+    /// (CSS class, text) per model.
     pub cells: Vec<(String, String)>,
 }
 
 /// One figure of every model in a row.
 #[derive(Debug, Serialize)]
 pub struct SideBySide {
+    /// The figure's title.
     pub title: String,
     /// (model label, PNG, SVG), links relative to the experiment's folder.
     pub cells: Vec<(String, String, String)>,
@@ -45,15 +56,25 @@ pub struct SideBySide {
 /// The context of `models.html`.
 #[derive(Debug, Serialize)]
 pub struct ModelsView {
+    /// The experiment's id.
     pub id: String,
+    /// Its title.
     pub title: String,
+    /// The paper figure.
     pub figure: String,
+    /// The paper's caption.
     pub caption: String,
+    /// The paper's claim.
     pub claim: String,
+    /// The experiment file.
     pub source_file: String,
+    /// One column per model.
     pub models: Vec<ModelColumn>,
+    /// Figures that overlay the models.
     pub overlays: Vec<FigureView>,
+    /// Each figure of the models side by side.
     pub side_by_side: Vec<SideBySide>,
+    /// Every check across the models.
     pub matrix: Vec<MatrixRow>,
     /// Conclusions (checks against the paper) whose outcome differs between models.
     pub dependence: Vec<String>,

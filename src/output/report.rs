@@ -43,18 +43,31 @@ pub fn templates(dir: Option<&Path>) -> Result<Tera> {
 /// One check, formatted.
 #[derive(Debug, Serialize)]
 pub struct CheckRow {
+    /// The experiment's key.
     pub experiment: String,
+    /// The check's name.
     pub name: String,
+    /// What it compares.
     pub description: String,
+    /// The value computed, formatted.
     pub computed: String,
+    /// The reference value, formatted.
     pub expected: String,
+    /// Their difference, formatted.
     pub difference: String,
+    /// The tolerance, in words.
     pub tolerance: String,
+    /// Pass, fail or a known deviation.
     pub status: String,
+    /// CSS class of the status.
     pub status_class: String,
+    /// Where the expected value comes from.
     pub provenance: String,
+    /// The kind of reference.
     pub source: String,
+    /// Why a known deviation is expected.
     pub reason: String,
+    /// Extra detail (e.g. the worst point of a curve).
     pub detail: String,
     /// "settled", "unsettled" (the value rests on a point that did not settle, or would change
     /// with one that was skipped) or "" (the check reads no steady state).
@@ -94,10 +107,13 @@ impl CheckRow {
 /// A scan of the paper's figure with our curves over it.
 #[derive(Debug, Serialize)]
 pub struct ScanView {
+    /// Title of the paper's figure.
     pub title: String,
     /// The copy of the scan, relative to the page.
     pub image: String,
+    /// Its width, pixels.
     pub width: u32,
+    /// Its height, pixels.
     pub height: u32,
     /// Our curves in the scan's frame (an SVG element).
     pub svg: String,
@@ -110,9 +126,13 @@ pub struct ScanView {
 /// A data table with its files.
 #[derive(Debug, Serialize)]
 pub struct TableView {
+    /// File stem.
     pub name: String,
+    /// What the table holds.
     pub description: String,
+    /// Rows of the whole table.
     pub rows: usize,
+    /// Link to its CSV file.
     pub csv: String,
     /// The CSV file holds every `csv_stride`-th row and the last (1: every row).
     pub csv_stride: usize,
@@ -123,31 +143,50 @@ pub struct TableView {
 /// The page of one experiment.
 #[derive(Debug, Serialize)]
 pub struct ExperimentView {
+    /// The experiment's id.
     pub id: String,
     /// The way up to the report's root ("../", or "../../" for a model's page).
     pub root: String,
     /// The model run on ("" when the experiment has one structure of its own), what it is,
     /// and every model of the experiment: (label, link from this page, is this one).
     pub model: String,
+    /// What the model is.
     pub model_description: String,
+    /// Every model of the experiment: (label, link from this page, is this one).
     pub siblings: Vec<(String, String, bool)>,
+    /// The experiment's title.
     pub title: String,
+    /// The paper figure.
     pub figure: String,
+    /// The paper's caption.
     pub caption: String,
+    /// The paper's claim.
     pub claim: String,
+    /// The experiment file.
     pub source_file: String,
+    /// Named parameters of the run.
     pub parameters: Vec<(String, String)>,
+    /// Every assumption the run rests on.
     pub assumptions: Vec<String>,
+    /// Notes of the experiment file.
     pub notes: Vec<String>,
+    /// The run's figures.
     pub figures: Vec<FigureView>,
     /// The paper's figures under ours (none without scans: [`super::scan`]).
     pub scans: Vec<ScanView>,
+    /// The run's tables.
     pub tables: Vec<TableView>,
+    /// The run's checks.
     pub checks: Vec<CheckRow>,
+    /// The modes table's rows.
     pub modes: Vec<Vec<String>>,
+    /// The modes table's header.
     pub mode_header: Vec<String>,
+    /// The verdict on the figure, in words.
     pub verdict: String,
+    /// CSS class of the verdict.
     pub verdict_class: String,
+    /// Checks passed, failed and known deviations, in words.
     pub counts: String,
 }
 
@@ -232,20 +271,30 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
 /// One row of the summary table.
 #[derive(Debug, Serialize)]
 pub struct SummaryRow {
+    /// The experiment's key.
     pub id: String,
+    /// The paper figure.
     pub figure: String,
+    /// The experiment's title.
     pub title: String,
+    /// Link to its page.
     pub link: String,
+    /// Link to its first figure's PNG.
     pub thumbnail: String,
+    /// The verdict, in words.
     pub verdict: String,
+    /// CSS class of the verdict.
     pub verdict_class: String,
+    /// Checks passed, failed and known deviations, in words.
     pub counts: String,
 }
 
 /// A figure's verdict on one model.
 #[derive(Debug, Serialize)]
 pub struct ModelCell {
+    /// The verdict on this model, in words.
     pub verdict: String,
+    /// CSS class of the verdict.
     pub verdict_class: String,
     /// Checks against the paper that pass, of all against the paper ("7/8"; "" when none).
     pub checks: String,
@@ -259,8 +308,11 @@ pub struct ModelCell {
 /// One paper figure: its verdict and the experiments behind it.
 #[derive(Debug, Serialize)]
 pub struct FigureRow {
+    /// The paper figure.
     pub figure: String,
+    /// The overall verdict, in words.
     pub verdict: String,
+    /// CSS class of the verdict.
     pub verdict_class: String,
     /// The verdict on each model of [`IndexView::models`] (empty when no experiment of the
     /// report runs on several models).
@@ -269,23 +321,34 @@ pub struct FigureRow {
     pub experiments: Vec<(String, String)>,
     /// One short sentence: the verdict on each model, grouped.
     pub sentence: String,
+    /// Checks against the paper's own numbers and figures, counted in words.
     pub paper_checks: String,
+    /// Other checks (independent solver, baseline), counted in words.
     pub other_checks: String,
+    /// Link to the figure's thumbnail.
     pub thumbnail: String,
 }
 
 /// The context of the index page.
 #[derive(Debug, Serialize)]
 pub struct IndexView {
+    /// The report's title.
     pub title: String,
+    /// shotdamp's version and the command that wrote the report.
     pub generated_by: String,
+    /// The overall outcome, in words.
     pub overall: String,
+    /// CSS class of the outcome.
     pub overall_class: String,
     /// Labels of the models experiments run on, in first-seen order.
     pub models: Vec<String>,
+    /// One row per paper figure.
     pub figures: Vec<FigureRow>,
+    /// One row per experiment run.
     pub rows: Vec<SummaryRow>,
+    /// Every check.
     pub checks: Vec<CheckRow>,
+    /// Every assumption of the runs.
     pub assumptions: Vec<String>,
     /// The paper's conclusion tested by the design experiments, a sentence per model.
     pub conclusions: Vec<super::conclusion::Conclusion>,
@@ -297,8 +360,11 @@ pub struct IndexView {
 /// One bed study in the index.
 #[derive(Debug, Serialize)]
 pub struct BedRow {
+    /// The paper figure.
     pub figure: String,
+    /// Link to its bed-model section.
     pub link: String,
+    /// One sentence: how far the claims move with the bed model.
     pub sentence: String,
 }
 

@@ -16,9 +16,13 @@ use super::study::StudyRun;
 /// One study on a figure's page.
 #[derive(Debug, Serialize)]
 pub struct RobustnessView {
+    /// The study's id.
     pub id: String,
+    /// Its title.
     pub title: String,
+    /// What it varies and why.
     pub description: String,
+    /// The study file.
     pub file: String,
     /// "27 samples, 3 claims each".
     pub size: String,

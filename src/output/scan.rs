@@ -32,16 +32,23 @@ pub struct Scan {
     pub file: PathBuf,
     /// Its stem (names the copy in the report).
     pub name: String,
+    /// Title of the paper's figure.
     pub title: String,
+    /// The experiment whose figure it goes under.
     pub experiment: String,
+    /// The plot id of that figure.
     pub plot: String,
     /// 0-based.
     pub panel: usize,
     /// The models whose pages show it (empty: every model).
     pub models: Vec<String>,
+    /// The scanned image.
     pub image: PathBuf,
+    /// Its width, pixels.
     pub width: u32,
+    /// Its height, pixels.
     pub height: u32,
+    /// Pixels to data values.
     pub calibration: Calibration,
     /// Where the calibration comes from, in words.
     pub calibrated_by: String,
@@ -187,10 +194,15 @@ pub fn load_all(dir: &Path) -> Result<Vec<Scan>> {
 /// series) or the points themselves (marker series).
 #[derive(Debug, Clone)]
 pub struct Trace {
+    /// Legend label.
     pub label: String,
+    /// Stroke colour (CSS).
     pub colour: String,
+    /// Dashed stroke.
     pub dashed: bool,
+    /// Drawn as a line (else as points).
     pub line: bool,
+    /// Runs of (x, y) pixel points, each drawn unbroken.
     pub runs: Vec<Vec<(f64, f64)>>,
 }
 

@@ -27,7 +27,9 @@ pub use super::files::{write_atomic, ShardLock};
 /// A shard: `index` of `count` (0-based); sample `i` belongs to shard `i % count`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
+    /// 0-based index of the shard.
     pub index: usize,
+    /// Number of shards.
     pub count: usize,
 }
 
@@ -69,8 +71,11 @@ impl std::fmt::Display for Shard {
 /// A study run whole (as `shotdamp report` runs it): what it is and its rows, in sample order.
 #[derive(Debug, Clone)]
 pub struct StudyRun {
+    /// What the study folder holds.
     pub manifest: Manifest,
+    /// What the study varies and why.
     pub description: String,
+    /// A row per sample and claim.
     pub rows: Vec<ClaimRow>,
     /// Per model of the manifest: the experiment's own value of each varied key, as the report
     /// ran it (`None`: no single value; empty: not known, as in `shotdamp study`).
@@ -80,24 +85,34 @@ pub struct StudyRun {
 /// A varied key as the merged outputs need it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
+    /// The varied key's name.
     pub name: String,
+    /// Axis label, with its unit.
     pub label: String,
+    /// Logarithmic axis.
     pub log: bool,
 }
 
 /// What a study folder holds: written by the first shard, checked by every other.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Manifest {
+    /// The study's id.
     pub study: String,
+    /// Its title.
     pub title: String,
     /// The study file, as given on the command line.
     pub file: String,
+    /// The experiment whose claims are studied.
     pub experiment: String,
+    /// The paper figure.
     pub figure: String,
     /// Changes whenever the samples or what is set in them change.
     pub fingerprint: String,
+    /// Number of samples.
     pub samples: usize,
+    /// Columns of the long table, in order.
     pub columns: Vec<String>,
+    /// The varied keys.
     pub vary: Vec<Axis>,
     /// Indices into `vary` of the heat maps' axes.
     pub map: Option<(usize, usize)>,

@@ -13,7 +13,9 @@ use crate::experiment::texts::{format, parse, Piece, Placeholder, Target};
 /// some experiments): in a report every experiment runs, so it is an error there.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Missing {
+    /// An error naming the experiment.
     Error,
+    /// A remark in the text that the value is not in this run.
     Say,
 }
 

@@ -20,9 +20,13 @@ pub fn status_class(s: Status) -> &'static str {
 /// A figure with its files.
 #[derive(Debug, Serialize)]
 pub struct FigureView {
+    /// Title above the figure.
     pub title: String,
+    /// One sentence under it.
     pub caption: String,
+    /// Link to the PNG file.
     pub png: String,
+    /// Link to the SVG file.
     pub svg: String,
 }
 

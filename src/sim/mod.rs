@@ -3,7 +3,6 @@
 //! per configuration, computed once); events are located by a certified search; solvers
 //! return data and a stop reason and do no I/O.
 
-
 pub mod bed;
 pub mod column;
 pub mod continuation;

@@ -9,7 +9,16 @@ pub enum Domain {
     Values(Vec<f64>),
     /// A continuous range; `count` points for a grid (ends included), `log` spacing on a
     /// logarithmic scale.
-    Range { start: f64, stop: f64, count: Option<usize>, log: bool },
+    Range {
+        /// First value.
+        start: f64,
+        /// Last value.
+        stop: f64,
+        /// Grid points (ends included).
+        count: Option<usize>,
+        /// Logarithmic spacing.
+        log: bool,
+    },
 }
 
 impl Domain {
@@ -54,10 +63,20 @@ pub enum Design {
     /// Every combination of the varied values (the first varied key changes slowest).
     Grid,
     /// `samples` points of an Owen-scrambled Sobol sequence (sobol_burley), seeded.
-    Sobol { samples: usize, seed: u32 },
+    Sobol {
+        /// Number of samples.
+        samples: usize,
+        /// Seed of the scrambling.
+        seed: u32,
+    },
     /// `samples` points of a Latin hypercube: each range cut into `samples` equal strata,
     /// each stratum used once per key, in a seeded random order, at a seeded random place.
-    LatinHypercube { samples: usize, seed: u32 },
+    LatinHypercube {
+        /// Number of samples (and strata).
+        samples: usize,
+        /// Seed of the orders and places.
+        seed: u32,
+    },
 }
 
 impl Design {

@@ -26,9 +26,11 @@ pub const MAX_SAMPLES: usize = 65_536;
 pub struct Vary {
     /// Column name in the study's table.
     pub name: String,
+    /// The key it sets in the experiment file.
     pub key: KeyPath,
     /// Axis label.
     pub label: String,
+    /// The values it takes.
     pub domain: Domain,
 }
 
@@ -44,16 +46,22 @@ impl Vary {
 pub struct Sample {
     /// 0-based, over the whole study (models outermost).
     pub index: usize,
+    /// The model of the structure.
     pub model: String,
+    /// One value per varied key, in the order of `vary`.
     pub values: Vec<f64>,
 }
 
 /// A validated study.
 #[derive(Debug, Clone)]
 pub struct Study {
+    /// The study file.
     pub path: PathBuf,
+    /// Id (names its folder).
     pub id: String,
+    /// Title.
     pub title: String,
+    /// What it varies and why.
     pub description: Option<String>,
     /// Whether `shotdamp report` runs it (sized for the report's time budget).
     pub report: bool,
@@ -63,12 +71,15 @@ pub struct Study {
     pub experiment_path: PathBuf,
     /// The experiment as it stands, once per model studied (for ids, figure, references).
     pub base: Vec<Experiment>,
+    /// How the samples are drawn.
     pub design: Design,
+    /// The varied keys.
     pub vary: Vec<Vary>,
     /// Values set in every sample (`[study.set]`).
     pub set: Vec<(KeyPath, toml::Value)>,
     /// Indices into `vary` of the heat maps' horizontal and vertical axes.
     pub map: Option<(usize, usize)>,
+    /// Every sample, models outermost.
     pub samples: Vec<Sample>,
     /// Merged tables of the experiment, by model id (`""` without models).
     tables: BTreeMap<String, toml::Table>,
