@@ -80,12 +80,16 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
             .collect(),
     };
     let mut scanned: Vec<Curve> = Vec::new();
+    // The case and clearance (mm) of each scanned curve, as computed (not read back from the
+    // curve's key).
+    let mut scanned_at: Vec<(String, f64)> = Vec::new();
     for case in &cases {
         for &mm in &clearances {
             let key = clearance_key(&case.id, mm);
             let grid = curves::union_grid(study.freq_hz, &check_frequencies(exp, refs, &key));
             let sys = curves::system(exp, &with_clearance(case, mm * 1e-3));
             let pts = sweep::from_rest(&sys, &grid, study.steady, tick);
+            scanned_at.push((case.id.clone(), mm));
             scanned.push(curves::from_sweep(
                 &key,
                 &format!("{}, d = {} mm", case.label, fmt_num(mm)),
@@ -98,11 +102,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
     }
     // Peak compliance of the objective mass per case and clearance.
     let mut rows: Vec<(String, f64, f64, f64, f64)> = Vec::new(); // case, d mm, peak, f, top impacts at peak
-    for c in &scanned {
-        let (case, mm) =
-            c.id.split_once('@')
-                .map(|(a, b)| (a.to_string(), b.trim_end_matches("mm").parse::<f64>().unwrap_or(f64::NAN)))
-                .unwrap_or_default();
+    for (c, (case, mm)) in scanned.iter().zip(scanned_at) {
         if let Some((f, v)) = c.peak(m) {
             let i = c.index_of(f).unwrap_or(0);
             let tops: f64 = c.top_impacts.get(i).map(|t| t.iter().sum()).unwrap_or(0.0);
