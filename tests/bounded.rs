@@ -255,3 +255,24 @@ fn forcing_frequencies_below_the_floor_are_input_errors_and_those_above_end() {
     });
     assert!(points[0].result.as_ref().is_ok_and(|s| s.converged));
 }
+
+/// A design's bands are held to the same floor: a band that starts far below the structure's
+/// modes is an input error naming the band, before any search runs.
+#[test]
+fn a_design_band_below_the_floor_is_an_input_error_naming_the_band() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(common::repo().join("designs/third_mode.toml")).unwrap();
+    let first = text.find("freq_hz = { start = ").expect("a band grid");
+    let at = first + "freq_hz = { start = ".len();
+    let end = at + text[at..].find(',').unwrap();
+    let bad = format!("{}1e-6{}", &text[..at], &text[end..]);
+    let bad = bad.replace("extends = \"", &format!("extends = \"{}/", common::repo().join("designs").display()));
+    let file = dir.path().join("low_band.toml");
+    std::fs::write(&file, bad).unwrap();
+    let err = shotdamp::experiment::load(&file, &common::repo().join("reference")).unwrap_err();
+    let text = err.to_string();
+    assert!(
+        err.is_input() && text.contains("design.bands[0].freq_hz[0] = 0.000001: a forcing frequency must be at least"),
+        "{text}"
+    );
+}

@@ -66,12 +66,13 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
             }
         }
     }
-    let (key, simulated): (&str, Vec<f64>) = match &analysis {
-        Analysis::Sweep { freq_hz, .. } | Analysis::ClearanceStudy { freq_hz, .. } => {
-            ("analysis.freq_hz", freq_hz.clone())
-        }
-        Analysis::Waveform { frequencies, .. } => (
-            "analysis.frequencies_hz",
+    // Frequencies the simulator will be driven at (a design's bands whatever its cases).
+    let simulated: Vec<(String, Vec<f64>)> = match &analysis {
+        Analysis::Sweep { freq_hz, .. }
+        | Analysis::ClearanceStudy { freq_hz, .. }
+        | Analysis::SdofPeriodic { freq_hz, .. } => vec![("analysis.freq_hz".into(), freq_hz.clone())],
+        Analysis::Waveform { frequencies, .. } => vec![(
+            "analysis.frequencies_hz".into(),
             frequencies
                 .iter()
                 .filter_map(|f| match f {
@@ -79,11 +80,19 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
                     super::Number::Export(_) => None,
                 })
                 .collect(),
-        ),
-        _ => ("", Vec::new()),
+        )],
+        Analysis::Design { spec, .. } => spec
+            .bands
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (format!("design.bands[{i}].freq_hz"), b.freq_hz.clone()))
+            .collect(),
+        _ => Vec::new(),
     };
-    if cases.iter().any(|c| !c.dampers.is_empty()) {
-        super::fields::check_frequencies(&path.display().to_string(), key, &simulated, &structure)?;
+    if matches!(analysis, Analysis::Design { .. }) || cases.iter().any(|c| !c.dampers.is_empty()) {
+        for (key, freq_hz) in &simulated {
+            super::fields::check_frequencies(&path.display().to_string(), key, freq_hz, &structure)?;
+        }
     }
     if matches!(analysis, Analysis::SdofPeriodic { .. } | Analysis::Design { .. }) {
         for (ci, case) in cases.iter().enumerate() {
