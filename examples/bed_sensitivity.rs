@@ -6,6 +6,7 @@
 //!
 //! `cargo run --release --example bed_sensitivity`
 
+use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, Damping, Structure};
 use shotdamp::sim::bed::ImpactLaw;
 use shotdamp::sim::{sweep, SteadyOptions, System};
@@ -23,8 +24,10 @@ fn main() {
             );
             println!("  d (mm)   e = 0       e = 0.1   e = 0.3   e = 0.5");
             for d in clearances {
-                let dampers: Vec<Damper> =
-                    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: d * 1e-3 }).collect();
+                let dampers: Vec<Damper> = hosts
+                    .iter()
+                    .map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(d * 1e-3) })
+                    .collect();
                 let peaks: Vec<(f64, bool)> = restitutions
                     .iter()
                     .map(|&e| {

@@ -4,6 +4,7 @@
 //!
 //! `cargo run --release --example column_sweep`
 
+use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, Damping, Structure};
 use shotdamp::sim::bed::ImpactLaw;
 use shotdamp::sim::{sweep, SteadyOptions, System};
@@ -19,7 +20,7 @@ fn main() {
     let m = [0.74, 0.71, 0.64];
     let structure = Structure::chain(&m, &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
     let dampers: Vec<Damper> =
-        hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: 0.35e-3 }).collect();
+        hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(0.35e-3) }).collect();
     let single = System::plastic(structure, dampers, 0, 2.6);
     let law = ImpactLaw { restitution: e, stick_speed: 1e-3 };
     let column = single.clone().with_law(law).with_grains(&vec![grains; hosts.len()]);

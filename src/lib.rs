@@ -30,11 +30,11 @@
 //!
 //! ```
 //! use std::f64::consts::PI;
-//! use shotdamp::model::{Damper, Damping, Structure};
+//! use shotdamp::model::{Clearance, Damper, Damping, Structure};
 //! use shotdamp::sim::{steady_state, Dynamics, State, SteadyOptions, System};
 //!
 //! let paper = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
-//! let bed = Damper { host: 1, mass: 0.071, clearance: 0.3e-3 };
+//! let bed = Damper { host: 1, mass: 0.071, clearance: Clearance::from_mm(0.3) };
 //! let system = System::plastic(paper, vec![bed], 0, 2.6);
 //! let d = Dynamics::new(&system, 2.0 * PI * 48.0).unwrap();
 //! let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
@@ -49,12 +49,12 @@
 //! A sweep from rest (parallel; the same bytes for any number of threads) and a free decay:
 //!
 //! ```
-//! use shotdamp::model::{Damper, Damping, Structure};
+//! use shotdamp::model::{Clearance, Damper, Damping, Structure};
 //! use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
 //! use shotdamp::sim::{sweep, SteadyOptions, System};
 //!
 //! let paper = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
-//! let beds = vec![Damper { host: 0, mass: 0.074, clearance: f64::INFINITY }];
+//! let beds = vec![Damper { host: 0, mass: 0.074, clearance: Clearance::NO_TOP }];
 //! let system = System::plastic(paper, beds, 0, 2.6);
 //! let points = sweep::from_rest(&system, &[30.0, 40.0, 50.0], &SteadyOptions::default(), &|| {});
 //! assert!(points.iter().all(|p| p.result.as_ref().is_ok_and(|s| s.amplitude.len() == 3)));

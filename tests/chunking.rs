@@ -6,6 +6,7 @@
 //! form from another origin, so the two states differ by rounding, ~1e-14 relative; at an
 //! impact of 6e-7 m/s that alone moves the event by ~2e-12 s, whatever the root search does.)
 
+use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::{Damper, Damping, Structure};
@@ -18,7 +19,7 @@ fn paper() -> Structure {
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];
-    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance }).collect()
+    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) }).collect()
 }
 
 /// Over `periods` forcing periods from rest, between one call and pieces: the largest

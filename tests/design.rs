@@ -67,7 +67,7 @@ fn an_infinite_clearance_layout_gives_the_fig08_sweep_of_case_d() {
     let exp = exps.iter().find(|e| e.model.as_ref().is_some_and(|m| m.id == "stated")).unwrap();
     let refs = shotdamp::checks::reference::ReferenceStore::load(&root.join("reference"), &exps).unwrap();
     let result = shotdamp::analysis::run(exp, &refs, &|| {}).unwrap();
-    let d = result.curves.get("D").expect("curve D");
+    let d = result.curves.of_case("D").expect("curve D");
     let peak = d.compliance.iter().flat_map(|r| r.iter().copied()).fold(0.0, f64::max);
     let p = Problem {
         structure: exp.structure.clone(),

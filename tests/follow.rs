@@ -3,6 +3,7 @@
 //! the transient search): the same orbits, to 1e-9, at every point of Fig. 5's band, across
 //! the fold of its hysteresis and the clearances where the beds stop reaching the top.
 
+use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, Damping, Structure};
 use shotdamp::sim::sweep::{continued, Direction};
 use shotdamp::sim::{SteadyOptions, System};
@@ -50,8 +51,10 @@ fn followed_sweeps_equal_the_transient_search_on_fig05s_band() {
         [(0.01, 0.3, vec![0, 1, 2]), (0.005, 0.3, vec![0, 1, 2]), (0.01, 1.0, vec![0, 1, 2]), (0.01, 0.2, vec![1])]
     {
         let masses = [0.74, 0.71, 0.64];
-        let dampers: Vec<Damper> =
-            hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * masses[h], clearance: clearance_mm * 1e-3 }).collect();
+        let dampers: Vec<Damper> = hosts
+            .iter()
+            .map(|&h| Damper { host: h, mass: 0.1 * masses[h], clearance: Clearance::from_m(clearance_mm * 1e-3) })
+            .collect();
         let sys = System::plastic(paper(zeta), dampers, 0, 2.6);
         followed += same_sweeps(&sys, Direction::Up);
         followed += same_sweeps(&sys, Direction::Down);

@@ -2,6 +2,7 @@
 //! plastic bouncing ball, a second integrator, grazes and chatter.
 
 #![allow(clippy::needless_range_loop)]
+use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use nalgebra::DVector;
@@ -17,7 +18,7 @@ fn paper() -> Structure {
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];
-    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance }).collect()
+    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) }).collect()
 }
 
 fn steady(sys: &System, f_hz: f64, opts: &SteadyOptions) -> shotdamp::sim::Steady {
@@ -91,7 +92,7 @@ fn bouncing_ball(gamma: f64) -> (Dynamics, State, f64) {
     let h = shotdamp::model::frf::receptance(&host, &host.mass_matrix(), 0, omega).unwrap()[0];
     let amplitude = gamma * GRAVITY / (omega * omega);
     let force = amplitude / h.norm();
-    let sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: f64::INFINITY }], 0, force);
+    let sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: Clearance::NO_TOP }], 0, force);
     let d = Dynamics::new(&sys, omega).unwrap();
     // Start on the forced motion, bed resting: no transient.
     let (x, v) = d.particular(1, 0.0);
@@ -230,7 +231,7 @@ mod rk {
                     None => g.push(if s.top[j] { -(a[p] + GRAVITY) } else { a[p] + GRAVITY }),
                     Some((y, _)) => {
                         g.push(y - s.x[p]);
-                        g.push(if d.clearance.is_finite() { s.x[p] + d.clearance - y } else { 1.0 });
+                        g.push(if d.clearance.is_bounded() { s.x[p] + d.clearance.m() - y } else { 1.0 });
                     }
                 }
             }
@@ -243,7 +244,7 @@ mod rk {
                 let p = d.host;
                 if let Some((y, u)) = s.free[j] {
                     let at_bottom = y - s.x[p] <= 1e-12 && u - s.v[p] <= 0.0;
-                    let at_top = d.clearance.is_finite() && s.x[p] + d.clearance - y <= 1e-12 && u - s.v[p] >= 0.0;
+                    let at_top = d.clearance.is_bounded() && s.x[p] + d.clearance.m() - y <= 1e-12 && u - s.v[p] >= 0.0;
                     if at_bottom || at_top {
                         let m = self.sys.structure.masses[p];
                         s.v[p] = (m * s.v[p] + d.mass * u) / (m + d.mass);
@@ -266,7 +267,7 @@ mod rk {
                 match worst {
                     Some((j, _)) => {
                         let d = &self.sys.dampers[j];
-                        let y = if s.top[j] { s.x[d.host] + d.clearance } else { s.x[d.host] };
+                        let y = if s.top[j] { s.x[d.host] + d.clearance.m() } else { s.x[d.host] };
                         s.free[j] = Some((y, s.v[d.host]));
                     }
                     None => break,

@@ -2,6 +2,8 @@
 //! motions of the independent solver's reference.
 
 use shotdamp::analysis::curves::{self, from_sweep};
+use shotdamp::experiment::CurveId;
+use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, Damping, Structure};
 use shotdamp::sim::sweep::{self, Direction};
 use shotdamp::sim::{SteadyOptions, System};
@@ -10,7 +12,8 @@ use shotdamp::table::to_csv;
 fn system(hosts: &[usize], clearance: f64) -> System {
     let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
     let m = [0.74, 0.71, 0.64];
-    let dampers = hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance }).collect();
+    let dampers =
+        hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) }).collect();
     System::plastic(s, dampers, 0, 2.6)
 }
 
@@ -19,7 +22,7 @@ fn csv_with_threads(threads: usize) -> Vec<u8> {
     let freqs: Vec<f64> = (0..16).map(|i| 45.0 + 0.5 * i as f64).collect();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     let points = pool.install(|| sweep::from_rest(&sys, &freqs, &SteadyOptions::default(), &|| {}));
-    let curve = from_sweep("triple", "triple", points, 2.6, &[1, 1, 1], 3);
+    let curve = from_sweep(CurveId::whole("triple"), "triple", points, 2.6, &[1, 1, 1], 3);
     to_csv(&curves::table("t", "", &[&curve], 3, 3)).unwrap()
 }
 
@@ -62,7 +65,8 @@ fn orbit_continuation_across_the_fold_keeps_both_motions_and_the_unstable_one_be
     let sys = system(&[1], 0.5e-3);
     let d = shotdamp::sim::Dynamics::new(&sys, 2.0 * std::f64::consts::PI * 50.4).unwrap();
     let st = shotdamp::sim::steady_state(&d, shotdamp::sim::State::at_rest(&d), &SteadyOptions::default());
-    let b = shotdamp::analysis::branches::continue_orbit("b", "b", &sys, 50.4, &st, false, (47.6, 50.4));
+    let b =
+        shotdamp::analysis::branches::continue_orbit(CurveId::whole("b"), "b", &sys, 50.4, &st, false, (47.6, 50.4));
     let mut crossings = Vec::new();
     for i in 0..b.freq_hz.len() - 1 {
         let (f0, f1) = (b.freq_hz[i], b.freq_hz[i + 1]);

@@ -5,6 +5,7 @@
 //! budget's own ten periods are, or closer; a point that is not on a torus is left to the
 //! budget.
 
+use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::{Damper, Damping, Structure};
@@ -17,7 +18,7 @@ fn paper() -> Structure {
 
 fn system(hosts: &[usize]) -> System {
     let m = [0.74, 0.71, 0.64];
-    let dampers = hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: f64::INFINITY }).collect();
+    let dampers = hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::NO_TOP }).collect();
     System::plastic(paper(), dampers, 0, 2.6)
 }
 

@@ -55,7 +55,7 @@ impl Ticker {
 }
 
 impl shotdamp::analysis::Progress for Ticker {
-    fn start(&self, _id: &str, total: u64) -> Box<shotdamp::analysis::Tick> {
+    fn start(&self, _id: &str, total: u64) -> Box<shotdamp::analysis::Tick<'static>> {
         self.expect(total);
         let me = self.clone();
         if total == 0 {
@@ -67,6 +67,10 @@ impl shotdamp::analysis::Progress for Ticker {
 }
 
 impl shotdamp::runner::study::StudyProgress for Ticker {
+    fn point(&self) {
+        self.check();
+    }
+
     fn sample(&self) {
         self.tick();
     }
@@ -89,12 +93,22 @@ pub fn run<T: Send>(
     work: impl FnOnce(&Ticker) -> Result<T, shotdamp::Error> + Send,
 ) -> PyResult<T> {
     let pool = shotdamp::runner::pool(jobs).map_err(error)?;
+    run_on(py, &pool, progress, work)
+}
+
+/// [`run`] on a pool the caller built (and may hand to `work` as well).
+pub fn run_on<T: Send>(
+    py: Python<'_>,
+    pool: &rayon::ThreadPool,
+    progress: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(&Ticker) -> Result<T, shotdamp::Error> + Send,
+) -> PyResult<T> {
     let ticker = Ticker::default();
     let progress = progress.map(|p| p.clone().unbind());
     let (outcome, interrupt, shown) = py.detach(|| {
         std::thread::scope(|s| {
             let (tx, rx) = mpsc::channel();
-            let (pool, ticker) = (&pool, &ticker);
+            let ticker = &ticker;
             s.spawn(move || {
                 let r = catch_unwind(AssertUnwindSafe(|| pool.install(|| work(ticker))));
                 let _ = tx.send(r);

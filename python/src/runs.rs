@@ -8,10 +8,10 @@ use pyo3::types::{PyDict, PyList};
 
 use shotdamp::analysis::ExperimentResult;
 use shotdamp::checks::reference::BaselineMode;
-use shotdamp::experiment::{self, Analysis, Clearance};
+use shotdamp::experiment::{self, Analysis, ClearanceSource};
 use shotdamp::output::study::Shard;
 use shotdamp::output::ReportOptions;
-use shotdamp::runner::{self, study as studies, Finished, ReportInputs, Settings};
+use shotdamp::runner::{self, study as studies, Finished, ReportInputs, ReportSettings, Settings};
 
 use crate::compute::{self, error};
 use crate::convert::{array1, columns};
@@ -102,7 +102,7 @@ impl Experiment {
                 format!("one of the file's cases: {}", self.cases.join(", ")),
             )));
         };
-        if let Some(i) = c.clearances.iter().position(|x| *x != Clearance::Fixed) {
+        if let Some(i) = c.clearances.iter().position(|x| *x != ClearanceSource::Fixed) {
             return Err(error(shotdamp::Error::invalid(
                 &origin,
                 format!("cases[{case}].dampers[{i}].clearance_mm"),
@@ -252,14 +252,7 @@ pub fn report<'py>(
         studies,
         designs,
     };
-    let settings = Settings {
-        reference: inputs.reference.clone(),
-        out,
-        jobs,
-        writing: ReportOptions { full_csv, ..ReportOptions::default() },
-        baseline_mode: BaselineMode::Required,
-        bless,
-    };
+    let settings = ReportSettings { out, jobs, writing: ReportOptions { full_csv, ..ReportOptions::default() }, bless };
     let done = compute::run(py, jobs, progress, |t| runner::report(&inputs, &settings, t, &|_| {}, &|_| {}))?;
     finished(py, &done)
 }
@@ -333,7 +326,8 @@ pub fn study<'py>(
     let out = out.unwrap_or_else(|| studies::default_out(&s));
     studies::refuse_overlap(&s, &reference, &out).map_err(error)?;
     let pool = runner::pool(jobs).map_err(error)?;
-    let (end, m) = compute::run(py, jobs, progress, |t| {
+    // One pool: the shard's samples run on the pool that hosts the computation.
+    let (end, m) = compute::run_on(py, &pool, progress, |t| {
         let mine = s.samples.iter().filter(|x| shard.owns(x.index)).count();
         t.expect(mine as u64);
         studies::run_shard(&s, &reference, &out, shard, &pool, t)

@@ -143,7 +143,14 @@ impl System {
             })
         })?;
         let n = self.sim.dof();
-        let c = curves::from_sweep(curve, curve, points, self.force, &self.case.grains, n);
+        let c = curves::from_sweep(
+            shotdamp::experiment::CurveId::whole(curve),
+            curve,
+            points,
+            self.force,
+            &self.case.grains,
+            n,
+        );
         let t = curves::table("compliance", "", &[&c], n, self.case.dampers.len());
         crate::convert::columns(py, &t)
     }

@@ -78,3 +78,41 @@ def test_progress_is_reported_and_may_stop_the_run():
 
     with pytest.raises(RuntimeError, match="enough"):
         system.sweep(np.linspace(44.0, 56.0, 400), steady=SLOW, jobs=1, progress=stop)
+
+
+def test_ctrl_c_stops_a_study_shard_inside_its_sample(tmp_path):
+    # Samples of about 25 s each (Fig. 8 on a 2 mHz grid): Ctrl-C stops the shard at its next
+    # simulated point, not at the end of the sample, and no part is written.
+    experiment = (sd_root() / "experiments" / "fig08_number_of_dampers.toml").resolve()
+    study = tmp_path / "long.toml"
+    study.write_text(
+        f"""[study]
+id = "long"
+title = "one long sample"
+experiment = "{experiment}"
+
+[study.set]
+"analysis.freq_hz" = {{ start = 8.0, stop = 60.0, step = 0.002 }}
+
+[[vary]]
+name = "force_n"
+key = "excitation.force_n"
+values = [2.6]
+"""
+    )
+    out = tmp_path / "out"
+    timer = threading.Timer(1.5, _thread.interrupt_main)
+    started = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sd.study(study, out=out, jobs=1)
+    elapsed = time.monotonic() - started
+    timer.cancel()
+    assert elapsed < 6.0, elapsed
+    assert not list(tmp_path.rglob("part-*.parquet"))
+
+
+def sd_root():
+    from pathlib import Path
+
+    return Path(__file__).resolve().parents[2]

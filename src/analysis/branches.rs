@@ -4,6 +4,7 @@
 
 use std::f64::consts::PI;
 
+use crate::experiment::CurveId;
 use crate::figure::{Dash, Marker, Series};
 use crate::sim::continuation::{continue_branch, BranchEnd, ContinuationOptions, Parameter, Special};
 use crate::sim::periodic::NewtonOptions;
@@ -16,8 +17,8 @@ const MAX_SECTIONS: usize = 6;
 /// A continued branch of orbits, as compliances.
 #[derive(Debug, Clone, Default)]
 pub struct OrbitCurve {
-    /// Key, e.g. "single:orbits-up".
-    pub id: String,
+    /// Which branch, e.g. "single:orbits-up".
+    pub id: CurveId,
     /// Legend label.
     pub label: String,
     /// Forcing frequency of each point, Hz.
@@ -37,7 +38,7 @@ pub struct OrbitCurve {
 /// Continues the orbit of the steady state `seed` (found at `seed_hz`) upward (`up`) or
 /// downward over `range` (Hz).
 pub fn continue_orbit(
-    id: &str,
+    id: CurveId,
     label: &str,
     sys: &System,
     seed_hz: f64,
@@ -45,7 +46,7 @@ pub fn continue_orbit(
     up: bool,
     range: (f64, f64),
 ) -> OrbitCurve {
-    let mut out = OrbitCurve { id: id.into(), label: label.into(), ..OrbitCurve::default() };
+    let mut out = OrbitCurve { id, label: label.into(), ..OrbitCurve::default() };
     // Decomposed once; each frequency adds only its forced response.
     let base = Dynamics::unforced(sys);
     let family = |f: f64| base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f));
@@ -121,7 +122,7 @@ pub fn tables(branches: &[OrbitCurve], n: usize) -> Vec<Table> {
         "branches",
         "Periodic orbits continued in frequency by pseudo-arclength (branch points in the order continued): compliance of each mass (m/N), stability, largest Floquet multiplier modulus",
     )
-    .str("branch", rows.iter().map(|(b, _)| b.id.clone()).collect())
+    .str("branch", rows.iter().map(|(b, _)| b.id.to_string()).collect())
     .f64("freq_hz", rows.iter().map(|(b, i)| b.freq_hz[*i]).collect());
     for r in 0..n {
         t = t.f64(format!("c{}", r + 1), rows.iter().map(|(b, i)| b.compliance[*i][r]).collect());
@@ -135,7 +136,7 @@ pub fn tables(branches: &[OrbitCurve], n: usize) -> Vec<Table> {
         "branch_special_points",
         "Folds, turns at a graze (non-smooth: between two branch points, the outer one given) and period doublings on each branch, Hz; and how each branch ended",
     )
-    .str("branch", specials.iter().map(|(b, _)| b.id.clone()).chain(branches.iter().map(|b| b.id.clone())).collect())
+    .str("branch", specials.iter().map(|(b, _)| b.id.to_string()).chain(branches.iter().map(|b| b.id.to_string())).collect())
     .str("kind", specials.iter().map(|(_, s)| s.name().to_string()).chain(branches.iter().map(|_| "end".to_string())).collect())
     .f64("freq_hz", specials.iter().map(|(_, s)| s.p()).chain(branches.iter().map(|_| f64::NAN)).collect())
     .str("note", specials.iter().map(|_| String::new()).chain(branches.iter().map(|b| b.end.clone())).collect());

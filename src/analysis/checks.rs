@@ -73,7 +73,7 @@ fn evaluate_one(
         }
         CheckKind::Tube { case, mass, curve, x_px, y_px } | CheckKind::Peak { case, mass, curve, x_px, y_px, .. } => {
             let file = refs.digitised(&spec.reference_file);
-            match (file, file.and_then(|f| f.get(curve)), curves.get(case)) {
+            match (file, file.and_then(|f| f.get(curve)), curves.of_case(case)) {
                 (Some(f), Some(d), Some(c)) => match &spec.kind {
                     CheckKind::Peak { window, .. } => {
                         out.extend(digitised_checks::peak_check(spec, f, d, c, *mass, *window, *x_px, *y_px))

@@ -30,7 +30,7 @@ fn named(v: &[(&str, f64)]) -> Vec<(String, f64)> {
 
 /// The peak of `case` over that of `over` in a window.
 fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<Read> {
-    let (ca, cb) = (curves.get(case)?, curves.get(over)?);
+    let (ca, cb) = (curves.of_case(case)?, curves.of_case(over)?);
     let (a, b) = (ca.peak_in(mass, w)?, cb.peak_in(mass, w)?);
     Some(Read {
         value: a.1 / b.1,
@@ -48,7 +48,7 @@ fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f6
 
 /// Both curves at the frequency of `case`'s peak. The curves share their grid.
 fn at_resonance(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<Read> {
-    let (a, b) = (curves.get(case)?, curves.get(over)?);
+    let (a, b) = (curves.of_case(case)?, curves.of_case(over)?);
     let (f, peak) = a.peak_in(mass, w)?;
     let j = b.freq_hz.iter().position(|x| *x == f)?;
     let c = b.compliance[j][mass];
@@ -71,7 +71,7 @@ fn at_resonance(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Opt
 /// peak (settled, period-1 points of both). Settled when the points skipped in the band (not
 /// settled or not period-1 on either curve) would not raise it.
 fn band_max(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f64, f64)>) -> Option<Read> {
-    let (a, b) = (curves.get(case)?, curves.get(over)?);
+    let (a, b) = (curves.of_case(case)?, curves.of_case(over)?);
     let (_, peak) = a.peak_in(mass, w)?;
     let inside = |f: f64| w.is_none_or(|(lo, hi)| f >= lo && f <= hi);
     let mut ratios: Vec<(f64, f64)> = Vec::new();

@@ -6,8 +6,9 @@ use std::collections::BTreeMap;
 
 use crate::checks::fmt_num;
 use crate::checks::reference::ReferenceStore;
-use crate::experiment::{clearance_key, Case, Experiment, PlotKind};
+use crate::experiment::{Case, CurveId, Experiment, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
+use crate::model::Clearance;
 use crate::sim::sweep;
 use crate::sim::SteadyOptions;
 use crate::table::Table;
@@ -41,7 +42,7 @@ pub fn work(exp: &Experiment, study: &Study) -> u64 {
     (cases * (clearances + 1) * study.freq_hz.len()) as u64
 }
 
-fn with_clearance(case: &Case, d: f64) -> Case {
+fn with_clearance(case: &Case, d: Clearance) -> Case {
     let mut c = case.clone();
     for dm in &mut c.dampers {
         dm.clearance = d;
@@ -59,10 +60,10 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
     let unbounded: Vec<Curve> = cases
         .iter()
         .map(|case| {
-            let sys = curves::system(exp, &with_clearance(case, f64::INFINITY));
+            let sys = curves::system(exp, &with_clearance(case, Clearance::NO_TOP));
             let pts = sweep::from_rest(&sys, study.freq_hz, study.steady, tick);
             curves::from_sweep(
-                &format!("{}@inf", case.id),
+                CurveId::clearance(&case.id, f64::INFINITY),
                 &format!("{}, d = inf", case.label),
                 pts,
                 force,
@@ -80,18 +81,14 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
             .collect(),
     };
     let mut scanned: Vec<Curve> = Vec::new();
-    // The case and clearance (mm) of each scanned curve, as computed (not read back from the
-    // curve's key).
-    let mut scanned_at: Vec<(String, f64)> = Vec::new();
     for case in &cases {
         for &mm in &clearances {
-            let key = clearance_key(&case.id, mm);
+            let key = CurveId::clearance(&case.id, mm);
             let grid = curves::union_grid(study.freq_hz, &check_frequencies(exp, refs, &key));
-            let sys = curves::system(exp, &with_clearance(case, mm * 1e-3));
+            let sys = curves::system(exp, &with_clearance(case, Clearance::from_mm(mm)));
             let pts = sweep::from_rest(&sys, &grid, study.steady, tick);
-            scanned_at.push((case.id.clone(), mm));
             scanned.push(curves::from_sweep(
-                &key,
+                key,
                 &format!("{}, d = {} mm", case.label, fmt_num(mm)),
                 pts,
                 force,
@@ -102,11 +99,12 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
     }
     // Peak compliance of the objective mass per case and clearance.
     let mut rows: Vec<(String, f64, f64, f64, f64)> = Vec::new(); // case, d mm, peak, f, top impacts at peak
-    for (c, (case, mm)) in scanned.iter().zip(scanned_at) {
+    for c in &scanned {
+        let (case, Some(mm)) = (&c.id.case, c.id.clearance_mm()) else { continue };
         if let Some((f, v)) = c.peak(m) {
             let i = c.index_of(f).unwrap_or(0);
             let tops: f64 = c.top_impacts.get(i).map(|t| t.iter().sum()).unwrap_or(0.0);
-            rows.push((case, mm, v, f, tops));
+            rows.push((case.clone(), mm, v, f, tops));
         }
     }
     let mut exports = BTreeMap::new();

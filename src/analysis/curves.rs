@@ -1,8 +1,6 @@
 //! Steady-state compliance curves: what sweeps produce, what checks and plots consume.
 
-use std::collections::BTreeMap;
-
-use crate::experiment::{Case, Experiment};
+use crate::experiment::{Case, CurveId, Experiment};
 use crate::model::frf::compliance_curve;
 use crate::model::structure::added_masses;
 use crate::sim::sweep::SweepPoint;
@@ -13,8 +11,9 @@ use crate::table::Table;
 /// it), with how each point ended.
 #[derive(Debug, Clone, Default)]
 pub struct Curve {
-    /// Key, e.g. "D", "single:up", "triple@0.2mm".
-    pub id: String,
+    /// Which curve: its text is the key in tables and legends, e.g. "D", "single:up",
+    /// "triple@0.2mm".
+    pub id: CurveId,
     /// Legend label.
     pub label: String,
     /// Forcing frequency of each point, Hz.
@@ -42,8 +41,45 @@ pub struct Curve {
     pub stop: Vec<String>,
 }
 
-/// Curves by id.
-pub type Curves = BTreeMap<String, Curve>;
+/// The curves an experiment computed, found by identity.
+#[derive(Debug, Clone, Default)]
+pub struct Curves(Vec<Curve>);
+
+impl Curves {
+    /// No curves.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The curve with this identity.
+    pub fn get(&self, id: &CurveId) -> Option<&Curve> {
+        self.0.iter().find(|c| &c.id == id)
+    }
+
+    /// The case's only curve (a sweep from rest, or a linear curve).
+    pub fn of_case(&self, case: &str) -> Option<&Curve> {
+        self.get(&CurveId::whole(case))
+    }
+
+    /// Adds curves; one with the identity of a curve already held replaces it.
+    pub fn extend(&mut self, curves: impl IntoIterator<Item = Curve>) {
+        for c in curves {
+            match self.0.iter_mut().find(|old| old.id == c.id) {
+                Some(old) => *old = c,
+                None => {
+                    let key = c.id.to_string();
+                    let at = self.0.partition_point(|old| old.id.to_string() <= key);
+                    self.0.insert(at, c);
+                }
+            }
+        }
+    }
+
+    /// The curves, in the order of their ids' text (as tables and legends list them).
+    pub fn iter(&self) -> impl Iterator<Item = &Curve> {
+        self.0.iter()
+    }
+}
 
 impl Curve {
     /// The index of the point at `f` (within 1e-9 Hz).
@@ -131,10 +167,17 @@ pub fn per_container(values: Vec<f64>, grains: &[usize], max: bool) -> Vec<f64> 
 
 /// The curve of sweep points (sorted by frequency); `grains[k]` beds per container `k` (their
 /// impacts are summed and their flights maximised per container).
-pub fn from_sweep(id: &str, label: &str, mut points: Vec<SweepPoint>, force: f64, grains: &[usize], n: usize) -> Curve {
+pub fn from_sweep(
+    id: CurveId,
+    label: &str,
+    mut points: Vec<SweepPoint>,
+    force: f64,
+    grains: &[usize],
+    n: usize,
+) -> Curve {
     let beds = grains.len();
     points.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
-    let mut c = Curve { id: id.into(), label: label.into(), ..Curve::default() };
+    let mut c = Curve { id, label: label.into(), ..Curve::default() };
     for p in points {
         c.freq_hz.push(p.freq_hz);
         match p.result {
@@ -179,14 +222,14 @@ pub fn stop_text(s: &crate::sim::Steady) -> String {
 
 /// The exact linear curve of a case: bare without dampers, damper masses rigidly added
 /// ("stuck") otherwise. Every point is settled and period-1 by construction.
-pub fn linear(exp: &Experiment, case: &Case, id: &str, label: &str, freq_hz: &[f64], stuck: bool) -> Curve {
+pub fn linear(exp: &Experiment, case: &Case, id: CurveId, label: &str, freq_hz: &[f64], stuck: bool) -> Curve {
     let added = if stuck { added_masses(&case.dampers) } else { Vec::new() };
     let mass = exp.structure.mass_matrix_with(&added);
     let omegas: Vec<f64> = freq_hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     let rows = compliance_curve(&exp.structure, &mass, exp.excitation.mass, &omegas);
     let m = freq_hz.len();
     Curve {
-        id: id.into(),
+        id,
         label: label.into(),
         freq_hz: freq_hz.to_vec(),
         compliance: rows,
@@ -239,7 +282,7 @@ pub fn union_grid(grid: &[f64], extra: &[f64]) -> Vec<f64> {
 pub fn table(name: &str, description: &str, curves: &[&Curve], n: usize, beds: usize) -> Table {
     let rows: Vec<(&Curve, usize)> = curves.iter().flat_map(|c| (0..c.freq_hz.len()).map(move |i| (*c, i))).collect();
     let mut t = Table::new(name, description)
-        .str("curve", rows.iter().map(|(c, _)| c.id.clone()).collect())
+        .str("curve", rows.iter().map(|(c, _)| c.id.to_string()).collect())
         .f64("freq_hz", rows.iter().map(|(c, i)| c.freq_hz[*i]).collect());
     for r in 0..n {
         t = t.f64(format!("c{}", r + 1), rows.iter().map(|(c, i)| c.compliance[*i][r]).collect());

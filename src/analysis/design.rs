@@ -247,7 +247,7 @@ fn case_layout(case: &crate::experiment::Case) -> Layout {
     Layout {
         hosts: case.dampers.iter().map(|d| d.host).collect(),
         masses_kg: case.dampers.iter().map(|d| d.mass).collect(),
-        clearances_mm: case.dampers.iter().map(|d| d.clearance * 1e3).collect(),
+        clearances_mm: case.dampers.iter().map(|d| d.clearance.mm()).collect(),
     }
 }
 

@@ -50,7 +50,7 @@ pub fn compliance(
         .iter()
         .filter(|p| matches!(p.kind, PlotKind::Compliance | PlotKind::CompliancePanels))
         .map(|p| {
-            let shown: Vec<&Curve> = curves.iter().copied().filter(|c| p.cases.iter().any(|id| c.id == *id || c.id.starts_with(&format!("{id}:")))).collect();
+            let shown: Vec<&Curve> = curves.iter().copied().filter(|c| p.cases.iter().any(|id| c.id.drawn_for(id))).collect();
             let (lo, hi) = p.x_range.unwrap_or(extras.range);
             let mut vlines: Vec<VLine> = if p.mark_natural_frequencies {
                 modes.iter().filter(|m| m.freq_hz >= lo && m.freq_hz <= hi).map(|m| VLine { x: m.freq_hz, label: format!(" f{} = {:.2} Hz", m.number, m.freq_hz) }).collect()

@@ -1,7 +1,7 @@
 //! Modal table and exact linear frequency response (bare and "stuck" structures).
 
 use crate::checks::reference::ReferenceStore;
-use crate::experiment::{Experiment, PlotSpec};
+use crate::experiment::{CurveId, Experiment, PlotSpec};
 use crate::figure::Figure;
 use crate::model::modal::{modal_summary, ModeSummary};
 use crate::table::Table;
@@ -48,8 +48,8 @@ pub fn frf(
         .cases
         .iter()
         .map(|case| {
-            let grid = union_grid(freq_hz, &super::sweep::check_frequencies(exp, refs, &case.id));
-            curves::linear(exp, case, &case.id, &case.label, &grid, !case.dampers.is_empty())
+            let grid = union_grid(freq_hz, &super::sweep::check_frequencies(exp, refs, &CurveId::whole(&case.id)));
+            curves::linear(exp, case, CurveId::whole(&case.id), &case.label, &grid, !case.dampers.is_empty())
         })
         .collect();
     let shown: Vec<&Curve> = curves.iter().collect();

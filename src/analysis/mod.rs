@@ -80,13 +80,13 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             let (table, figs, cs) = linear::frf(exp, &modes, freq_hz, refs);
             tables.push(table);
             figures.extend(figs);
-            curves.extend(cs.into_iter().map(|c| (c.id.clone(), c)));
+            curves.extend(cs);
         }
         Analysis::Sweep { freq_hz, start, steady } => {
             let out = sweep::run(exp, &modes, refs, freq_hz, *start, steady, tick);
             tables.extend(out.tables);
             figures.extend(out.figures);
-            curves.extend(out.curves.into_iter().map(|c| (c.id.clone(), c)));
+            curves.extend(out.curves);
             exports = out.exports;
         }
         Analysis::ClearanceStudy { freq_hz, clearances_mm, points, objective_mass, objective_case, steady } => {
@@ -101,7 +101,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             let out = clearance::run(exp, refs, &study, tick);
             tables.extend(out.tables);
             figures.extend(out.figures);
-            curves.extend(out.curves.into_iter().map(|c| (c.id.clone(), c)));
+            curves.extend(out.curves);
             exports = out.exports;
         }
         Analysis::Waveform { frequencies, labels, periods, steady } => {
@@ -240,11 +240,7 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
                 .enumerate()
                 .map(|(j, (d, law))| {
                     let grains = c.grains.get(j).copied().unwrap_or(1);
-                    let clr = if d.clearance.is_infinite() {
-                        "inf".to_string()
-                    } else {
-                        format!("{} mm", fmt_num(d.clearance * 1e3))
-                    };
+                    let clr = d.clearance.to_string();
                     let bed = if grains > 1 {
                         format!(
                             ", a column of {grains} grains, restitution e = {}{}",

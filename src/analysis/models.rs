@@ -41,8 +41,8 @@ pub fn overlay(runs: &[&ExperimentResult]) -> Vec<Figure> {
                     let label = r.experiment.model.as_ref().map(|m| m.label.clone()).unwrap_or_default();
                     let cases: Vec<_> = r
                         .curves
-                        .values()
-                        .filter(|c| p.cases.iter().any(|id| c.id == *id || c.id.starts_with(&format!("{id}:"))))
+                        .iter()
+                        .filter(|c| p.cases.iter().any(|id| c.id.drawn_for(id)))
                         .collect();
                     for (ci, c) in cases.iter().enumerate() {
                         if c.freq_hz.is_empty() {

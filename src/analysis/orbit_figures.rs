@@ -3,7 +3,7 @@
 //! phases of the SDOF solution in a panel below (the paper's right-hand axis).
 
 use crate::checks::fmt_num;
-use crate::experiment::{Experiment, PlotKind};
+use crate::experiment::{CurveId, Experiment, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::modal::ModeSummary;
 use crate::sim::continuation::Special;
@@ -77,7 +77,7 @@ pub fn tables(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult) -> Vec<
             .i64("only_type_ii", rows.iter().map(|x| x.only_type_ii as i64).collect())
             .i64(
                 "chosen",
-                rows.iter().map(|x| ((x.clearance_mm - r.case.dampers[0].clearance * 1e3).abs() < 1e-12) as i64).collect(),
+                rows.iter().map(|x| (x.clearance_mm == r.case.dampers[0].clearance.mm()) as i64).collect(),
             ),
         );
     }
@@ -251,8 +251,10 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                     laws: Vec::new(),
                     grains: Vec::new(),
                 };
-                let bare: Curve = curves::linear(exp, &bare_case, "bare", "no damper (linear)", &fine, false);
-                let stuck: Curve = curves::linear(exp, &r.case, "stuck", "damper mass stuck (linear)", &fine, true);
+                let bare: Curve =
+                    curves::linear(exp, &bare_case, CurveId::whole("bare"), "no damper (linear)", &fine, false);
+                let stuck: Curve =
+                    curves::linear(exp, &r.case, CurveId::whole("stuck"), "damper mass stuck (linear)", &fine, true);
                 let mut panels = Vec::new();
                 for &m in &masses {
                     let mut panel = Panel::new(
@@ -342,7 +344,7 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                         r.case.dampers[0].host + 1,
                         r.mode + 1,
                         r.sdof_model.mode.mass_ratio,
-                        fmt_num(r.case.dampers[0].clearance * 1e3),
+                        fmt_num(r.case.dampers[0].clearance.mm()),
                         kinds.join(", ")
                     ),
                     panels,
@@ -374,8 +376,8 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                 let (x, y) = pick(false);
                 panel.series.push(Series::points("other types within the resonance", x, y, 1, Marker::Cross));
                 panel.vlines.push(VLine {
-                    x: r.case.dampers[0].clearance * 1e3,
-                    label: format!(" chosen: {} mm", fmt_num(r.case.dampers[0].clearance * 1e3)),
+                    x: r.case.dampers[0].clearance.mm(),
+                    label: format!(" chosen: {}", r.case.dampers[0].clearance),
                 });
                 out.push(Figure {
                     id: p.id.clone(),

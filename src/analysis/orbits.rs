@@ -9,10 +9,10 @@ use std::f64::consts::PI;
 use num_complex::Complex64;
 use rayon::prelude::*;
 
-use crate::experiment::{Case, Experiment};
+use crate::experiment::{Case, CurveId, Experiment};
 use crate::model::modal::ModeSummary;
 use crate::model::sdof::EquivalentSdof;
-use crate::model::Damper;
+use crate::model::{Clearance, Damper};
 use crate::sim::continuation::{continue_branch, BranchEnd, BranchPoint, ContinuationOptions, Parameter, Special};
 use crate::sim::periodic::{seed, solve, summarize, NewtonOptions};
 use crate::sim::sweep::{self, SweepPoint};
@@ -308,7 +308,8 @@ pub fn sdof_choice(
     let (rows, branches): (Vec<ClearanceRow>, Vec<OrbitBranch>) = list
         .par_iter()
         .map(|&mm| {
-            let dampers: Vec<Damper> = dampers.iter().map(|d| Damper { clearance: mm * 1e-3, ..*d }).collect();
+            let dampers: Vec<Damper> =
+                dampers.iter().map(|d| Damper { clearance: Clearance::from_mm(mm), ..*d }).collect();
             let (e, sys) = sdof_system(exp, &dampers, mode);
             let b = branch("sdof", "", &sys, freq_hz, &seeds_hz, steady, &sdof_compliance(&e));
             tick();
@@ -373,20 +374,20 @@ pub fn run(
     };
     let reference = modes[mode].reference_mass;
     // Candidate clearances: the SDOF branch of each, and the types within its resonance.
-    let scan = matches!(case.clearances.first(), Some(crate::experiment::Clearance::Scan));
+    let scan = matches!(case.clearances.first(), Some(crate::experiment::ClearanceSource::Scan));
     let (chosen_mm, clearance_rows, clearance_note, mut branches) = match (scan, clearances_mm) {
         (true, Some(list)) => {
             let choice = sdof_choice(exp, &case.dampers, mode, reference, freq_hz, list, steady, tick);
             (choice.clearance_mm, choice.rows, choice.note, choice.branches)
         }
         _ => {
-            let mm = case.dampers[0].clearance * 1e3;
+            let mm = case.dampers[0].clearance.mm();
             (mm, Vec::new(), format!("The clearance is given: {} mm.", crate::checks::fmt_num(mm)), Vec::new())
         }
     };
     let mut case = case;
-    case.dampers[0].clearance = chosen_mm * 1e-3;
-    case.clearances = vec![crate::experiment::Clearance::Fixed];
+    case.dampers[0].clearance = Clearance::from_mm(chosen_mm);
+    case.clearances = vec![crate::experiment::ClearanceSource::Fixed];
     let (sdof_model, sdof_sys) = sdof_system(exp, &case.dampers, mode);
     // The chosen candidate's branch is already there (the same system, computed the same way).
     let sdof = match clearance_rows.iter().position(|r| r.clearance_mm == chosen_mm) {
@@ -403,7 +404,8 @@ pub fn run(
     let n = exp.structure.dof();
     let points: Vec<SweepPoint> = sweep::from_rest(&full, freq_hz, steady, tick);
     let checked = check_points(&full, &points, force);
-    let simulation = curves::from_sweep("simulation", "simulation of the 3-mass structure", points, force, &[1], n);
+    let simulation =
+        curves::from_sweep(CurveId::whole("simulation"), "simulation of the 3-mass structure", points, force, &[1], n);
     Some(OrbitsResult {
         mode,
         force,
@@ -461,7 +463,7 @@ fn check_points(sys: &System, points: &[SweepPoint], force: f64) -> Vec<OrbitChe
 /// Values other experiments may use.
 pub fn exports(r: &OrbitsResult, reference: usize) -> BTreeMap<String, f64> {
     let mut e = BTreeMap::new();
-    e.insert("clearance_mm".into(), r.case.dampers[0].clearance * 1e3);
+    e.insert("clearance_mm".into(), r.case.dampers[0].clearance.mm());
     for (name, b) in [("sdof", &r.sdof), ("exact", &r.exact)] {
         if let Some((f, c)) = b.peak(reference) {
             e.insert(format!("peak_{name}"), c);

@@ -2,7 +2,7 @@
 //! the relative difference at each of them for a residual panel with the tolerance.
 
 use crate::checks::reference::ReferenceStore;
-use crate::experiment::{CheckKind, Experiment};
+use crate::experiment::{CheckKind, CurveId, Experiment};
 
 use super::curves::Curve;
 
@@ -10,7 +10,7 @@ use super::curves::Curve;
 #[derive(Debug, Clone)]
 pub struct Overlay {
     /// The computed curve it belongs to.
-    pub curve: String,
+    pub curve: CurveId,
     /// E.g. "independent solver" or "digitised Fig. 8".
     pub source: String,
     /// Per mass: the reference's (frequency, compliance) points (empty for masses it lacks).
@@ -74,13 +74,13 @@ pub fn overlays(exp: &Experiment, refs: &ReferenceStore, curves: &[Curve]) -> Ve
             }
             CheckKind::Tube { case, mass, curve, .. } => {
                 let (Some(file), Some(c)) =
-                    (refs.digitised(&spec.reference_file), curves.iter().find(|c| &c.id == case))
+                    (refs.digitised(&spec.reference_file), curves.iter().find(|c| c.id == CurveId::whole(case)))
                 else {
                     continue;
                 };
                 let Some(d) = file.get(curve) else { continue };
                 let mut o = Overlay {
-                    curve: case.clone(),
+                    curve: CurveId::whole(case),
                     source: format!("digitised {}", file.meta.figure),
                     points: vec![Vec::new(); n],
                     residual: vec![Vec::new(); n],

@@ -39,20 +39,21 @@ pub struct ExperimentResult {
     pub design: Option<crate::design::stored::StoredDesign>,
 }
 
-/// Counts one finished unit of work (a simulated point).
-pub type Tick = dyn Fn() + Sync;
+/// Counts one finished unit of work (a simulated point). A caller may stop the work at a point
+/// by unwinding out of it; `'a` lets it borrow what it reports to.
+pub type Tick<'a> = dyn Fn() + Sync + 'a;
 
 /// Receives progress: one counter per experiment.
 pub trait Progress: Sync {
     /// A counter for an experiment that will run `total` simulated points.
-    fn start(&self, id: &str, total: u64) -> Box<Tick>;
+    fn start(&self, id: &str, total: u64) -> Box<Tick<'static>>;
 }
 
 /// No progress display.
 pub struct NoProgress;
 
 impl Progress for NoProgress {
-    fn start(&self, _id: &str, _total: u64) -> Box<Tick> {
+    fn start(&self, _id: &str, _total: u64) -> Box<Tick<'static>> {
         Box::new(|| {})
     }
 }

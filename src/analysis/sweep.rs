@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use crate::checks::fmt_num;
 use crate::checks::reference::ReferenceStore;
-use crate::experiment::{round_hz, CheckKind, Experiment, Linear, PlotSpec, Start};
+use crate::experiment::{round_hz, CheckKind, CurveId, Experiment, Linear, PlotSpec, Start};
 use crate::figure::{Figure, VLine};
 use crate::model::modal::ModeSummary;
 use crate::sim::sweep::{self, Direction};
@@ -18,7 +18,7 @@ use super::figures::{self, Extras};
 use super::result::Tick;
 
 /// Frequencies the curve checks of `curve_id` need, from their reference files.
-pub fn check_frequencies(exp: &Experiment, refs: &ReferenceStore, curve_id: &str) -> Vec<f64> {
+pub fn check_frequencies(exp: &Experiment, refs: &ReferenceStore, curve_id: &CurveId) -> Vec<f64> {
     exp.checks
         .iter()
         .filter_map(|c| match &c.kind {
@@ -36,7 +36,7 @@ pub fn work(exp: &Experiment, freq_hz: &[f64], start: Start, refs: &ReferenceSto
         .filter(|c| !c.dampers.is_empty())
         .map(|c| {
             let extra = match start {
-                Start::Rest => check_frequencies(exp, refs, &c.id),
+                Start::Rest => check_frequencies(exp, refs, &CurveId::whole(&c.id)),
                 Start::Continuation => Vec::new(),
             };
             let n = union_grid(freq_hz, &extra).len() as u64;
@@ -74,16 +74,23 @@ pub fn run(
     let band = (freq_hz[0], freq_hz[freq_hz.len() - 1]);
     for case in &exp.cases {
         if case.dampers.is_empty() {
-            let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &case.id));
-            curves.push(curves::linear(exp, case, &case.id, &case.label, &grid, false));
+            let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &CurveId::whole(&case.id)));
+            curves.push(curves::linear(exp, case, CurveId::whole(&case.id), &case.label, &grid, false));
             continue;
         }
         let sys = curves::system(exp, case);
         match start {
             Start::Rest => {
-                let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &case.id));
+                let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &CurveId::whole(&case.id)));
                 let pts = sweep::from_rest(&sys, &grid, steady, tick);
-                curves.push(curves::from_sweep(&case.id, &case.label, pts, exp.excitation.force, &case.grains, n));
+                curves.push(curves::from_sweep(
+                    CurveId::whole(&case.id),
+                    &case.label,
+                    pts,
+                    exp.excitation.force,
+                    &case.grains,
+                    n,
+                ));
             }
             Start::Continuation => {
                 for (dir, word) in [(Direction::Up, "up"), (Direction::Down, "down")] {
@@ -91,7 +98,7 @@ pub fn run(
                     // The orbit of the sweep's first point, continued through the band.
                     if let Some((f, Ok(st))) = pts.first().map(|p| (p.freq_hz, &p.result)) {
                         orbit_branches.push(branches::continue_orbit(
-                            &format!("{}:orbits-{word}", case.id),
+                            CurveId::orbits(&case.id, dir),
                             &format!("orbits continued {word}ward from {} Hz", fmt_num(f)),
                             &sys,
                             f,
@@ -100,9 +107,9 @@ pub fn run(
                             band,
                         ));
                     }
-                    let id = format!("{}:{word}", case.id);
+                    let id = CurveId::continued(&case.id, dir);
                     let label = format!("{} (continued {word}ward)", case.label);
-                    curves.push(curves::from_sweep(&id, &label, pts, exp.excitation.force, &case.grains, n));
+                    curves.push(curves::from_sweep(id, &label, pts, exp.excitation.force, &case.grains, n));
                 }
             }
         }
@@ -163,14 +170,21 @@ fn linear_refs(exp: &Experiment, freq_hz: &[f64]) -> Vec<Curve> {
                 laws: Vec::new(),
                 grains: Vec::new(),
             });
-        out.push(curves::linear(exp, &bare, "linear:bare", "no damper (linear)", &fine, false));
+        out.push(curves::linear(
+            exp,
+            &bare,
+            CurveId::linear(&bare.id, Linear::Bare),
+            "no damper (linear)",
+            &fine,
+            false,
+        ));
     }
     if wanted.contains(&Linear::Stuck) {
         for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
             out.push(curves::linear(
                 exp,
                 case,
-                &format!("linear:stuck:{}", case.id),
+                CurveId::linear(&case.id, Linear::Stuck),
                 &format!("{}, masses stuck (linear)", case.label),
                 &fine,
                 true,
@@ -195,7 +209,7 @@ fn marks(exp: &Experiment, curves: &[Curve]) -> (Vec<VLine>, BTreeMap<String, f6
     let mut lines = Vec::new();
     for p in &exp.plots {
         let Some(rel) = &p.marks_relative_to else { continue };
-        let Some(curve) = curves.iter().find(|c| &c.id == rel) else { continue };
+        let Some(curve) = curves.iter().find(|c| c.id == CurveId::whole(rel)) else { continue };
         let mass = p.masses.first().copied().unwrap_or(0);
         let Some((peak, _)) = curve.peak(mass) else { continue };
         for (label, off) in &p.marks {

@@ -144,7 +144,7 @@ pub fn run(
             let types = curves::bed_ranges(case)
                 .into_iter()
                 .enumerate()
-                .map(|(k, beds)| motion_type(&sampler, beds, periods, case.dampers[k].clearance.is_finite()))
+                .map(|(k, beds)| motion_type(&sampler, beds, periods, case.dampers[k].clearance.is_bounded()))
                 .collect();
             records.push(Record {
                 case: case.id.clone(),
@@ -248,8 +248,8 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
                         };
                         series.push(Series::line(label, r.phase_deg.clone(), bed, j).dashed(Dash::Dashed));
                     }
-                    if dm.clearance.is_finite() {
-                        let top = host.iter().map(|h| h + 1e3 * dm.clearance).collect();
+                    if dm.clearance.is_bounded() {
+                        let top = host.iter().map(|h| h + dm.clearance.mm()).collect();
                         series.push(
                             Series::line(format!("top of container on m{}", dm.host + 1), r.phase_deg.clone(), top, j)
                                 .dashed(Dash::Dotted),

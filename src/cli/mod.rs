@@ -352,14 +352,8 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 studies: cli.studies.clone(),
                 designs: cli.designs.clone(),
             };
-            let settings = runner::Settings {
-                reference: cli.reference.clone(),
-                out: out.clone(),
-                jobs: *jobs,
-                writing: writing.options(),
-                baseline_mode: BaselineMode::Required,
-                bless: *bless,
-            };
+            let settings =
+                runner::ReportSettings { out: out.clone(), jobs: *jobs, writing: writing.options(), bless: *bless };
             Ok(finish(|progress, log, staging| runner::report(&inputs, &settings, progress, log, staging))?.0)
         }
     }
@@ -494,7 +488,7 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
         for i in 0..n {
             let e = EquivalentSdof::new(&exp.structure, &c.dampers, i, exp.excitation.mass, exp.excitation.force);
             let m = &e.mode;
-            let d = if e.clearance.is_finite() { format!("{:.3}", e.clearance * 1e3) } else { "inf".into() };
+            let d = if e.clearance.is_bounded() { format!("{:.3}", e.clearance.mm()) } else { "inf".into() };
             say!(
                 "{:>4} {:>8} {:>10.5} {:>12.2} {:>11.5} {:>10.4} {:>9.5} {:>10.5} {:>8}",
                 m.number,
@@ -628,7 +622,7 @@ impl Bars {
 }
 
 impl Progress for Bars {
-    fn start(&self, id: &str, total: u64) -> Box<Tick> {
+    fn start(&self, id: &str, total: u64) -> Box<Tick<'static>> {
         let Some(multi) = &self.multi else { return Box::new(|| {}) };
         if total == 0 {
             return Box::new(|| {});

@@ -10,7 +10,7 @@
 pub mod search;
 pub mod stored;
 
-use crate::model::{Damper, Structure};
+use crate::model::{Clearance, Damper, Structure};
 use crate::sim::sweep::{self, Direction, SweepPoint};
 use crate::sim::{SteadyOptions, System};
 
@@ -165,7 +165,7 @@ impl Layout {
             .zip(&self.masses_kg)
             .zip(&self.clearances_mm)
             .filter(|((_, m), _)| **m > 0.0)
-            .map(|((&host, &mass), &d)| Damper { host, mass, clearance: d * 1e-3 })
+            .map(|((&host, &mass), &d)| Damper { host, mass, clearance: Clearance::from_mm(d) })
             .collect()
     }
 

@@ -8,8 +8,9 @@ use crate::reference::values::ValueFile;
 
 use super::fields::mass_index;
 use super::raw::RawCheck;
-use super::{clearance_key, Analysis, CheckKind, CheckSpec, Start};
+use super::{Analysis, CheckKind, CheckSpec, CurveId, Start};
 use crate::number::Tolerance;
+use crate::sim::sweep::Direction;
 
 /// The largest relative tolerance a check may state.
 pub const MAX_REL_TOL: f64 = 10.0;
@@ -96,8 +97,11 @@ pub fn check(
                 let rel = c.rel_tol.unwrap_or(0.0);
                 let id = case("case", &c.case)?;
                 let curve = match (analysis, c.direction.as_deref(), c.clearance_mm) {
-                    (Analysis::Sweep { start: Start::Continuation, .. }, Some(dir @ ("up" | "down")), None) => {
-                        format!("{id}:{dir}")
+                    (Analysis::Sweep { start: Start::Continuation, .. }, Some("up"), None) => {
+                        CurveId::continued(&id, Direction::Up)
+                    }
+                    (Analysis::Sweep { start: Start::Continuation, .. }, Some("down"), None) => {
+                        CurveId::continued(&id, Direction::Down)
                     }
                     (Analysis::Sweep { start: Start::Continuation, .. }, _, _) => {
                         return Err(Error::invalid(
@@ -110,7 +114,7 @@ pub fn check(
                     (Analysis::ClearanceStudy { clearances_mm: Some(list), .. }, None, Some(mm))
                         if list.iter().any(|x| (x - mm).abs() < 1e-12) =>
                     {
-                        clearance_key(&id, mm)
+                        CurveId::clearance(&id, mm)
                     }
                     (Analysis::ClearanceStudy { .. }, _, _) => {
                         return Err(Error::invalid(
@@ -120,7 +124,7 @@ pub fn check(
                             "name one of the clearances the study scans (analysis.clearances_mm)",
                         ));
                     }
-                    (_, None, None) => id,
+                    (_, None, None) => CurveId::whole(&id),
                     _ => {
                         return Err(Error::invalid(
                             path,

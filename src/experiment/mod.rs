@@ -3,6 +3,7 @@
 
 mod analysis;
 mod checks;
+pub mod curve_id;
 mod design;
 mod fields;
 mod load;
@@ -24,6 +25,7 @@ use crate::sim::impulse::ImpulseOptions;
 use crate::sim::SteadyOptions;
 
 pub use analysis::round_hz;
+pub use curve_id::CurveId;
 pub use load::{parse_table, read_merged};
 pub use validate::validate;
 
@@ -95,8 +97,8 @@ pub enum Number {
 
 /// How a damper's clearance is given.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Clearance {
-    /// A number (m; infinite: no top).
+pub enum ClearanceSource {
+    /// A number (or no top).
     Fixed,
     /// Scanned by a clearance study.
     Scan,
@@ -114,7 +116,7 @@ pub struct Case {
     /// The dampers; a clearance that is scanned or exported is infinite until resolved.
     pub dampers: Vec<Damper>,
     /// How each damper's clearance is given.
-    pub clearances: Vec<Clearance>,
+    pub clearances: Vec<ClearanceSource>,
     /// Each damper's impact law (plastic unless the file gives a restitution).
     pub laws: Vec<crate::sim::bed::ImpactLaw>,
     /// Each damper's number of grains: 1 for one mass, more for a column (docs/model.md,
@@ -316,11 +318,11 @@ pub enum CheckKind {
     PaperParameters,
     /// A case's compliance curves against a reference curve file, at the reference's own
     /// frequencies: `rel_tol` at `fraction` of the comparable points, `rel_tol_all` at all.
-    /// `curve` names the computed curve: the case id, `CASE:up` / `CASE:down` for
-    /// continuation, `CASE@0.2mm` for a scanned clearance.
+    /// `curve` names the computed curve: the case's own, a continuation sweep's or a scanned
+    /// clearance's.
     Curve {
-        /// The computed curve's id.
-        curve: String,
+        /// The computed curve.
+        curve: CurveId,
         /// Prefix of the reference file's compliance columns (`PREFIXc1`, ...; empty: none).
         columns: String,
         /// Share of points that must lie within `rel_tol`.
@@ -554,7 +556,7 @@ impl Experiment {
         };
         for case in &self.cases {
             for c in &case.clearances {
-                if let Clearance::Export(r) = c {
+                if let ClearanceSource::Export(r) = c {
                     add(r);
                 }
             }
@@ -587,10 +589,10 @@ impl Experiment {
         let mut out = self.clone();
         for (ci, case) in out.cases.iter_mut().enumerate() {
             for (di, (d, c)) in case.dampers.iter_mut().zip(case.clearances.iter_mut()).enumerate() {
-                if let Clearance::Export(r) = c {
+                if let ClearanceSource::Export(r) = c {
                     let mm = lookup(r, format!("cases[{ci}].dampers[{di}].clearance_mm"))?;
-                    d.clearance = mm * 1e-3;
-                    *c = Clearance::Fixed;
+                    d.clearance = crate::model::Clearance::from_mm(mm);
+                    *c = ClearanceSource::Fixed;
                 }
             }
         }
@@ -603,11 +605,6 @@ impl Experiment {
         }
         Ok(out)
     }
-}
-
-/// The key of a scanned clearance's curve, e.g. `triple@0.2mm`.
-pub fn clearance_key(case: &str, mm: f64) -> String {
-    format!("{case}@{}mm", crate::number::fmt_num(mm))
 }
 
 /// Values experiments export, by run key ([`Experiment::key`]) and value name.

@@ -11,7 +11,7 @@ use crate::sim::impulse::ImpulseOptions;
 use crate::sim::{SteadyOptions, System};
 
 use super::raw::{RawAnalysis, RawDamper, RawExcitation, RawSteady, RawStructure};
-use super::{Analysis, Case, Clearance, Excitation};
+use super::{Analysis, Case, ClearanceSource, Excitation};
 
 pub use super::fields::{check_frequencies, MIN_FREQUENCY_RATIO};
 
@@ -50,7 +50,7 @@ pub fn case(origin: &str, id: &str, dampers: Vec<toml::Table>, structure: &Struc
         raw.push(read::<RawDamper>(origin, &format!("dampers[{i}]."), toml::Value::Table(d))?);
     }
     let (dampers, clearances, laws, grains) = super::validate::dampers(origin.as_ref(), "", raw, structure)?;
-    if let Some(i) = clearances.iter().position(|c| *c != Clearance::Fixed) {
+    if let Some(i) = clearances.iter().position(|c| *c != ClearanceSource::Fixed) {
         return Err(Error::invalid(
             origin,
             format!("dampers[{i}].clearance_mm"),

@@ -15,7 +15,7 @@ use super::checks::check;
 use super::fields::{is_identifier, mass_index};
 use super::outputs::plot;
 use super::raw::{RawCase, RawDamper, RawExcitation, RawExperiment, RawFit, RawStructure};
-use super::{Analysis, Case, Clearance, Excitation, Experiment, Meta, ModelInfo};
+use super::{Analysis, Case, ClearanceSource, Excitation, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
 pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result<Experiment> {
@@ -55,7 +55,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let may_scan = matches!(analysis, Analysis::SdofPeriodic { clearances_mm: Some(_), .. });
     for (ci, case) in cases.iter().enumerate() {
         for (di, c) in case.clearances.iter().enumerate() {
-            let scan = *c == Clearance::Scan;
+            let scan = *c == ClearanceSource::Scan;
             if (scan && !(scanning || may_scan)) || (!scan && scanning) {
                 return Err(Error::invalid(
                     path,
@@ -397,7 +397,7 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
 /// The dampers of a case, one per container: their masses and clearances, clearance specs,
 /// impact laws and grains. Keys are named `{prefix}dampers[i].KEY` (`prefix` "cases[0]." in an
 /// experiment file).
-pub(super) type CaseDampers = (Vec<Damper>, Vec<Clearance>, Vec<crate::sim::bed::ImpactLaw>, Vec<usize>);
+pub(super) type CaseDampers = (Vec<Damper>, Vec<ClearanceSource>, Vec<crate::sim::bed::ImpactLaw>, Vec<usize>);
 
 pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Structure) -> Result<CaseDampers> {
     let n = s.dof();
@@ -568,17 +568,17 @@ fn impact_law(
     Ok(crate::sim::bed::ImpactLaw { restitution: e, stick_speed: if e == 0.0 { 0.0 } else { stick_speed } })
 }
 
-/// A clearance in mm (a number, "inf", "scan" or "@EXPERIMENT.KEY") to metres; scanned and
-/// exported clearances are infinite until resolved.
-fn clearance(path: &Path, key: &str, v: &toml::Value) -> Result<(f64, Clearance)> {
+/// A clearance in mm (a number, "inf", "scan" or "@EXPERIMENT.KEY"); scanned and exported
+/// clearances have no top until resolved.
+fn clearance(path: &Path, key: &str, v: &toml::Value) -> Result<(crate::model::Clearance, ClearanceSource)> {
     let allowed = "a clearance is a number of millimetres >= 0, \"inf\" for no top, \"scan\" in a clearance study, or \"@EXPERIMENT.KEY\"";
     let mm = match v {
         toml::Value::Float(f) => *f,
         toml::Value::Integer(i) => *i as f64,
         toml::Value::String(s) if s == "inf" => f64::INFINITY,
-        toml::Value::String(s) if s == "scan" => return Ok((f64::INFINITY, Clearance::Scan)),
+        toml::Value::String(s) if s == "scan" => return Ok((crate::model::Clearance::NO_TOP, ClearanceSource::Scan)),
         toml::Value::String(s) => match export_ref(s) {
-            Some(r) => return Ok((f64::INFINITY, Clearance::Export(r))),
+            Some(r) => return Ok((crate::model::Clearance::NO_TOP, ClearanceSource::Export(r))),
             None => return Err(Error::invalid(path, key, v, allowed)),
         },
         other => return Err(Error::invalid(path, key, other, allowed)),
@@ -586,5 +586,5 @@ fn clearance(path: &Path, key: &str, v: &toml::Value) -> Result<(f64, Clearance)
     if mm.is_nan() || mm < 0.0 {
         return Err(Error::invalid(path, key, mm, "a clearance must be >= 0 mm (or \"inf\")"));
     }
-    Ok((mm * 1e-3, Clearance::Fixed))
+    Ok((crate::model::Clearance::from_mm(mm), ClearanceSource::Fixed))
 }

@@ -1,5 +1,6 @@
 //! The physical model: structure, dampers, modes and the linear response.
 
+pub mod clearance;
 pub mod damping_fit;
 pub mod fit;
 pub mod frf;
@@ -9,4 +10,5 @@ pub mod modes;
 pub mod sdof;
 pub mod structure;
 
+pub use clearance::Clearance;
 pub use structure::{Damper, Damping, Structure, GRAVITY};

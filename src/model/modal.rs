@@ -118,7 +118,7 @@ mod tests {
     #[test]
     fn mass_ratio_follows_eq13() {
         let s = paper();
-        let dampers = [Damper { host: 1, mass: 0.071, clearance: f64::INFINITY }];
+        let dampers = [Damper { host: 1, mass: 0.071, clearance: crate::model::Clearance::NO_TOP }];
         let modes = modal_summary(&s, &dampers);
         for m in &modes {
             let expected = m.shape[1].abs() * 0.071 / m.modal_mass;

@@ -6,6 +6,7 @@ use nalgebra::DMatrix;
 
 use super::modal::{modal_summary, ModeSummary};
 use super::structure::{Damper, Damping, Structure};
+use super::Clearance;
 
 /// One mode as a single mass with one damper on it.
 #[derive(Debug, Clone)]
@@ -17,7 +18,7 @@ pub struct EquivalentSdof {
     /// Damper mass on the modal mass, `mu_i M_i`, kg.
     pub damper_mass: f64,
     /// The clearance of the damper, m (that of the dampers mapped onto the mode).
-    pub clearance: f64,
+    pub clearance: Clearance,
 }
 
 impl EquivalentSdof {
@@ -25,7 +26,7 @@ impl EquivalentSdof {
     /// on mass `driven`. The dampers must share one clearance (the SDOF has one damper).
     pub fn new(structure: &Structure, dampers: &[Damper], mode: usize, driven: usize, force: f64) -> EquivalentSdof {
         let m = modal_summary(structure, dampers).swap_remove(mode);
-        let clearance = dampers.first().map_or(f64::INFINITY, |d| d.clearance);
+        let clearance = dampers.first().map_or(Clearance::NO_TOP, |d| d.clearance);
         EquivalentSdof { force: m.shape[driven] * force, damper_mass: m.mass_ratio * m.modal_mass, clearance, mode: m }
     }
 
@@ -59,7 +60,7 @@ mod tests {
     #[test]
     fn third_mode_with_a_damper_on_m2() {
         let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
-        let d = [Damper { host: 1, mass: 0.071, clearance: 0.4e-3 }];
+        let d = [Damper { host: 1, mass: 0.071, clearance: Clearance::from_mm(0.4) }];
         let e = EquivalentSdof::new(&s, &d, 2, 0, 2.6);
         // Mode 3 peaks at m2: the SDOF coordinate is m2's displacement, the damper keeps its mass.
         assert_eq!(e.mode.reference_mass, 1);

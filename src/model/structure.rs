@@ -4,6 +4,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::modes::symmetric_modes;
+use super::Clearance;
 
 /// Standard gravity, m/s^2 (docs/model.md section 1).
 pub const GRAVITY: f64 = 9.806_65;
@@ -101,15 +102,15 @@ pub fn chain_stiffness(k: &[f64]) -> DMatrix<f64> {
 }
 
 /// One shot damper: a particle bed of mass `mass` in a container on primary mass `host`
-/// (0-based) with free travel `clearance` (m; `f64::INFINITY` for no top).
+/// (0-based) with free travel `clearance` ([`Clearance::NO_TOP`] for no top).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Damper {
     /// Host mass index, 0-based.
     pub host: usize,
     /// Bed mass, kg.
     pub mass: f64,
-    /// Clearance between bottom and top, m (infinite: no top).
-    pub clearance: f64,
+    /// Clearance between bottom and top.
+    pub clearance: Clearance,
 }
 
 /// `(host, mass)` pairs of a damper set, for [`Structure::mass_matrix_with`].

@@ -38,6 +38,22 @@ pub struct Settings {
     pub bless: bool,
 }
 
+/// How the whole report is written ([`report`]): the rest of [`Settings`] follows from the
+/// report's inputs (the reference folder) and from `bless` (every experiment is compared with
+/// its blessed baseline unless the baselines are being written).
+#[derive(Debug, Clone)]
+pub struct ReportSettings {
+    /// Where the report goes (replaced only when it is a report).
+    pub out: PathBuf,
+    /// Worker threads (`None`: one per core).
+    pub jobs: Option<usize>,
+    /// How the report is written (`complete` is set by [`report`]).
+    pub writing: ReportOptions,
+    /// Write each experiment's baseline sample into `reference/baseline/` instead of
+    /// comparing with it.
+    pub bless: bool,
+}
+
 /// What a run produced.
 pub struct Finished {
     /// The experiments' results, in the order given.
@@ -210,12 +226,11 @@ impl ReportInputs {
 
 /// The whole report, as `shotdamp report` writes it: every experiment file of the folder, the
 /// stored answers of the design files, the studies marked `report = true`, each experiment
-/// compared with its blessed baseline (or its baseline written, `bless`). `settings.reference`
-/// is taken from `inputs`; `settings.writing.complete` is set. The arguments after `settings`
-/// are those of [`run_and_write`].
+/// compared with its blessed baseline (or its baseline written, `bless`). The arguments after
+/// `settings` are those of [`run_and_write`].
 pub fn report(
     inputs: &ReportInputs,
-    settings: &Settings,
+    settings: &ReportSettings,
     progress: &dyn Progress,
     log: &(dyn Fn(String) + Sync),
     staging: &dyn Fn(PathBuf),
@@ -243,9 +258,11 @@ pub fn report(
     )?;
     let settings = Settings {
         reference: reference.to_path_buf(),
+        out: settings.out.clone(),
+        jobs: settings.jobs,
         writing: ReportOptions { complete: true, ..settings.writing.clone() },
         baseline_mode: if settings.bless { BaselineMode::Off } else { BaselineMode::Required },
-        ..settings.clone()
+        bless: settings.bless,
     };
     run_and_write(&exps, &studies, &settings, progress, log, staging)
 }

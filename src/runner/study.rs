@@ -23,6 +23,8 @@ pub trait StudyProgress: Sync {
     fn waiting(&self, _shard: Shard, _holder: &str) {}
     /// `done` of the shard's `total` samples are in the folder already.
     fn resuming(&self, _done: usize, _total: usize) {}
+    /// One more simulated point of a sample (a caller may stop the shard here by unwinding).
+    fn point(&self) {}
     /// One more sample computed.
     fn sample(&self) {}
     /// A batch written: `done` of `total`, `seconds` since this run started computing.
@@ -149,7 +151,7 @@ fn compute(
             chunk
                 .par_iter()
                 .map(|(s, e)| {
-                    let r = run::run_prepared(e, s, refs, &|| {}).map_err(|err| study.at_sample(err, s));
+                    let r = run::run_prepared(e, s, refs, &|| progress.point()).map_err(|err| study.at_sample(err, s));
                     progress.sample();
                     r
                 })

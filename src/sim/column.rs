@@ -31,7 +31,7 @@ pub const MAX_COLLISIONS: usize = 100_000;
 pub(super) fn watches(d: &Dynamics, s: &State, col: Range<usize>, w: &mut Vec<Watch>) {
     let dm = &d.system.dampers[col.start];
     let host = dm.host;
-    if dm.clearance == 0.0 {
+    if dm.clearance.is_zero() {
         return;
     }
     for j in col.clone() {
@@ -53,8 +53,8 @@ pub(super) fn watches(d: &Dynamics, s: &State, col: Range<usize>, w: &mut Vec<Wa
                     }),
                     _ => {}
                 }
-                if matches!(above, None | Some(Bed::Top)) && dm.clearance.is_finite() {
-                    w.push(Watch::GapTop { bed: j, host, d: dm.clearance, y0, u0, tf: t0 });
+                if matches!(above, None | Some(Bed::Top)) && dm.clearance.is_bounded() {
+                    w.push(Watch::GapTop { bed: j, host, d: dm.clearance.m(), y0, u0, tf: t0 });
                 }
             }
         }
@@ -233,7 +233,7 @@ pub(super) fn resolve(
         let y0 = if at_floor {
             s.x[p]
         } else if at_lid {
-            s.x[p] + dm.clearance
+            s.x[p] + dm.clearance.m()
         } else {
             // The lowest grain of the touching run: one position for the whole run.
             let mut low = i;

@@ -99,13 +99,13 @@ impl<'a> Engine<'a> {
             let host = dm.host;
             match *bed {
                 // A bed in a container without clearance cannot move relative to it.
-                Bed::Bottom | Bed::Top if dm.clearance == 0.0 => {}
+                Bed::Bottom | Bed::Top if dm.clearance.is_zero() => {}
                 Bed::Bottom => w.push(Watch::Contact { bed: j, host, sigma: 1.0 }),
                 Bed::Top => w.push(Watch::Contact { bed: j, host, sigma: -1.0 }),
                 Bed::Free { t0, y0, u0 } => {
                     w.push(Watch::GapBottom { bed: j, host, y0, u0, tf: t0 });
-                    if dm.clearance.is_finite() {
-                        w.push(Watch::GapTop { bed: j, host, d: dm.clearance, y0, u0, tf: t0 });
+                    if dm.clearance.is_bounded() {
+                        w.push(Watch::GapTop { bed: j, host, d: dm.clearance.m(), y0, u0, tf: t0 });
                     }
                 }
             }
@@ -253,7 +253,7 @@ impl<'a> Engine<'a> {
             if x.sticks {
                 side[j] = Some(top);
             } else {
-                let y_contact = if top { s.x[p] + dm.clearance } else { s.x[p] };
+                let y_contact = if top { s.x[p] + dm.clearance.m() } else { s.x[p] };
                 s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: x.bed };
             }
             events.push(Event {
@@ -275,9 +275,9 @@ impl<'a> Engine<'a> {
         }
         // Settle: the largest set of candidates whose contact forces are consistent.
         let candidates: Vec<usize> =
-            (0..s.beds.len()).filter(|&j| side[j].is_some() && sys.dampers[j].clearance != 0.0).collect();
+            (0..s.beds.len()).filter(|&j| side[j].is_some() && !sys.dampers[j].clearance.is_zero()).collect();
         let locked: usize = (0..s.beds.len())
-            .filter(|&j| side[j].is_some() && sys.dampers[j].clearance == 0.0)
+            .filter(|&j| side[j].is_some() && sys.dampers[j].clearance.is_zero())
             .fold(0, |m, j| m | (1 << j));
         let attached = self.settle(s, &candidates, &side, locked);
         for &j in &candidates {
@@ -286,7 +286,7 @@ impl<'a> Engine<'a> {
             if attached & (1 << j) != 0 {
                 s.beds[j] = if top { Bed::Top } else { Bed::Bottom };
             } else {
-                let y0 = if top { s.x[p] + sys.dampers[j].clearance } else { s.x[p] };
+                let y0 = if top { s.x[p] + sys.dampers[j].clearance.m() } else { s.x[p] };
                 let was_attached = s.beds[j].attached();
                 s.beds[j] = Bed::Free { t0: s.t, y0, u0: s.v[p] };
                 if was_attached {

@@ -330,7 +330,7 @@ impl Observer for Sampler {
                     let dm = &d.system.dampers[j];
                     let (pos, vel, c) = match *b {
                         Bed::Bottom => (x[dm.host], v[dm.host], 'B'),
-                        Bed::Top => (x[dm.host] + dm.clearance, v[dm.host], 'T'),
+                        Bed::Top => (x[dm.host] + dm.clearance.m(), v[dm.host], 'T'),
                         Bed::Free { t0, y0, u0 } => {
                             let (pos, vel) = Bed::flight(t0, y0, u0, t);
                             (pos, vel, 'F')

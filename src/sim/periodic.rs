@@ -550,6 +550,6 @@ pub fn summarize(d: &Dynamics, problem: &Problem, orbit: &Orbit) -> OrbitSummary
         tau0: first(&|k| matches!(k, EventKind::LiftOff { top: false })),
         tau1: first(&|k| matches!(k, EventKind::Impact { top: true, .. })),
         tau2: first(&|k| matches!(k, EventKind::LiftOff { top: true })),
-        kind: motion_type(&orbit.events, d.system.dampers[0].clearance.is_finite(), problem.periods),
+        kind: motion_type(&orbit.events, d.system.dampers[0].clearance.is_bounded(), problem.periods),
     }
 }

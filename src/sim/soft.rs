@@ -145,9 +145,9 @@ pub fn amplitude(
                 fy[j - 1] -= f;
             }
             // Top and highest grain.
-            if dm.clearance.is_finite() {
+            if dm.clearance.is_bounded() {
                 let j1 = g.end - 1;
-                let f = push(y[j1] - (x[p] + dm.clearance), u[j1] - v[p], c_wall);
+                let f = push(y[j1] - (x[p] + dm.clearance.m()), u[j1] - v[p], c_wall);
                 fy[j1] -= f;
                 fx[p] += f;
             }

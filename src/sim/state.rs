@@ -68,7 +68,7 @@ impl State {
         let dm = &d.system.dampers[j];
         match self.beds[j] {
             Bed::Bottom => (self.x[dm.host], self.v[dm.host]),
-            Bed::Top => (self.x[dm.host] + dm.clearance, self.v[dm.host]),
+            Bed::Top => (self.x[dm.host] + dm.clearance.m(), self.v[dm.host]),
             Bed::Free { t0, y0, u0 } => Bed::flight(t0, y0, u0, self.t),
         }
     }

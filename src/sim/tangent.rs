@@ -106,7 +106,7 @@ impl Tangent {
                 Bed::Top => -1.0,
                 Bed::Free { .. } => continue,
             };
-            if d.system.dampers[j].clearance != 0.0 && sigma * (a[p] + GRAVITY) < 0.0 {
+            if !d.system.dampers[j].clearance.is_zero() && sigma * (a[p] + GRAVITY) < 0.0 {
                 let (y0, u0) = s.bed_motion(d, j);
                 s.beds[j] = Bed::Free { t0: s.t, y0, u0 };
             }
