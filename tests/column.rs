@@ -202,33 +202,7 @@ fn a_column_dropped_into_a_resting_container_comes_to_rest_after_a_bounded_numbe
 
 /// An experiment file with the given analysis and damper keys (the paper's three containers).
 fn experiment_file(dir: &std::path::Path, analysis: &str, keys: &str) -> std::path::PathBuf {
-    let exps = common::experiments(dir, &[]);
-    let file = exps.join("grains.toml");
-    std::fs::write(
-        &file,
-        format!(
-            r#"extends = "shared/paper_structure.toml"
-[experiment]
-id = "grains"
-title = "t"
-figure = "-"
-caption = "c"
-claim = "c"
-[analysis]
-{analysis}
-[[cases]]
-id = "triple"
-label = "triple"
-dampers = [
-    {{ mass = 1, mass_ratio = 0.1, clearance_mm = 0.35{keys} }},
-    {{ mass = 2, mass_ratio = 0.1, clearance_mm = 0.35{keys} }},
-    {{ mass = 3, mass_ratio = 0.1, clearance_mm = 0.35{keys} }},
-]
-"#
-        ),
-    )
-    .unwrap();
-    file
+    common::three_containers(dir, "grains", analysis, "triple", [keys; 3])
 }
 
 const SWEEP: &str = r#"kind = "sweep"

@@ -15,36 +15,10 @@ fn paper() -> Structure {
     Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
 }
 
-/// Fig. 5's three containers (d = 0.35 mm), the one on m2 with restitution 0.5.
+/// Fig. 5's three containers (d = 0.35 mm), the one on m2 with restitution keys `restitution`.
 fn experiment_file(dir: &std::path::Path, restitution: &str) -> std::path::PathBuf {
-    let exps = common::experiments(dir, &[]);
-    let file = exps.join("bounce.toml");
-    std::fs::write(
-        &file,
-        format!(
-            r#"extends = "shared/paper_structure.toml"
-[experiment]
-id = "bounce"
-title = "t"
-figure = "-"
-caption = "c"
-claim = "c"
-[analysis]
-kind = "sweep"
-freq_hz = {{ start = 46.0, stop = 50.0, step = 1.0 }}
-[[cases]]
-id = "mixed"
-label = "mixed"
-dampers = [
-    {{ mass = 1, mass_ratio = 0.1, clearance_mm = 0.35 }},
-    {{ mass = 2, mass_ratio = 0.1, clearance_mm = 0.35{restitution} }},
-    {{ mass = 3, mass_ratio = 0.1, clearance_mm = 0.35 }},
-]
-"#
-        ),
-    )
-    .unwrap();
-    file
+    let analysis = "kind = \"sweep\"\nfreq_hz = { start = 46.0, stop = 50.0, step = 1.0 }";
+    common::three_containers(dir, "bounce", analysis, "mixed", ["", restitution, ""])
 }
 
 #[test]

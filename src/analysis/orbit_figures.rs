@@ -243,14 +243,7 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                 let masses: Vec<usize> =
                     if p.masses.len() == exp.structure.dof() { vec![reference] } else { p.masses.clone() };
                 let fine: Vec<f64> = (0..=1200).map(|i| range.0 + (range.1 - range.0) * i as f64 / 1200.0).collect();
-                let bare_case = crate::experiment::Case {
-                    id: "bare".into(),
-                    label: "no damper".into(),
-                    dampers: Vec::new(),
-                    clearances: Vec::new(),
-                    laws: Vec::new(),
-                    grains: Vec::new(),
-                };
+                let bare_case = crate::experiment::Case::bare();
                 let bare: Curve =
                     curves::linear(exp, &bare_case, CurveId::whole("bare"), "no damper (linear)", &fine, false);
                 let stuck: Curve =

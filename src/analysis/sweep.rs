@@ -162,14 +162,7 @@ fn linear_refs(exp: &Experiment, freq_hz: &[f64]) -> Vec<Curve> {
     let mut out = Vec::new();
     if wanted.contains(&Linear::Bare) {
         let bare =
-            exp.cases.iter().find(|c| c.dampers.is_empty()).cloned().unwrap_or_else(|| crate::experiment::Case {
-                id: "bare".into(),
-                label: "no damper".into(),
-                dampers: Vec::new(),
-                clearances: Vec::new(),
-                laws: Vec::new(),
-                grains: Vec::new(),
-            });
+            exp.cases.iter().find(|c| c.dampers.is_empty()).cloned().unwrap_or_else(crate::experiment::Case::bare);
         out.push(curves::linear(
             exp,
             &bare,

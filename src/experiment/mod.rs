@@ -124,6 +124,21 @@ pub struct Case {
     pub grains: Vec<usize>,
 }
 
+impl Case {
+    /// The structure without dampers, as a case (id `bare`), for the linear curves drawn under
+    /// a figure whose experiment has no such case.
+    pub fn bare() -> Case {
+        Case {
+            id: "bare".into(),
+            label: "no damper".into(),
+            dampers: Vec::new(),
+            clearances: Vec::new(),
+            laws: Vec::new(),
+            grains: Vec::new(),
+        }
+    }
+}
+
 /// How the points of a sweep start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Start {

@@ -103,3 +103,23 @@ pub fn csv_rows(text: &str) -> Vec<Vec<String>> {
         })
         .collect()
 }
+
+/// An experiment file `ID.toml` in the experiments folder of `dir` (see [`experiments`]) on the
+/// paper's structure with the analysis `analysis` and one case `case` of Fig. 5's three
+/// containers (mu = 0.1, d = 0.35 mm), each with its extra damper keys (e.g.
+/// `", restitution = 0.5"`).
+#[allow(dead_code)]
+pub fn three_containers(dir: &Path, id: &str, analysis: &str, case: &str, keys: [&str; 3]) -> PathBuf {
+    let exps = experiments(dir, &[]);
+    let file = exps.join(format!("{id}.toml"));
+    let dampers: String = keys
+        .iter()
+        .enumerate()
+        .map(|(i, k)| format!("    {{ mass = {}, mass_ratio = 0.1, clearance_mm = 0.35{k} }},\n", i + 1))
+        .collect();
+    let text = format!(
+        "extends = \"shared/paper_structure.toml\"\n[experiment]\nid = \"{id}\"\ntitle = \"t\"\nfigure = \"-\"\ncaption = \"c\"\nclaim = \"c\"\n[analysis]\n{analysis}\n[[cases]]\nid = \"{case}\"\nlabel = \"{case}\"\ndampers = [\n{dampers}]\n"
+    );
+    std::fs::write(&file, text).unwrap();
+    file
+}
