@@ -100,8 +100,9 @@ impl<'a> Engine<'a> {
             match *bed {
                 // A bed in a container without clearance cannot move relative to it.
                 Bed::Bottom | Bed::Top if dm.clearance.is_zero() => {}
-                Bed::Bottom => w.push(Watch::Contact { bed: j, host, sigma: 1.0 }),
-                Bed::Top => w.push(Watch::Contact { bed: j, host, sigma: -1.0 }),
+                Bed::Bottom | Bed::Top => {
+                    w.push(Watch::Contact { bed: j, host, sigma: Bed::contact_sign(*bed == Bed::Top) })
+                }
                 Bed::Free { t0, y0, u0 } => {
                     w.push(Watch::GapBottom { bed: j, host, y0, u0, tf: t0 });
                     if dm.clearance.is_bounded() {
@@ -220,15 +221,7 @@ impl<'a> Engine<'a> {
         let sys = &d.system;
         let mut events = Vec::new();
         // Contact candidates: every attached bed plus beds that just landed plastically.
-        let mut side: Vec<Option<bool>> = s
-            .beds
-            .iter()
-            .map(|b| match b {
-                Bed::Bottom => Some(false),
-                Bed::Top => Some(true),
-                Bed::Free { .. } => None,
-            })
-            .collect();
+        let mut side: Vec<Option<bool>> = s.beds.iter().map(Bed::end).collect();
         let in_column = |j: usize| !sys.columns.is_empty() && sys.column_of(j).is_some();
         let mut hit_beds: Vec<(usize, bool)> =
             hits.iter().filter_map(Watch::impact).filter(|&(j, _)| !in_column(j)).collect();
@@ -253,7 +246,7 @@ impl<'a> Engine<'a> {
             if x.sticks {
                 side[j] = Some(top);
             } else {
-                let y_contact = if top { s.x[p] + dm.clearance.m() } else { s.x[p] };
+                let (y_contact, _) = Bed::end_motion(top, s.x[p], s.v[p], dm.clearance);
                 s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: x.bed };
             }
             events.push(Event {
@@ -284,9 +277,9 @@ impl<'a> Engine<'a> {
             let top = side[j].unwrap_or(false);
             let p = sys.dampers[j].host;
             if attached & (1 << j) != 0 {
-                s.beds[j] = if top { Bed::Top } else { Bed::Bottom };
+                s.beds[j] = Bed::on_end(top);
             } else {
-                let y0 = if top { s.x[p] + sys.dampers[j].clearance.m() } else { s.x[p] };
+                let (y0, _) = Bed::end_motion(top, s.x[p], s.v[p], sys.dampers[j].clearance);
                 let was_attached = s.beds[j].attached();
                 s.beds[j] = Bed::Free { t0: s.t, y0, u0: s.v[p] };
                 if was_attached {

@@ -329,11 +329,14 @@ impl Observer for Sampler {
                 for (j, b) in beds.iter().enumerate() {
                     let dm = &d.system.dampers[j];
                     let (pos, vel, c) = match *b {
-                        Bed::Bottom => (x[dm.host], v[dm.host], 'B'),
-                        Bed::Top => (x[dm.host] + dm.clearance.m(), v[dm.host], 'T'),
                         Bed::Free { t0, y0, u0 } => {
                             let (pos, vel) = Bed::flight(t0, y0, u0, t);
                             (pos, vel, 'F')
+                        }
+                        resting => {
+                            let top = resting == Bed::Top;
+                            let (pos, vel) = Bed::end_motion(top, x[dm.host], v[dm.host], dm.clearance);
+                            (pos, vel, if top { 'T' } else { 'B' })
                         }
                     };
                     y.push(pos);

@@ -5,6 +5,7 @@
 use nalgebra::DVector;
 
 use super::system::Dynamics;
+use crate::model::Clearance;
 
 /// Where a bed is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,6 +29,40 @@ impl Bed {
     /// True when the bed moves with its host.
     pub fn attached(&self) -> bool {
         !matches!(self, Bed::Free { .. })
+    }
+
+    /// The end it rests on: `Some(true)` the top, `Some(false)` the bottom, `None` in flight.
+    pub fn end(&self) -> Option<bool> {
+        match self {
+            Bed::Bottom => Some(false),
+            Bed::Top => Some(true),
+            Bed::Free { .. } => None,
+        }
+    }
+
+    /// Resting on the top (`top`) or on the bottom.
+    pub fn on_end(top: bool) -> Bed {
+        if top {
+            Bed::Top
+        } else {
+            Bed::Bottom
+        }
+    }
+
+    /// Position and velocity of a bed resting on an end of a container of clearance `d` whose
+    /// host is at `x` with velocity `v`: the bottom is at the host, the top `d` above it.
+    pub fn end_motion(top: bool, x: f64, v: f64, d: Clearance) -> (f64, f64) {
+        (if top { x + d.m() } else { x }, v)
+    }
+
+    /// The sign of a resting bed's contact force watch (docs/model.md section 2): the
+    /// bottom pushes up (+1), the top down (-1).
+    pub fn contact_sign(top: bool) -> f64 {
+        if top {
+            -1.0
+        } else {
+            1.0
+        }
     }
 
     /// Position and velocity of a free bed at `t`.
@@ -67,9 +102,8 @@ impl State {
     pub fn bed_motion(&self, d: &Dynamics, j: usize) -> (f64, f64) {
         let dm = &d.system.dampers[j];
         match self.beds[j] {
-            Bed::Bottom => (self.x[dm.host], self.v[dm.host]),
-            Bed::Top => (self.x[dm.host] + dm.clearance.m(), self.v[dm.host]),
             Bed::Free { t0, y0, u0 } => Bed::flight(t0, y0, u0, self.t),
+            resting => Bed::end_motion(resting == Bed::Top, self.x[dm.host], self.v[dm.host], dm.clearance),
         }
     }
 }

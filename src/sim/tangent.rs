@@ -101,11 +101,8 @@ impl Tangent {
         let (a, _) = d.accelerations(s.mask(), s.t, &s.x, &s.v);
         for j in 0..s.beds.len() {
             let p = d.system.dampers[j].host;
-            let sigma = match s.beds[j] {
-                Bed::Bottom => 1.0,
-                Bed::Top => -1.0,
-                Bed::Free { .. } => continue,
-            };
+            let Some(top) = s.beds[j].end() else { continue };
+            let sigma = Bed::contact_sign(top);
             if !d.system.dampers[j].clearance.is_zero() && sigma * (a[p] + GRAVITY) < 0.0 {
                 let (y0, u0) = s.bed_motion(d, j);
                 s.beds[j] = Bed::Free { t0: s.t, y0, u0 };
