@@ -6,6 +6,7 @@ mod checks;
 pub mod curve_id;
 mod design;
 mod fields;
+mod kind;
 mod load;
 mod outputs;
 pub mod parts;
@@ -21,11 +22,10 @@ use crate::model::fit::StiffnessFit;
 use crate::model::{Damper, Structure};
 use crate::number::Tolerance;
 use crate::reference::values::{Quantity, ValueFile};
-use crate::sim::impulse::ImpulseOptions;
-use crate::sim::SteadyOptions;
 
 pub use analysis::round_hz;
 pub use curve_id::CurveId;
+pub use kind::Analysis;
 pub use load::{parse_table, read_merged};
 pub use validate::validate;
 
@@ -146,99 +146,6 @@ pub enum Start {
     Rest,
     /// From rest at the ends, then each point from the previous one, upward and downward.
     Continuation,
-}
-
-/// What to compute.
-#[derive(Debug, Clone)]
-pub enum Analysis {
-    /// Modal analysis only.
-    Modal,
-    /// Exact linear compliance of the bare structure and of each case with its damper
-    /// masses rigidly added, on a grid in Hz.
-    LinearFrf {
-        /// The grid, Hz.
-        freq_hz: Vec<f64>,
-    },
-    /// Steady-state compliance by simulation on a grid in Hz.
-    Sweep {
-        /// The grid, Hz.
-        freq_hz: Vec<f64>,
-        /// From rest at every point, or by continuation.
-        start: Start,
-        /// Steady-state settings.
-        steady: SteadyOptions,
-    },
-    /// Peak compliance against clearance, from near 0 to where the beds stop reaching the top.
-    ClearanceStudy {
-        /// The grid of each sweep, Hz.
-        freq_hz: Vec<f64>,
-        /// Clearances to scan, mm (`None`: `points` up to the limit found).
-        clearances_mm: Option<Vec<f64>>,
-        /// Clearances scanned when none are given.
-        points: usize,
-        /// 0-based mass whose peak compliance is compared.
-        objective_mass: usize,
-        /// The case whose peak decides the best clearance.
-        objective_case: String,
-        /// Steady-state settings.
-        steady: SteadyOptions,
-    },
-    /// Time histories at a few frequencies.
-    Waveform {
-        /// Forcing frequencies, Hz (or exported values).
-        frequencies: Vec<Number>,
-        /// Their labels, e.g. "a", "b", "c".
-        labels: Vec<String>,
-        /// Steady periods recorded and drawn.
-        periods: usize,
-        /// Steady-state settings.
-        steady: SteadyOptions,
-    },
-    /// Periodic orbits of one mode's equivalent SDOF model and of the full structure with one
-    /// damper, continued in frequency, with stability; the MDOF simulation beside them.
-    SdofPeriodic {
-        /// 0-based mode.
-        mode: usize,
-        /// The band and the simulation grid, Hz.
-        freq_hz: Vec<f64>,
-        /// Candidate clearances (mm) when the damper's clearance is "scan".
-        clearances_mm: Option<Vec<f64>>,
-        /// Steady-state settings.
-        steady: SteadyOptions,
-    },
-    /// A design search: placements, shot split and clearances lowering the compliance over
-    /// bands (`[design]`, docs/design.md), with the cases as reference layouts.
-    Design {
-        /// The design problem as the file states it.
-        spec: Box<crate::design::Spec>,
-        /// Steady-state settings of the sweeps.
-        steady: SteadyOptions,
-    },
-    /// Free decay after an impulse: histories, envelopes, decay times, energy, spectrum.
-    Impulse {
-        /// The struck mass, the kick, the duration and the sampling.
-        options: ImpulseOptions,
-        /// Frequencies of the spectrum, Hz.
-        spectrum_hz: Vec<f64>,
-        /// Envelope levels whose decay times are measured (fractions of the first peak).
-        levels: Vec<f64>,
-    },
-}
-
-impl Analysis {
-    /// The name used in files.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Analysis::Modal => "modal",
-            Analysis::LinearFrf { .. } => "linear_frf",
-            Analysis::Sweep { .. } => "sweep",
-            Analysis::ClearanceStudy { .. } => "clearance_study",
-            Analysis::Waveform { .. } => "waveform",
-            Analysis::Impulse { .. } => "impulse",
-            Analysis::SdofPeriodic { .. } => "sdof_periodic",
-            Analysis::Design { .. } => "design",
-        }
-    }
 }
 
 /// Vertical axis scale of a plot.

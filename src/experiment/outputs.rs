@@ -6,30 +6,7 @@ use crate::error::{Error, Result};
 
 use super::fields::{is_identifier, mass_index};
 use super::raw::RawPlot;
-use super::{Analysis, Linear, PlotKind, PlotSpec, Scale};
-
-/// Plot kinds each analysis kind can draw.
-fn plot_kinds(analysis: &Analysis) -> &'static [(&'static str, PlotKind)] {
-    match analysis {
-        Analysis::Modal | Analysis::Design { .. } => &[],
-        Analysis::LinearFrf { .. } | Analysis::Sweep { .. } => {
-            &[("compliance", PlotKind::Compliance), ("compliance_panels", PlotKind::CompliancePanels)]
-        }
-        Analysis::ClearanceStudy { .. } => {
-            &[("clearance_scan", PlotKind::ClearanceScan), ("compliance_panels", PlotKind::CompliancePanels)]
-        }
-        Analysis::Waveform { .. } => &[("waveform", PlotKind::Waveform)],
-        Analysis::SdofPeriodic { .. } => {
-            &[("orbits", PlotKind::Orbits), ("clearance_choice", PlotKind::ClearanceChoice)]
-        }
-        Analysis::Impulse { .. } => &[
-            ("acceleration", PlotKind::Acceleration),
-            ("decay", PlotKind::Decay),
-            ("spectrum", PlotKind::Spectrum),
-            ("damping", PlotKind::Damping),
-        ],
-    }
-}
+use super::{Analysis, Linear, PlotSpec, Scale};
 
 fn case_list(path: &Path, key: &str, cs: &[String], case_ids: &[String]) -> Result<()> {
     for (j, c) in cs.iter().enumerate() {
@@ -56,7 +33,7 @@ pub fn plot(path: &Path, i: usize, p: RawPlot, n: usize, case_ids: &[String], an
             "use letters, digits, '_' and '-' only (it names the image file)",
         ));
     }
-    let kinds = plot_kinds(analysis);
+    let kinds = analysis.plot_kinds();
     let Some(kind) = kinds.iter().find(|(name, _)| *name == p.kind).map(|(_, k)| *k) else {
         let allowed: Vec<String> = kinds.iter().map(|(name, _)| format!("\"{name}\"")).collect();
         return Err(Error::invalid(

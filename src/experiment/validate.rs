@@ -51,8 +51,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let total_mass = structure.mass_matrix().trace();
     let design = super::design::design(path, raw.design, &raw.analysis.kind, n, total_mass)?;
     let analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
-    let scanning = matches!(analysis, Analysis::ClearanceStudy { .. });
-    let may_scan = matches!(analysis, Analysis::SdofPeriodic { clearances_mm: Some(_), .. });
+    let (scanning, may_scan) = (analysis.scans_clearances(), analysis.may_scan_clearances());
     for (ci, case) in cases.iter().enumerate() {
         for (di, c) in case.clearances.iter().enumerate() {
             let scan = *c == ClearanceSource::Scan;
@@ -66,35 +65,13 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
             }
         }
     }
-    // Frequencies the simulator will be driven at (a design's bands whatever its cases).
-    let simulated: Vec<(String, Vec<f64>)> = match &analysis {
-        Analysis::Sweep { freq_hz, .. }
-        | Analysis::ClearanceStudy { freq_hz, .. }
-        | Analysis::SdofPeriodic { freq_hz, .. } => vec![("analysis.freq_hz".into(), freq_hz.clone())],
-        Analysis::Waveform { frequencies, .. } => vec![(
-            "analysis.frequencies_hz".into(),
-            frequencies
-                .iter()
-                .filter_map(|f| match f {
-                    super::Number::Value(v) => Some(*v),
-                    super::Number::Export(_) => None,
-                })
-                .collect(),
-        )],
-        Analysis::Design { spec, .. } => spec
-            .bands
-            .iter()
-            .enumerate()
-            .map(|(i, b)| (format!("design.bands[{i}].freq_hz"), b.freq_hz.clone()))
-            .collect(),
-        _ => Vec::new(),
-    };
+    let simulated = analysis.simulated_frequencies();
     if matches!(analysis, Analysis::Design { .. }) || cases.iter().any(|c| !c.dampers.is_empty()) {
         for (key, freq_hz) in &simulated {
             super::fields::check_frequencies(&path.display().to_string(), key, freq_hz, &structure)?;
         }
     }
-    if matches!(analysis, Analysis::SdofPeriodic { .. } | Analysis::Design { .. }) {
+    if analysis.plastic_only() {
         for (ci, case) in cases.iter().enumerate() {
             if let Some(di) = case.laws.iter().position(|l| l.restitution > 0.0) {
                 return Err(Error::invalid(
@@ -106,18 +83,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
             }
         }
     }
-    // A column of grains runs where the motion is simulated (from rest, or after an impulse);
-    // the orbit-based analyses (continuation with its orbit branches, SDOF orbits, designs) do
-    // not model grains yet.
-    let columns_allowed = matches!(
-        analysis,
-        Analysis::Sweep { start: super::Start::Rest, .. }
-            | Analysis::ClearanceStudy { .. }
-            | Analysis::Waveform { .. }
-            | Analysis::Impulse { .. }
-            | Analysis::LinearFrf { .. }
-            | Analysis::Modal
-    );
+    let columns_allowed = analysis.runs_columns();
     if !columns_allowed {
         for (ci, case) in cases.iter().enumerate() {
             if let Some(di) = case.grains.iter().position(|&g| g > 1) {

@@ -1,0 +1,181 @@
+//! The analysis kinds: what each computes (the variants of [`Analysis`]) and what each one
+//! allows, in one room. A new kind adds its variant and its answers here, its reading in
+//! `analysis.rs` and its run in `src/analysis/`.
+
+use super::{Number, PlotKind, Start};
+use crate::sim::impulse::ImpulseOptions;
+use crate::sim::SteadyOptions;
+
+/// What to compute.
+#[derive(Debug, Clone)]
+pub enum Analysis {
+    /// Modal analysis only.
+    Modal,
+    /// Exact linear compliance of the bare structure and of each case with its damper
+    /// masses rigidly added, on a grid in Hz.
+    LinearFrf {
+        /// The grid, Hz.
+        freq_hz: Vec<f64>,
+    },
+    /// Steady-state compliance by simulation on a grid in Hz.
+    Sweep {
+        /// The grid, Hz.
+        freq_hz: Vec<f64>,
+        /// From rest at every point, or by continuation.
+        start: Start,
+        /// Steady-state settings.
+        steady: SteadyOptions,
+    },
+    /// Peak compliance against clearance, from near 0 to where the beds stop reaching the top.
+    ClearanceStudy {
+        /// The grid of each sweep, Hz.
+        freq_hz: Vec<f64>,
+        /// Clearances to scan, mm (`None`: `points` up to the limit found).
+        clearances_mm: Option<Vec<f64>>,
+        /// Clearances scanned when none are given.
+        points: usize,
+        /// 0-based mass whose peak compliance is compared.
+        objective_mass: usize,
+        /// The case whose peak decides the best clearance.
+        objective_case: String,
+        /// Steady-state settings.
+        steady: SteadyOptions,
+    },
+    /// Time histories at a few frequencies.
+    Waveform {
+        /// Forcing frequencies, Hz (or exported values).
+        frequencies: Vec<Number>,
+        /// Their labels, e.g. "a", "b", "c".
+        labels: Vec<String>,
+        /// Steady periods recorded and drawn.
+        periods: usize,
+        /// Steady-state settings.
+        steady: SteadyOptions,
+    },
+    /// Periodic orbits of one mode's equivalent SDOF model and of the full structure with one
+    /// damper, continued in frequency, with stability; the MDOF simulation beside them.
+    SdofPeriodic {
+        /// 0-based mode.
+        mode: usize,
+        /// The band and the simulation grid, Hz.
+        freq_hz: Vec<f64>,
+        /// Candidate clearances (mm) when the damper's clearance is "scan".
+        clearances_mm: Option<Vec<f64>>,
+        /// Steady-state settings.
+        steady: SteadyOptions,
+    },
+    /// A design search: placements, shot split and clearances lowering the compliance over
+    /// bands (`[design]`, docs/design.md), with the cases as reference layouts.
+    Design {
+        /// The design problem as the file states it.
+        spec: Box<crate::design::Spec>,
+        /// Steady-state settings of the sweeps.
+        steady: SteadyOptions,
+    },
+    /// Free decay after an impulse: histories, envelopes, decay times, energy, spectrum.
+    Impulse {
+        /// The struck mass, the kick, the duration and the sampling.
+        options: ImpulseOptions,
+        /// Frequencies of the spectrum, Hz.
+        spectrum_hz: Vec<f64>,
+        /// Envelope levels whose decay times are measured (fractions of the first peak).
+        levels: Vec<f64>,
+    },
+}
+
+impl Analysis {
+    /// The name used in files.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Analysis::Modal => "modal",
+            Analysis::LinearFrf { .. } => "linear_frf",
+            Analysis::Sweep { .. } => "sweep",
+            Analysis::ClearanceStudy { .. } => "clearance_study",
+            Analysis::Waveform { .. } => "waveform",
+            Analysis::Impulse { .. } => "impulse",
+            Analysis::SdofPeriodic { .. } => "sdof_periodic",
+            Analysis::Design { .. } => "design",
+        }
+    }
+
+    /// Plot kinds it can draw (`[[plots]] kind`), with their names in files.
+    pub fn plot_kinds(&self) -> &'static [(&'static str, PlotKind)] {
+        match self {
+            Analysis::Modal | Analysis::Design { .. } => &[],
+            Analysis::LinearFrf { .. } | Analysis::Sweep { .. } => {
+                &[("compliance", PlotKind::Compliance), ("compliance_panels", PlotKind::CompliancePanels)]
+            }
+            Analysis::ClearanceStudy { .. } => {
+                &[("clearance_scan", PlotKind::ClearanceScan), ("compliance_panels", PlotKind::CompliancePanels)]
+            }
+            Analysis::Waveform { .. } => &[("waveform", PlotKind::Waveform)],
+            Analysis::SdofPeriodic { .. } => {
+                &[("orbits", PlotKind::Orbits), ("clearance_choice", PlotKind::ClearanceChoice)]
+            }
+            Analysis::Impulse { .. } => &[
+                ("acceleration", PlotKind::Acceleration),
+                ("decay", PlotKind::Decay),
+                ("spectrum", PlotKind::Spectrum),
+                ("damping", PlotKind::Damping),
+            ],
+        }
+    }
+
+    /// The frequencies the simulator will be driven at, by the key that gives them (a design's
+    /// bands whatever its cases; exported waveform frequencies are checked once resolved).
+    pub fn simulated_frequencies(&self) -> Vec<(String, Vec<f64>)> {
+        match self {
+            Analysis::Sweep { freq_hz, .. }
+            | Analysis::ClearanceStudy { freq_hz, .. }
+            | Analysis::SdofPeriodic { freq_hz, .. } => vec![("analysis.freq_hz".into(), freq_hz.clone())],
+            Analysis::Waveform { frequencies, .. } => vec![(
+                "analysis.frequencies_hz".into(),
+                frequencies
+                    .iter()
+                    .filter_map(|f| match f {
+                        Number::Value(v) => Some(*v),
+                        Number::Export(_) => None,
+                    })
+                    .collect(),
+            )],
+            Analysis::Design { spec, .. } => spec
+                .bands
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (format!("design.bands[{i}].freq_hz"), b.freq_hz.clone()))
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// Whether every damper's clearance is scanned (`clearance_mm = "scan"` required).
+    pub fn scans_clearances(&self) -> bool {
+        matches!(self, Analysis::ClearanceStudy { .. })
+    }
+
+    /// Whether a damper's clearance may be scanned (an SDOF analysis with a list of
+    /// candidate clearances).
+    pub fn may_scan_clearances(&self) -> bool {
+        matches!(self, Analysis::SdofPeriodic { clearances_mm: Some(_), .. })
+    }
+
+    /// Whether it models the paper's plastic bed only (no restitution).
+    pub fn plastic_only(&self) -> bool {
+        matches!(self, Analysis::SdofPeriodic { .. } | Analysis::Design { .. })
+    }
+
+    /// Whether a column of grains can run in it: where the motion is simulated (from rest,
+    /// or after an impulse); the orbit-based kinds (continuation with its orbit branches,
+    /// SDOF orbits, designs) do not model grains yet.
+    pub fn runs_columns(&self) -> bool {
+        matches!(
+            self,
+            Analysis::Sweep { start: Start::Rest, .. }
+                | Analysis::ClearanceStudy { .. }
+                | Analysis::Waveform { .. }
+                | Analysis::Impulse { .. }
+                | Analysis::LinearFrf { .. }
+                | Analysis::Modal
+        )
+    }
+}
