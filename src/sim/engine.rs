@@ -91,24 +91,9 @@ impl<'a> Engine<'a> {
         for col in &self.d.system.columns {
             super::column::watches(self.d, s, col.clone(), w);
         }
-        for (j, bed) in s.beds.iter().enumerate() {
-            if !self.d.system.columns.is_empty() && self.d.system.column_of(j).is_some() {
-                continue;
-            }
-            let dm = &self.d.system.dampers[j];
-            let host = dm.host;
-            match *bed {
-                // A bed in a container without clearance cannot move relative to it.
-                Bed::Bottom | Bed::Top if dm.clearance.is_zero() => {}
-                Bed::Bottom | Bed::Top => {
-                    w.push(Watch::Contact { bed: j, host, sigma: Bed::contact_sign(*bed == Bed::Top) })
-                }
-                Bed::Free { t0, y0, u0 } => {
-                    w.push(Watch::GapBottom { bed: j, host, y0, u0, tf: t0 });
-                    if dm.clearance.is_bounded() {
-                        w.push(Watch::GapTop { bed: j, host, d: dm.clearance.m(), y0, u0, tf: t0 });
-                    }
-                }
+        for j in 0..s.beds.len() {
+            if self.d.system.columns.is_empty() || self.d.system.column_of(j).is_none() {
+                super::single::watches(self.d, s, j, w);
             }
         }
     }
@@ -222,40 +207,8 @@ impl<'a> Engine<'a> {
         let mut events = Vec::new();
         // Contact candidates: every attached bed plus beds that just landed plastically.
         let mut side: Vec<Option<bool>> = s.beds.iter().map(Bed::end).collect();
-        let in_column = |j: usize| !sys.columns.is_empty() && sys.column_of(j).is_some();
-        let mut hit_beds: Vec<(usize, bool)> =
-            hits.iter().filter_map(Watch::impact).filter(|&(j, _)| !in_column(j)).collect();
-        hit_beds.sort_by_key(|h| h.0);
-        for &(j, top) in &hit_beds {
-            let Bed::Free { t0, y0, u0 } = s.beds[j] else {
-                continue;
-            };
-            let dm = sys.dampers[j];
-            let p = dm.host;
-            let (_, u) = Bed::flight(t0, y0, u0, s.t);
-            // The host's effective mass includes beds already resting on it.
-            let m_host = sys.structure.masses[p]
-                + (0..s.beds.len())
-                    .filter(|&k| k != j && side[k].is_some() && sys.dampers[k].host == p)
-                    .map(|k| sys.dampers[k].mass)
-                    .sum::<f64>();
-            let vp = s.v[p];
-            let rel = u - vp;
-            let x = sys.impact_law(j).exchange(m_host, vp, dm.mass, u);
-            s.v[p] = x.host;
-            if x.sticks {
-                side[j] = Some(top);
-            } else {
-                let (y_contact, _) = Bed::end_motion(top, s.x[p], s.v[p], dm.clearance);
-                s.beds[j] = Bed::Free { t0: s.t, y0: y_contact, u0: x.bed };
-            }
-            events.push(Event {
-                t: s.t,
-                bed: j,
-                kind: EventKind::Impact { top, speed: rel.abs(), attached: x.sticks },
-                loss: x.loss,
-            });
-        }
+        // Single beds: their impacts (src/sim/single.rs).
+        super::single::impacts(d, s, hits, &mut side, &mut events);
         // Columns: the collisions the hits started, in sequence (src/sim/column.rs).
         for col in &sys.columns {
             let touched = hits.iter().any(|w| match w.impact() {

@@ -15,6 +15,7 @@ pub mod orbit_search;
 pub mod periodic;
 pub mod roots;
 pub mod segment;
+mod single;
 pub mod soft;
 pub mod state;
 pub mod steady;

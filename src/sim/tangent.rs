@@ -230,10 +230,7 @@ impl Observer for Tangent {
         let p = sys.dampers[j].host;
         let md = sys.dampers[j].mass;
         // The host moves with the beds already resting on it.
-        let riders: Vec<usize> = (0..before.beds.len())
-            .filter(|&k| k != j && before.beds[k].attached() && sys.dampers[k].host == p)
-            .collect();
-        let mh = sys.structure.masses[p] + riders.iter().map(|&k| sys.dampers[k].mass).sum::<f64>();
+        let (mh, riders) = super::single::host_mass(sys, j, |k| before.beds[k].attached());
         let (_, u) = before.bed_motion(d, j);
         let rel = u - before.v[p];
         self.min_impact_speed = self.min_impact_speed.min(rel.abs());
