@@ -39,7 +39,7 @@ use crate::experiment::{self, Experiment};
 use crate::model::modal::modal_summary;
 use crate::model::sdof::EquivalentSdof;
 use crate::output::ReportOptions;
-use crate::reference::digitised::{self, ImportInfo};
+use crate::reference::digitised::ImportInfo;
 use crate::runner;
 
 /// Replicates Araki et al. (1997), "Impact damper with granular materials for multibody
@@ -301,36 +301,20 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             .0)
         }
         Command::Design { files, out, jobs, store } => {
-            let exps = experiment::load_all(files, &cli.reference)?;
-            if let Some(e) = exps.iter().find(|e| e.analysis.kind() != "design") {
-                return Err(crate::Error::invalid(
-                    &e.path,
-                    "analysis.kind",
-                    format!("\"{}\"", e.analysis.kind()),
-                    "`shotdamp design` runs design files (kind = \"design\"); run other experiments with `shotdamp run`",
-                )
-                .into());
-            }
-            let started = std::time::Instant::now();
-            // The report's baselines sample the replayed designs (docs/design.md): a search is
-            // not compared with them.
-            let (ok, results) = run_and_write(
-                &exps,
-                &[],
-                &cli.reference,
-                out,
-                *jobs,
-                &ReportOptions::default(),
-                BaselineMode::Off,
-                false,
-            )?;
-            if *store {
-                let threads = runner::pool(*jobs)?.current_num_threads();
-                let stored =
-                    runner::designs::store_designs(&results, &cli.reference, started.elapsed().as_secs_f64(), threads)?;
-                for path in stored {
-                    say!("stored: {}", path.display());
-                }
+            let settings = runner::designs::DesignSettings {
+                reference: cli.reference.clone(),
+                out: out.clone(),
+                jobs: *jobs,
+                store: *store,
+            };
+            let mut stored = Vec::new();
+            let (ok, _) = finish(|progress, log, staging| {
+                let run = runner::designs::run(files, &settings, progress, log, staging)?;
+                stored = run.stored;
+                Ok(run.finished)
+            })?;
+            for path in stored {
+                say!("stored: {}", path.display());
             }
             Ok(ok)
         }
@@ -368,26 +352,7 @@ fn import(command: &Command, reference: &Path) -> anyhow::Result<()> {
     else {
         return Ok(());
     };
-    let name = file.display().to_string();
-    let mut mapping = Vec::new();
-    for m in map {
-        let parsed = m.split_once('=').and_then(|(d, rest)| {
-            let (case, mass) = rest.split_once(':')?;
-            Some((d.to_string(), case.to_string(), mass.trim().parse::<i64>().ok()?))
-        });
-        match parsed {
-            Some(x) => mapping.push(x),
-            None => {
-                return Err(crate::Error::invalid(
-                    "--map",
-                    "map",
-                    m,
-                    "give DATASET=CASE:MASS, e.g. \"Default Dataset=D:1\"",
-                )
-                .into())
-            }
-        }
-    }
+    let mapping = map.iter().map(|m| crate::reference::import::parse_mapping(m)).collect::<crate::Result<Vec<_>>>()?;
     let info = ImportInfo {
         figure: figure.clone(),
         source: from.clone(),
@@ -401,38 +366,14 @@ fn import(command: &Command, reference: &Path) -> anyhow::Result<()> {
         x_pixel: *x_pixel,
         y_pixel: *y_pixel,
     };
-    let text = crate::error::read_to_string(file)?;
-    let parsed = match file.extension().and_then(|e| e.to_str()) {
-        Some("json") => digitised::import_wpd_json(&name, &text, &info)?,
-        Some("csv") => digitised::import_wpd_csv(&name, &text, &info)?,
-        _ => {
-            return Err(crate::Error::invalid(
-                &name,
-                "(file)",
-                name.clone(),
-                "a WebPlotDigitizer .json project or .csv export",
-            )
-            .into())
-        }
-    };
-    let stem = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "digitised".into());
-    let dest = out.clone().unwrap_or_else(|| reference.join("digitised").join(format!("{stem}.toml")));
-    if let Some(parent) = dest.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| crate::Error::io(parent, e))?;
-    }
-    let body = parsed.to_toml()?;
-    let header = format!(
-        "# Digitised from {} ({}) by {}; imported by shotdamp from {}. One pixel is x_pixel, y_pixel\n# in data units (relative on a log axis). Never edit the numbers to make a check pass.\n",
-        parsed.meta.figure, parsed.meta.source, parsed.meta.digitised_by, parsed.meta.imported_from
-    );
-    std::fs::write(&dest, header + &body).map_err(|e| crate::Error::io(&dest, e))?;
-    let points: usize = parsed.curve.iter().map(|c| c.x.len()).sum();
+    let done = crate::reference::import::import_file(file, &info, out.as_deref(), reference)?;
     say!(
-        "{}: {} curves, {points} points; one pixel = {} along x, {} along y",
-        dest.display(),
-        parsed.curve.len(),
-        crate::checks::fmt_num(parsed.meta.x_pixel),
-        crate::checks::fmt_num(parsed.meta.y_pixel)
+        "{}: {} curves, {} points; one pixel = {} along x, {} along y",
+        done.dest.display(),
+        done.file.curve.len(),
+        done.points(),
+        crate::checks::fmt_num(done.file.meta.x_pixel),
+        crate::checks::fmt_num(done.file.meta.y_pixel)
     );
     Ok(())
 }
@@ -508,44 +449,17 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
 
 /// `shotdamp damping`: the modal damping ratios that fit a digitised bare-structure curve.
 fn calibrate_damping(file: &Path, curve: &Path, model: Option<&str>, reference: &Path) -> anyhow::Result<()> {
-    use crate::model::damping_fit::{fit_modal_damping, Measured, BAND};
-    let digitised = digitised::load(curve)?;
-    let data: Vec<Measured> = digitised
-        .curve
-        .iter()
-        .filter_map(|c| {
-            let m = usize::try_from(c.mass?).ok()?.checked_sub(1)?;
-            Some(Measured { mass: m, freq_hz: c.x.clone(), compliance: c.y.clone() })
-        })
-        .collect();
-    if data.is_empty() {
-        return Err(crate::Error::invalid(
-            curve,
-            "curve[].mass",
-            "(none)",
-            "no curve is mapped to a mass: import it with --map \"DATASET=bare:1\" (one per mass)",
-        )
-        .into());
-    }
-    let exps = experiment::load(file, reference)?;
-    let ids: Vec<String> = exps.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
-    let chosen: Vec<&Experiment> =
-        exps.iter().filter(|e| model.is_none_or(|id| e.model.as_ref().is_some_and(|m| m.id == id))).collect();
-    if chosen.is_empty() {
-        return Err(crate::Error::invalid("--model", "model", model.unwrap_or(""), format!("one of {ids:?}")).into());
-    }
-    let points: usize = data.iter().map(|d| d.freq_hz.len()).sum();
+    let done = runner::damping::calibrate(file, curve, model, reference)?;
     say!(
-        "{}: {} curves, {points} points; fitted: ln|x/F| at the points within {:.0} % of each natural frequency",
+        "{}: {} curves, {} points; fitted: ln|x/F| at the points within {:.0} % of each natural frequency",
         curve.display(),
-        data.len(),
-        BAND * 100.0
+        done.curves,
+        done.points,
+        crate::model::damping_fit::BAND * 100.0
     );
-    for exp in chosen {
-        let fit = fit_modal_damping(&exp.structure, exp.excitation.mass, &data)
-            .map_err(|e| crate::Error::invalid(curve, "curve", exp.meta.id.clone(), e.to_string()))?;
-        let name = exp.model.as_ref().map(|m| m.label.clone()).unwrap_or_else(|| exp.meta.id.clone());
-        say!("{name}: rms residual of ln(compliance) {:.4}", fit.rms_log_residual);
+    for m in &done.models {
+        let fit = &m.fit;
+        say!("{}: rms residual of ln(compliance) {:.4}", m.label, fit.rms_log_residual);
         say!("{:>4} {:>10} {:>8} {:>12}", "mode", "zeta", "points", "half-power");
         for (k, z) in fit.ratios.iter().enumerate() {
             let hp = fit.half_power[k].map(|v| format!("{v:.5}")).unwrap_or_else(|| "-".into());

@@ -3,4 +3,5 @@
 //! references against these, and the checks compare with them.
 
 pub mod digitised;
+pub mod import;
 pub mod values;

@@ -3,7 +3,72 @@
 
 use std::path::{Path, PathBuf};
 
+use super::{run_and_write, Finished, Settings};
+use crate::analysis::Progress;
+use crate::checks::reference::BaselineMode;
 use crate::experiment::{self, Experiment};
+use crate::output::ReportOptions;
+
+/// How `shotdamp design` runs.
+#[derive(Debug, Clone)]
+pub struct DesignSettings {
+    /// The reference folder (stored answers are written below it).
+    pub reference: PathBuf,
+    /// Where the report goes.
+    pub out: PathBuf,
+    /// Worker threads (`None`: one per core).
+    pub jobs: Option<usize>,
+    /// Store each model's answer in `REFERENCE/designs/` ([`store_designs`]).
+    pub store: bool,
+}
+
+/// What `shotdamp design` did.
+pub struct DesignRun {
+    /// The run and its report.
+    pub finished: Finished,
+    /// The answers stored (`store`).
+    pub stored: Vec<PathBuf>,
+}
+
+/// Design files searched as `shotdamp design FILE... [--store]` does: every file must be a
+/// design file (`kind = "design"`); their report is written without baselines (the report's
+/// baselines sample the replayed designs, not a search); with `store`, each model's answer
+/// is written to `REFERENCE/designs/`. The arguments after `settings` are those of
+/// [`run_and_write`].
+pub fn run(
+    files: &[PathBuf],
+    settings: &DesignSettings,
+    progress: &dyn Progress,
+    log: &(dyn Fn(String) + Sync),
+    staging: &dyn Fn(PathBuf),
+) -> crate::Result<DesignRun> {
+    let exps = experiment::load_all(files, &settings.reference)?;
+    if let Some(e) = exps.iter().find(|e| !matches!(e.analysis, experiment::Analysis::Design { .. })) {
+        return Err(crate::Error::invalid(
+            &e.path,
+            "analysis.kind",
+            format!("\"{}\"", e.analysis.kind()),
+            "`shotdamp design` runs design files (kind = \"design\"); run other experiments with `shotdamp run`",
+        ));
+    }
+    let started = std::time::Instant::now();
+    let run = Settings {
+        reference: settings.reference.clone(),
+        out: settings.out.clone(),
+        jobs: settings.jobs,
+        writing: ReportOptions::default(),
+        baseline_mode: BaselineMode::Off,
+        bless: false,
+    };
+    let finished = run_and_write(&exps, &[], &run, progress, log, staging)?;
+    let stored = if settings.store {
+        let threads = super::pool(settings.jobs)?.current_num_threads();
+        store_designs(&finished.results, &settings.reference, started.elapsed().as_secs_f64(), threads)?
+    } else {
+        Vec::new()
+    };
+    Ok(DesignRun { finished, stored })
+}
 
 /// The design files of `dir` marked `report = true` (none when the folder does not exist), set to evaluate the
 /// answers their searches stored instead of searching (docs/design.md, "In the report").

@@ -5,6 +5,7 @@
 //! report into a staging folder and renames it into place; it returns the results and the
 //! failed checks. Printing, progress bars and the interrupt handler are the caller's.
 
+pub mod damping;
 pub mod designs;
 pub mod schedule;
 pub mod study;
