@@ -85,6 +85,7 @@ from ._native import (  # noqa: E402  (Table first: the native module builds Tab
     load,
     report,
     run_experiment,
+    design,
     study,
     study_merge,
 )
@@ -101,6 +102,7 @@ __all__ = [
     "load",
     "report",
     "run_experiment",
+    "design",
     "study",
     "study_merge",
 ]

@@ -205,6 +205,15 @@ def run_experiment(
     full_csv: bool = False,
     progress: Optional[_Progress] = None,
 ) -> Dict[str, Any]: ...
+def design(
+    files: Union[_Path, Sequence[_Path]],
+    *,
+    out: _Path = "design-runs",
+    reference: _Path = "reference",
+    jobs: Optional[int] = None,
+    store: bool = False,
+    progress: Optional[_Progress] = None,
+) -> Dict[str, Any]: ...
 def report(
     out: _Path = "reports",
     *,

@@ -24,6 +24,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<runs::Experiment>()?;
     m.add_function(wrap_pyfunction!(runs::load, m)?)?;
     m.add_function(wrap_pyfunction!(runs::run_experiment, m)?)?;
+    m.add_function(wrap_pyfunction!(runs::design, m)?)?;
     m.add_function(wrap_pyfunction!(runs::report, m)?)?;
     m.add_function(wrap_pyfunction!(runs::study, m)?)?;
     m.add_function(wrap_pyfunction!(runs::study_merge, m)?)?;

@@ -11,6 +11,7 @@ use shotdamp::checks::reference::BaselineMode;
 use shotdamp::experiment::{self, Analysis, ClearanceSource};
 use shotdamp::output::study::Shard;
 use shotdamp::output::ReportOptions;
+use shotdamp::runner::designs::DesignSettings;
 use shotdamp::runner::{self, study as studies, Finished, ReportInputs, ReportSettings, Settings};
 
 use crate::compute::{self, error};
@@ -193,6 +194,16 @@ fn result<'py>(py: Python<'py>, r: &ExperimentResult) -> PyResult<Bound<'py, PyD
     }
     d.set_item("checks", checks)?;
     d.set_item("exports", r.exports.clone())?;
+    // A design's answer (docs/design.md): the best layout and the reference layouts, as the
+    // stored JSON has them.
+    let answer = match &r.design {
+        Some(a) => {
+            let text = a.to_json().map_err(error)?;
+            py.import("json")?.call_method1("loads", (text,))?.into_any()
+        }
+        None => py.None().into_bound(py),
+    };
+    d.set_item("design", answer)?;
     Ok(d)
 }
 
@@ -224,6 +235,29 @@ pub fn run_experiment<'py>(
         runner::run_and_write(&exps, &[], &settings, t, &|_| {}, &|_| {})
     })?;
     finished(py, &done)
+}
+
+/// Searches design files (one path or several), as `shotdamp design FILES --out OUT
+/// [--store]` does: each must be a design file; returns what `run_experiment` does (each
+/// experiment's `design` the answer: best layout, reference layouts, search settings) and,
+/// with `store`, the answers' files written under `reference/designs/` (`stored`).
+#[pyfunction]
+#[pyo3(signature = (files, *, out=PathBuf::from("design-runs"), reference=PathBuf::from("reference"), jobs=None, store=false, progress=None))]
+pub fn design<'py>(
+    py: Python<'py>,
+    files: &Bound<'py, PyAny>,
+    out: PathBuf,
+    reference: PathBuf,
+    jobs: Option<usize>,
+    store: bool,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let files = paths(files)?;
+    let settings = DesignSettings { reference, out, jobs, store };
+    let run = compute::run(py, jobs, progress, |t| runner::designs::run(&files, &settings, t, &|_| {}, &|_| {}))?;
+    let d = finished(py, &run.finished)?;
+    d.set_item("stored", PyList::new(py, &run.stored)?)?;
+    Ok(d)
 }
 
 /// The whole report, as `shotdamp report --out OUT` writes it from the checkout at `root`

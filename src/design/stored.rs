@@ -73,6 +73,16 @@ pub struct StoredDesign {
     pub pareto: Vec<StoredPareto>,
 }
 
+impl StoredDesign {
+    /// As its stored file holds it: pretty JSON ending in a newline.
+    pub fn to_json(&self) -> crate::Result<String> {
+        serde_json::to_string_pretty(self).map(|text| text + "\n").map_err(|e| crate::Error::Render {
+            what: format!("the design answer of {}", self.experiment),
+            message: e.to_string(),
+        })
+    }
+}
+
 /// A fingerprint of everything a search's answer depends on: the structure and force (with
 /// the scenarios), the bands, measure, sweeps and steady-state settings, and the search space
 /// and settings (64-bit FNV-1a of their exact values, in hex).

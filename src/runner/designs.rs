@@ -119,9 +119,7 @@ pub fn store_designs(
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
         }
-        let text = serde_json::to_string_pretty(&answer)
-            .map_err(|e| crate::Error::Render { what: path.display().to_string(), message: e.to_string() })?
-            + "\n";
+        let text = answer.to_json()?;
         crate::output::files::write_atomic(&path, text.as_bytes())?;
         stored.push(path);
     }
