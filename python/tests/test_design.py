@@ -70,3 +70,22 @@ def test_a_file_that_is_not_a_design_is_refused_as_the_command_line_does(cli, tm
         sd.design(file, out=tmp_path / "py")
     assert str(e.value) in p.stderr, (str(e.value), p.stderr)
     assert not (tmp_path / "py").exists()
+
+
+def test_ctrl_c_stops_a_design_search_at_its_next_evaluation(tmp_path):
+    # The 3rd-mode search takes minutes on one thread; Ctrl-C stops it at the next layout it
+    # evaluates, and no report folder is left.
+    import _thread
+    import threading
+    import time
+
+    out = tmp_path / "runs"
+    timer = threading.Timer(1.5, _thread.interrupt_main)
+    started = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sd.design("designs/third_mode.toml", out=out, jobs=1)
+    elapsed = time.monotonic() - started
+    timer.cancel()
+    assert elapsed < 6.0, elapsed
+    assert [p.name for p in tmp_path.iterdir()] == []

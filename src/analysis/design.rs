@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::checks::reference::ReferenceStore;
 use crate::checks::{CheckOutcome, Source, Status};
-use crate::design::search::{optimise, placements, Found, Space};
+use crate::design::search::{optimise_checked, placements, Found, Space};
 use crate::design::stored::{fingerprint, StoredDesign, StoredLayout, StoredPareto};
 use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec};
 use crate::experiment::Experiment;
@@ -277,14 +277,14 @@ pub fn run(
     let (found, front, checks) = if spec.replay {
         replay(exp, spec, &p, &b, refs)
     } else {
-        let found = optimise(&p, &b, &space, &spec.search);
+        let found = optimise_checked(&p, &b, &space, &spec.search, tick);
         // The Pareto front: every placement searched again for each shot budget.
         let front: Vec<(f64, Found)> = spec
             .pareto_mass_ratios
             .iter()
             .filter_map(|&r| {
                 let s = Space { shot_kg: r * total_mass, ..space.clone() };
-                lowest(optimise(&p, &b, &s, &spec.search)).map(|f| (r, f))
+                lowest(optimise_checked(&p, &b, &s, &spec.search, tick)).map(|f| (r, f))
             })
             .collect();
         (found, front, Vec::new())

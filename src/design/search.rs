@@ -93,6 +93,8 @@ struct Cost<'a> {
     space: &'a Space,
     /// Evaluations made (argmin's own count depends on how it wraps the problem).
     count: std::sync::atomic::AtomicU64,
+    /// Called before every evaluation (a caller may stop the search there by unwinding).
+    check: &'a (dyn Fn() + Sync),
 }
 
 impl CostFunction for Cost<'_> {
@@ -101,6 +103,7 @@ impl CostFunction for Cost<'_> {
 
     fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
         self.count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        (self.check)();
         let e = evaluate(self.problem, self.bare, &layout(self.hosts, x, self.space));
         Ok(if e.objective.is_finite() { e.objective } else { 1e300 })
     }
@@ -165,7 +168,13 @@ const COARSE: [f64; 7] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
 
 /// The first start of a placement: an even split and the best shared clearance of a coarse
 /// scan ([`COARSE`]).
-fn coarse_start(problem: &Problem, bare: &[Vec<f64>], hosts: &[usize], space: &Space) -> Vec<f64> {
+fn coarse_start(
+    problem: &Problem,
+    bare: &[Vec<f64>],
+    hosts: &[usize],
+    space: &Space,
+    check: &(dyn Fn() + Sync),
+) -> Vec<f64> {
     let d = dimension(hosts.len(), space);
     let k = hosts.len();
     let at = |z: f64| {
@@ -176,6 +185,7 @@ fn coarse_start(problem: &Problem, bare: &[Vec<f64>], hosts: &[usize], space: &S
     let scored: Vec<(f64, f64)> = COARSE
         .par_iter()
         .map(|&z| {
+            check();
             let e = evaluate(problem, bare, &layout(hosts, &at(z), space));
             (z, if e.objective.is_finite() { e.objective } else { f64::INFINITY })
         })
@@ -189,8 +199,20 @@ fn coarse_start(problem: &Problem, bare: &[Vec<f64>], hosts: &[usize], space: &S
 /// placement's starts run in parallel; each run is sequential). The first start of each
 /// placement comes from a coarse scan of the clearance (`COARSE`), the others are seeded.
 pub fn optimise(problem: &Problem, bare: &[Vec<f64>], space: &Space, opts: &Options) -> Vec<Found> {
+    optimise_checked(problem, bare, space, opts, &|| {})
+}
+
+/// [`optimise`], calling `check` before every evaluation of a layout: a caller may stop the
+/// search there by unwinding (the Python package's Ctrl-C). The answer does not depend on it.
+pub fn optimise_checked(
+    problem: &Problem,
+    bare: &[Vec<f64>],
+    space: &Space,
+    opts: &Options,
+    check: &(dyn Fn() + Sync),
+) -> Vec<Found> {
     let firsts: Vec<Vec<f64>> =
-        space.placements.par_iter().map(|hosts| coarse_start(problem, bare, hosts, space)).collect();
+        space.placements.par_iter().map(|hosts| coarse_start(problem, bare, hosts, space, check)).collect();
     let runs: Vec<(usize, Vec<f64>)> = space
         .placements
         .iter()
@@ -205,7 +227,7 @@ pub fn optimise(problem: &Problem, bare: &[Vec<f64>], space: &Space, opts: &Opti
         .into_par_iter()
         .map(|(p, x0)| {
             let hosts = &space.placements[p];
-            (p, descend(Cost { problem, bare, hosts, space, count: Default::default() }, x0, opts))
+            (p, descend(Cost { problem, bare, hosts, space, count: Default::default(), check }, x0, opts))
         })
         .collect();
     space
