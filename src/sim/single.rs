@@ -3,6 +3,8 @@
 //! and a sticking speed) and the law's derivative for the linearised flow are in `bed.rs`;
 //! the bed as a column of grains is `column.rs`.
 
+use nalgebra::{DMatrix, DVector, RowDVector};
+
 use super::segment::Watch;
 use super::state::{Bed, Event, EventKind, State};
 use super::system::{Dynamics, System};
@@ -71,5 +73,81 @@ pub(super) fn impacts(d: &Dynamics, s: &mut State, hits: &[Watch], side: &mut [O
             kind: EventKind::Impact { top, speed: rel.abs(), attached: x.sticks },
             loss: x.loss,
         });
+    }
+}
+
+/// What an impact of a single bed contributes to the saltation matrix of the linearised flow
+/// (src/sim/tangent.rs), in the rows of the full state (`row(j)`: the row of bed `j`'s
+/// position, its velocity the next): the derivative `G` of the momentum exchange, and the
+/// event function `h` (`y_j - x_p` at the bottom, `x_p + d - y_j` at the top).
+pub(super) struct ImpactJump {
+    /// The exchange's derivative: `v_p' = (1 - a) v_p + a u`, `u' = b v_p + (1 - b) u`.
+    a: f64,
+    b: f64,
+    /// Rows of the host's velocity and of the bed's velocity.
+    host_v: usize,
+    bed_u: usize,
+    /// Velocity rows of the beds resting on the host (they take its new velocity).
+    riders_u: Vec<usize>,
+    /// Rows of the host's and the bed's positions, and the sign of `h` in them.
+    host_x: usize,
+    bed_y: usize,
+    sign: f64,
+    /// The relative speed of the impact, m/s.
+    pub rel: f64,
+}
+
+impl ImpactJump {
+    /// The jump of bed `j` hitting its top (`top`) or bottom in state `before`; `n` masses,
+    /// `row(k)` the row of bed `k`'s position.
+    pub(super) fn new(
+        d: &Dynamics,
+        before: &State,
+        j: usize,
+        top: bool,
+        n: usize,
+        row: impl Fn(usize) -> usize,
+    ) -> Self {
+        let sys = &d.system;
+        let p = sys.dampers[j].host;
+        // The host moves with the beds already resting on it.
+        let (mh, riders) = host_mass(sys, j, |k| before.beds[k].attached());
+        let (_, u) = before.bed_motion(d, j);
+        let rel = u - before.v[p];
+        let (a, b) = sys.impact_law(j).derivative(mh, sys.dampers[j].mass, rel);
+        ImpactJump {
+            a,
+            b,
+            host_v: n + p,
+            bed_u: row(j) + 1,
+            riders_u: riders.iter().map(|&k| row(k) + 1).collect(),
+            host_x: p,
+            bed_y: row(j),
+            sign: if top { -1.0 } else { 1.0 },
+            rel,
+        }
+    }
+
+    /// Applies `G` to the rows of `m` (plastic: both velocities the common one; beds riding on
+    /// the host take the host's new velocity).
+    pub(super) fn apply_g(&self, m: &mut DMatrix<f64>) {
+        let (vp, uj) = (m.row(self.host_v).into_owned(), m.row(self.bed_u).into_owned());
+        let new_v = &vp * (1.0 - self.a) + &uj * self.a;
+        let new_u = &vp * self.b + &uj * (1.0 - self.b);
+        m.set_row(self.host_v, &new_v);
+        m.set_row(self.bed_u, &new_u);
+        for &r in &self.riders_u {
+            m.set_row(r, &new_v);
+        }
+    }
+
+    /// The rate of `h` under the vector field `f`.
+    pub(super) fn rate(&self, f: &DVector<f64>) -> f64 {
+        self.sign * (f[self.bed_y] - f[self.host_x])
+    }
+
+    /// The gradient of `h` carried by the derivative `m`: `grad(h)^T m`.
+    pub(super) fn gradient(&self, m: &DMatrix<f64>) -> RowDVector<f64> {
+        (m.row(self.bed_y) - m.row(self.host_x)) * self.sign
     }
 }

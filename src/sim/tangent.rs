@@ -226,38 +226,18 @@ impl Observer for Tangent {
             self.simultaneous += 1;
         }
         let n = self.n;
-        let sys = &d.system;
-        let p = sys.dampers[j].host;
-        let md = sys.dampers[j].mass;
-        // The host moves with the beds already resting on it.
-        let (mh, riders) = super::single::host_mass(sys, j, |k| before.beds[k].attached());
-        let (_, u) = before.bed_motion(d, j);
-        let rel = u - before.v[p];
-        self.min_impact_speed = self.min_impact_speed.min(rel.abs());
-        // G: v_p' = (1 - a) v_p + a u, u' = b v_p + (1 - b) u (plastic: both the common velocity);
-        // beds riding on the host take the host's new velocity.
-        let (a, b) = sys.impact_law(j).derivative(mh, md, rel);
-        let (rv, ru) = (n + p, bed_row(n, j) + 1);
-        let apply_g = |m: &mut DMatrix<f64>| {
-            let (vp, uj) = (m.row(rv).into_owned(), m.row(ru).into_owned());
-            let new_v = &vp * (1.0 - a) + &uj * a;
-            let new_u = &vp * b + &uj * (1.0 - b);
-            m.set_row(rv, &new_v);
-            m.set_row(ru, &new_u);
-            for &k in &riders {
-                m.set_row(bed_row(n, k) + 1, &new_v);
-            }
-        };
+        // The bed model's part (src/sim/single.rs): G and the event function h.
+        let jump = super::single::ImpactJump::new(d, before, j, top, n, |k| bed_row(n, k));
+        self.min_impact_speed = self.min_impact_speed.min(jump.rel.abs());
         let f_minus = Tangent::field(d, before);
         let f_plus = Tangent::field(d, after);
         let mut g_f = DMatrix::from_column_slice(f_minus.len(), 1, f_minus.as_slice());
-        apply_g(&mut g_f);
+        jump.apply_g(&mut g_f);
         let w = &f_plus - g_f.column(0);
-        // h = y_j - x_p at the bottom, x_p + d - y_j at the top; its rate before the event.
-        let sign = if top { -1.0 } else { 1.0 };
-        let h_dot = sign * (f_minus[bed_row(n, j)] - f_minus[p]);
-        let grad_m = (self.m.row(bed_row(n, j)) - self.m.row(p)) * sign;
-        apply_g(&mut self.m);
+        // The rate of h before the event, and its gradient carried by the derivative so far.
+        let h_dot = jump.rate(&f_minus);
+        let grad_m = jump.gradient(&self.m);
+        jump.apply_g(&mut self.m);
         if h_dot != 0.0 {
             self.m += (&w / h_dot) * &grad_m;
         }
