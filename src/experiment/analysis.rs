@@ -88,12 +88,13 @@ pub(super) fn steady_at(path: &Path, prefix: &str, s: Option<&RawSteady>) -> Res
         o.method = match m.as_str() {
             "orbit" => SteadyMethod::Orbit,
             "transient" => SteadyMethod::Transient,
+            "certify" => SteadyMethod::Certify,
             other => {
                 return Err(Error::invalid(
                     path,
                     format!("{prefix}method"),
                     format!("\"{other}\""),
-                    "\"orbit\" (solve for the periodic orbit, the default) or \"transient\" (wait for the transient to die out)",
+                    "\"orbit\" (solve for the periodic orbit, the default), \"transient\" (wait for the transient to die out) or \"certify\" (the transient, then its settled motion certified as a periodic orbit)",
                 ))
             }
         };

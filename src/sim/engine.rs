@@ -5,7 +5,7 @@ use crate::model::GRAVITY;
 
 pub use super::state::{Bed, Event, EventKind, State};
 
-use super::roots::{excluded, first_root, fresh_window, TIME_TOL};
+use super::roots::{first_root_from, fresh_window, lower_root, TIME_TOL};
 use super::segment::{Point, Segment, Taylor, Watch};
 use super::system::Dynamics;
 
@@ -181,10 +181,10 @@ impl<'a> Engine<'a> {
                     continue;
                 }
                 let ta = if lo == a { w.taylor(seg, d, &pt) } else { eval(w, lo) };
-                if excluded(&ta, b - lo) {
+                let Some(tau) = lower_root(&ta, b - lo) else {
                     continue;
-                }
-                if let Some(r) = first_root(&mut |t| eval(w, t), lo, ta, b) {
+                };
+                if let Some(r) = first_root_from(&mut |t| eval(w, t), lo, ta, tau, b) {
                     match &mut best {
                         Some((t, ws)) if (r - *t).abs() <= 10.0 * TIME_TOL => ws.push(*w),
                         Some((t, _)) if r > *t => {}

@@ -283,6 +283,62 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     finish(d, s, t_end, opts.energy, outcome)
 }
 
+/// A settled motion (`st`, from the transient rule) certified as a periodic orbit, when it is
+/// one: the events of one cycle from its final state place a stroboscopic section at their
+/// quietest phase, Newton's method solves for the fixed point of the cycle's map from there,
+/// and the orbit is the motion's own when it is stable, has the motion's events per cycle,
+/// lies within [`CERTIFY_NEAR`] of the motion on the section, and its map is smooth there
+/// (with a column of grains the Jacobian comes from central differences, which must not
+/// straddle a change of events). Then `st` gets the orbit's [`Certificate`]; its record and
+/// every number read from it stay as they are. Either way its method is
+/// [`SteadyMethod::Certify`].
+pub fn certify(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
+    let st = Steady { method: SteadyMethod::Certify, ..st };
+    if !st.converged || st.stop.is_some() || st.certificate.is_some() || st.period == 0 {
+        return st;
+    }
+    let p = st.period;
+    let period = 2.0 * PI / d.omega;
+    let engine = Engine::new(d);
+    let start = st.final_state.clone();
+    let mut end = start.clone();
+    let mut log = EventLog::default();
+    if engine.advance(&mut end, start.t + p as f64 * period, &mut log).is_err() {
+        return st;
+    }
+    let phase = quiet_phase(&log.0, start.t, d.omega, p);
+    let mut at = start.clone();
+    if engine.advance(&mut at, start.t + phase / d.omega, &mut super::engine::Quiet).is_err() {
+        return st;
+    }
+    let length = st.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
+    let wanted = counts(&log.0);
+    let Ok((strobe, orbit)) = attempt(d, &at, p, length, &wanted, opts) else {
+        return st;
+    };
+    let u_motion = strobe.coordinates_unchecked(d, &at);
+    if !orbit.smooth || strobe.periods != p || (&orbit.u - u_motion).amax() > CERTIFY_NEAR {
+        return st;
+    }
+    let certificate = Certificate {
+        residual: orbit.residuals.last().copied().unwrap_or(f64::NAN),
+        multipliers: orbit.multipliers.clone(),
+        stable: orbit.stable,
+        smooth: orbit.smooth,
+        iterations: orbit.residuals.len().saturating_sub(1),
+        attempts: 1,
+        phase: strobe.phase,
+        pattern: counts(&orbit.events),
+        section: strobe.state(d, &orbit.u),
+    };
+    Steady { certificate: Some(certificate), ..st }
+}
+
+/// How far (max-norm, in the section's scaled units: displacements over the motion's
+/// amplitude) a certified orbit may lie from the settled motion it certifies: the transient
+/// rule settles to far less, so an orbit farther away is another one.
+pub const CERTIFY_NEAR: f64 = 1e-4;
+
 /// A certified steady state at its forcing frequency (a point of a continuation sweep).
 pub struct Known<'a> {
     /// The steady state found at the previous frequency.

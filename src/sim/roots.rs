@@ -88,7 +88,25 @@ pub fn lower_root(t: &Taylor, len: f64) -> Option<f64> {
     if h[0] > change {
         return None;
     }
+    if bernstein_positive(t, len) {
+        return None;
+    }
     lower_root_unbounded(t, len)
+}
+
+/// Whether `L` is certainly positive on `[0, len]`: its Bernstein coefficients there (the
+/// polynomial lies in their convex hull) all exceed their rounding error.
+fn bernstein_positive(t: &Taylor, len: f64) -> bool {
+    let h = &t.h;
+    // L(len s) = sum c_k s^k.
+    let c1 = h[1] * len;
+    let c2 = h[2] / 2.0 * len * len;
+    let c3 = h[3] / 6.0 * len * len * len;
+    let c4 = -t.bound4 / 24.0 * len * len * len * len;
+    let margin = 16.0 * f64::EPSILON * (h[0].abs() + c1.abs() + c2.abs() + c3.abs() + c4.abs());
+    let b =
+        [h[0] + c1 / 4.0, h[0] + c1 / 2.0 + c2 / 6.0, h[0] + 0.75 * c1 + c2 / 2.0 + c3 / 4.0, h[0] + c1 + c2 + c3 + c4];
+    h[0] > margin && b.iter().all(|&x| x > margin)
 }
 
 /// [`lower_root`] without its quick exclusion (any sign of the quartic term).
@@ -125,11 +143,6 @@ fn lower_root_unbounded(t: &Taylor, len: f64) -> Option<f64> {
     None
 }
 
-/// True when `h` certainly has no root in `(a, a + len]`.
-pub fn excluded(t: &Taylor, len: f64) -> bool {
-    lower_root(t, len).is_none()
-}
-
 /// The first root in `(0, len]` of the upper bound `U(tau) = c(tau) + B tau^4 / 24`: by then
 /// `h` has certainly reached zero.
 fn upper_root(t: &Taylor, len: f64) -> Option<f64> {
@@ -145,10 +158,21 @@ fn upper_root(t: &Taylor, len: f64) -> Option<f64> {
 /// closing, it goes on advancing; where no advance is possible any more (a touch that the
 /// arithmetic cannot tell from a miss), the event is there.
 pub fn first_root(eval: &mut impl FnMut(f64) -> Taylor, a: f64, ta: Taylor, b: f64) -> Option<f64> {
+    let tau = lower_root(&ta, b - a)?;
+    first_root_from(eval, a, ta, tau, b)
+}
+
+/// [`first_root`] given its first advance `tau = lower_root(&ta, b - a)` (which the caller
+/// has computed to exclude the window): the same result.
+pub fn first_root_from(eval: &mut impl FnMut(f64) -> Taylor, a: f64, ta: Taylor, tau: f64, b: f64) -> Option<f64> {
     let mut t = a;
     let mut ta = ta;
+    let mut next = Some(tau);
     for _ in 0..MAX_ADVANCES {
-        let tau = lower_root(&ta, b - t)?;
+        let tau = match next.take() {
+            Some(tau) => tau,
+            None => lower_root(&ta, b - t)?,
+        };
         let resolution = TIME_TOL.max(4.0 * f64::EPSILON * t.abs());
         if tau <= resolution && upper_root(&ta, b - t).is_some_and(|up| up - tau <= resolution) {
             return Some(t + tau);

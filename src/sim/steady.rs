@@ -6,7 +6,10 @@
 //!   motion's pattern of events repeats, then solve for the periodic orbit by Newton's method
 //!   on the stroboscopic map, and certify it (residual, Floquet multipliers, stability);
 //! - `Transient` ([`super::transient`]): integrate until the once-per-period samples stop
-//!   changing to a tolerance (its cost and its error both grow as 1/damping), then record.
+//!   changing to a tolerance (its cost and its error both grow as 1/damping), then record;
+//! - `Certify`: the transient method, then its settled motion certified as a periodic orbit
+//!   where it is one ([`super::orbit_search::certify`]); the record stays the transient's.
+//!   A column of grains has certified orbits only this way.
 
 use num_complex::Complex64;
 
@@ -24,6 +27,11 @@ pub enum SteadyMethod {
     Orbit,
     /// Wait for the transient to die out.
     Transient,
+    /// Wait for the transient to die out, then certify the settled motion as a periodic orbit
+    /// where it is one ([`super::orbit_search::certify`]): the record is the transient
+    /// method's, the certificate is added. The way to certified orbits of a column of grains,
+    /// whose Jacobian comes from central differences.
+    Certify,
 }
 
 impl SteadyMethod {
@@ -32,6 +40,7 @@ impl SteadyMethod {
         match self {
             SteadyMethod::Orbit => "orbit",
             SteadyMethod::Transient => "transient",
+            SteadyMethod::Certify => "certify",
         }
     }
 }

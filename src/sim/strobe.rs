@@ -235,6 +235,16 @@ impl Section for Strobe {
     }
 
     fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
+        if !d.system.columns.is_empty() {
+            // The linearised flow has no saltation for grain-grain collisions: the Jacobian
+            // comes from central differences of the map ([`Section::jacobian`]).
+            let mut s = self.state(d, u);
+            let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
+            let mut log = EventLog::default();
+            Engine::new(d).advance(&mut s, t_end, &mut log).map_err(OrbitError::Stopped)?;
+            let image = self.coordinates(d, &s)?;
+            return Ok(Return { image, events: log.0, jacobian: None, d_omega: None });
+        }
         let mut s = self.state(d, u);
         let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
         let mut tangent = Tangent::new(d, self.embedding(d));
