@@ -5,7 +5,7 @@
 
 use rayon::prelude::*;
 
-use crate::design::{evaluate, Layout, Problem, Spec};
+use crate::design::{evaluate, Evaluation, Layout, Problem, Spec};
 use crate::figure::{Corner, Figure, Marker, Panel, Series};
 use crate::table::Table;
 
@@ -46,13 +46,16 @@ enum Variable {
     Clearance(usize),
 }
 
+/// A changed layout's objective and its unsettled points.
+type Outcome = (f64, usize);
+
 /// The table `design_near_optimum` and its figure.
 pub fn near_optimum(
     spec: &Spec,
     p: &Problem,
     b: &[Vec<f64>],
     best: &Layout,
-    best_objective: f64,
+    best_evaluation: &Evaluation,
     title: &str,
 ) -> Option<(Table, Figure)> {
     let mut vars: Vec<(String, Variable)> = Vec::new();
@@ -71,25 +74,30 @@ pub fn near_optimum(
         return None;
     }
     let jobs: Vec<(usize, f64)> = (0..vars.len()).flat_map(|v| CHANGES.iter().map(move |c| (v, *c))).collect();
-    let rows: Vec<(usize, f64, Option<f64>)> = jobs
+    // Per change: the variable, the change and its outcome.
+    let rows: Vec<(usize, f64, Option<Outcome>)> = jobs
         .par_iter()
         .map(|&(v, c)| {
             let o = if c == 0.0 {
-                Some(best_objective)
+                Some((best_evaluation.objective, best_evaluation.unsettled))
             } else {
-                changed(best, &vars[v].1, c, spec.clearance_mm).map(|l| evaluate(p, b, &l).objective)
+                changed(best, &vars[v].1, c, spec.clearance_mm).map(|l| {
+                    let e = evaluate(p, b, &l);
+                    (e.objective, e.unsettled)
+                })
             };
             (v, c, o)
         })
         .collect();
-    let kept: Vec<&(usize, f64, Option<f64>)> = rows.iter().filter(|r| r.2.is_some()).collect();
+    let kept: Vec<&(usize, f64, Option<Outcome>)> = rows.iter().filter(|r| r.2.is_some()).collect();
     let table = Table::new(
         "design_near_optimum",
         "The objective near the best layout: each variable changed by -40 % to +40 % with the others held (a shared clearance: see design_clearance) (a host's share of the shot changed, the other hosts' shares scaled to keep the total); changes that leave the clearance bounds or the shot budget are left out",
     )
     .str("variable", kept.iter().map(|r| vars[r.0].0.clone()).collect())
     .f64("change_percent", kept.iter().map(|r| r.1).collect())
-    .f64("objective", kept.iter().map(|r| r.2.unwrap_or(f64::NAN)).collect());
+    .f64("objective", kept.iter().map(|r| r.2.map_or(f64::NAN, |o| o.0)).collect())
+    .i64("unsettled_points", kept.iter().map(|r| r.2.map_or(0, |o| o.1 as i64)).collect());
     let mut panel = Panel::new(
         "objective near the optimum, one variable at a time",
         "change of the variable (%)",
@@ -97,11 +105,11 @@ pub fn near_optimum(
         (CHANGES[0], CHANGES[CHANGES.len() - 1]),
     );
     for (k, (name, _)) in vars.iter().enumerate() {
-        let pts: Vec<&&(usize, f64, Option<f64>)> = kept.iter().filter(|r| r.0 == k).collect();
+        let pts: Vec<&&(usize, f64, Option<Outcome>)> = kept.iter().filter(|r| r.0 == k).collect();
         let mut s = Series::line(
             name.clone(),
             pts.iter().map(|r| r.1).collect(),
-            pts.iter().map(|r| r.2.unwrap_or(f64::NAN)).collect(),
+            pts.iter().map(|r| r.2.map_or(f64::NAN, |o| o.0)).collect(),
             k,
         );
         s.marker = Marker::Circle;

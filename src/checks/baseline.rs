@@ -4,8 +4,10 @@
 //! blessed in the same commit.
 //!
 //! A sample is a long table `table, row, key, column, value`: from each result table, at most
-//! [`ROWS_PER_TABLE`] evenly spaced rows (rows that did not settle or are not period-1 are left
-//! out: their values depend on the record), every numeric column. Tables whose values depend on
+//! [`ROWS_PER_TABLE`] evenly spaced rows (rows that did not settle or are not period-1, and
+//! design rows with points that did not settle, are left out: their values depend on the
+//! record, whose motion never settles and so carries the rounding of every step), every
+//! numeric column. Tables whose values depend on
 //! where an adaptive method put its points, or on the whole of a long impact history, are left
 //! out too ([`SKIPPED`]).
 
@@ -74,7 +76,7 @@ pub fn sample(tables: &[Table]) -> Vec<Value> {
                 Some((_, ColumnData::I64(v))) => v[i] == want,
                 _ => true,
             };
-            ok("converged", 1) && ok("period", 1)
+            ok("converged", 1) && ok("period", 1) && ok("unsettled_points", 0)
         };
         let rows: Vec<usize> = (0..h).filter(|&i| regular(i)).collect();
         let stride = rows.len().div_ceil(ROWS_PER_TABLE).max(1);
