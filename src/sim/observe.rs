@@ -81,6 +81,11 @@ fn refine(f: &impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, mut flo: f64
             hi = t;
         }
         let newton = if dv != 0.0 { t - v / dv } else { f64::NAN };
+        // Converged: Newton's correction is below the time's resolution.
+        if (newton - t).abs() <= 1e-15 * (1.0 + t.abs()) {
+            t = newton.clamp(lo, hi);
+            break;
+        }
         t = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
         if hi - lo < 1e-15 * (1.0 + t.abs()) {
             break;

@@ -13,6 +13,7 @@
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
+use nalgebra::DVector;
 use num_complex::Complex64;
 
 use super::engine::{Engine, Event, State};
@@ -349,37 +350,32 @@ pub struct Known<'a> {
 
 /// The orbit of `prev` (a certified steady state) continued to the dynamics `d` (the same
 /// system forced at `freq_hz`): Newton's method on the section of `prev`'s orbit (same forcing
-/// phase, period and bed places). The first guess is `prev`'s section state, extrapolated along
-/// the secant through `before` when that point was on the same section. `None` unless the orbit
-/// found is stable and has `prev`'s events per cycle (so it is the same branch, not another
-/// orbit nearby); then the caller runs the transient search. Its `transient_periods` is 0.
-pub fn follow(
-    prev: &Known,
-    before: Option<&Known>,
-    d: &Dynamics,
-    freq_hz: f64,
-    opts: &SteadyOptions,
-) -> Option<Steady> {
+/// phase, period and bed places). The first guess is `prev`'s section state, extrapolated by
+/// the polynomial through it and the `before` points (oldest first, up to two) that lie on the
+/// same section. `None` unless the orbit found is stable and has `prev`'s events per cycle (so
+/// it is the same branch, not another orbit nearby); then the caller runs the transient
+/// search. Its `transient_periods` is 0.
+pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: &SteadyOptions) -> Option<Steady> {
     let cert = prev.steady.certificate.as_ref()?;
     if !prev.steady.converged || prev.steady.stop.is_some() {
         return None;
     }
     let at = prev.steady.section_state()?;
     let length = prev.steady.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
-    let (strobe, mut u0) = Strobe::through(d, at, prev.steady.period, length);
-    if let Some(b) = before {
+    // The same section (forcing phase, period, bed places) at the new frequency.
+    let strobe =
+        Strobe { phase: cert.phase, periods: prev.steady.period, beds: at.beds.iter().map(Rest::of).collect(), length };
+    // The points on this section, newest first, and their coordinates at the new frequency.
+    let mut nodes = vec![(prev.freq_hz, strobe.coordinates_unchecked(d, at))];
+    for b in before.iter().rev() {
         let same = b.steady.certificate.as_ref().is_some_and(|c| c.phase == cert.phase && c.pattern == cert.pattern)
             && b.steady.period == prev.steady.period;
-        if let Some(old) =
-            b.steady.section_state().filter(|s| same && s.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied()))
-        {
-            let r = (freq_hz - prev.freq_hz) / (prev.freq_hz - b.freq_hz);
-            if r.is_finite() && r.abs() <= 2.0 {
-                let u_old = strobe.coordinates_unchecked(d, old);
-                u0 += (&u0 - u_old) * r;
-            }
+        match b.steady.section_state().filter(|s| same && s.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied())) {
+            Some(old) => nodes.push((b.freq_hz, strobe.coordinates_unchecked(d, old))),
+            None => break,
         }
     }
+    let u0 = extrapolate(&nodes, freq_hz);
     let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
     let orbit = solve(&strobe, d, &u0, &newton).ok()?;
     if !orbit.stable || counts(&orbit.events) != cert.pattern {
@@ -387,6 +383,25 @@ pub fn follow(
     }
     let st = record(d, &strobe, &orbit, 0, 1, opts);
     (st.converged && st.stop.is_none()).then_some(st)
+}
+
+/// The value at `x` of the polynomial through `nodes` (abscissa, value; newest first), each
+/// node's weight the Lagrange basis at `x`; only the newest is used when `x` lies more than
+/// two node spacings away (a far extrapolation is no better guess than the nearest orbit).
+fn extrapolate(nodes: &[(f64, DVector<f64>)], x: f64) -> DVector<f64> {
+    let near = nodes.windows(2).take_while(|w| {
+        let r = (x - w[0].0) / (w[0].0 - w[1].0);
+        r.is_finite() && r.abs() <= 2.0
+    });
+    let k = 1 + near.count();
+    let nodes = &nodes[..k];
+    let mut out = DVector::zeros(nodes[0].1.len());
+    for (i, (xi, ui)) in nodes.iter().enumerate() {
+        let w: f64 =
+            nodes.iter().enumerate().filter(|(j, _)| *j != i).map(|(_, (xj, _))| (x - xj) / (xi - xj)).product();
+        out.axpy(w, ui, 1.0);
+    }
+    out
 }
 
 /// Records one orbit from its section state and ends the record on a whole forcing period
@@ -433,4 +448,23 @@ fn record(
         }
     }
     st
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extrapolation_is_exact_for_quadratics_and_falls_back_when_far() {
+        let q = |x: f64| DVector::from_vec(vec![1.0 + 2.0 * x - 0.5 * x * x, -x * x]);
+        let nodes: Vec<(f64, DVector<f64>)> = [3.0, 2.5, 1.5].iter().map(|&x| (x, q(x))).collect();
+        let got = extrapolate(&nodes, 3.75);
+        assert!((&got - q(3.75)).amax() < 1e-12, "{got}");
+        // Two nodes: the secant.
+        let got = extrapolate(&nodes[..2], 3.25);
+        let secant = &nodes[0].1 + (&nodes[0].1 - &nodes[1].1) * 0.5;
+        assert!((&got - secant).amax() < 1e-12);
+        // Farther than two spacings from the newest: the newest alone.
+        assert_eq!(extrapolate(&nodes, 5.0), nodes[0].1);
+    }
 }

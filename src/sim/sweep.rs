@@ -11,6 +11,9 @@ use super::steady::{Steady, SteadyOptions};
 use super::steady_state;
 use super::system::{Dynamics, SetupError, System};
 
+/// Steady states a followed sweep extrapolates its next first guess from.
+const FOLLOWED: usize = 3;
+
 /// Direction of a continuation sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Direction {
@@ -80,7 +83,7 @@ pub fn continued(
         order.reverse();
     }
     let mut out: Vec<SweepPoint> = Vec::with_capacity(order.len());
-    // Index in `out` of the last point with a steady state; following, the last two such.
+    // Index in `out` of the last point with a steady state; following, the last `FOLLOWED` such.
     let mut last: Option<usize> = None;
     let mut known: Vec<usize> = Vec::new();
     let base = Dynamics::unforced(sys);
@@ -89,8 +92,9 @@ pub fn continued(
             let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
                 Some(&p) if opts.follow && sys.columns.is_empty() => {
-                    let before = known.len().checked_sub(2).and_then(|i| known_point(&out, known[i]));
-                    known_point(&out, p).and_then(|p| follow(&p, before.as_ref(), &d, f, opts))
+                    let before: Vec<Known> =
+                        known[..known.len() - 1].iter().filter_map(|&i| known_point(&out, i)).collect();
+                    known_point(&out, p).and_then(|p| follow(&p, &before, &d, f, opts))
                 }
                 _ => None,
             };
@@ -109,7 +113,7 @@ pub fn continued(
             Ok(st) => {
                 last = Some(out.len());
                 if opts.follow {
-                    if known.len() == 2 {
+                    if known.len() == FOLLOWED {
                         known.remove(0);
                     }
                     known.push(out.len());
