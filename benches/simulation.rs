@@ -75,6 +75,13 @@ fn column_sweep(c: &mut Criterion) {
         group.bench_function(format!("fig05 columns of 10 grains e=0.3 {name} 44-56 Hz (121 points)"), |b| {
             b.iter(|| sweep::from_rest(&sys, &freqs, &SteadyOptions::default(), &|| {}))
         });
+        // The same, each settled motion then certified as a periodic orbit (a Jacobian by
+        // central differences: `steady.method = "certify"`).
+        let certify = SteadyOptions { method: shotdamp::sim::SteadyMethod::Certify, ..SteadyOptions::default() };
+        group
+            .bench_function(format!("fig05 columns of 10 grains e=0.3 {name} 44-56 Hz (121 points), certified"), |b| {
+                b.iter(|| sweep::from_rest(&sys, &freqs, &certify, &|| {}))
+            });
     }
     group.finish();
 }

@@ -112,3 +112,17 @@ def test_experiments_load_with_their_models():
     scan = sd.load("experiments/fig05_clearance_scan.toml")[0]
     with pytest.raises(ValueError, match="set by a run"):
         scan.system("single")
+
+
+def test_a_column_certified_by_the_certify_method():
+    # Five plastic grains on m2 move as the single plastic mass: the transient's settled
+    # motion certified (Jacobian by central differences) has the single mass's multiplier.
+    column = sd.System(paper_structure(), [sd.Damper(mass=2, mass_ratio=0.1, clearance_mm=0.35, bed="column", grains=5)], force_n=2.6)
+    single = sd.System(paper_structure(), [sd.Damper(mass=2, mass_ratio=0.1, clearance_mm=0.35)], force_n=2.6)
+    transient = column.steady_state(52.0, steady={"method": "transient"})
+    certified = column.steady_state(52.0, steady={"method": "certify"})
+    assert transient.orbit is None and certified.orbit is not None
+    assert np.array_equal(transient.compliance, certified.compliance)
+    exact = single.steady_state(52.0).orbit
+    assert certified.orbit.spectral_radius == pytest.approx(exact.spectral_radius, abs=1e-6)
+    assert certified.orbit.stable and certified.orbit.residual < 1e-11
