@@ -321,18 +321,7 @@ pub fn certify(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
     if !orbit.smooth || strobe.periods != p || (&orbit.u - u_motion).amax() > CERTIFY_NEAR {
         return st;
     }
-    let certificate = Certificate {
-        residual: orbit.residuals.last().copied().unwrap_or(f64::NAN),
-        multipliers: orbit.multipliers.clone(),
-        stable: orbit.stable,
-        smooth: orbit.smooth,
-        iterations: orbit.residuals.len().saturating_sub(1),
-        attempts: 1,
-        phase: strobe.phase,
-        pattern: counts(&orbit.events),
-        section: strobe.state(d, &orbit.u),
-    };
-    Steady { certificate: Some(certificate), ..st }
+    Steady { certificate: Some(certificate(d, &strobe, &orbit, 1)), ..st }
 }
 
 /// How far (max-norm, in the section's scaled units: displacements over the motion's
@@ -404,6 +393,21 @@ fn extrapolate(nodes: &[(f64, DVector<f64>)], x: f64) -> DVector<f64> {
     out
 }
 
+/// The certificate of an orbit found on `strobe` after `attempts` attempts.
+fn certificate(d: &Dynamics, strobe: &Strobe, orbit: &Orbit, attempts: usize) -> Certificate {
+    Certificate {
+        residual: orbit.residuals.last().copied().unwrap_or(f64::NAN),
+        multipliers: orbit.multipliers.clone(),
+        stable: orbit.stable,
+        smooth: orbit.smooth,
+        iterations: orbit.residuals.len().saturating_sub(1),
+        attempts,
+        phase: strobe.phase,
+        pattern: counts(&orbit.events),
+        section: strobe.state(d, &orbit.u),
+    }
+}
+
 /// Records one orbit from its section state and ends the record on a whole forcing period
 /// (where a continuation sweep restarts).
 fn record(
@@ -416,19 +420,9 @@ fn record(
 ) -> Steady {
     let period = 2.0 * PI / d.omega;
     let p = strobe.periods;
-    let start = strobe.state(d, &orbit.u);
+    let certificate = certificate(d, strobe, orbit, attempts);
+    let start = certificate.section.clone();
     let t_end = start.t + p as f64 * period;
-    let certificate = Certificate {
-        residual: orbit.residuals.last().copied().unwrap_or(f64::NAN),
-        multipliers: orbit.multipliers.clone(),
-        stable: orbit.stable,
-        smooth: orbit.smooth,
-        iterations: orbit.residuals.len().saturating_sub(1),
-        attempts,
-        phase: strobe.phase,
-        pattern: counts(&orbit.events),
-        section: start.clone(),
-    };
     let outcome = Outcome {
         method: SteadyMethod::Orbit,
         converged: true,
