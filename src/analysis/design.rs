@@ -628,3 +628,42 @@ fn sdof_method(
     .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect());
     (table, exports)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn found(objective: f64, unsettled: usize) -> Found {
+        let layout = Layout { hosts: vec![1], masses_kg: vec![0.1], clearances_mm: vec![0.4] };
+        let evaluation = Evaluation {
+            bands: vec![objective],
+            bare: vec![1.0],
+            objective,
+            scenarios: vec![objective],
+            worst_scenario: 0,
+            worst: (0, 50.0, 1),
+            curves: Vec::new(),
+            unsettled,
+            points: 10,
+        };
+        Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1 }
+    }
+
+    #[test]
+    fn a_replayed_objective_fails_beyond_its_tolerance_and_names_the_layout() {
+        let stored = |label: &str, objective: f64| StoredLayout::of(label.into(), &found(0.0, 0).layout, objective, 1);
+        let (a, b) = (stored("m1", 0.5), stored("m2", 0.4));
+        // Settled layouts: 1e-9.
+        let (fa, fb) = (found(0.5, 0), found(0.4 * (1.0 + 2e-9), 0));
+        let c = replayed("stored_objectives", "x", &[(&a, &fa), (&b, &fb)], REPLAY_TOL, "p", "rerun");
+        assert_eq!(c.status, Status::Fail);
+        assert!(c.detail.as_deref().is_some_and(|d| d.contains("m2")), "{:?}", c.detail);
+        // A layout with unsettled points moved by 1.7 % (a last-bit change, docs/design.md)
+        // passes its rule; by 6 % it fails.
+        for (moved, status) in [(1.017, Status::Pass), (1.06, Status::Fail)] {
+            let f = found(0.4 * moved, 3);
+            let c = replayed("stored_objectives_unsettled", "x", &[(&b, &f)], REPLAY_TOL_UNSETTLED, "p", "rerun");
+            assert_eq!(c.status, status, "{moved}");
+        }
+    }
+}
