@@ -1,7 +1,9 @@
 //! Continuation sweeps that follow certified orbits (`steady.follow`, the default of designs)
 //! against the same sweeps without it (each point from the previous point's final state by
 //! the transient search): the same orbits, to 1e-9, at every point of Fig. 5's band, across
-//! the fold of its hysteresis and the clearances where the beds stop reaching the top.
+//! the fold of its hysteresis and the clearances where the beds stop reaching the top, and
+//! across the grazes where a followed orbit's events per cycle change (a bed starts or stops
+//! lifting off or reaching the top).
 
 use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, Damping, Structure};
@@ -16,13 +18,16 @@ fn band() -> Vec<f64> {
     (0..=48).map(|i| 44.0 + 0.25 * i as f64).collect()
 }
 
-/// Compares the two sweeps point by point; returns how many points were followed.
-fn same_sweeps(sys: &System, dir: Direction) -> usize {
+/// Compares the two sweeps point by point; returns how many points were followed, and how
+/// many of those have other events per cycle than the point before them.
+fn same_sweeps(sys: &System, dir: Direction) -> (usize, usize) {
     let plain = SteadyOptions::default();
     let follow = SteadyOptions { follow: true, ..plain };
     let a = continued(sys, &band(), dir, &plain, &|| {});
     let b = continued(sys, &band(), dir, &follow, &|| {});
     let mut followed = 0;
+    let mut grazes = 0;
+    let mut before: Option<&shotdamp::sim::Steady> = None;
     for (p, q) in a.iter().zip(&b) {
         assert_eq!(p.freq_hz, q.freq_hz);
         let (p, q) = (p.result.as_ref().unwrap(), q.result.as_ref().unwrap());
@@ -39,14 +44,18 @@ fn same_sweeps(sys: &System, dir: Direction) -> usize {
             for (m, n) in cp.multipliers.iter().zip(&cq.multipliers) {
                 assert!((m - n).norm() <= 1e-6, "multipliers {m} vs {n}");
             }
+            if before.and_then(|s| s.certificate.as_ref()).is_some_and(|c| c.pattern != cq.pattern) {
+                grazes += 1;
+            }
         }
+        before = Some(q);
     }
-    followed
+    (followed, grazes)
 }
 
 #[test]
 fn followed_sweeps_equal_the_transient_search_on_fig05s_band() {
-    let mut followed = 0;
+    let (mut followed, mut grazes) = (0, 0);
     for (zeta, clearance_mm, hosts) in
         [(0.01, 0.3, vec![0, 1, 2]), (0.005, 0.3, vec![0, 1, 2]), (0.01, 1.0, vec![0, 1, 2]), (0.01, 0.2, vec![1])]
     {
@@ -56,9 +65,14 @@ fn followed_sweeps_equal_the_transient_search_on_fig05s_band() {
             .map(|&h| Damper { host: h, mass: 0.1 * masses[h], clearance: Clearance::from_m(clearance_mm * 1e-3) })
             .collect();
         let sys = System::plastic(paper(zeta), dampers, 0, 2.6);
-        followed += same_sweeps(&sys, Direction::Up);
-        followed += same_sweeps(&sys, Direction::Down);
+        for dir in [Direction::Up, Direction::Down] {
+            let (f, g) = same_sweeps(&sys, dir);
+            followed += f;
+            grazes += g;
+        }
     }
-    // Most points are followed (the fast path is taken, not skipped).
+    // Most points are followed (the fast path is taken, not skipped), some of them across a
+    // graze.
     assert!(followed > 8 * 49 / 2, "{followed} of {} points followed", 8 * 49);
+    assert!(grazes >= 10, "{grazes} followed points across a graze");
 }

@@ -18,10 +18,10 @@ use num_complex::Complex64;
 
 use super::engine::{Engine, Event, State};
 use super::observe::{EventLog, Extrema};
-use super::periodic::{signature, solve, NewtonOptions, Orbit, OrbitError, Section};
+use super::periodic::{signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
 use super::steady::{
-    amplitude_scale, finish, torus_window, Certificate, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions,
-    TORUS_MARGIN, TORUS_TOL,
+    amplitude_scale, finish, torus_window, Certificate, NoSteady, Outcome, Recorder, Steady, SteadyMethod,
+    SteadyOptions, TORUS_MARGIN, TORUS_TOL,
 };
 use super::strobe::{quiet_phase, Rest, Strobe};
 use super::system::Dynamics;
@@ -73,7 +73,8 @@ fn torus_angle(radius: f64, lead: Complex64) -> Option<f64> {
 }
 
 /// One attempt: the section through the state `at`, Newton on the `p`-period map, and the
-/// checks that make the orbit the motion's own.
+/// checks that make the orbit the motion's own. With the orbit, its record when Newton's final
+/// evaluation was recorded and the orbit's period is `p`.
 fn attempt(
     d: &Dynamics,
     at: &State,
@@ -81,10 +82,10 @@ fn attempt(
     length: f64,
     wanted: &[(usize, u8, usize)],
     opts: &SteadyOptions,
-) -> Result<(Strobe, Orbit), Miss> {
+) -> Result<(Strobe, Orbit, Option<Recorded>), Miss> {
     let (strobe, u0) = Strobe::through(d, at, p, length);
     let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
-    let orbit = solve(&strobe, d, &u0, &newton).map_err(|e: OrbitError| Miss::Other(e.to_string()))?;
+    let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).map_err(|e| Miss::Other(e.to_string()))?;
     if !orbit.stable {
         let lead = orbit.multipliers.first().copied().unwrap_or_default();
         return Err(Miss::Unstable { radius: orbit.spectral_radius(), lead });
@@ -92,7 +93,32 @@ fn attempt(
     if counts(&orbit.events) != wanted {
         return Err(Miss::Other("the orbit found has other events than the motion".into()));
     }
-    Ok(minimal(d, strobe, orbit, &newton))
+    let (short, orbit) = minimal(d, strobe, orbit, &newton);
+    let recorded = recorded.filter(|_| short.periods == p);
+    Ok((short, orbit, recorded))
+}
+
+/// A record of one orbit taken beside Newton's final evaluation: the observers and the state
+/// at the record's end.
+type Recorded = (Recorder, State);
+
+/// Newton's method on `strobe` whose evaluations that are likely the last also record the
+/// motion ([`solve_with`]): when one is, the orbit's record needs no run of its own.
+fn solve_recorded(
+    strobe: &Strobe,
+    d: &Dynamics,
+    u0: &DVector<f64>,
+    newton: &NewtonOptions,
+    opts: &SteadyOptions,
+) -> Result<(Orbit, Option<Recorded>), OrbitError> {
+    solve_with(strobe, d, u0, newton, |u, likely_last| {
+        if !likely_last {
+            return Ok((strobe.map(d, u)?, None));
+        }
+        let mut rec = Recorder::new(d, &strobe.state(d, u), opts.energy);
+        let (ret, end) = strobe.map_observed(d, u, &mut rec)?;
+        Ok((ret, Some((rec, end))))
+    })
 }
 
 /// The orbit on the map of its least period: a `p`-orbit that closes after a divisor `q` of
@@ -223,7 +249,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             }
         }
         match result {
-            Ok((strobe, orbit)) => return record(d, &strobe, &orbit, simulated, attempts, opts),
+            Ok((strobe, orbit, recorded)) => return record(d, &strobe, &orbit, simulated, attempts, opts, recorded),
             Err(Miss::Unstable { radius, lead }) => {
                 failure = Some(NoSteady::Unstable { radius });
                 torus = match torus_angle(radius, lead) {
@@ -314,7 +340,7 @@ pub fn certify(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
     }
     let length = st.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
     let wanted = counts(&log.0);
-    let Ok((strobe, orbit)) = attempt(d, &at, p, length, &wanted, opts) else {
+    let Ok((strobe, orbit, _)) = attempt(d, &at, p, length, &wanted, opts) else {
         return st;
     };
     let u_motion = strobe.coordinates_unchecked(d, &at);
@@ -329,6 +355,13 @@ pub fn certify(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
 /// rule settles to far less, so an orbit farther away is another one.
 pub const CERTIFY_NEAR: f64 = 1e-4;
 
+/// How far (max-norm, in the section's scaled units: displacements over the motion's
+/// amplitude) from its first guess a followed orbit whose events per cycle differ from the
+/// previous orbit's may lie and still be taken as the same branch. On Fig. 5's band
+/// (tests/follow.rs) such orbits within 0.25 are the transient search's own; one at 0.29 is
+/// not (a period-1 orbit beside the period-2 motion the transient reaches).
+pub const FOLLOW_NEAR: f64 = 0.1;
+
 /// A certified steady state at its forcing frequency (a point of a continuation sweep).
 pub struct Known<'a> {
     /// The steady state found at the previous frequency.
@@ -341,9 +374,10 @@ pub struct Known<'a> {
 /// system forced at `freq_hz`): Newton's method on the section of `prev`'s orbit (same forcing
 /// phase, period and bed places). The first guess is `prev`'s section state, extrapolated by
 /// the polynomial through it and the `before` points (oldest first, up to two) that lie on the
-/// same section. `None` unless the orbit found is stable and has `prev`'s events per cycle (so
-/// it is the same branch, not another orbit nearby); then the caller runs the transient
-/// search. Its `transient_periods` is 0.
+/// same section. `None` unless the orbit found is stable and is the same branch: it has
+/// `prev`'s events per cycle, or other events (a graze crossed between the two frequencies)
+/// and lies within [`FOLLOW_NEAR`] of the first guess (not another orbit farther off); then
+/// the caller runs the transient search. Its `transient_periods` is 0.
 pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: &SteadyOptions) -> Option<Steady> {
     let cert = prev.steady.certificate.as_ref()?;
     if !prev.steady.converged || prev.steady.stop.is_some() {
@@ -366,11 +400,14 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
     }
     let u0 = extrapolate(&nodes, freq_hz);
     let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
-    let orbit = solve(&strobe, d, &u0, &newton).ok()?;
-    if !orbit.stable || counts(&orbit.events) != cert.pattern {
+    let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
+    // Other events per cycle: the branch has crossed a graze (a bed starts or stops lifting
+    // off, or reaching the top), where the orbit moves continuously; an orbit farther from
+    // the prediction than the branch's own steps is another motion.
+    if !orbit.stable || counts(&orbit.events) != cert.pattern && (&orbit.u - &u0).amax() > FOLLOW_NEAR {
         return None;
     }
-    let st = record(d, &strobe, &orbit, 0, 1, opts);
+    let st = record(d, &strobe, &orbit, 0, 1, opts, recorded);
     (st.converged && st.stop.is_none()).then_some(st)
 }
 
@@ -408,8 +445,9 @@ fn certificate(d: &Dynamics, strobe: &Strobe, orbit: &Orbit, attempts: usize) ->
     }
 }
 
-/// Records one orbit from its section state and ends the record on a whole forcing period
-/// (where a continuation sweep restarts).
+/// Records one orbit from its section state (or takes `recorded`, the same run observed
+/// beside Newton's final evaluation) and ends the record on a whole forcing period (where a
+/// continuation sweep restarts).
 fn record(
     d: &Dynamics,
     strobe: &Strobe,
@@ -417,12 +455,13 @@ fn record(
     simulated: usize,
     attempts: usize,
     opts: &SteadyOptions,
+    recorded: Option<Recorded>,
 ) -> Steady {
     let period = 2.0 * PI / d.omega;
     let p = strobe.periods;
     let certificate = certificate(d, strobe, orbit, attempts);
     let start = certificate.section.clone();
-    let t_end = start.t + p as f64 * period;
+    let t_end = strobe.end_time(d, start.t);
     let outcome = Outcome {
         method: SteadyMethod::Orbit,
         converged: true,
@@ -433,7 +472,10 @@ fn record(
         record: p,
         stop: None,
     };
-    let mut st = finish(d, start, t_end, opts.energy, outcome);
+    let mut st = match recorded {
+        Some((rec, end)) => rec.steady(d, end, None, outcome),
+        None => finish(d, start, t_end, opts.energy, outcome),
+    };
     if st.stop.is_none() {
         let whole = (st.final_state.t / period).ceil() * period;
         if let Err(e) = Engine::new(d).advance(&mut st.final_state, whole, &mut super::engine::Quiet) {

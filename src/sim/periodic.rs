@@ -408,15 +408,32 @@ pub fn solve<S: Section + ?Sized>(
     guess: &DVector<f64>,
     opts: &NewtonOptions,
 ) -> Result<Orbit, OrbitError> {
+    solve_with(problem, d, guess, opts, |u, _| Ok((problem.map(d, u)?, ()))).map(|(o, ())| o)
+}
+
+/// [`solve`] with each evaluation of the map run by `eval(u, likely_last)`, which returns the
+/// map at `u` and whatever it recorded beside it; that of the final evaluation (at the orbit)
+/// comes back with the orbit. `likely_last` is set when the previous residual `r` was so
+/// small that Newton's quadratic convergence should end at this evaluation (`r^2` below
+/// the tolerance), so that a caller can record only then.
+pub fn solve_with<S: Section + ?Sized, X>(
+    problem: &S,
+    d: &Dynamics,
+    guess: &DVector<f64>,
+    opts: &NewtonOptions,
+    mut eval: impl FnMut(&DVector<f64>, bool) -> Result<(Return, X), OrbitError>,
+) -> Result<(Orbit, X), OrbitError> {
     let mut u = guess.clone();
-    let mut residuals = Vec::new();
+    let mut residuals: Vec<f64> = Vec::new();
     for _ in 0..=opts.max_iter {
-        let (g, ret) = problem.residual(d, &u)?;
+        let likely_last = residuals.last().is_some_and(|r| r * r < opts.tol);
+        let (ret, x) = eval(&u, likely_last)?;
+        let g = &ret.image - &u - problem.shift(u.len());
         let norm = g.amax();
         residuals.push(norm);
         let (j, smooth) = problem.jacobian(d, &u, &ret)?;
         if norm < opts.tol {
-            return finish(problem, d, u, ret, residuals, j, smooth);
+            return finish(problem, d, u, ret, residuals, j, smooth).map(|o| (o, x));
         }
         let a = &j - DMatrix::identity(u.len(), u.len());
         let mut du = a.lu().solve(&(-g)).ok_or(OrbitError::Singular)?;

@@ -15,8 +15,9 @@ use num_complex::Complex64;
 
 use nalgebra::DVector;
 
-use super::engine::{Engine, State, Stop};
-use super::observe::{stored_energy, Both, Energy, Extrema};
+use super::engine::{Bed, Engine, Event, Observer, State, Stop};
+use super::observe::{stored_energy, Energy, Extrema};
+use super::segment::{Segment, Watch};
 use super::strobe::Strobe;
 use super::system::Dynamics;
 
@@ -325,48 +326,84 @@ pub(crate) struct Outcome {
     pub stop: Option<Stop>,
 }
 
+/// What a steady state's record observes: the extrema (amplitudes, impacts, flights) and,
+/// when asked for, the energy terms. It can ride along any run over the record's span (a
+/// Newton evaluation of the orbit it records: the same motion, so the same numbers).
+pub(crate) struct Recorder {
+    ext: Extrema,
+    energy: Option<Energy>,
+    /// The stored energy at the record's start.
+    e0: f64,
+}
+
+impl Recorder {
+    /// A record starting at `s`.
+    pub(crate) fn new(d: &Dynamics, s: &State, energy_on: bool) -> Recorder {
+        let ext = Extrema::new(d.system.dof(), d.system.dampers.len());
+        let energy = energy_on.then(Energy::default);
+        Recorder { ext, energy, e0: if energy_on { stored_energy(d, s) } else { 0.0 } }
+    }
+
+    /// The steady state from this record, which ended in `s` (or stopped with `stop`).
+    pub(crate) fn steady(self, d: &Dynamics, s: State, stop: Option<Stop>, o: Outcome) -> Steady {
+        let stop = o.stop.or(stop);
+        let ext = self.ext;
+        let record = o.record.max(1);
+        let per = |v: &[usize]| v.iter().map(|&c| c as f64 / record as f64).collect::<Vec<_>>();
+        Steady {
+            omega: d.omega,
+            method: o.method,
+            converged: o.converged && stop.is_none(),
+            certificate: o.certificate,
+            failure: o.failure,
+            transient_periods: o.transient_periods,
+            period: o.period,
+            amplitude: ext.amplitudes(),
+            bottom_impacts: per(&ext.bottom_impacts),
+            top_impacts: per(&ext.top_impacts),
+            liftoffs: per(&ext.liftoffs),
+            max_flight: ext.max_flight.clone(),
+            recorded_periods: o.record,
+            energy: self.energy.map(|e| EnergyBalance {
+                work: e.work,
+                viscous: e.viscous,
+                impact: e.impact,
+                stored_change: stored_energy(d, &s) - self.e0,
+            }),
+            stop,
+            final_state: s,
+        }
+    }
+}
+
+impl Observer for Recorder {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        self.ext.segment(d, seg, beds, t_a, t_b);
+        if let Some(e) = &mut self.energy {
+            e.segment(d, seg, beds, t_a, t_b);
+        }
+    }
+    fn event(&mut self, ev: &Event, after: &State) {
+        self.ext.event(ev, after);
+        if let Some(e) = &mut self.energy {
+            e.event(ev, after);
+        }
+    }
+    fn wants_jumps(&self) -> bool {
+        self.ext.wants_jumps() || self.energy.as_ref().is_some_and(|e| e.wants_jumps())
+    }
+    fn jump(&mut self, d: &Dynamics, before: &State, after: &State, hits: &[Watch]) {
+        self.ext.jump(d, before, after, hits);
+        if let Some(e) = &mut self.energy {
+            e.jump(d, before, after, hits);
+        }
+    }
+}
+
 /// Records the motion from `s` to `t_end` (unless the search stopped early) and assembles
 /// the steady state.
 pub(crate) fn finish(d: &Dynamics, mut s: State, t_end: f64, energy_on: bool, o: Outcome) -> Steady {
-    let (n, nb) = (d.system.dof(), d.system.dampers.len());
-    let mut ext = Extrema::new(n, nb);
-    let mut energy = Energy::default();
-    let e0 = stored_energy(d, &s);
-    let mut stop = o.stop;
-    if stop.is_none() {
-        let engine = Engine::new(d);
-        let result = if energy_on {
-            engine.advance(&mut s, t_end, &mut Both(&mut ext, &mut energy))
-        } else {
-            engine.advance(&mut s, t_end, &mut ext)
-        };
-        if let Err(e) = result {
-            stop = Some(e);
-        }
-    }
-    let record = o.record.max(1);
-    let per = |v: &[usize]| v.iter().map(|&c| c as f64 / record as f64).collect::<Vec<_>>();
-    Steady {
-        omega: d.omega,
-        method: o.method,
-        converged: o.converged && stop.is_none(),
-        certificate: o.certificate,
-        failure: o.failure,
-        transient_periods: o.transient_periods,
-        period: o.period,
-        amplitude: ext.amplitudes(),
-        bottom_impacts: per(&ext.bottom_impacts),
-        top_impacts: per(&ext.top_impacts),
-        liftoffs: per(&ext.liftoffs),
-        max_flight: ext.max_flight.clone(),
-        recorded_periods: o.record,
-        energy: energy_on.then(|| EnergyBalance {
-            work: energy.work,
-            viscous: energy.viscous,
-            impact: energy.impact,
-            stored_change: stored_energy(d, &s) - e0,
-        }),
-        stop,
-        final_state: s,
-    }
+    let mut rec = Recorder::new(d, &s, energy_on);
+    let stop = if o.stop.is_none() { Engine::new(d).advance(&mut s, t_end, &mut rec).err() } else { None };
+    rec.steady(d, s, stop, o)
 }

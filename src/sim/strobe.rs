@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::engine::{Bed, Engine, Event, Quiet, State};
+use super::engine::{Bed, Engine, Event, Observer, Quiet, State};
 use super::observe::{Both, EventLog, Extrema};
 use super::periodic::{OrbitError, Return, Section};
 use super::system::Dynamics;
@@ -107,6 +107,39 @@ impl Strobe {
         let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
         Engine::new(d).advance(&mut s, t_end, &mut ext).ok()?;
         Some(ext.amplitudes())
+    }
+
+    /// The time `periods` forcing periods after `t`: where the map from a section state at
+    /// `t` ends, and where a record of one orbit from it ends.
+    pub fn end_time(&self, d: &Dynamics, t: f64) -> f64 {
+        t + self.periods as f64 * 2.0 * PI / d.omega
+    }
+
+    /// [`Section::map`] with `extra` observing the same run (which it does not change), and
+    /// the state at its end.
+    pub fn map_observed(
+        &self,
+        d: &Dynamics,
+        u: &DVector<f64>,
+        extra: &mut impl Observer,
+    ) -> Result<(Return, State), OrbitError> {
+        let mut s = self.state(d, u);
+        let t_end = self.end_time(d, s.t);
+        let mut log = EventLog::default();
+        if !d.system.columns.is_empty() {
+            // The linearised flow has no saltation for grain-grain collisions: the Jacobian
+            // comes from central differences of the map ([`Section::jacobian`]).
+            Engine::new(d).advance(&mut s, t_end, &mut Both(&mut log, extra)).map_err(OrbitError::Stopped)?;
+            let image = self.coordinates(d, &s)?;
+            return Ok((Return { image, events: log.0, jacobian: None, d_omega: None }, s));
+        }
+        let mut tangent = Tangent::new(d, self.embedding(d));
+        let mut both = Both(&mut tangent, &mut log);
+        Engine::new(d).advance(&mut s, t_end, &mut Both(&mut both, extra)).map_err(OrbitError::Stopped)?;
+        let image = self.coordinates(d, &s)?;
+        let jacobian = self.restriction(d) * &tangent.m;
+        let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
+        Ok((Return { image, events: log.0, jacobian: Some((jacobian, smooth)), d_omega: None }, s))
     }
 
     /// Number of coordinates.
@@ -235,31 +268,13 @@ impl Section for Strobe {
     }
 
     fn map(&self, d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
-        if !d.system.columns.is_empty() {
-            // The linearised flow has no saltation for grain-grain collisions: the Jacobian
-            // comes from central differences of the map ([`Section::jacobian`]).
-            let mut s = self.state(d, u);
-            let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
-            let mut log = EventLog::default();
-            Engine::new(d).advance(&mut s, t_end, &mut log).map_err(OrbitError::Stopped)?;
-            let image = self.coordinates(d, &s)?;
-            return Ok(Return { image, events: log.0, jacobian: None, d_omega: None });
-        }
-        let mut s = self.state(d, u);
-        let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
-        let mut tangent = Tangent::new(d, self.embedding(d));
-        let mut log = EventLog::default();
-        Engine::new(d).advance(&mut s, t_end, &mut Both(&mut tangent, &mut log)).map_err(OrbitError::Stopped)?;
-        let image = self.coordinates(d, &s)?;
-        let jacobian = self.restriction(d) * &tangent.m;
-        let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
-        Ok(Return { image, events: log.0, jacobian: Some((jacobian, smooth)), d_omega: None })
+        self.map_observed(d, u, &mut Quiet).map(|(r, _)| r)
     }
 
     /// The image without the linearised flow (the tangent only observes).
     fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
         let mut s = self.state(d, u);
-        let t_end = s.t + self.periods as f64 * 2.0 * PI / d.omega;
+        let t_end = self.end_time(d, s.t);
         Engine::new(d).advance(&mut s, t_end, &mut crate::sim::engine::Quiet).map_err(OrbitError::Stopped)?;
         self.coordinates(d, &s)
     }
