@@ -249,7 +249,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             }
         }
         match result {
-            Ok((strobe, orbit, recorded)) => return record(d, &strobe, &orbit, simulated, attempts, opts, recorded),
+            Ok((strobe, orbit, recorded)) => return record(d, &strobe, &orbit, simulated, attempts, opts, recorded, true),
             Err(Miss::Unstable { radius, lead }) => {
                 failure = Some(NoSteady::Unstable { radius });
                 torus = match torus_angle(radius, lead) {
@@ -377,7 +377,9 @@ pub struct Known<'a> {
 /// same section. `None` unless the orbit found is stable and is the same branch: it has
 /// `prev`'s events per cycle, or other events (a graze crossed between the two frequencies)
 /// and lies within [`FOLLOW_NEAR`] of the first guess (not another orbit farther off); then
-/// the caller runs the transient search. Its `transient_periods` is 0.
+/// the caller runs the transient search. Its `transient_periods` is 0, and its final state is
+/// where its orbit closes (the record is not run on to a whole period: `sweep::continued` does
+/// that when it continues by the transient search).
 pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: &SteadyOptions) -> Option<Steady> {
     let cert = prev.steady.certificate.as_ref()?;
     if !prev.steady.converged || prev.steady.stop.is_some() {
@@ -407,7 +409,7 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
     if !orbit.stable || counts(&orbit.events) != cert.pattern && (&orbit.u - &u0).amax() > FOLLOW_NEAR {
         return None;
     }
-    let st = record(d, &strobe, &orbit, 0, 1, opts, recorded);
+    let st = record(d, &strobe, &orbit, 0, 1, opts, recorded, false);
     (st.converged && st.stop.is_none()).then_some(st)
 }
 
@@ -446,8 +448,10 @@ fn certificate(d: &Dynamics, strobe: &Strobe, orbit: &Orbit, attempts: usize) ->
 }
 
 /// Records one orbit from its section state (or takes `recorded`, the same run observed
-/// beside Newton's final evaluation) and ends the record on a whole forcing period (where a
-/// continuation sweep restarts).
+/// beside Newton's final evaluation) and, when `whole`, ends the record on a whole forcing
+/// period (where a continuation sweep restarts; a followed point's final state stays where
+/// its orbit closes, and the sweep runs it on only when it needs it, `sweep::continued`).
+#[allow(clippy::too_many_arguments)]
 fn record(
     d: &Dynamics,
     strobe: &Strobe,
@@ -456,6 +460,7 @@ fn record(
     attempts: usize,
     opts: &SteadyOptions,
     recorded: Option<Recorded>,
+    whole: bool,
 ) -> Steady {
     let period = 2.0 * PI / d.omega;
     let p = strobe.periods;
@@ -476,7 +481,7 @@ fn record(
         Some((rec, end)) => rec.steady(d, end, None, outcome),
         None => finish(d, start, t_end, opts.energy, outcome),
     };
-    if st.stop.is_none() {
+    if whole && st.stop.is_none() {
         let whole = (st.final_state.t / period).ceil() * period;
         if let Err(e) = Engine::new(d).advance(&mut st.final_state, whole, &mut super::engine::Quiet) {
             st.stop = Some(e);

@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 use rayon::prelude::*;
 
-use super::engine::{Bed, State};
+use super::engine::{Bed, Engine, Quiet, State};
 use super::orbit_search::{follow, Known};
 use super::steady::{Steady, SteadyOptions};
 use super::steady_state;
@@ -87,7 +87,11 @@ pub fn continued(
     let mut last: Option<usize> = None;
     let mut known: Vec<usize> = Vec::new();
     let base = Dynamics::unforced(sys);
+    // The dynamics of the last point with a steady state when it was followed: its record
+    // ends where its orbit closes, not on a whole period, so a fallback runs it on first.
+    let mut followed_at: Option<Dynamics> = None;
     for f in order {
+        let mut was_followed = false;
         let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
             let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
@@ -98,16 +102,23 @@ pub fn continued(
                 }
                 _ => None,
             };
-            followed.unwrap_or_else(|| match previous {
+            was_followed = followed.is_some();
+            let start = |s: &Steady| restart(&on_whole_period(followed_at.as_ref(), &s.final_state));
+            let st = followed.unwrap_or_else(|| match previous {
                 // A followed sweep's fallback starts next to a settled motion: it is judged as
                 // soon as its events have repeated (`consecutive` periods).
                 Some(s) if opts.follow => {
                     let near = SteadyOptions { min_periods: opts.min_periods.min(opts.consecutive), ..*opts };
-                    steady_state(&d, restart(&s.final_state), &near)
+                    steady_state(&d, start(s), &near)
                 }
-                Some(s) => steady_state(&d, restart(&s.final_state), opts),
+                Some(s) => steady_state(&d, start(s), opts),
                 None => steady_state(&d, State::at_rest(&d), opts),
-            })
+            });
+            (st, d)
+        });
+        let result = result.map(|(st, d)| {
+            followed_at = was_followed.then_some(d);
+            st
         });
         let result = match result {
             Ok(st) => {
@@ -126,6 +137,21 @@ pub fn continued(
         out.push(SweepPoint { freq_hz: f, result });
     }
     out
+}
+
+/// A followed point's final state (the end of its record) run on to the next whole forcing
+/// period under its own dynamics `d` (the state every other point's record ends in); any
+/// other point's as it is (`d` is `None`).
+fn on_whole_period(d: Option<&Dynamics>, s: &State) -> State {
+    let mut s = s.clone();
+    if let Some(d) = d {
+        let period = 2.0 * PI / d.omega;
+        let whole = (s.t / period).ceil() * period;
+        // A chatter stop cannot happen on the orbit just recorded; if it did, the state
+        // reached is where the sweep goes on from.
+        let _ = Engine::new(d).advance(&mut s, whole, &mut Quiet);
+    }
+    s
 }
 
 /// A computed point of `out`.
