@@ -126,9 +126,10 @@ impl Tangent {
             if b.attached() {
                 let p = d.system.dampers[j].host;
                 let r = bed_row(n, j);
-                let (xp, vp) = (self.m.row(p).into_owned(), self.m.row(n + p).into_owned());
-                self.m.set_row(r, &xp);
-                self.m.set_row(r + 1, &vp);
+                for c in 0..self.m.ncols() {
+                    self.m[(r, c)] = self.m[(p, c)];
+                    self.m[(r + 1, c)] = self.m[(n + p, c)];
+                }
             }
         }
     }
