@@ -249,7 +249,9 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             }
         }
         match result {
-            Ok((strobe, orbit, recorded)) => return record(d, &strobe, &orbit, simulated, attempts, opts, recorded, true),
+            Ok((strobe, orbit, recorded)) => {
+                return record(d, &strobe, &orbit, simulated, attempts, opts, recorded, true)
+            }
             Err(Miss::Unstable { radius, lead }) => {
                 failure = Some(NoSteady::Unstable { radius });
                 torus = match torus_angle(radius, lead) {
