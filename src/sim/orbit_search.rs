@@ -20,8 +20,8 @@ use super::engine::{Engine, Event, State};
 use super::observe::{EventLog, Extrema};
 use super::periodic::{signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
 use super::steady::{
-    amplitude_scale, finish, torus_window, Certificate, NoSteady, Outcome, Recorder, Steady, SteadyMethod,
-    SteadyOptions, TORUS_MARGIN, TORUS_TOL,
+    amplitude_scale, finish, run_to_whole_period, torus_window, Certificate, NoSteady, Outcome, Recorder, Steady,
+    SteadyMethod, SteadyOptions, TORUS_MARGIN, TORUS_TOL,
 };
 use super::strobe::{quiet_phase, Rest, Strobe};
 use super::system::Dynamics;
@@ -250,7 +250,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         }
         match result {
             Ok((strobe, orbit, recorded)) => {
-                return record(d, &strobe, &orbit, simulated, attempts, opts, recorded, true)
+                return on_whole_period(d, record(d, &strobe, &orbit, simulated, attempts, opts, recorded))
             }
             Err(Miss::Unstable { radius, lead }) => {
                 failure = Some(NoSteady::Unstable { radius });
@@ -380,8 +380,8 @@ pub struct Known<'a> {
 /// `prev`'s events per cycle, or other events (a graze crossed between the two frequencies)
 /// and lies within [`FOLLOW_NEAR`] of the first guess (not another orbit farther off); then
 /// the caller runs the transient search. Its `transient_periods` is 0, and its final state is
-/// where its orbit closes (the record is not run on to a whole period: `sweep::continued` does
-/// that when it continues by the transient search).
+/// where its orbit closes (not run on to a whole period: `sweep::continued` does that only
+/// when it continues by the transient search).
 pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: &SteadyOptions) -> Option<Steady> {
     let cert = prev.steady.certificate.as_ref()?;
     if !prev.steady.converged || prev.steady.stop.is_some() {
@@ -411,7 +411,7 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
     if !orbit.stable || counts(&orbit.events) != cert.pattern && (&orbit.u - &u0).amax() > FOLLOW_NEAR {
         return None;
     }
-    let st = record(d, &strobe, &orbit, 0, 1, opts, recorded, false);
+    let st = record(d, &strobe, &orbit, 0, 1, opts, recorded);
     (st.converged && st.stop.is_none()).then_some(st)
 }
 
@@ -450,10 +450,7 @@ fn certificate(d: &Dynamics, strobe: &Strobe, orbit: &Orbit, attempts: usize) ->
 }
 
 /// Records one orbit from its section state (or takes `recorded`, the same run observed
-/// beside Newton's final evaluation) and, when `whole`, ends the record on a whole forcing
-/// period (where a continuation sweep restarts; a followed point's final state stays where
-/// its orbit closes, and the sweep runs it on only when it needs it, `sweep::continued`).
-#[allow(clippy::too_many_arguments)]
+/// beside Newton's final evaluation); the record ends where the orbit closes.
 fn record(
     d: &Dynamics,
     strobe: &Strobe,
@@ -462,9 +459,7 @@ fn record(
     attempts: usize,
     opts: &SteadyOptions,
     recorded: Option<Recorded>,
-    whole: bool,
 ) -> Steady {
-    let period = 2.0 * PI / d.omega;
     let p = strobe.periods;
     let certificate = certificate(d, strobe, orbit, attempts);
     let start = certificate.section.clone();
@@ -479,13 +474,17 @@ fn record(
         record: p,
         stop: None,
     };
-    let mut st = match recorded {
+    match recorded {
         Some((rec, end)) => rec.steady(d, end, None, outcome),
         None => finish(d, start, t_end, opts.energy, outcome),
-    };
-    if whole && st.stop.is_none() {
-        let whole = (st.final_state.t / period).ceil() * period;
-        if let Err(e) = Engine::new(d).advance(&mut st.final_state, whole, &mut super::engine::Quiet) {
+    }
+}
+
+/// `st` with its final state run on to the next whole forcing period (where a continuation
+/// sweep restarts, [`super::sweep::restart`]).
+fn on_whole_period(d: &Dynamics, mut st: Steady) -> Steady {
+    if st.stop.is_none() {
+        if let Err(e) = run_to_whole_period(d, &mut st.final_state) {
             st.stop = Some(e);
             st.converged = false;
         }

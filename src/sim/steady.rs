@@ -400,6 +400,14 @@ impl Observer for Recorder {
     }
 }
 
+/// Runs `s` on to the next whole forcing period, where a continuation sweep's next point
+/// starts ([`super::sweep::restart`]).
+pub(crate) fn run_to_whole_period(d: &Dynamics, s: &mut State) -> Result<(), Stop> {
+    let period = 2.0 * std::f64::consts::PI / d.omega;
+    let whole = (s.t / period).ceil() * period;
+    Engine::new(d).advance(s, whole, &mut super::engine::Quiet)
+}
+
 /// Records the motion from `s` to `t_end` (unless the search stopped early) and assembles
 /// the steady state.
 pub(crate) fn finish(d: &Dynamics, mut s: State, t_end: f64, energy_on: bool, o: Outcome) -> Steady {

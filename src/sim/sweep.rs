@@ -5,9 +5,9 @@ use std::f64::consts::PI;
 
 use rayon::prelude::*;
 
-use super::engine::{Bed, Engine, Quiet, State};
+use super::engine::{Bed, State};
 use super::orbit_search::{follow, Known};
-use super::steady::{Steady, SteadyOptions};
+use super::steady::{run_to_whole_period, Steady, SteadyOptions};
 use super::steady_state;
 use super::system::{Dynamics, SetupError, System};
 
@@ -145,11 +145,9 @@ pub fn continued(
 fn on_whole_period(d: Option<&Dynamics>, s: &State) -> State {
     let mut s = s.clone();
     if let Some(d) = d {
-        let period = 2.0 * PI / d.omega;
-        let whole = (s.t / period).ceil() * period;
         // A chatter stop cannot happen on the orbit just recorded; if it did, the state
         // reached is where the sweep goes on from.
-        let _ = Engine::new(d).advance(&mut s, whole, &mut Quiet);
+        let _ = run_to_whole_period(d, &mut s);
     }
     s
 }
