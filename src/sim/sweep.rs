@@ -91,7 +91,6 @@ pub fn continued(
     // ends where its orbit closes, not on a whole period, so a fallback runs it on first.
     let mut followed_at: Option<Dynamics> = None;
     for f in order {
-        let mut was_followed = false;
         let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
             let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
@@ -102,7 +101,7 @@ pub fn continued(
                 }
                 _ => None,
             };
-            was_followed = followed.is_some();
+            let was_followed = followed.is_some();
             let start = |s: &Steady| restart(&on_whole_period(followed_at.as_ref(), &s.final_state));
             let st = followed.unwrap_or_else(|| match previous {
                 // A followed sweep's fallback starts next to a settled motion: it is judged as
@@ -114,10 +113,10 @@ pub fn continued(
                 Some(s) => steady_state(&d, start(s), opts),
                 None => steady_state(&d, State::at_rest(&d), opts),
             });
-            (st, d)
+            (st, was_followed.then_some(d))
         });
         let result = result.map(|(st, d)| {
-            followed_at = was_followed.then_some(d);
+            followed_at = d;
             st
         });
         let result = match result {
