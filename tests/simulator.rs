@@ -378,7 +378,7 @@ fn chatter_stops_with_a_flag() {
     // smaller bounces (a Zeno sequence) must end with a flag, not a hang.
     let (d0, s, _) = bouncing_ball(2.0);
     let law = |stick_speed| shotdamp::sim::bed::ImpactLaw { restitution: 0.5, stick_speed };
-    let sys = d0.system.clone().with_law(law(0.0));
+    let sys = (*d0.system).clone().with_law(law(0.0));
     let d = Dynamics::new(&sys, d0.omega).unwrap();
     let mut s = s;
     let r = Engine::new(&d).advance(&mut s, 50.0 * 2.0 * PI / d.omega, &mut shotdamp::sim::Quiet);

@@ -7,7 +7,7 @@ pub use super::state::{Bed, Event, EventKind, State};
 
 use super::roots::{first_root_from, fresh_window, lower_root, TIME_TOL};
 use super::segment::{Point, Segment, Taylor, Watch};
-use super::system::Dynamics;
+use super::system::{Dynamics, MAX_GRAINS};
 
 /// Why a run stopped early.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,27 +103,38 @@ impl<'a> Engine<'a> {
     pub fn advance(&self, s: &mut State, t_end: f64, obs: &mut impl Observer) -> Result<(), Stop> {
         let mut events = 0;
         let mut watches = Vec::new();
+        // Reused at every event: the watches that fire, the events applied, the state before.
+        let mut hits = Vec::new();
+        let mut applied = Vec::new();
+        let mut before: Option<State> = None;
         while s.t < t_end {
             let seg = Segment::start(self.d, s.mask(), s.t, &s.x, &s.v);
             self.watches(s, &mut watches);
-            match self.next_event(&seg, &watches, s.t, t_end) {
+            match self.next_event(&seg, &watches, s.t, t_end, &mut hits) {
                 None => {
                     obs.segment(self.d, &seg, &s.beds, s.t, t_end);
                     let pt = seg.point(self.d, t_end);
                     seg.state_into(self.d, &pt, &mut s.x, &mut s.v);
                     s.t = t_end;
                 }
-                Some((te, hits)) => {
+                Some(te) => {
                     obs.segment(self.d, &seg, &s.beds, s.t, te);
                     let pt = seg.point(self.d, te);
                     seg.state_into(self.d, &pt, &mut s.x, &mut s.v);
                     s.t = te;
-                    let before = obs.wants_jumps().then(|| s.clone());
-                    for ev in self.apply(s, &hits) {
-                        obs.event(&ev, s);
+                    let jumps = obs.wants_jumps();
+                    if jumps {
+                        match &mut before {
+                            Some(b) => b.clone_from(s),
+                            None => before = Some(s.clone()),
+                        }
                     }
-                    if let Some(before) = before {
-                        obs.jump(self.d, &before, s, &hits);
+                    self.apply(s, &hits, &mut applied);
+                    for ev in &applied {
+                        obs.event(ev, s);
+                    }
+                    if let Some(before) = before.as_ref().filter(|_| jumps) {
+                        obs.jump(self.d, before, s, &hits);
                     }
                     if obs.done() {
                         return Ok(());
@@ -138,8 +149,10 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
-    /// The earliest event in `(t_a, t_b]` and the watches that fire there.
-    fn next_event(&self, seg: &Segment, watches: &[Watch], t_a: f64, t_b: f64) -> Option<(f64, Vec<Watch>)> {
+    /// The earliest event in `(t_a, t_b]`, with the watches that fire there in `hits`
+    /// (cleared first).
+    fn next_event(&self, seg: &Segment, watches: &[Watch], t_a: f64, t_b: f64, hits: &mut Vec<Watch>) -> Option<f64> {
+        hits.clear();
         if watches.is_empty() {
             return None;
         }
@@ -163,14 +176,17 @@ impl<'a> Engine<'a> {
             if ta.h[0] <= tol[0] {
                 match fresh_window(&ta, TIME_TOL, tol, step.min(t_b - t_a)) {
                     Some(win) => starts[n_starts] = t_a + win,
-                    None => return Some((t_a, vec![*w])),
+                    None => {
+                        hits.push(*w);
+                        return Some(t_a);
+                    }
                 }
             } else {
                 starts[n_starts] = t_a;
             }
             n_starts += 1;
         }
-        let mut best: Option<(f64, Vec<Watch>)> = None;
+        let mut best: Option<f64> = None;
         let mut a = t_a;
         while a < t_b {
             let b = (a + step).min(t_b);
@@ -185,10 +201,14 @@ impl<'a> Engine<'a> {
                     continue;
                 };
                 if let Some(r) = first_root_from(&mut |t| eval(w, t), lo, ta, tau, b) {
-                    match &mut best {
-                        Some((t, ws)) if (r - *t).abs() <= 10.0 * TIME_TOL => ws.push(*w),
-                        Some((t, _)) if r > *t => {}
-                        _ => best = Some((r, vec![*w])),
+                    match best {
+                        Some(t) if (r - t).abs() <= 10.0 * TIME_TOL => hits.push(*w),
+                        Some(t) if r > t => {}
+                        _ => {
+                            best = Some(r);
+                            hits.clear();
+                            hits.push(*w);
+                        }
                     }
                 }
             }
@@ -200,15 +220,21 @@ impl<'a> Engine<'a> {
         None
     }
 
-    /// Applies impacts and releases at `s.t` and settles the contacts. Returns the events.
-    fn apply(&self, s: &mut State, hits: &[Watch]) -> Vec<Event> {
+    /// Applies impacts and releases at `s.t` and settles the contacts. The events, into
+    /// `events` (cleared first).
+    fn apply(&self, s: &mut State, hits: &[Watch], events: &mut Vec<Event>) {
         let d = self.d;
         let sys = &d.system;
-        let mut events = Vec::new();
+        events.clear();
         // Contact candidates: every attached bed plus beds that just landed plastically.
-        let mut side: Vec<Option<bool>> = s.beds.iter().map(Bed::end).collect();
+        let nb = s.beds.len();
+        let mut side_buf = [None; MAX_GRAINS];
+        let side = &mut side_buf[..nb];
+        for (sd, b) in side.iter_mut().zip(&s.beds) {
+            *sd = b.end();
+        }
         // Single beds: their impacts (src/sim/single.rs).
-        super::single::impacts(d, s, hits, &mut side, &mut events);
+        super::single::impacts(d, s, hits, side, events);
         // Columns: the collisions the hits started, in sequence (src/sim/column.rs).
         for col in &sys.columns {
             let touched = hits.iter().any(|w| match w.impact() {
@@ -216,17 +242,21 @@ impl<'a> Engine<'a> {
                 None => w.pair().is_some_and(|(_, u)| col.contains(&u)),
             });
             if touched {
-                super::column::resolve(d, s, col.clone(), hits, &mut side, &mut events);
+                super::column::resolve(d, s, col.clone(), hits, side, events);
             }
         }
         // Settle: the largest set of candidates whose contact forces are consistent.
-        let candidates: Vec<usize> =
-            (0..s.beds.len()).filter(|&j| side[j].is_some() && !sys.dampers[j].clearance.is_zero()).collect();
-        let locked: usize = (0..s.beds.len())
-            .filter(|&j| side[j].is_some() && sys.dampers[j].clearance.is_zero())
-            .fold(0, |m, j| m | (1 << j));
-        let attached = self.settle(s, &candidates, &side, locked);
-        for &j in &candidates {
+        let mut cand_buf = [0usize; MAX_GRAINS];
+        let mut nc = 0;
+        for j in (0..nb).filter(|&j| side[j].is_some() && !sys.dampers[j].clearance.is_zero()) {
+            cand_buf[nc] = j;
+            nc += 1;
+        }
+        let candidates = &cand_buf[..nc];
+        let locked: usize =
+            (0..nb).filter(|&j| side[j].is_some() && sys.dampers[j].clearance.is_zero()).fold(0, |m, j| m | (1 << j));
+        let attached = self.settle(s, candidates, side, locked);
+        for &j in candidates {
             let top = side[j].unwrap_or(false);
             let p = sys.dampers[j].host;
             if attached & (1 << j) != 0 {
@@ -246,7 +276,6 @@ impl<'a> Engine<'a> {
                 }
             }
         }
-        events
     }
 
     /// The attached mask after an event: among subsets of the candidates, largest first (ties
@@ -257,21 +286,28 @@ impl<'a> Engine<'a> {
     fn settle(&self, s: &State, candidates: &[usize], side: &[Option<bool>], locked: usize) -> usize {
         let d = self.d;
         let sys = &d.system;
-        let mut units: Vec<(usize, usize)> = Vec::with_capacity(candidates.len());
+        let mut unit_buf = [(0usize, 0usize); MAX_GRAINS];
+        let mut m: usize = 0;
         for &j in candidates {
             let unit = if sys.columns.is_empty() { None } else { sys.column_of(j) };
-            match (unit, units.last_mut()) {
-                (Some(col), Some((first, bits))) if col.contains(first) && side[*first] == side[j] => *bits |= 1 << j,
-                _ => units.push((j, 1 << j)),
+            let last = m.checked_sub(1).map(|i| unit_buf[i]);
+            match (unit, last) {
+                (Some(col), Some((first, _))) if col.contains(&first) && side[first] == side[j] => {
+                    unit_buf[m - 1].1 |= 1 << j
+                }
+                _ => {
+                    unit_buf[m] = (j, 1 << j);
+                    m += 1;
+                }
             }
         }
-        let m = units.len();
-        let mut subsets: Vec<usize> = (0..(1usize << m)).collect();
-        subsets.sort_by_key(|&bits| (std::cmp::Reverse(bits.count_ones()), bits));
+        let units = &unit_buf[..m];
         let mask_of = |bits: usize| {
             units.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, u)| acc | u.1)
         };
-        for &bits in &subsets {
+        // Subsets of the units, most units first, ties in increasing order of their bits.
+        let subsets = (0..=m).rev().flat_map(|k| (0..(1usize << m)).filter(move |b| b.count_ones() as usize == k));
+        for bits in subsets {
             let mask = mask_of(bits);
             let (a, jerk) = d.accelerations(mask, s.t, &s.x, &s.v);
             let ok = units.iter().enumerate().all(|(i, &(j, _))| {

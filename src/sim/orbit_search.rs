@@ -18,7 +18,7 @@ use num_complex::Complex64;
 
 use super::engine::{Engine, Event, State};
 use super::observe::{EventLog, Extrema};
-use super::periodic::{signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
+use super::periodic::{quadratic_constant, signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
 use super::steady::{
     amplitude_scale, finish, run_to_whole_period, torus_window, Certificate, NoSteady, Outcome, Recorder, Steady,
     SteadyMethod, SteadyOptions, TORUS_MARGIN, TORUS_TOL,
@@ -84,7 +84,7 @@ fn attempt(
     opts: &SteadyOptions,
 ) -> Result<(Strobe, Orbit, Option<Recorded>), Miss> {
     let (strobe, u0) = Strobe::through(d, at, p, length);
-    let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
+    let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, ..NewtonOptions::default() };
     let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).map_err(|e| Miss::Other(e.to_string()))?;
     if !orbit.stable {
         let lead = orbit.multipliers.first().copied().unwrap_or_default();
@@ -403,7 +403,10 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
         }
     }
     let u0 = extrapolate(&nodes, freq_hz);
-    let newton = NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5 };
+    // Newton converges near this orbit about as fast as near the previous one: its last
+    // evaluation (the one worth recording) is predicted from the previous constant.
+    let newton =
+        NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5, quadratic: cert.quadratic };
     let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
     // Other events per cycle: the branch has crossed a graze (a bed starts or stops lifting
     // off, or reaching the top), where the orbit moves continuously; an orbit farther from
@@ -443,6 +446,7 @@ fn certificate(d: &Dynamics, strobe: &Strobe, orbit: &Orbit, attempts: usize) ->
         smooth: orbit.smooth,
         iterations: orbit.residuals.len().saturating_sub(1),
         attempts,
+        quadratic: quadratic_constant(&orbit.residuals),
         phase: strobe.phase,
         pattern: counts(&orbit.events),
         section: strobe.state(d, &orbit.u),

@@ -385,12 +385,33 @@ pub struct NewtonOptions {
     pub max_iter: usize,
     /// Largest Newton step (max-norm, scaled units); longer steps are shortened.
     pub max_step: f64,
+    /// The expected ratio `r_next / r^2` of successive residuals (Newton's quadratic
+    /// convergence) from which an evaluation is predicted to be the last: `quadratic * r^2`
+    /// below the tolerance ([`solve_with`]'s `likely_last`). It decides only which
+    /// evaluations a caller records, never the orbit found.
+    pub quadratic: f64,
 }
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        NewtonOptions { tol: 1e-11, max_iter: 12, max_step: 0.5 }
+        NewtonOptions { tol: 1e-11, max_iter: 12, max_step: 0.5, quadratic: 1.0 }
     }
+}
+
+/// Residuals below this are at the rounding level of the map (scaled units): a ratio that
+/// ends on one bounds the convergence constant from above instead of measuring it.
+const RESIDUAL_FLOOR: f64 = 1e-14;
+
+/// The ratio `r_{k+1} / r_k^2` of Newton's last two residuals above the rounding level
+/// ([`RESIDUAL_FLOOR`]), as measured on one solution: how fast Newton converges near this
+/// orbit. Where every step lands at the rounding level (a map that is affine near the orbit,
+/// such as one whose beds never leave their container floors), the smallest such ratio, an
+/// upper bound; 1 when no step was taken.
+pub fn quadratic_constant(residuals: &[f64]) -> f64 {
+    let ratio = |w: &[f64]| w[1] / (w[0] * w[0]);
+    let measured = residuals.windows(2).rev().find(|w| w[1] > RESIDUAL_FLOOR).map(ratio);
+    let bound = residuals.windows(2).map(ratio).fold(f64::INFINITY, f64::min);
+    measured.unwrap_or(if bound.is_finite() { bound } else { 1.0 })
 }
 
 /// The orbit's multipliers from a Jacobian, largest modulus first (bounded: see
@@ -414,8 +435,8 @@ pub fn solve<S: Section + ?Sized>(
 /// [`solve`] with each evaluation of the map run by `eval(u, likely_last)`, which returns the
 /// map at `u` and whatever it recorded beside it; that of the final evaluation (at the orbit)
 /// comes back with the orbit. `likely_last` is set when the previous residual `r` was so
-/// small that Newton's quadratic convergence should end at this evaluation (`r^2` below
-/// the tolerance), so that a caller can record only then.
+/// small that Newton's quadratic convergence should end at this evaluation
+/// (`opts.quadratic * r^2` below the tolerance), so that a caller can record only then.
 pub fn solve_with<S: Section + ?Sized, X>(
     problem: &S,
     d: &Dynamics,
@@ -426,7 +447,7 @@ pub fn solve_with<S: Section + ?Sized, X>(
     let mut u = guess.clone();
     let mut residuals: Vec<f64> = Vec::new();
     for _ in 0..=opts.max_iter {
-        let likely_last = residuals.last().is_some_and(|r| r * r < opts.tol);
+        let likely_last = residuals.last().is_some_and(|r| opts.quadratic * r * r < opts.tol);
         let (ret, x) = eval(&u, likely_last)?;
         let g = &ret.image - &u - problem.shift(u.len());
         let norm = g.amax();
@@ -568,5 +589,66 @@ pub fn summarize(d: &Dynamics, problem: &Problem, orbit: &Orbit) -> OrbitSummary
         tau1: first(&|k| matches!(k, EventKind::Impact { top: true, .. })),
         tau2: first(&|k| matches!(k, EventKind::LiftOff { top: true })),
         kind: motion_type(&orbit.events, d.system.dampers[0].clearance.is_bounded(), problem.periods),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_quadratic_constant_is_measured_above_rounding_and_bounded_below_it() {
+        // Quadratic convergence r_{k+1} = 3 r_k^2 down to rounding: the last step above the
+        // floor measures 3 (the step that lands at rounding only bounds it).
+        let r = [1e-2, 3e-4, 2.7e-7, 2.187e-13, 1e-16];
+        assert!((quadratic_constant(&r) - 3.0).abs() < 1e-9, "{}", quadratic_constant(&r));
+        // An affine map: one step lands at rounding; the ratio is an upper bound, tiny.
+        let affine = [2.6e-4, 2.2e-16];
+        assert!((quadratic_constant(&affine) - 2.2e-16 / (2.6e-4 * 2.6e-4)).abs() < 1e-12);
+        // No step taken: Newton's textbook constant 1.
+        assert_eq!(quadratic_constant(&[1e-13]), 1.0);
+        assert_eq!(quadratic_constant(&[]), 1.0);
+    }
+
+    #[test]
+    fn the_predicted_last_evaluation_follows_the_constant() {
+        // The section is a linear map u -> A u + b on R^1; Newton lands on the fixed point in
+        // one step and confirms at the next evaluation. With the textbook constant the second
+        // evaluation is not predicted to be the last; with an affine map's constant it is.
+        struct Line;
+        impl Section for Line {
+            fn shift(&self, dim: usize) -> DVector<f64> {
+                DVector::zeros(dim)
+            }
+            fn state(&self, d: &Dynamics, _u: &DVector<f64>) -> State {
+                State::at_rest(d)
+            }
+            fn map(&self, _d: &Dynamics, u: &DVector<f64>) -> Result<Return, OrbitError> {
+                let j = DMatrix::from_element(1, 1, 0.5);
+                Ok(Return {
+                    image: u * 0.5 + DVector::from_element(1, 1.0),
+                    events: Vec::new(),
+                    jacobian: Some((j, true)),
+                    d_omega: None,
+                })
+            }
+        }
+        let structure = crate::model::Structure::chain(&[1.0], &[1e4], crate::model::Damping::ModalRatios(vec![0.01]));
+        let sys = crate::sim::system::System::plastic(structure, Vec::new(), 0, 1.0);
+        let d = Dynamics::new(&sys, 100.0).expect("the paper's structure decomposes");
+        let guess = DVector::from_element(1, 1.8);
+        let flags = |quadratic: f64| {
+            let opts = NewtonOptions { quadratic, ..NewtonOptions::default() };
+            let mut seen = Vec::new();
+            let (orbit, ()) = solve_with(&Line, &d, &guess, &opts, |u, last| {
+                seen.push(last);
+                Ok((Line.map(&d, u)?, ()))
+            })
+            .expect("a contraction converges");
+            assert!((orbit.u[0] - 2.0).abs() < 1e-12);
+            seen
+        };
+        assert_eq!(flags(1.0), vec![false, false]);
+        assert_eq!(flags(quadratic_constant(&[0.1, 2e-16])), vec![false, true]);
     }
 }

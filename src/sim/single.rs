@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector, RowDVector};
 
 use super::segment::Watch;
 use super::state::{Bed, Event, EventKind, State};
-use super::system::{Dynamics, System};
+use super::system::{Dynamics, System, MAX_GRAINS};
 
 /// The functions to watch for single bed `j` in state `s`, pushed onto `w`: the contact force
 /// of a resting bed, the gaps to the bottom and the top of a flying one.
@@ -45,10 +45,16 @@ pub(super) fn host_mass(sys: &System, j: usize, resting: impl Fn(usize) -> bool)
 pub(super) fn impacts(d: &Dynamics, s: &mut State, hits: &[Watch], side: &mut [Option<bool>], events: &mut Vec<Event>) {
     let sys = &d.system;
     let in_column = |j: usize| !sys.columns.is_empty() && sys.column_of(j).is_some();
-    let mut hit_beds: Vec<(usize, bool)> =
-        hits.iter().filter_map(Watch::impact).filter(|&(j, _)| !in_column(j)).collect();
+    // The hit beds in bed order (on the stack: at most two watches per bed).
+    let mut buf = [(0usize, false); 2 * MAX_GRAINS];
+    let mut count = 0;
+    for h in hits.iter().filter_map(Watch::impact).filter(|&(j, _)| !in_column(j)) {
+        buf[count] = h;
+        count += 1;
+    }
+    let hit_beds = &mut buf[..count];
     hit_beds.sort_by_key(|h| h.0);
-    for &(j, top) in &hit_beds {
+    for &(j, top) in hit_beds.iter() {
         let Bed::Free { t0, y0, u0 } = s.beds[j] else {
             continue;
         };

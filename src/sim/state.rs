@@ -72,7 +72,7 @@ impl Bed {
 }
 
 /// The full state: time, primary masses, beds.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub struct State {
     /// Time, s.
     pub t: f64,
@@ -82,6 +82,26 @@ pub struct State {
     pub v: DVector<f64>,
     /// Each bed's state.
     pub beds: Vec<Bed>,
+}
+
+impl Clone for State {
+    fn clone(&self) -> State {
+        State { t: self.t, x: self.x.clone(), v: self.v.clone(), beds: self.beds.clone() }
+    }
+
+    /// A copy into the buffers already held (the simulator keeps the state before each
+    /// event this way).
+    fn clone_from(&mut self, source: &State) {
+        self.t = source.t;
+        if self.x.len() == source.x.len() && self.v.len() == source.v.len() {
+            self.x.copy_from(&source.x);
+            self.v.copy_from(&source.v);
+        } else {
+            self.x = source.x.clone();
+            self.v = source.v.clone();
+        }
+        self.beds.clone_from(&source.beds);
+    }
 }
 
 impl State {

@@ -171,6 +171,9 @@ pub struct Certificate {
     pub iterations: usize,
     /// Attempts made.
     pub attempts: usize,
+    /// How fast Newton converged on this orbit ([`super::periodic::quadratic_constant`] of
+    /// its residuals): the next followed point predicts its last evaluation from it.
+    pub quadratic: f64,
     /// Forcing phase of the section, rad.
     pub phase: f64,
     /// The orbit's events per cycle, counted per bed and kind (what a followed point must

@@ -13,6 +13,9 @@ use super::eigen;
 /// Most terms a closed form may have (conjugate pairs count once): up to 8 masses.
 pub const MAX_TERMS: usize = 16;
 
+/// Most masses a closed form may have.
+pub const MAX_MASSES: usize = MAX_TERMS / 2;
+
 /// Highest derivative order of a host displacement the event functions need (contact
 /// forces are second derivatives; their certified bounds need four more).
 pub const ORDERS: usize = 7;
@@ -269,23 +272,24 @@ pub struct Config {
     pub mask: usize,
     /// The decomposition (does not depend on the forcing frequency).
     pub modes: Arc<Modes>,
-    /// `sqrt(P^2 + Q^2)` per mass.
-    pub amp: DVector<f64>,
-    /// Forced response coefficients.
-    pub p: DVector<f64>,
+    /// `sqrt(P^2 + Q^2)` per mass (the first `n` entries; the forced part is held in place,
+    /// so that the dynamics at another frequency is a copy without allocations).
+    pub amp: [f64; MAX_MASSES],
+    /// Cosine coefficients of the forced response, m.
+    pub p: [f64; MAX_MASSES],
     /// Sine coefficients of the forced response, m.
-    pub q: DVector<f64>,
-    /// Their derivatives in the forcing frequency, s.
-    pub dp: DVector<f64>,
+    pub q: [f64; MAX_MASSES],
+    /// Derivative of `p` in the forcing frequency, m s.
+    pub dp: [f64; MAX_MASSES],
     /// Derivative of `q` in the forcing frequency, m s.
-    pub dq: DVector<f64>,
+    pub dq: [f64; MAX_MASSES],
 }
 
 /// All configurations of a system at one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct Dynamics {
-    /// The system.
-    pub system: System,
+    /// The system (shared by the dynamics at every frequency).
+    pub system: Arc<System>,
     /// Forcing frequency, rad/s (any positive value for free motion).
     pub omega: f64,
     /// Every configuration, numbered by [`Dynamics::slot`].
@@ -315,29 +319,43 @@ impl Dynamics {
     pub fn at_omega(&self, omega: f64) -> Result<Dynamics, SetupError> {
         let mut d = self.clone();
         let n = self.system.dof();
+        let zero = Complex64::new(0.0, 0.0);
+        // Buffers shared by the configurations: the dynamic stiffness, its frequency
+        // derivative, the forced response X and the right-hand side of dX/domega.
+        let mut z = DMatrix::<Complex64>::zeros(n, n);
+        let mut dz = DMatrix::<Complex64>::zeros(n, n);
+        let mut x = DVector::<Complex64>::zeros(n);
+        let mut dx = DVector::<Complex64>::zeros(n);
         for cfg in &mut d.configs {
-            let (x, dx) = if self.system.force != 0.0 {
-                let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
-                    Complex64::new(self.k[(i, j)] - omega * omega * cfg.modes.mass[(i, j)], omega * self.c[(i, j)])
-                });
-                let mut rhs = DVector::<Complex64>::zeros(n);
-                rhs[self.system.driven] = Complex64::new(self.system.force, 0.0);
-                let lu = z.lu();
-                let x = lu.solve(&rhs).ok_or(SetupError::Singular { mask: cfg.mask })?;
+            x.fill(zero);
+            dx.fill(zero);
+            if self.system.force != 0.0 {
+                for j in 0..n {
+                    for i in 0..n {
+                        let (k, c, m) = (self.k[(i, j)], self.c[(i, j)], cfg.modes.mass[(i, j)]);
+                        z[(i, j)] = Complex64::new(k - omega * omega * m, omega * c);
+                        dz[(i, j)] = Complex64::new(-2.0 * omega * m, c);
+                    }
+                }
+                x[self.system.driven] = Complex64::new(self.system.force, 0.0);
+                let lu = z.clone().lu();
+                if !lu.solve_mut(&mut x) {
+                    return Err(SetupError::Singular { mask: cfg.mask });
+                }
                 // Z X = F e_k  =>  Z dX/domega = -(dZ/domega) X, dZ/domega = -2 omega M + i C.
-                let dz = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
-                    Complex64::new(-2.0 * omega * cfg.modes.mass[(i, j)], self.c[(i, j)])
-                });
-                let dx = lu.solve(&(-(dz * &x))).ok_or(SetupError::Singular { mask: cfg.mask })?;
-                (x, dx)
-            } else {
-                (DVector::zeros(n), DVector::zeros(n))
-            };
-            cfg.p = x.map(|v| v.im);
-            cfg.q = x.map(|v| v.re);
-            cfg.dp = dx.map(|v| v.im);
-            cfg.dq = dx.map(|v| v.re);
-            cfg.amp = DVector::from_fn(n, |i, _| cfg.p[i].hypot(cfg.q[i]));
+                dz.mul_to(&x, &mut dx);
+                dx.neg_mut();
+                if !lu.solve_mut(&mut dx) {
+                    return Err(SetupError::Singular { mask: cfg.mask });
+                }
+            }
+            for i in 0..n {
+                cfg.p[i] = x[i].im;
+                cfg.q[i] = x[i].re;
+                cfg.dp[i] = dx[i].im;
+                cfg.dq[i] = dx[i].re;
+                cfg.amp[i] = cfg.p[i].hypot(cfg.q[i]);
+            }
         }
         let max_rate = d.configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
         d.omega = omega;
@@ -421,16 +439,16 @@ impl Dynamics {
             configs.push(Config {
                 mask,
                 modes: Arc::new(modes),
-                amp: DVector::zeros(n),
-                p: DVector::zeros(n),
-                q: DVector::zeros(n),
-                dp: DVector::zeros(n),
-                dq: DVector::zeros(n),
+                amp: [0.0; MAX_MASSES],
+                p: [0.0; MAX_MASSES],
+                q: [0.0; MAX_MASSES],
+                dp: [0.0; MAX_MASSES],
+                dq: [0.0; MAX_MASSES],
             });
         }
         let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
         Ok(Dynamics {
-            system: system.clone(),
+            system: Arc::new(system.clone()),
             omega,
             configs,
             k,
@@ -469,8 +487,9 @@ impl Dynamics {
     pub fn particular(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
         let cfg = self.config(mask);
         let (s, c) = (self.omega * t).sin_cos();
-        let x = &cfg.p * c + &cfg.q * s + &cfg.modes.offset;
-        let v = (&cfg.q * c - &cfg.p * s) * self.omega;
+        let n = self.system.dof();
+        let x = DVector::from_fn(n, |i, _| cfg.p[i] * c + cfg.q[i] * s + cfg.modes.offset[i]);
+        let v = DVector::from_fn(n, |i, _| (cfg.q[i] * c - cfg.p[i] * s) * self.omega);
         (x, v)
     }
 
@@ -480,8 +499,12 @@ impl Dynamics {
         let w = self.omega;
         let (s, c) = (w * t).sin_cos();
         // x_p = P cos(w t) + Q sin(w t) + s, v_p = w (Q cos(w t) - P sin(w t)).
-        let x = &cfg.dp * c + &cfg.dq * s + (&cfg.q * c - &cfg.p * s) * t;
-        let v = (&cfg.q * c - &cfg.p * s) + (&cfg.dq * c - &cfg.dp * s) * w - (&cfg.p * c + &cfg.q * s) * (w * t);
+        let n = self.system.dof();
+        let (p, q, dp, dq) = (&cfg.p, &cfg.q, &cfg.dp, &cfg.dq);
+        let x = DVector::from_fn(n, |i, _| dp[i] * c + dq[i] * s + (q[i] * c - p[i] * s) * t);
+        let v = DVector::from_fn(n, |i, _| {
+            (q[i] * c - p[i] * s) + (dq[i] * c - dp[i] * s) * w - (p[i] * c + q[i] * s) * (w * t)
+        });
         (x, v)
     }
 
@@ -491,22 +514,46 @@ impl Dynamics {
         (self.system.force * s, self.system.force * self.omega * c)
     }
 
-    /// Accelerations and jerks of all masses in configuration `mask` at state `(x, v)`, time `t`.
+    /// Accelerations and jerks of all masses in configuration `mask` at state `(x, v)`, time
+    /// `t` (the first `n` entries): `a = M^-1 (w - C v - K x + f)`, `j = M^-1 (-C a - K v + f')`,
+    /// each product summed over the columns in order, without allocating.
     pub fn accelerations(
         &self,
         mask: usize,
         t: f64,
         x: &DVector<f64>,
         v: &DVector<f64>,
-    ) -> (DVector<f64>, DVector<f64>) {
+    ) -> ([f64; MAX_MASSES], [f64; MAX_MASSES]) {
+        let n = self.system.dof();
         let cfg = self.config(mask);
         let (f, fdot) = self.force(t);
-        let mut rhs = self.system.weight_load(mask) - &self.c * v - &self.k * x;
+        // Row `i` of `m` times `z`, accumulated column by column; `sign` -1 negates `m`.
+        let row = |m: &DMatrix<f64>, i: usize, z: &[f64], sign: f64| {
+            (1..n).fold(sign * m[(i, 0)] * z[0], |acc, j| sign * m[(i, j)] * z[j] + acc)
+        };
+        let mut rhs = [0.0; MAX_MASSES];
+        for (j, d) in self.system.dampers.iter().enumerate() {
+            if mask & (1 << j) != 0 {
+                rhs[d.host] -= d.mass * GRAVITY;
+            }
+        }
+        for (i, r) in rhs.iter_mut().enumerate().take(n) {
+            *r = *r - row(&self.c, i, v.as_slice(), 1.0) - row(&self.k, i, x.as_slice(), 1.0);
+        }
         rhs[self.system.driven] += f;
-        let a = &cfg.modes.mass_inv * rhs;
-        let mut rhs_dot = -&self.c * &a - &self.k * v;
+        let mut a = [0.0; MAX_MASSES];
+        for (i, ai) in a.iter_mut().enumerate().take(n) {
+            *ai = row(&cfg.modes.mass_inv, i, &rhs, 1.0);
+        }
+        let mut rhs_dot = [0.0; MAX_MASSES];
+        for (i, r) in rhs_dot.iter_mut().enumerate().take(n) {
+            *r = row(&self.c, i, &a, -1.0) - row(&self.k, i, v.as_slice(), 1.0);
+        }
         rhs_dot[self.system.driven] += fdot;
-        let j = &cfg.modes.mass_inv * rhs_dot;
-        (a, j)
+        let mut jerk = [0.0; MAX_MASSES];
+        for (i, ji) in jerk.iter_mut().enumerate().take(n) {
+            *ji = row(&cfg.modes.mass_inv, i, &rhs_dot, 1.0);
+        }
+        (a, jerk)
     }
 }
