@@ -169,9 +169,9 @@ impl<'a> Engine<'a> {
             &mut on_heap
         };
         let mut n_starts = 0;
-        let pt = seg.point(d, t_a);
+        let start = seg.point(d, t_a);
         for w in watches {
-            let ta = w.taylor(seg, d, &pt);
+            let ta = w.taylor(seg, d, &start);
             let tol = fresh_tol(w, d.omega);
             if ta.h[0] <= tol[0] {
                 match fresh_window(&ta, TIME_TOL, tol, step.min(t_b - t_a)) {
@@ -190,13 +190,19 @@ impl<'a> Engine<'a> {
         let mut a = t_a;
         while a < t_b {
             let b = (a + step).min(t_b);
-            let pt = seg.point(d, a);
+            let later;
+            let pt = if a == t_a {
+                &start
+            } else {
+                later = seg.point(d, a);
+                &later
+            };
             for (w, &start) in watches.iter().zip(&starts[..n_starts]) {
                 let lo = a.max(start);
                 if lo >= b {
                     continue;
                 }
-                let ta = if lo == a { w.taylor(seg, d, &pt) } else { eval(w, lo) };
+                let ta = if lo == a { w.taylor(seg, d, pt) } else { eval(w, lo) };
                 let Some(tau) = lower_root(&ta, b - lo) else {
                     continue;
                 };

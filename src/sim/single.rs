@@ -3,7 +3,7 @@
 //! and a sticking speed) and the law's derivative for the linearised flow are in `bed.rs`;
 //! the bed as a column of grains is `column.rs`.
 
-use nalgebra::{DMatrix, DVector, RowDVector};
+use nalgebra::{DMatrix, DVector, Dim, Dyn, Matrix, RowDVector, StorageMut};
 
 use super::segment::Watch;
 use super::state::{Bed, Event, EventKind, State};
@@ -135,15 +135,16 @@ impl ImpactJump {
     }
 
     /// Applies `G` to the rows of `m` (plastic: both velocities the common one; beds riding on
-    /// the host take the host's new velocity).
-    pub(super) fn apply_g(&self, m: &mut DMatrix<f64>) {
-        let (vp, uj) = (m.row(self.host_v).into_owned(), m.row(self.bed_u).into_owned());
-        let new_v = &vp * (1.0 - self.a) + &uj * self.a;
-        let new_u = &vp * self.b + &uj * (1.0 - self.b);
-        m.set_row(self.host_v, &new_v);
-        m.set_row(self.bed_u, &new_u);
-        for &r in &self.riders_u {
-            m.set_row(r, &new_v);
+    /// the host take the host's new velocity), column by column in place.
+    pub(super) fn apply_g<C: Dim, S: StorageMut<f64, Dyn, C>>(&self, m: &mut Matrix<f64, Dyn, C, S>) {
+        for c in 0..m.ncols() {
+            let (vp, uj) = (m[(self.host_v, c)], m[(self.bed_u, c)]);
+            let new_v = vp * (1.0 - self.a) + uj * self.a;
+            m[(self.host_v, c)] = new_v;
+            m[(self.bed_u, c)] = vp * self.b + uj * (1.0 - self.b);
+            for &r in &self.riders_u {
+                m[(r, c)] = new_v;
+            }
         }
     }
 
@@ -152,8 +153,10 @@ impl ImpactJump {
         self.sign * (f[self.bed_y] - f[self.host_x])
     }
 
-    /// The gradient of `h` carried by the derivative `m`: `grad(h)^T m`.
-    pub(super) fn gradient(&self, m: &DMatrix<f64>) -> RowDVector<f64> {
-        (m.row(self.bed_y) - m.row(self.host_x)) * self.sign
+    /// The gradient of `h` carried by the derivative `m`: `grad(h)^T m`, into `out`.
+    pub(super) fn gradient_into(&self, m: &DMatrix<f64>, out: &mut RowDVector<f64>) {
+        for c in 0..m.ncols() {
+            out[c] = (m[(self.bed_y, c)] - m[(self.host_x, c)]) * self.sign;
+        }
     }
 }

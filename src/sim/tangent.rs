@@ -52,6 +52,14 @@ pub struct Tangent {
     /// time), if any: between events it gains the frequency derivative of the forced response.
     omega_column: Option<usize>,
     n: usize,
+    /// Buffers reused at every segment and event: the transition matrix, the product with
+    /// it, the vector fields before and after an event, and the event function's gradient.
+    phi: DMatrix<f64>,
+    top: DMatrix<f64>,
+    f_minus: DVector<f64>,
+    f_plus: DVector<f64>,
+    g_f: DVector<f64>,
+    grad: nalgebra::RowDVector<f64>,
 }
 
 /// Row of `y_j` in the full state (`u_j` is the next one).
@@ -62,7 +70,14 @@ fn bed_row(n: usize, j: usize) -> usize {
 impl Tangent {
     /// Starts from `m0` (`D x k`): how the start state depends on the chosen coordinates.
     pub fn new(d: &Dynamics, m0: DMatrix<f64>) -> Tangent {
+        let (n, k, full) = (d.system.dof(), m0.ncols(), Tangent::full_dim(d));
         Tangent {
+            phi: DMatrix::zeros(2 * n, 2 * n),
+            top: DMatrix::zeros(2 * n, k),
+            f_minus: DVector::zeros(full),
+            f_plus: DVector::zeros(full),
+            g_f: DVector::zeros(full),
+            grad: nalgebra::RowDVector::zeros(k),
             m: m0,
             min_impact_speed: f64::INFINITY,
             simultaneous: 0,
@@ -108,7 +123,8 @@ impl Tangent {
                 s.beds[j] = Bed::Free { t0: s.t, y0, u0 };
             }
         }
-        let f = Tangent::field(d, &s);
+        let mut f = DVector::zeros(Tangent::full_dim(d));
+        Tangent::field(d, &s, &mut f);
         for r in 0..m0.nrows() {
             m0[(r, col)] = -f[r] / d.omega;
         }
@@ -135,12 +151,11 @@ impl Tangent {
     }
 
     /// The full vector field at a state (masses' velocities and accelerations in the state's
-    /// configuration, beds' velocities and accelerations).
-    fn field(d: &Dynamics, s: &State) -> DVector<f64> {
+    /// configuration, beds' velocities and accelerations), into `f` (of the full dimension).
+    fn field(d: &Dynamics, s: &State, f: &mut DVector<f64>) {
         let n = d.system.dof();
         let nb = s.beds.len();
         let (a, _) = d.accelerations(s.mask(), s.t, &s.x, &s.v);
-        let mut f = DVector::zeros(2 * n + 2 * nb);
         for i in 0..n {
             f[i] = s.v[i];
             f[n + i] = a[i];
@@ -151,18 +166,27 @@ impl Tangent {
             f[bed_row(n, j)] = u;
             f[bed_row(n, j) + 1] = if s.beds[j].attached() { a[p] } else { -GRAVITY };
         }
-        f
     }
 }
 
 /// `Phi(tau)` of configuration `mask`: the derivative of `(x, v)` after `tau` with respect
 /// to `(x, v)` at the start.
 pub fn transition(d: &Dynamics, mask: usize, tau: f64) -> DMatrix<f64> {
+    let n = d.system.dof();
+    let mut out = DMatrix::zeros(2 * n, 2 * n);
+    transition_into(d, mask, tau, &mut out);
+    out
+}
+
+/// [`transition`] into `out` (`2n x 2n`).
+fn transition_into(d: &Dynamics, mask: usize, tau: f64, out: &mut DMatrix<f64>) {
     let cfg = d.config(mask);
     let n = d.system.dof();
     let len = cfg.modes.lambda.len();
-    let e: Vec<Complex64> = cfg.modes.lambda.iter().map(|l| (l * tau).exp()).collect();
-    let mut out = DMatrix::zeros(2 * n, 2 * n);
+    let mut e = [Complex64::new(0.0, 0.0); super::system::MAX_TERMS];
+    for (e, l) in e.iter_mut().zip(&cfg.modes.lambda) {
+        *e = (l * tau).exp();
+    }
     let mut scaled = [Complex64::new(0.0, 0.0); super::system::MAX_TERMS];
     for i in 0..2 * n {
         let row = if i < n { &cfg.modes.vl[i][0] } else { &cfg.modes.vl[i - n][1] };
@@ -175,7 +199,6 @@ pub fn transition(d: &Dynamics, mask: usize, tau: f64) -> DMatrix<f64> {
                 .sum();
         }
     }
-    out
 }
 
 impl Observer for Tangent {
@@ -185,14 +208,15 @@ impl Observer for Tangent {
             return;
         }
         let n = self.n;
-        let phi = transition(d, seg.mask, tau);
-        let top = &phi * self.m.rows(0, 2 * n);
-        self.m.rows_mut(0, 2 * n).copy_from(&top);
+        transition_into(d, seg.mask, tau, &mut self.phi);
+        self.phi.mul_to(&self.m.rows(0, 2 * n), &mut self.top);
+        self.m.rows_mut(0, 2 * n).copy_from(&self.top);
+        let phi = &self.phi;
         if let Some(c) = self.omega_column {
             let (xa, va) = d.particular_d_omega(seg.mask, t_a);
             let (xb, vb) = d.particular_d_omega(seg.mask, t_b);
             let za = DVector::from_fn(2 * n, |i, _| if i < n { xa[i] } else { va[i - n] });
-            let moved = &phi * za;
+            let moved = phi * za;
             for i in 0..n {
                 self.m[(i, c)] += xb[i] - moved[i];
                 self.m[(n + i, c)] += vb[i] - moved[n + i];
@@ -217,30 +241,38 @@ impl Observer for Tangent {
         if self.dt.is_some() {
             return;
         }
-        let impacts: Vec<(usize, bool)> = hits.iter().filter_map(Watch::impact).collect();
-        let Some(&(j, top)) = impacts.first() else {
+        let mut impacts = hits.iter().filter_map(Watch::impact);
+        let Some((j, top)) = impacts.next() else {
             // Lift-offs: no jump in the state or the vector field.
             self.slave(d, &after.beds);
             return;
         };
-        if impacts.len() > 1 {
+        if impacts.next().is_some() {
             self.simultaneous += 1;
         }
         let n = self.n;
         // The bed model's part (src/sim/single.rs): G and the event function h.
         let jump = super::single::ImpactJump::new(d, before, j, top, n, |k| bed_row(n, k));
         self.min_impact_speed = self.min_impact_speed.min(jump.rel.abs());
-        let f_minus = Tangent::field(d, before);
-        let f_plus = Tangent::field(d, after);
-        let mut g_f = DMatrix::from_column_slice(f_minus.len(), 1, f_minus.as_slice());
-        jump.apply_g(&mut g_f);
-        let w = &f_plus - g_f.column(0);
+        Tangent::field(d, before, &mut self.f_minus);
+        Tangent::field(d, after, &mut self.f_plus);
+        // w = f+ - G f-, into g_f.
+        self.g_f.copy_from(&self.f_minus);
+        jump.apply_g(&mut self.g_f);
+        for (g, fp) in self.g_f.iter_mut().zip(self.f_plus.iter()) {
+            *g = fp - *g;
+        }
+        let w = &self.g_f;
         // The rate of h before the event, and its gradient carried by the derivative so far.
-        let h_dot = jump.rate(&f_minus);
-        let grad_m = jump.gradient(&self.m);
+        let h_dot = jump.rate(&self.f_minus);
+        jump.gradient_into(&self.m, &mut self.grad);
         jump.apply_g(&mut self.m);
         if h_dot != 0.0 {
-            self.m += (&w / h_dot) * &grad_m;
+            for c in 0..self.m.ncols() {
+                for r in 0..self.m.nrows() {
+                    self.m[(r, c)] += w[r] / h_dot * self.grad[c];
+                }
+            }
         }
         self.slave(d, &after.beds);
         if let Some((bed, count)) = self.until {
@@ -248,8 +280,8 @@ impl Observer for Tangent {
                 self.seen += 1;
                 if self.seen == count {
                     // The state at the event's own time: add the flow after it over the shift.
-                    let dt = -grad_m / h_dot;
-                    self.m += &f_plus * &dt;
+                    let dt = -&self.grad / h_dot;
+                    self.m += &self.f_plus * &dt;
                     self.dt = Some(dt);
                 }
             }
