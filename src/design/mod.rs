@@ -12,6 +12,7 @@ pub mod stored;
 
 use crate::model::{Clearance, Damper, Structure};
 use crate::sim::sweep::{self, Direction, SweepPoint};
+use crate::sim::system::{Dynamics, SetupError};
 use crate::sim::{SteadyOptions, System};
 
 /// What a design file asks (`[design]`, validated): see docs/design.md.
@@ -205,14 +206,26 @@ pub struct Evaluation {
 /// Compliance of every mass at each frequency of `band` for `sys`, the largest over `sweeps`,
 /// and the number of unsettled points.
 pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &SteadyOptions) -> (Vec<Vec<f64>>, usize) {
+    band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady)
+}
+
+/// [`band_compliance`] of a system already decomposed (`base`, [`Dynamics::unforced`] of
+/// `sys`): every band and sweep of one layout shares one decomposition.
+fn band_compliance_on(
+    base: &Result<Dynamics, SetupError>,
+    sys: &System,
+    band: &Band,
+    sweeps: &[Sweep],
+    steady: &SteadyOptions,
+) -> (Vec<Vec<f64>>, usize) {
     let n = sys.dof();
     let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
     let mut unsettled = 0;
     for s in sweeps {
         let points: Vec<SweepPoint> = match s {
-            Sweep::Rest => sweep::from_rest(sys, &band.freq_hz, steady, &|| {}),
-            Sweep::Up => sweep::continued(sys, &band.freq_hz, Direction::Up, steady, &|| {}),
-            Sweep::Down => sweep::continued(sys, &band.freq_hz, Direction::Down, steady, &|| {}),
+            Sweep::Rest => sweep::from_rest_on(base, &band.freq_hz, steady, &|| {}),
+            Sweep::Up => sweep::continued_on(base, &band.freq_hz, Direction::Up, steady, &|| {}),
+            Sweep::Down => sweep::continued_on(base, &band.freq_hz, Direction::Down, steady, &|| {}),
         };
         for p in points {
             let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
@@ -297,8 +310,9 @@ fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> 
     let mut unsettled = 0;
     let mut points = 0;
     let mut curves = Vec::with_capacity(problem.bands.len());
+    let base = Dynamics::unforced(&sys);
     for (k, band) in problem.bands.iter().enumerate() {
-        let (c, u) = band_compliance(&sys, band, &problem.sweeps, &problem.steady);
+        let (c, u) = band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady);
         unsettled += u;
         points += band.freq_hz.len() * problem.sweeps.len();
         let (value, i, m) = measure(band, &c, problem.measure);

@@ -10,6 +10,7 @@
 //! the derivative of `G` in `p` is that exact column; otherwise a central difference.
 
 use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
 
 use super::periodic::{finish, signature, NewtonOptions, Orbit, OrbitError, Section, FD_STEP};
 use super::system::{Dynamics, SetupError};
@@ -316,8 +317,8 @@ pub fn continue_branch<S: Section>(
 }
 
 /// Folds (sign changes of `dp/ds`, located at the vertex of the parabola `p(s)` through the
-/// three points around them) and period doublings (a real multiplier crossing -1, located by
-/// linear interpolation).
+/// three points around them) and period doublings (a real multiplier crossing -1: a sign
+/// change of [`pd_measure`], located by linear interpolation).
 fn special_points(points: &[BranchPoint]) -> Vec<Special> {
     let mut out = Vec::new();
     for w in points.windows(2) {
@@ -357,11 +358,15 @@ fn vertex(tri: &[BranchPoint]) -> f64 {
     p0 + d01 * (sv - s0) + a * (sv - s0) * (sv - s1)
 }
 
-/// `lambda + 1` of the most negative real multiplier (none: no real negative multiplier).
+/// `det(I + J) = prod (1 + lambda)` over the multipliers: its sign changes exactly where an
+/// odd number of real multipliers cross -1 (a complex pair contributes `|1 + lambda|^2 > 0`,
+/// a multiplier near +1 a positive factor), whatever the others do, so a period doubling is
+/// seen even when the multiplier that crosses was one of a complex pair at the previous point
+/// (a pair meets on the negative axis, splits, and one of the two crosses -1 within a step).
+/// `None` without multipliers.
 pub fn pd_measure(o: &Orbit) -> Option<f64> {
-    o.multipliers
-        .iter()
-        .filter(|z| z.im.abs() <= 1e-9 * z.norm().max(1e-30) && z.re < 0.0)
-        .map(|z| z.re + 1.0)
-        .reduce(f64::min)
+    if o.multipliers.is_empty() {
+        return None;
+    }
+    Some(o.multipliers.iter().fold(Complex64::new(1.0, 0.0), |acc, z| acc * (z + 1.0)).re)
 }

@@ -60,15 +60,18 @@ fn roots_between(f: &impl Fn(f64) -> (f64, f64), times: &[f64], at: &[f64]) -> V
         if fa == 0.0 {
             out.push(ta);
         } else if fa * fb < 0.0 {
-            out.push(refine(f, ta, tb, fa));
+            out.push(refine(f, ta, tb, fa, fb));
         }
     }
     out
 }
 
-/// The root of `f` in `[lo, hi]`, where `f(lo) = flo` and `f(hi)` has the other sign.
-fn refine(f: &impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, mut flo: f64) -> f64 {
-    let mut t = 0.5 * (lo + hi);
+/// The root of `f` in `[lo, hi]`, where `f(lo) = flo` and `f(hi) = fhi` has the other sign;
+/// the first iterate is the secant's root (the samples are close: Newton then starts near
+/// the root).
+fn refine(f: &impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, mut flo: f64, fhi: f64) -> f64 {
+    let secant = lo - flo * (hi - lo) / (fhi - flo);
+    let mut t = if secant > lo && secant < hi { secant } else { 0.5 * (lo + hi) };
     for _ in 0..60 {
         let (v, dv) = f(t);
         if v == 0.0 {

@@ -45,9 +45,16 @@ fn quadratic_roots(a: f64, b: f64, c: f64) -> [f64; 2] {
 /// The root of a function that changes sign on `[lo, hi]`, by Newton steps kept inside the
 /// bracket (bisection otherwise), to a relative precision of 1e-12 of the bracket.
 fn solve(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
-    let lo_positive = f(lo).0 > 0.0;
+    let (flo, dlo) = f(lo);
+    let lo_positive = flo > 0.0;
     let tol = 1e-12 * (hi - lo).abs();
-    let mut x = 0.5 * (lo + hi);
+    // The first iterate: Newton's step from `lo` when it stays in the bracket. On the monotone
+    // pieces the search works on, a root near `lo` (the usual case: the search closing in on
+    // an event) is then found in a step or two, where a start from the midpoint would halve
+    // the bracket until its curvature no longer throws Newton out of it.
+    let from_lo = lo - flo / dlo;
+    let mut x = if dlo != 0.0 && (from_lo - lo) * (from_lo - hi) < 0.0 { from_lo } else { 0.5 * (lo + hi) };
+    let mut probed = false;
     for _ in 0..100 {
         let (v, dv) = f(x);
         if v == 0.0 {
@@ -60,6 +67,23 @@ fn solve(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
         }
         let newton = x - v / dv;
         let inside = (newton - lo) * (newton - hi) < 0.0;
+        if dv != 0.0 && !inside && !probed {
+            // Newton leaves the bracket: the root may sit at its end, where the function is
+            // flat (a double root, as when the bound touches zero at a knot), and both
+            // Newton and bisection would only halve the distance. Probe the end once.
+            probed = true;
+            let beyond_hi = newton >= hi;
+            let inner = if beyond_hi { hi - tol } else { lo + tol };
+            if inner > lo && inner < hi {
+                let lo_side = (f(inner).0 > 0.0) == lo_positive;
+                match (beyond_hi, lo_side) {
+                    (true, true) => return hi,
+                    (false, false) => return lo,
+                    (_, true) => lo = inner,
+                    (_, false) => hi = inner,
+                }
+            }
+        }
         let next = if dv != 0.0 && inside { newton } else { 0.5 * (lo + hi) };
         if (next - x).abs() <= tol {
             return next;

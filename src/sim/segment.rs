@@ -61,7 +61,9 @@ impl Segment {
         let mut c_abs = [0.0; MAX_TERMS];
         for r in 0..len {
             c[r] = (0..2 * n).map(|j| cfg.modes.inverse[(r, j)] * z[j]).sum();
-            c_abs[r] = c[r].norm();
+            // Only bounds use the modulus: the square root of the sum of squares (no `hypot`:
+            // the coefficients are far from overflow).
+            c_abs[r] = (c[r].re * c[r].re + c[r].im * c[r].im).sqrt();
         }
         Segment { t0, mask, slot, len, c, c_abs }
     }

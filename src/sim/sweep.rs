@@ -37,7 +37,16 @@ pub struct SweepPoint {
 pub fn from_rest(sys: &System, freqs_hz: &[f64], opts: &SteadyOptions, tick: &(dyn Fn() + Sync)) -> Vec<SweepPoint> {
     // Decomposed once; each frequency adds only its forced response (the same numbers as
     // `Dynamics::new` at that frequency).
-    let base = Dynamics::unforced(sys);
+    from_rest_on(&Dynamics::unforced(sys), freqs_hz, opts, tick)
+}
+
+/// [`from_rest`] on a system already decomposed ([`continued_on`]).
+pub fn from_rest_on(
+    base: &Result<Dynamics, SetupError>,
+    freqs_hz: &[f64],
+    opts: &SteadyOptions,
+    tick: &(dyn Fn() + Sync),
+) -> Vec<SweepPoint> {
     freqs_hz
         .par_iter()
         .map(|&f| {
@@ -77,6 +86,18 @@ pub fn continued(
     opts: &SteadyOptions,
     tick: &(dyn Fn() + Sync),
 ) -> Vec<SweepPoint> {
+    continued_on(&Dynamics::unforced(sys), freqs_hz, dir, opts, tick)
+}
+
+/// [`continued`] on a system already decomposed (`base`: [`Dynamics::unforced`], or why it
+/// could not be), so that several sweeps of one system decompose it once. The same points.
+pub fn continued_on(
+    base: &Result<Dynamics, SetupError>,
+    freqs_hz: &[f64],
+    dir: Direction,
+    opts: &SteadyOptions,
+    tick: &(dyn Fn() + Sync),
+) -> Vec<SweepPoint> {
     let mut order: Vec<f64> = freqs_hz.to_vec();
     order.sort_by(f64::total_cmp);
     if dir == Direction::Down {
@@ -86,7 +107,6 @@ pub fn continued(
     // Index in `out` of the last point with a steady state; following, the last `FOLLOWED` such.
     let mut last: Option<usize> = None;
     let mut known: Vec<usize> = Vec::new();
-    let base = Dynamics::unforced(sys);
     // The dynamics of the last point with a steady state when it was followed: its record
     // ends where its orbit closes, not on a whole period, so a fallback runs it on first.
     let mut followed_at: Option<Dynamics> = None;
@@ -94,7 +114,7 @@ pub fn continued(
         let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
             let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
-                Some(&p) if opts.follow && sys.columns.is_empty() => {
+                Some(&p) if opts.follow && d.system.columns.is_empty() => {
                     let before: Vec<Known> =
                         known[..known.len() - 1].iter().filter_map(|&i| known_point(&out, i)).collect();
                     known_point(&out, p).and_then(|p| follow(&p, &before, &d, f, opts))
