@@ -400,7 +400,7 @@ impl Default for NewtonOptions {
 
 /// Residuals below this are at the rounding level of the map (scaled units): a ratio that
 /// ends on one bounds the convergence constant from above instead of measuring it.
-const RESIDUAL_FLOOR: f64 = 1e-14;
+pub const RESIDUAL_FLOOR: f64 = 1e-14;
 
 /// The ratio `r_{k+1} / r_k^2` of Newton's last two residuals above the rounding level
 /// ([`RESIDUAL_FLOOR`]), as measured on one solution: how fast Newton converges near this
