@@ -169,9 +169,9 @@ impl<'a> Engine<'a> {
             &mut on_heap
         };
         let mut n_starts = 0;
-        let start = seg.point(d, t_a);
+        let first = seg.point(d, t_a);
         for w in watches {
-            let ta = w.taylor(seg, d, &start);
+            let ta = w.taylor(seg, d, &first);
             let tol = fresh_tol(w, d.omega);
             if ta.h[0] <= tol[0] {
                 match fresh_window(&ta, TIME_TOL, tol, step.min(t_b - t_a)) {
@@ -192,7 +192,7 @@ impl<'a> Engine<'a> {
             let b = (a + step).min(t_b);
             let later;
             let pt = if a == t_a {
-                &start
+                &first
             } else {
                 later = seg.point(d, a);
                 &later
@@ -311,9 +311,7 @@ impl<'a> Engine<'a> {
         let mask_of = |bits: usize| {
             units.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, u)| acc | u.1)
         };
-        // Subsets of the units, most units first, ties in increasing order of their bits.
-        let subsets = (0..=m).rev().flat_map(|k| (0..(1usize << m)).filter(move |b| b.count_ones() as usize == k));
-        for bits in subsets {
+        for bits in subsets_largest_first(m) {
             let mask = mask_of(bits);
             let (a, jerk) = d.accelerations(mask, s.t, &s.x, &s.v);
             let ok = units.iter().enumerate().all(|(i, &(j, _))| {
@@ -353,8 +351,40 @@ impl<'a> Engine<'a> {
     }
 }
 
+/// The subsets of `m` units as bit sets, most units first, those of one size in increasing
+/// order (each size's sets in turn by Gosper's rule: the next larger number with as many bits).
+fn subsets_largest_first(m: usize) -> impl Iterator<Item = usize> {
+    let end = 1usize << m;
+    (0..=m).rev().flat_map(move |k| {
+        let first = (1usize << k) - 1;
+        std::iter::successors(Some(first), move |&x| {
+            if x == 0 {
+                return None;
+            }
+            let low = x & x.wrapping_neg();
+            let r = x + low;
+            Some((((r ^ x) >> 2) / low) | r)
+        })
+        .take_while(move |&x| x < end)
+    })
+}
+
 /// The Taylor data of a watch at one time (for tests and diagnostics).
 pub fn watch_at(d: &Dynamics, seg: &Segment, w: &Watch, t: f64) -> Taylor {
     let pt: Point = seg.point(d, t);
     w.taylor(seg, d, &pt)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::subsets_largest_first;
+
+    #[test]
+    fn subsets_come_largest_first_then_in_increasing_order() {
+        for m in 0..10 {
+            let mut want: Vec<usize> = (0..(1usize << m)).collect();
+            want.sort_by_key(|&bits| (std::cmp::Reverse(bits.count_ones()), bits));
+            assert_eq!(subsets_largest_first(m).collect::<Vec<_>>(), want, "m = {m}");
+        }
+    }
 }
