@@ -209,7 +209,17 @@ impl Observer for Tangent {
         }
         let n = self.n;
         transition_into(d, seg.mask, tau, &mut self.phi);
-        self.phi.mul_to(&self.m.rows(0, 2 * n), &mut self.top);
+        // `Phi` times the masses' rows, summed in plain loops (the matrices are at most 16
+        // square; a general product's packing costs more than the arithmetic here).
+        for c in 0..self.m.ncols() {
+            for i in 0..2 * n {
+                let mut acc = 0.0;
+                for k in 0..2 * n {
+                    acc += self.phi[(i, k)] * self.m[(k, c)];
+                }
+                self.top[(i, c)] = acc;
+            }
+        }
         self.m.rows_mut(0, 2 * n).copy_from(&self.top);
         let phi = &self.phi;
         if let Some(c) = self.omega_column {
