@@ -405,8 +405,12 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
     let u0 = extrapolate(&nodes, freq_hz);
     // Newton converges near this orbit about as fast as near the previous one: its last
     // evaluation (the one worth recording) is predicted from the previous constant.
-    let newton =
-        NewtonOptions { tol: opts.orbit_tol, max_iter: opts.max_newton, max_step: 0.5, quadratic: cert.quadratic };
+    let newton = NewtonOptions {
+        tol: opts.orbit_tol,
+        max_iter: opts.max_newton,
+        quadratic: cert.quadratic,
+        ..NewtonOptions::default()
+    };
     let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
     // Other events per cycle: the branch has crossed a graze (a bed starts or stops lifting
     // off, or reaching the top), where the orbit moves continuously; an orbit farther from

@@ -635,7 +635,7 @@ mod tests {
         }
         let structure = crate::model::Structure::chain(&[1.0], &[1e4], crate::model::Damping::ModalRatios(vec![0.01]));
         let sys = crate::sim::system::System::plastic(structure, Vec::new(), 0, 1.0);
-        let d = Dynamics::new(&sys, 100.0).expect("the paper's structure decomposes");
+        let d = Dynamics::new(&sys, 100.0).expect("a one-mass chain decomposes");
         let guess = DVector::from_element(1, 1.8);
         let flags = |quadratic: f64| {
             let opts = NewtonOptions { quadratic, ..NewtonOptions::default() };
