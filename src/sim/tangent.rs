@@ -169,16 +169,8 @@ impl Tangent {
     }
 }
 
-/// `Phi(tau)` of configuration `mask`: the derivative of `(x, v)` after `tau` with respect
-/// to `(x, v)` at the start.
-pub fn transition(d: &Dynamics, mask: usize, tau: f64) -> DMatrix<f64> {
-    let n = d.system.dof();
-    let mut out = DMatrix::zeros(2 * n, 2 * n);
-    transition_into(d, mask, tau, &mut out);
-    out
-}
-
-/// [`transition`] into `out` (`2n x 2n`).
+/// `Phi(tau)` of configuration `mask`, into `out` (`2n x 2n`): the derivative of `(x, v)`
+/// after `tau` with respect to `(x, v)` at the start.
 fn transition_into(d: &Dynamics, mask: usize, tau: f64, out: &mut DMatrix<f64>) {
     let cfg = d.config(mask);
     let n = d.system.dof();
