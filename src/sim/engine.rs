@@ -7,7 +7,7 @@ pub use super::state::{Bed, Event, EventKind, State};
 
 use super::roots::{first_root_from, fresh_window, lower_root, TIME_TOL};
 use super::segment::{Point, Segment, Taylor, Watch};
-use super::system::{Dynamics, MAX_GRAINS};
+use super::system::{Dynamics, MAX_GRAINS, STEP_FRACTION};
 
 /// Why a run stopped early.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,7 +56,7 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { step_fraction: 0.125, max_events: 2000 }
+        Settings { step_fraction: STEP_FRACTION, max_events: 2000 }
     }
 }
 
@@ -186,17 +186,21 @@ impl<'a> Engine<'a> {
             }
             n_starts += 1;
         }
+        // The windows' starts are equally spaced: with the default step each point is carried
+        // from the one before by the step's factors (no exponential, sine or cosine).
+        let carry = (self.settings.step_fraction == STEP_FRACTION).then(|| d.window_step(seg.slot));
         let mut best: Option<f64> = None;
         let mut a = t_a;
+        let mut current = first;
         while a < t_b {
             let b = (a + step).min(t_b);
-            let later;
-            let pt = if a == t_a {
-                &first
-            } else {
-                later = seg.point(d, a);
-                &later
-            };
+            if a != t_a {
+                current = match carry {
+                    Some(st) => current.advanced(st, a),
+                    None => seg.point(d, a),
+                };
+            }
+            let pt = &current;
             for (w, &start) in watches.iter().zip(&starts[..n_starts]) {
                 let lo = a.max(start);
                 if lo >= b {

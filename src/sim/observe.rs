@@ -25,6 +25,10 @@ pub struct Extrema {
     pub liftoffs: Vec<usize>,
     /// Highest flight of each bed above its container bottom, m.
     pub max_flight: Vec<f64>,
+    /// Sample times, points and values of one segment (buffers reused from segment to segment).
+    times: Vec<f64>,
+    points: Vec<Point>,
+    at: Vec<f64>,
 }
 
 impl Extrema {
@@ -37,6 +41,9 @@ impl Extrema {
             top_impacts: vec![0; beds],
             liftoffs: vec![0; beds],
             max_flight: vec![0.0; beds],
+            times: Vec::new(),
+            points: Vec::new(),
+            at: Vec::new(),
         }
     }
 
@@ -51,29 +58,40 @@ impl Extrema {
     }
 }
 
-/// Roots of `f` between successive sample times `times` (where it takes the values `at`),
-/// each sign change refined by Newton with bisection; `f` returns value and derivative.
-fn roots_between(f: &impl Fn(f64) -> (f64, f64), times: &[f64], at: &[f64]) -> Vec<f64> {
-    let mut out = Vec::new();
-    for (w, t) in times.windows(2).zip(at.windows(2)) {
+/// For each sign change of `f` between successive sample times `times` (where it takes the
+/// values `at`) in a window `k` that `wanted(k)` accepts, the root refined by Newton with
+/// bisection, handed to `found` with the quantity `f` returns beside its value and derivative
+/// at the last evaluation (the extremum sought, within rounding of the root). A sample where
+/// `f` is exactly zero is a root: `found` gets `sample(k)` there.
+fn each_root(
+    f: &impl Fn(f64) -> (f64, f64, f64),
+    times: &[f64],
+    at: &[f64],
+    sample: impl Fn(usize) -> f64,
+    wanted: impl Fn(usize) -> bool,
+    mut found: impl FnMut(f64),
+) {
+    for (k, (w, t)) in times.windows(2).zip(at.windows(2)).enumerate() {
         let ((ta, tb), (fa, fb)) = ((w[0], w[1]), (t[0], t[1]));
         if fa == 0.0 {
-            out.push(ta);
-        } else if fa * fb < 0.0 {
-            out.push(refine(f, ta, tb, fa, fb));
+            found(sample(k));
+        } else if fa * fb < 0.0 && wanted(k) {
+            found(refine(f, ta, tb, fa, fb));
         }
     }
-    out
 }
 
-/// The root of `f` in `[lo, hi]`, where `f(lo) = flo` and `f(hi) = fhi` has the other sign;
-/// the first iterate is the secant's root (the samples are close: Newton then starts near
-/// the root).
-fn refine(f: &impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, mut flo: f64, fhi: f64) -> f64 {
+/// The root of `f` in `[lo, hi]`, where `f(lo) = flo` and `f(hi) = fhi` has the other sign,
+/// and the quantity `f` returns beside value and derivative at the last point evaluated
+/// (within rounding of the root); the first iterate is the secant's root (the samples are
+/// close: Newton then starts near the root).
+fn refine(f: &impl Fn(f64) -> (f64, f64, f64), mut lo: f64, mut hi: f64, mut flo: f64, fhi: f64) -> f64 {
     let secant = lo - flo * (hi - lo) / (fhi - flo);
     let mut t = if secant > lo && secant < hi { secant } else { 0.5 * (lo + hi) };
+    let mut extra = f64::NAN;
     for _ in 0..60 {
-        let (v, dv) = f(t);
+        let (v, dv, x) = f(t);
+        extra = x;
         if v == 0.0 {
             break;
         }
@@ -86,15 +104,16 @@ fn refine(f: &impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, mut flo: f64
         let newton = if dv != 0.0 { t - v / dv } else { f64::NAN };
         // Converged: Newton's correction is below the time's resolution.
         if (newton - t).abs() <= 1e-15 * (1.0 + t.abs()) {
-            t = newton.clamp(lo, hi);
             break;
         }
         t = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
         if hi - lo < 1e-15 * (1.0 + t.abs()) {
+            let (_, _, x) = f(t);
+            extra = x;
             break;
         }
     }
-    t
+    extra
 }
 
 impl Observer for Extrema {
@@ -104,27 +123,41 @@ impl Observer for Extrema {
         }
         let n = d.system.dof();
         let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
-        // The closed form is evaluated once per sample time for every mass and bed; sign
+        // The closed form is evaluated at every sample time for every mass and bed; sign
         // changes of the velocities (and relative velocities of flying beds) are then refined
-        // one by one.
-        let times: Vec<f64> =
-            (0..=m).map(|k| if k == m { t_b } else { t_a + (t_b - t_a) * k as f64 / m as f64 }).collect();
-        let points: Vec<Point> = times.iter().map(|&t| seg.point(d, t)).collect();
-        let mut at = vec![0.0; m + 1];
+        // one by one. The ends are evaluated directly, the samples between carried from the
+        // start by one step's factors (a step costs what one evaluation does).
+        let (mut times, mut points, mut at) =
+            (std::mem::take(&mut self.times), std::mem::take(&mut self.points), std::mem::take(&mut self.at));
+        times.clear();
+        times.extend((0..=m).map(|k| if k == m { t_b } else { t_a + (t_b - t_a) * k as f64 / m as f64 }));
+        points.clear();
+        points.push(seg.point(d, t_a));
+        let step = (m > 2).then(|| seg.step(d, (t_b - t_a) / m as f64));
+        for k in 1..m {
+            let next = match &step {
+                Some(step) => points[k - 1].advanced(step, times[k]),
+                None => seg.point(d, times[k]),
+            };
+            points.push(next);
+        }
+        points.push(seg.point(d, t_b));
+        at.clear();
+        at.resize(m + 1, 0.0);
         for i in 0..n {
-            let x = |t: f64| seg.deriv(d, &seg.point(d, t), i, 0);
             self.take(i, seg.deriv(d, &points[0], i, 0));
             self.take(i, seg.deriv(d, &points[m], i, 0));
             let v = |t: f64| {
                 let pt = seg.point(d, t);
-                (seg.deriv(d, &pt, i, 1), seg.deriv(d, &pt, i, 2))
+                (seg.deriv(d, &pt, i, 1), seg.deriv(d, &pt, i, 2), seg.deriv(d, &pt, i, 0))
             };
             at.iter_mut().zip(&points).for_each(|(a, pt)| *a = seg.deriv(d, pt, i, 1));
-            for r in roots_between(&v, &times, &at) {
-                self.take(i, x(r));
-            }
+            each_root(&v, &times, &at, |k| seg.deriv(d, &points[k], i, 0), |_| true, |x| self.take(i, x));
         }
-        // Highest flight: the apex of y - x_p, at a root of the relative velocity.
+        // Highest flight: the apex of y - x_p, at a root of the relative velocity. A window
+        // whose gap cannot exceed the highest one so far is not refined: from its start
+        // `t_k` the gap is at most `gap_k + max(rel_v, 0) dt + max(rel_a, 0) dt^2 / 2 + J
+        // dt^3 / 6`, `J` the bound on the host's jerk from `t_k` on (the bed's is zero).
         for (j, bed) in beds.iter().enumerate() {
             if let Bed::Free { t0, y0, u0 } = *bed {
                 let p = d.system.dampers[j].host;
@@ -132,18 +165,31 @@ impl Observer for Extrema {
                 let rel = |t: f64| {
                     let pt = seg.point(d, t);
                     let (_, u) = Bed::flight(t0, y0, u0, t);
-                    (u - seg.deriv(d, &pt, p, 1), -GRAVITY - seg.deriv(d, &pt, p, 2))
+                    (u - seg.deriv(d, &pt, p, 1), -GRAVITY - seg.deriv(d, &pt, p, 2), gap(t, &pt))
                 };
                 at.iter_mut()
                     .zip(&points)
                     .for_each(|(a, pt)| *a = Bed::flight(t0, y0, u0, pt.t).1 - seg.deriv(d, pt, p, 1));
-                let mut best = gap(t_a, &points[0]).max(gap(t_b, &points[m]));
-                for r in roots_between(&rel, &times, &at) {
-                    best = best.max(gap(r, &seg.point(d, r)));
-                }
-                self.max_flight[j] = self.max_flight[j].max(best);
+                let best = std::cell::Cell::new(gap(t_a, &points[0]).max(gap(t_b, &points[m])));
+                let ceiling = |k: usize| {
+                    let (pt, dt) = (&points[k], times[k + 1] - times[k]);
+                    let acc = -GRAVITY - seg.deriv(d, pt, p, 2);
+                    let jerk = seg.bound(d, pt, p, 3);
+                    gap(pt.t, pt) + dt * (at[k].max(0.0) + dt * (acc.max(0.0) / 2.0 + dt * jerk / 6.0))
+                };
+                each_root(
+                    &rel,
+                    &times,
+                    &at,
+                    |k| gap(times[k], &points[k]),
+                    // With a margin far above rounding and far below any flight (1e-15 m).
+                    |k| ceiling(k) * (1.0 + 1e-6) + 1e-15 >= best.get(),
+                    |g| best.set(best.get().max(g)),
+                );
+                self.max_flight[j] = self.max_flight[j].max(best.get());
             }
         }
+        (self.times, self.points, self.at) = (times, points, at);
     }
 
     fn event(&mut self, ev: &Event, _after: &State) {

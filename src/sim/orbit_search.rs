@@ -402,13 +402,19 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
             None => break,
         }
     }
-    let u0 = extrapolate(&nodes, freq_hz);
+    // Beds that never leave their floors: the orbit is the forced response of the structure
+    // with the beds riding (exact while their contact forces stay positive; Newton checks it).
+    // Otherwise the polynomial through the previous orbits.
+    let resting = resting_guess(d, &strobe, at, &cert.pattern);
+    let guess_exact = resting.is_some();
+    let u0 = resting.unwrap_or_else(|| extrapolate(&nodes, freq_hz));
     // Newton converges near this orbit about as fast as near the previous one: its last
     // evaluation (the one worth recording) is predicted from the previous constant.
     let newton = NewtonOptions {
         tol: opts.orbit_tol,
         max_iter: opts.max_newton,
         quadratic: cert.quadratic,
+        guess_exact,
         ..NewtonOptions::default()
     };
     let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
@@ -420,6 +426,20 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
     }
     let st = record(d, &strobe, &orbit, 0, 1, opts, recorded);
     (st.converged && st.stop.is_none()).then_some(st)
+}
+
+/// The section coordinates of the forced response with every bed on its container floor,
+/// when the previous orbit had no event (its beds rode their hosts throughout): that response
+/// is the orbit as long as no contact force reaches zero on it.
+fn resting_guess(d: &Dynamics, strobe: &Strobe, at: &State, pattern: &[(usize, u8, usize)]) -> Option<DVector<f64>> {
+    if !pattern.is_empty() || strobe.beds.iter().any(|b| *b != Rest::Bottom) {
+        return None;
+    }
+    let mask = (1usize << strobe.beds.len()) - 1;
+    let t = strobe.time(d);
+    let (x, v) = d.particular(mask, t);
+    let s = State { t, x, v, beds: at.beds.clone() };
+    Some(strobe.coordinates_unchecked(d, &s))
 }
 
 /// The value at `x` of the polynomial through `nodes` (abscissa, value; newest first), each

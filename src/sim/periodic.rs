@@ -390,11 +390,14 @@ pub struct NewtonOptions {
     /// below the tolerance ([`solve_with`]'s `likely_last`). It decides only which
     /// evaluations a caller records, never the orbit found.
     pub quadratic: f64,
+    /// The guess is expected to be the orbit itself (to rounding): its first evaluation is
+    /// then the one a caller records. Like `quadratic`, it never changes the orbit found.
+    pub guess_exact: bool,
 }
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        NewtonOptions { tol: 1e-11, max_iter: 12, max_step: 0.5, quadratic: 1.0 }
+        NewtonOptions { tol: 1e-11, max_iter: 12, max_step: 0.5, quadratic: 1.0, guess_exact: false }
     }
 }
 
@@ -436,7 +439,8 @@ pub fn solve<S: Section + ?Sized>(
 /// map at `u` and whatever it recorded beside it; that of the final evaluation (at the orbit)
 /// comes back with the orbit. `likely_last` is set when the previous residual `r` was so
 /// small that Newton's quadratic convergence should end at this evaluation
-/// (`opts.quadratic * r^2` below the tolerance), so that a caller can record only then.
+/// (`opts.quadratic * r^2` below the tolerance), or, for the first evaluation, when the guess
+/// is taken as exact (`opts.guess_exact`), so that a caller can record only then.
 pub fn solve_with<S: Section + ?Sized, X>(
     problem: &S,
     d: &Dynamics,
@@ -447,7 +451,10 @@ pub fn solve_with<S: Section + ?Sized, X>(
     let mut u = guess.clone();
     let mut residuals: Vec<f64> = Vec::new();
     for _ in 0..=opts.max_iter {
-        let likely_last = residuals.last().is_some_and(|r| opts.quadratic * r * r < opts.tol);
+        let likely_last = match residuals.last() {
+            Some(r) => opts.quadratic * r * r < opts.tol,
+            None => opts.guess_exact,
+        };
         let (ret, x) = eval(&u, likely_last)?;
         let g = &ret.image - &u - problem.shift(u.len());
         let norm = g.amax();

@@ -285,6 +285,29 @@ pub struct Config {
     pub dq: [f64; MAX_MASSES],
 }
 
+/// The event search's step as a fraction of [`Dynamics::min_period`] (the engine's default;
+/// [`Dynamics::window_step`] holds the factors of this step).
+pub const STEP_FRACTION: f64 = 0.125;
+
+/// The factors `e^{lambda_r dt}` of one configuration and the forcing's rotation by `omega dt`,
+/// which carry a point of a segment `dt` later by multiplication alone (no exponential, sine or
+/// cosine): for runs of equally spaced points.
+#[derive(Debug, Clone)]
+pub struct Step {
+    /// The spacing, s.
+    pub dt: f64,
+    /// Number of terms.
+    pub len: usize,
+    /// `e^{lambda_r dt}`.
+    pub factor: [Complex64; MAX_TERMS],
+    /// `|e^{lambda_r dt}|`.
+    pub decay: [f64; MAX_TERMS],
+    /// `sin(omega dt)`.
+    pub sin: f64,
+    /// `cos(omega dt)`.
+    pub cos: f64,
+}
+
 /// All configurations of a system at one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct Dynamics {
@@ -305,6 +328,9 @@ pub struct Dynamics {
     /// The beds grouped as [`System::groups`]; a configuration is numbered by how many beds of
     /// each group are attached ([`Dynamics::slot`]).
     pub groups: Vec<std::ops::Range<usize>>,
+    /// Per configuration, the factors of the event search's default step
+    /// (`STEP_FRACTION * min_period`), computed when first needed.
+    window: Vec<std::sync::OnceLock<Step>>,
 }
 
 impl Dynamics {
@@ -361,6 +387,7 @@ impl Dynamics {
         d.omega = omega;
         d.min_period = 2.0 * std::f64::consts::PI / max_rate;
         d.omega_pow = std::array::from_fn(|m| omega.powi(m as i32));
+        d.window = vec![std::sync::OnceLock::new(); d.configs.len()];
         Ok(d)
     }
 
@@ -447,6 +474,7 @@ impl Dynamics {
             });
         }
         let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
+        let configs_len = configs.len();
         Ok(Dynamics {
             system: Arc::new(system.clone()),
             omega,
@@ -456,6 +484,7 @@ impl Dynamics {
             min_period: 2.0 * std::f64::consts::PI / max_rate,
             omega_pow: std::array::from_fn(|m| omega.powi(m as i32)),
             groups,
+            window: vec![std::sync::OnceLock::new(); configs_len],
         })
     }
 
@@ -475,6 +504,27 @@ impl Dynamics {
             scale *= g.len() + 1;
         }
         slot
+    }
+
+    /// The factors that carry a point of configuration `slot` by `dt` ([`Step`]).
+    pub fn step(&self, slot: usize, dt: f64) -> Step {
+        let cfg = &self.configs[slot];
+        let len = cfg.modes.lambda.len();
+        let mut factor = [Complex64::new(0.0, 0.0); MAX_TERMS];
+        let mut decay = [0.0; MAX_TERMS];
+        for r in 0..len {
+            let l = cfg.modes.lambda[r];
+            decay[r] = (l.re * dt).exp();
+            let (si, co) = (l.im * dt).sin_cos();
+            factor[r] = Complex64::new(decay[r] * co, decay[r] * si);
+        }
+        let (sin, cos) = (self.omega * dt).sin_cos();
+        Step { dt, len, factor, decay, sin, cos }
+    }
+
+    /// The factors of the event search's default step in configuration `slot`.
+    pub fn window_step(&self, slot: usize) -> &Step {
+        self.window[slot].get_or_init(|| self.step(slot, self.min_period * STEP_FRACTION))
     }
 
     /// The configuration in which the beds of `mask` are attached.
