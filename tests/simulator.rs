@@ -413,3 +413,40 @@ fn more_beds_than_the_limit_are_refused_before_any_decomposition() {
         Err(SetupError::TooManyBeds { beds: 90 })
     ));
 }
+
+#[test]
+fn carried_points_agree_with_direct_evaluation() {
+    // A segment of the paper's chain with beds riding two masses; points carried by a step's
+    // factors (equally spaced samples) and by the short-step series must equal the closed form
+    // evaluated directly, to a few roundings of each term.
+    use shotdamp::sim::segment::{Segment, NEAR};
+    let sys = System::plastic(paper(), dampers(&[0, 2], 1e-3), 0, 2.6);
+    let d = Dynamics::new(&sys, 2.0 * PI * 47.0).unwrap();
+    let x0 = DVector::from_vec(vec![1e-4, -2e-4, 3e-4]);
+    let v0 = DVector::from_vec(vec![0.02, 0.01, -0.03]);
+    let seg = Segment::start(&d, 0b01, 0.013, &x0, &v0);
+    let close = |a: &shotdamp::sim::segment::Point, b: &shotdamp::sim::segment::Point, what: &str| {
+        for p in 0..3 {
+            for order in 0..4 {
+                let (u, w) = (seg.deriv(&d, a, p, order), seg.deriv(&d, b, p, order));
+                let scale = seg.bound(&d, b, p, order);
+                assert!((u - w).abs() <= 1e-13 * scale, "{what}: mass {p} order {order}: {u} vs {w}");
+            }
+        }
+    };
+    let dt = d.min_period / 16.0;
+    let step = seg.step(&d, dt);
+    let mut carried = seg.point(&d, 0.013);
+    for k in 1..=32 {
+        let t = 0.013 + dt * k as f64;
+        carried = carried.advanced(&step, t);
+        close(&carried, &seg.point(&d, t), &format!("step {k}"));
+    }
+    // The series over short steps, from the longest it takes down to rounding-level ones.
+    let rate = 2.0 * PI / d.min_period;
+    let from = seg.point(&d, 0.02);
+    for h in [NEAR / rate, 1e-6, 1e-9, 1e-13] {
+        let t = 0.02 + h;
+        close(&seg.point_near(&d, &from, t), &seg.point(&d, t), &format!("series over {h:e} s"));
+    }
+}

@@ -221,11 +221,17 @@ fn band_compliance_on(
     let n = sys.dof();
     let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
     let mut unsettled = 0;
+    // The dynamics at each frequency, shared by the continued sweeps.
+    let mut forced = None;
     for s in sweeps {
+        let mut continued = |dir| {
+            let forced = forced.get_or_insert_with(|| sweep::forced_at(base, &band.freq_hz));
+            sweep::continued_at(forced, dir, steady, &|| {})
+        };
         let points: Vec<SweepPoint> = match s {
             Sweep::Rest => sweep::from_rest_on(base, &band.freq_hz, steady, &|| {}),
-            Sweep::Up => sweep::continued_on(base, &band.freq_hz, Direction::Up, steady, &|| {}),
-            Sweep::Down => sweep::continued_on(base, &band.freq_hz, Direction::Down, steady, &|| {}),
+            Sweep::Up => continued(Direction::Up),
+            Sweep::Down => continued(Direction::Down),
         };
         for p in points {
             let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };

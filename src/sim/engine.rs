@@ -158,7 +158,6 @@ impl<'a> Engine<'a> {
         }
         let d = self.d;
         let step = d.min_period * self.settings.step_fraction;
-        let eval = |w: &Watch, t: f64| w.taylor(seg, d, &seg.point(d, t));
         // Where each watch's search starts: just past a fresh zero, or at t_a.
         let mut on_stack = [0.0; 2 * super::system::MAX_TERMS];
         let mut on_heap = Vec::new();
@@ -206,11 +205,25 @@ impl<'a> Engine<'a> {
                 if lo >= b {
                     continue;
                 }
-                let ta = if lo == a { w.taylor(seg, d, pt) } else { eval(w, lo) };
+                let at_lo;
+                let base = if lo == a {
+                    pt
+                } else {
+                    at_lo = seg.point(d, lo);
+                    &at_lo
+                };
+                let ta = w.taylor(seg, d, base);
                 let Some(tau) = lower_root(&ta, b - lo) else {
                     continue;
                 };
-                if let Some(r) = first_root_from(&mut |t| eval(w, t), lo, ta, tau, b) {
+                // The search advances from point to point, the last advances short: each
+                // point is carried from the one before when that near.
+                let mut near = base.clone();
+                let mut eval = |t: f64| {
+                    near = seg.point_near(d, &near, t);
+                    w.taylor(seg, d, &near)
+                };
+                if let Some(r) = first_root_from(&mut eval, lo, ta, tau, b) {
                     match best {
                         Some(t) if (r - t).abs() <= 10.0 * TIME_TOL => hits.push(*w),
                         Some(t) if r > t => {}
@@ -315,9 +328,10 @@ impl<'a> Engine<'a> {
         let mask_of = |bits: usize| {
             units.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, u)| acc | u.1)
         };
+        let at = d.at_state(s.t, &s.x, &s.v);
         for bits in subsets_largest_first(m) {
             let mask = mask_of(bits);
-            let (a, jerk) = d.accelerations(mask, s.t, &s.x, &s.v);
+            let (a, jerk) = d.accelerations_in(mask, &at);
             let ok = units.iter().enumerate().all(|(i, &(j, _))| {
                 let p = sys.dampers[j].host;
                 let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };

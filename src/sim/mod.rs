@@ -14,6 +14,7 @@ pub mod observe;
 pub mod orbit_search;
 pub mod periodic;
 pub mod roots;
+pub mod schur;
 pub mod segment;
 mod single;
 pub mod soft;

@@ -251,7 +251,7 @@ impl Observer for Energy {
                 let (_, v) = seg.state(d, &pt);
                 let (f, _) = d.force(t);
                 self.work += 0.5 * h * w * f * v[k];
-                self.viscous += 0.5 * h * w * (v.transpose() * &d.c * &v)[(0, 0)];
+                self.viscous += 0.5 * h * w * (v.transpose() * &*d.c * &v)[(0, 0)];
             }
         }
     }

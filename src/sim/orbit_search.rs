@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 use nalgebra::DVector;
 use num_complex::Complex64;
 
-use super::engine::{Engine, Event, State};
+use super::engine::{Engine, Event, Quiet, State};
 use super::observe::{EventLog, Extrema};
 use super::periodic::{quadratic_constant, signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
 use super::steady::{
@@ -376,32 +376,56 @@ pub struct Known<'a> {
 /// system forced at `freq_hz`): Newton's method on the section of `prev`'s orbit (same forcing
 /// phase, period and bed places). The first guess is `prev`'s section state, extrapolated by
 /// the polynomial through it and the `before` points (oldest first, up to two) that lie on the
-/// same section. `None` unless the orbit found is stable and is the same branch: it has
-/// `prev`'s events per cycle, or other events (a graze crossed between the two frequencies)
-/// and lies within [`FOLLOW_NEAR`] of the first guess (not another orbit farther off); then
-/// the caller runs the transient search. Its `transient_periods` is 0, and its final state is
-/// where its orbit closes (not run on to a whole period: `sweep::continued` does that only
-/// when it continues by the transient search).
-pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: &SteadyOptions) -> Option<Steady> {
+/// same section, directly or as `moved` states. When an event crosses the section between the
+/// two frequencies, the section is moved to the quietest phase of `prev`'s events, with every
+/// such point's state ([`Moved`], returned for the next points), and Newton runs there.
+/// `None` unless the orbit found is stable and is the same branch: it has `prev`'s events per
+/// cycle, or other events (a graze crossed between the two frequencies) and lies within
+/// [`FOLLOW_NEAR`] of the first guess (not another orbit farther off); then the caller runs
+/// the transient search. Its `transient_periods` is 0, and its final state is where its orbit
+/// closes (not run on to a whole period: `sweep::continued` does that only when it continues
+/// by the transient search).
+pub fn follow(
+    prev: &Known,
+    before: &[Known],
+    moved: &[Moved],
+    d: &Dynamics,
+    freq_hz: f64,
+    opts: &SteadyOptions,
+) -> Option<(Steady, Vec<Moved>)> {
     let cert = prev.steady.certificate.as_ref()?;
     if !prev.steady.converged || prev.steady.stop.is_some() {
         return None;
     }
     let at = prev.steady.section_state()?;
     let length = prev.steady.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);
+    let period = prev.steady.period;
     // The same section (forcing phase, period, bed places) at the new frequency.
-    let strobe =
-        Strobe { phase: cert.phase, periods: prev.steady.period, beds: at.beds.iter().map(Rest::of).collect(), length };
-    // The points on this section, newest first, and their coordinates at the new frequency.
-    let mut nodes = vec![(prev.freq_hz, strobe.coordinates_unchecked(d, at))];
+    let strobe = Strobe { phase: cert.phase, periods: period, beds: at.beds.iter().map(Rest::of).collect(), length };
+    let on_section = |s: &State| s.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied());
+    // The points on this section, newest first (their states, at their own frequencies): an
+    // earlier point found on another section of the branch enters by its state moved to this
+    // one, when the section was moved ([`Moved`]).
+    let mut states: Vec<(f64, &State)> = vec![(prev.freq_hz, at)];
     for b in before.iter().rev() {
         let same = b.steady.certificate.as_ref().is_some_and(|c| c.phase == cert.phase && c.pattern == cert.pattern)
-            && b.steady.period == prev.steady.period;
-        match b.steady.section_state().filter(|s| same && s.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied())) {
-            Some(old) => nodes.push((b.freq_hz, strobe.coordinates_unchecked(d, old))),
+            && b.steady.period == period;
+        let here = b.steady.section_state().filter(|s| same && on_section(s));
+        let carried = || {
+            moved
+                .iter()
+                .find(|m| {
+                    m.freq_hz == b.freq_hz && m.phase == cert.phase && m.periods == period && on_section(&m.state)
+                })
+                .map(|m| &m.state)
+        };
+        match here.or_else(carried) {
+            Some(old) => states.push((b.freq_hz, old)),
             None => break,
         }
     }
+    let nodes: Vec<(f64, DVector<f64>)> =
+        states.iter().map(|&(f, s)| (f, strobe.coordinates_unchecked(d, s))).collect();
     // Beds that never leave their floors: the orbit is the forced response of the structure
     // with the beds riding (exact while their contact forces stay positive; Newton checks it).
     // Otherwise the polynomial through the previous orbits.
@@ -417,15 +441,91 @@ pub fn follow(prev: &Known, before: &[Known], d: &Dynamics, freq_hz: f64, opts: 
         guess_exact,
         ..NewtonOptions::default()
     };
-    let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
-    // Other events per cycle: the branch has crossed a graze (a bed starts or stops lifting
-    // off, or reaching the top), where the orbit moves continuously; an orbit farther from
-    // the prediction than the branch's own steps is another motion.
-    if !orbit.stable || counts(&orbit.events) != cert.pattern && (&orbit.u - &u0).amax() > FOLLOW_NEAR {
+    match solve_recorded(&strobe, d, &u0, &newton, opts) {
+        Ok((orbit, recorded)) => {
+            accept(d, &strobe, orbit, recorded, &u0, &cert.pattern, opts).map(|st| (st, Vec::new()))
+        }
+        // An event has crossed the section between the two frequencies: the same branch on a
+        // section at the quietest phase of the previous orbit's events.
+        Err(OrbitError::PatternChanged) => {
+            let (strobe, moved) = moved_section(d, &strobe, &states)?;
+            let nodes: Vec<(f64, DVector<f64>)> = moved
+                .iter()
+                .take_while(|m| m.state.beds.iter().map(Rest::of).eq(strobe.beds.iter().copied()))
+                .map(|m| (m.freq_hz, strobe.coordinates_unchecked(d, &m.state)))
+                .collect();
+            let u0 = extrapolate(&nodes, freq_hz);
+            let newton = NewtonOptions { guess_exact: false, ..newton };
+            let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
+            accept(d, &strobe, orbit, recorded, &u0, &cert.pattern, opts).map(|st| (st, moved))
+        }
+        Err(_) => None,
+    }
+}
+
+/// A followed orbit taken as the branch's next point (recorded), or `None`: it must be stable
+/// and have the previous orbit's events per cycle (`pattern`), or other events (a graze
+/// crossed between the two frequencies: a bed starts or stops lifting off, or reaching the
+/// top, where the orbit moves continuously) within [`FOLLOW_NEAR`] of its first guess `u0`
+/// (an orbit farther from the prediction than the branch's own steps is another motion).
+fn accept(
+    d: &Dynamics,
+    strobe: &Strobe,
+    orbit: Orbit,
+    recorded: Option<Recorded>,
+    u0: &DVector<f64>,
+    pattern: &[(usize, u8, usize)],
+    opts: &SteadyOptions,
+) -> Option<Steady> {
+    if !orbit.stable || counts(&orbit.events) != pattern && (&orbit.u - u0).amax() > FOLLOW_NEAR {
         return None;
     }
-    let st = record(d, &strobe, &orbit, 0, 1, opts, recorded);
+    let st = record(d, strobe, &orbit, 0, 1, opts, recorded);
     (st.converged && st.stop.is_none()).then_some(st)
+}
+
+/// A state of an earlier orbit of a followed branch moved to the branch's current section
+/// (after an event crossed the section it was found on), so that the branch's next points
+/// still extrapolate through several orbits.
+#[derive(Debug, Clone)]
+pub struct Moved {
+    /// The orbit's forcing frequency, Hz.
+    pub freq_hz: f64,
+    /// The section's forcing phase, rad.
+    pub phase: f64,
+    /// Forcing periods per orbit.
+    pub periods: usize,
+    /// The orbit's state on that section.
+    pub state: State,
+}
+
+/// The section of `strobe`'s branch moved to the quietest phase of the newest orbit's events
+/// (`states`: the orbits' states on `strobe`, newest first, at their own frequencies), and
+/// every orbit's state there: each orbit run on, at its own frequency, by the phase shift.
+fn moved_section(d: &Dynamics, strobe: &Strobe, states: &[(f64, &State)]) -> Option<(Strobe, Vec<Moved>)> {
+    let p = strobe.periods;
+    let (f0, at) = *states.first()?;
+    let d0 = d.at_omega(2.0 * PI * f0).ok()?;
+    let mut s = at.clone();
+    let mut log = EventLog::default();
+    Engine::new(&d0).advance(&mut s, strobe.end_time(&d0, at.t), &mut log).ok()?;
+    let shift = quiet_phase(&log.0, at.t, d0.omega, p);
+    let phase = (strobe.phase + shift).rem_euclid(2.0 * PI);
+    let mut moved = Vec::with_capacity(states.len());
+    for (i, &(f, st)) in states.iter().enumerate() {
+        let di;
+        let dyn_f = if i == 0 {
+            &d0
+        } else {
+            di = d.at_omega(2.0 * PI * f).ok()?;
+            &di
+        };
+        let mut s = st.clone();
+        Engine::new(dyn_f).advance(&mut s, st.t + shift / dyn_f.omega, &mut Quiet).ok()?;
+        moved.push(Moved { freq_hz: f, phase, periods: p, state: s });
+    }
+    let beds = moved[0].state.beds.iter().map(Rest::of).collect();
+    Some((Strobe { phase, periods: p, beds, length: strobe.length }, moved))
 }
 
 /// The section coordinates of the forced response with every bed on its container floor,

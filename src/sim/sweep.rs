@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 
 use super::engine::{Bed, State};
-use super::orbit_search::{follow, Known};
+use super::orbit_search::{follow, Known, Moved};
 use super::steady::{run_to_whole_period, Steady, SteadyOptions};
 use super::steady_state;
 use super::system::{Dynamics, SetupError, System};
@@ -98,40 +98,67 @@ pub fn continued_on(
     opts: &SteadyOptions,
     tick: &(dyn Fn() + Sync),
 ) -> Vec<SweepPoint> {
+    continued_at(&forced_at(base, freqs_hz), dir, opts, tick)
+}
+
+/// The dynamics at each of `freqs_hz`, in ascending order (or why there are none): what
+/// [`continued_at`] sweeps, shared by the sweeps up and down one band.
+pub fn forced_at(base: &Result<Dynamics, SetupError>, freqs_hz: &[f64]) -> Vec<(f64, Result<Dynamics, SetupError>)> {
     let mut order: Vec<f64> = freqs_hz.to_vec();
     order.sort_by(f64::total_cmp);
-    if dir == Direction::Down {
-        order.reverse();
-    }
+    order.into_iter().map(|f| (f, base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)))).collect()
+}
+
+/// [`continued_on`] over dynamics already forced at each frequency ([`forced_at`]). The same
+/// points.
+pub fn continued_at(
+    forced: &[(f64, Result<Dynamics, SetupError>)],
+    dir: Direction,
+    opts: &SteadyOptions,
+    tick: &(dyn Fn() + Sync),
+) -> Vec<SweepPoint> {
+    let order: Vec<&(f64, Result<Dynamics, SetupError>)> = match dir {
+        Direction::Up => forced.iter().collect(),
+        Direction::Down => forced.iter().rev().collect(),
+    };
     let mut out: Vec<SweepPoint> = Vec::with_capacity(order.len());
     // Index in `out` of the last point with a steady state; following, the last `FOLLOWED` such.
     let mut last: Option<usize> = None;
     let mut known: Vec<usize> = Vec::new();
     // The dynamics of the last point with a steady state when it was followed: its record
     // ends where its orbit closes, not on a whole period, so a fallback runs it on first.
-    let mut followed_at: Option<Dynamics> = None;
-    for f in order {
-        let result = base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * f)).map(|d| {
+    let mut followed_at: Option<&Dynamics> = None;
+    // Earlier points' states on the section the branch moved to, the last time it moved.
+    let mut moved: Vec<Moved> = Vec::new();
+    for (f, forced) in order {
+        let f = *f;
+        let result = forced.as_ref().map_err(Clone::clone).map(|d| {
             let previous = last.and_then(|i| out[i].result.as_ref().ok());
             let followed = match known.last() {
                 Some(&p) if opts.follow && d.system.columns.is_empty() => {
                     let before: Vec<Known> =
                         known[..known.len() - 1].iter().filter_map(|&i| known_point(&out, i)).collect();
-                    known_point(&out, p).and_then(|p| follow(&p, &before, &d, f, opts))
+                    let found = known_point(&out, p).and_then(|p| follow(&p, &before, &moved, d, f, opts));
+                    found.map(|(st, now)| {
+                        if !now.is_empty() {
+                            moved = now;
+                        }
+                        st
+                    })
                 }
                 _ => None,
             };
             let was_followed = followed.is_some();
-            let start = |s: &Steady| restart(&on_whole_period(followed_at.as_ref(), &s.final_state));
+            let start = |s: &Steady| restart(&on_whole_period(followed_at, &s.final_state));
             let st = followed.unwrap_or_else(|| match previous {
                 // A followed sweep's fallback starts next to a settled motion: it is judged as
                 // soon as its events have repeated (`consecutive` periods).
                 Some(s) if opts.follow => {
                     let near = SteadyOptions { min_periods: opts.min_periods.min(opts.consecutive), ..*opts };
-                    steady_state(&d, start(s), &near)
+                    steady_state(d, start(s), &near)
                 }
-                Some(s) => steady_state(&d, start(s), opts),
-                None => steady_state(&d, State::at_rest(&d), opts),
+                Some(s) => steady_state(d, start(s), opts),
+                None => steady_state(d, State::at_rest(d), opts),
             });
             (st, was_followed.then_some(d))
         });

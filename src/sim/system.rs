@@ -308,6 +308,94 @@ pub struct Step {
     pub cos: f64,
 }
 
+/// The forced response `X` of one configuration (`Z X = F e_driven`, `Z = K - omega^2 M + i
+/// omega C`) and its frequency derivative (`Z dX/domega = -(dZ/domega) X`, `dZ/domega = -2
+/// omega M + i C`), by Gaussian elimination with partial pivoting on the stack (the systems are
+/// at most [`MAX_MASSES`] square); `None` when `Z` is singular.
+fn forced_response(
+    k: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    mass: &DMatrix<f64>,
+    omega: f64,
+    driven: usize,
+    force: f64,
+) -> Option<([Complex64; MAX_MASSES], [Complex64; MAX_MASSES])> {
+    let n = k.nrows();
+    let zero = Complex64::new(0.0, 0.0);
+    let mut z = [[zero; MAX_MASSES]; MAX_MASSES];
+    for (i, row) in z.iter_mut().enumerate().take(n) {
+        for (j, e) in row.iter_mut().enumerate().take(n) {
+            *e = Complex64::new(k[(i, j)] - omega * omega * mass[(i, j)], omega * c[(i, j)]);
+        }
+    }
+    // LU in place, the row exchanges in `perm`.
+    let mut perm = [0usize; MAX_MASSES];
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&a, &b| z[a][col].l1_norm().total_cmp(&z[b][col].l1_norm()))?;
+        if z[pivot][col] == zero {
+            return None;
+        }
+        z.swap(col, pivot);
+        perm[col] = pivot;
+        let (upper, lower) = z.split_at_mut(col + 1);
+        let pivot_row = &upper[col];
+        for row in lower.iter_mut().take(n - col - 1) {
+            let f = row[col] / pivot_row[col];
+            row[col] = f;
+            for (e, u) in row[col + 1..n].iter_mut().zip(&pivot_row[col + 1..n]) {
+                *e -= f * u;
+            }
+        }
+    }
+    let solve = |b: &mut [Complex64; MAX_MASSES]| {
+        for (col, &p) in perm.iter().enumerate().take(n) {
+            b.swap(col, p);
+        }
+        for col in 0..n {
+            let v = b[col];
+            for r in col + 1..n {
+                b[r] -= z[r][col] * v;
+            }
+        }
+        for col in (0..n).rev() {
+            b[col] /= z[col][col];
+            let v = b[col];
+            for r in 0..col {
+                b[r] -= z[r][col] * v;
+            }
+        }
+    };
+    let mut x = [zero; MAX_MASSES];
+    x[driven] = Complex64::new(force, 0.0);
+    solve(&mut x);
+    let mut dx = [zero; MAX_MASSES];
+    for (i, d) in dx.iter_mut().enumerate().take(n) {
+        let mut acc = zero;
+        for (j, xj) in x.iter().enumerate().take(n) {
+            acc += Complex64::new(-2.0 * omega * mass[(i, j)], c[(i, j)]) * xj;
+        }
+        *d = -acc;
+    }
+    solve(&mut dx);
+    Some((x, dx))
+}
+
+/// The parts of the accelerations at one state that do not depend on the configuration
+/// ([`Dynamics::at_state`]).
+#[derive(Debug, Clone, Copy)]
+pub struct AtState {
+    f: f64,
+    fdot: f64,
+    cv: [f64; MAX_MASSES],
+    kx: [f64; MAX_MASSES],
+    kv: [f64; MAX_MASSES],
+}
+
+/// Row `i` of `m` times `z`, accumulated column by column; `sign` -1 negates `m`.
+fn row(m: &DMatrix<f64>, i: usize, z: &[f64], sign: f64) -> f64 {
+    (1..m.ncols()).fold(sign * m[(i, 0)] * z[0], |acc, j| sign * m[(i, j)] * z[j] + acc)
+}
+
 /// All configurations of a system at one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct Dynamics {
@@ -318,16 +406,16 @@ pub struct Dynamics {
     /// Every configuration, numbered by [`Dynamics::slot`].
     pub configs: Vec<Config>,
     /// Stiffness and damping (shared by all configurations).
-    pub k: DMatrix<f64>,
+    pub k: Arc<DMatrix<f64>>,
     /// Damping matrix, N s/m.
-    pub c: DMatrix<f64>,
+    pub c: Arc<DMatrix<f64>>,
     /// Shortest natural or forcing period over all configurations, s.
     pub min_period: f64,
     /// `omega^m` for the derivative orders.
     pub omega_pow: [f64; ORDERS],
     /// The beds grouped as [`System::groups`]; a configuration is numbered by how many beds of
     /// each group are attached ([`Dynamics::slot`]).
-    pub groups: Vec<std::ops::Range<usize>>,
+    pub groups: Arc<Vec<std::ops::Range<usize>>>,
     /// Per configuration, the factors of the event search's default step
     /// (`STEP_FRACTION * min_period`), computed when first needed.
     window: Vec<std::sync::OnceLock<Step>>,
@@ -343,38 +431,15 @@ impl Dynamics {
     /// again (the decompositions do not depend on the frequency), so a sweep or a
     /// continuation in frequency decomposes once. Identical to [`Dynamics::new`] at `omega`.
     pub fn at_omega(&self, omega: f64) -> Result<Dynamics, SetupError> {
-        let mut d = self.clone();
         let n = self.system.dof();
-        let zero = Complex64::new(0.0, 0.0);
-        // Buffers shared by the configurations: the dynamic stiffness, its frequency
-        // derivative, the forced response X and the right-hand side of dX/domega.
-        let mut z = DMatrix::<Complex64>::zeros(n, n);
-        let mut dz = DMatrix::<Complex64>::zeros(n, n);
-        let mut x = DVector::<Complex64>::zeros(n);
-        let mut dx = DVector::<Complex64>::zeros(n);
-        for cfg in &mut d.configs {
-            x.fill(zero);
-            dx.fill(zero);
-            if self.system.force != 0.0 {
-                for j in 0..n {
-                    for i in 0..n {
-                        let (k, c, m) = (self.k[(i, j)], self.c[(i, j)], cfg.modes.mass[(i, j)]);
-                        z[(i, j)] = Complex64::new(k - omega * omega * m, omega * c);
-                        dz[(i, j)] = Complex64::new(-2.0 * omega * m, c);
-                    }
-                }
-                x[self.system.driven] = Complex64::new(self.system.force, 0.0);
-                let lu = z.clone().lu();
-                if !lu.solve_mut(&mut x) {
-                    return Err(SetupError::Singular { mask: cfg.mask });
-                }
-                // Z X = F e_k  =>  Z dX/domega = -(dZ/domega) X, dZ/domega = -2 omega M + i C.
-                dz.mul_to(&x, &mut dx);
-                dx.neg_mut();
-                if !lu.solve_mut(&mut dx) {
-                    return Err(SetupError::Singular { mask: cfg.mask });
-                }
-            }
+        let mut configs = self.configs.clone();
+        for cfg in &mut configs {
+            let (x, dx) = if self.system.force != 0.0 {
+                forced_response(&self.k, &self.c, &cfg.modes.mass, omega, self.system.driven, self.system.force)
+                    .ok_or(SetupError::Singular { mask: cfg.mask })?
+            } else {
+                ([Complex64::new(0.0, 0.0); MAX_MASSES], [Complex64::new(0.0, 0.0); MAX_MASSES])
+            };
             for i in 0..n {
                 cfg.p[i] = x[i].im;
                 cfg.q[i] = x[i].re;
@@ -383,12 +448,19 @@ impl Dynamics {
                 cfg.amp[i] = cfg.p[i].hypot(cfg.q[i]);
             }
         }
-        let max_rate = d.configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
-        d.omega = omega;
-        d.min_period = 2.0 * std::f64::consts::PI / max_rate;
-        d.omega_pow = std::array::from_fn(|m| omega.powi(m as i32));
-        d.window = vec![std::sync::OnceLock::new(); d.configs.len()];
-        Ok(d)
+        let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
+        let window = vec![std::sync::OnceLock::new(); configs.len()];
+        Ok(Dynamics {
+            system: Arc::clone(&self.system),
+            omega,
+            configs,
+            k: Arc::clone(&self.k),
+            c: Arc::clone(&self.c),
+            min_period: 2.0 * std::f64::consts::PI / max_rate,
+            omega_pow: std::array::from_fn(|m| omega.powi(m as i32)),
+            groups: Arc::clone(&self.groups),
+            window,
+        })
     }
 
     /// Decomposes all 2^N configurations once, without forcing (frequency 0; use
@@ -479,11 +551,11 @@ impl Dynamics {
             system: Arc::new(system.clone()),
             omega,
             configs,
-            k,
-            c,
+            k: Arc::new(k),
+            c: Arc::new(c),
             min_period: 2.0 * std::f64::consts::PI / max_rate,
             omega_pow: std::array::from_fn(|m| omega.powi(m as i32)),
-            groups,
+            groups: Arc::new(groups),
             window: vec![std::sync::OnceLock::new(); configs_len],
         })
     }
@@ -498,7 +570,7 @@ impl Dynamics {
         }
         let mut slot = 0;
         let mut scale = 1;
-        for g in &self.groups {
+        for g in self.groups.iter() {
             let bits = (mask >> g.start) & ((1usize << g.len()) - 1);
             slot += scale * bits.count_ones() as usize;
             scale *= g.len() + 1;
@@ -574,13 +646,28 @@ impl Dynamics {
         x: &DVector<f64>,
         v: &DVector<f64>,
     ) -> ([f64; MAX_MASSES], [f64; MAX_MASSES]) {
+        self.accelerations_in(mask, &self.at_state(t, x, v))
+    }
+
+    /// What [`Dynamics::accelerations`] shares between configurations at one state: the force
+    /// and its rate, `C v`, `K x` and `K v`.
+    pub fn at_state(&self, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> AtState {
+        let n = self.system.dof();
+        let (f, fdot) = self.force(t);
+        let mut out = AtState { f, fdot, cv: [0.0; MAX_MASSES], kx: [0.0; MAX_MASSES], kv: [0.0; MAX_MASSES] };
+        for i in 0..n {
+            out.cv[i] = row(&self.c, i, v.as_slice(), 1.0);
+            out.kx[i] = row(&self.k, i, x.as_slice(), 1.0);
+            out.kv[i] = row(&self.k, i, v.as_slice(), 1.0);
+        }
+        out
+    }
+
+    /// [`Dynamics::accelerations`] in configuration `mask` at a state prepared by
+    /// [`Dynamics::at_state`] (the same numbers: the same sums in the same order).
+    pub fn accelerations_in(&self, mask: usize, st: &AtState) -> ([f64; MAX_MASSES], [f64; MAX_MASSES]) {
         let n = self.system.dof();
         let cfg = self.config(mask);
-        let (f, fdot) = self.force(t);
-        // Row `i` of `m` times `z`, accumulated column by column; `sign` -1 negates `m`.
-        let row = |m: &DMatrix<f64>, i: usize, z: &[f64], sign: f64| {
-            (1..n).fold(sign * m[(i, 0)] * z[0], |acc, j| sign * m[(i, j)] * z[j] + acc)
-        };
         let mut rhs = [0.0; MAX_MASSES];
         for (j, d) in self.system.dampers.iter().enumerate() {
             if mask & (1 << j) != 0 {
@@ -588,22 +675,69 @@ impl Dynamics {
             }
         }
         for (i, r) in rhs.iter_mut().enumerate().take(n) {
-            *r = *r - row(&self.c, i, v.as_slice(), 1.0) - row(&self.k, i, x.as_slice(), 1.0);
+            *r = *r - st.cv[i] - st.kx[i];
         }
-        rhs[self.system.driven] += f;
+        rhs[self.system.driven] += st.f;
         let mut a = [0.0; MAX_MASSES];
         for (i, ai) in a.iter_mut().enumerate().take(n) {
             *ai = row(&cfg.modes.mass_inv, i, &rhs, 1.0);
         }
         let mut rhs_dot = [0.0; MAX_MASSES];
         for (i, r) in rhs_dot.iter_mut().enumerate().take(n) {
-            *r = row(&self.c, i, &a, -1.0) - row(&self.k, i, v.as_slice(), 1.0);
+            *r = row(&self.c, i, &a, -1.0) - st.kv[i];
         }
-        rhs_dot[self.system.driven] += fdot;
+        rhs_dot[self.system.driven] += st.fdot;
         let mut jerk = [0.0; MAX_MASSES];
         for (i, ji) in jerk.iter_mut().enumerate().take(n) {
             *ji = row(&cfg.modes.mass_inv, i, &rhs_dot, 1.0);
         }
         (a, jerk)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn forced_response_solves_its_system_and_its_derivative_is_the_difference_quotient() {
+        // A 4-mass chain with non-proportional damping and a mass matrix whose largest
+        // entries are not on the first rows (the pivoting matters), driven at mass 2.
+        let k = DMatrix::from_row_slice(
+            4,
+            4,
+            &[3e4, -2e4, 0.0, 0.0, -2e4, 5e4, -3e4, 0.0, 0.0, -3e4, 4e4, -1e4, 0.0, 0.0, -1e4, 1e4],
+        );
+        let c = DMatrix::from_row_slice(
+            4,
+            4,
+            &[3.0, -1.0, 0.0, 0.0, -1.0, 2.5, -0.7, 0.0, 0.0, -0.7, 0.9, -0.2, 0.0, 0.0, -0.2, 0.4],
+        );
+        let m = DMatrix::from_diagonal(&DVector::from_vec(vec![0.5, 0.9, 1.7, 0.3]));
+        for omega in [10.0, 150.0, 240.0, 900.0] {
+            let (x, dx) = forced_response(&k, &c, &m, omega, 2, 2.6).unwrap();
+            // Z X = F e_2, to rounding of the largest term.
+            for i in 0..4 {
+                let mut r = Complex64::new(if i == 2 { -2.6 } else { 0.0 }, 0.0);
+                let mut scale = 2.6;
+                for j in 0..4 {
+                    let z = Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)]);
+                    r += z * x[j];
+                    scale += (z * x[j]).norm();
+                }
+                assert!(r.norm() < 1e-13 * scale, "omega {omega}: residual {} of {scale}", r.norm());
+            }
+            // dX/domega against a central difference.
+            let h = 1e-5 * omega;
+            let (xp, _) = forced_response(&k, &c, &m, omega + h, 2, 2.6).unwrap();
+            let (xm, _) = forced_response(&k, &c, &m, omega - h, 2, 2.6).unwrap();
+            for i in 0..4 {
+                let fd = (xp[i] - xm[i]) / (2.0 * h);
+                assert!((fd - dx[i]).norm() <= 1e-6 * dx[i].norm().max(1e-12), "omega {omega}: {fd} vs {}", dx[i]);
+            }
+        }
+        // A singular dynamic stiffness (no damping, at a natural frequency of a single mass).
+        let one = DMatrix::from_element(1, 1, 4.0);
+        assert!(forced_response(&one, &DMatrix::zeros(1, 1), &DMatrix::from_element(1, 1, 1.0), 2.0, 0, 1.0).is_none());
     }
 }
