@@ -71,6 +71,19 @@ fn fresh_tol(w: &Watch, omega: f64) -> [f64; 3] {
     }
 }
 
+/// Buffers a run reuses at every event, kept per thread from run to run.
+#[derive(Default)]
+struct Scratch {
+    watches: Vec<Watch>,
+    hits: Vec<Watch>,
+    applied: Vec<Event>,
+    before: Option<State>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::Cell<Option<Scratch>> = const { std::cell::Cell::new(None) };
+}
+
 /// The simulator for one system at one forcing frequency.
 pub struct Engine<'a> {
     /// The closed-form dynamics the engine steps.
@@ -101,16 +114,29 @@ impl<'a> Engine<'a> {
     /// Advances `s` to `t_end`, applying every event on the way, or to the first event after
     /// which the observer is [`Observer::done`].
     pub fn advance(&self, s: &mut State, t_end: f64, obs: &mut impl Observer) -> Result<(), Stop> {
+        // The buffers of the thread's previous run (none inside another run, which an observer
+        // could start): a run allocates nothing once they have grown.
+        let mut scratch = SCRATCH.with(|c| c.take()).unwrap_or_default();
+        let result = self.advance_with(s, t_end, obs, &mut scratch);
+        SCRATCH.with(|c| c.set(Some(scratch)));
+        result
+    }
+
+    fn advance_with(
+        &self,
+        s: &mut State,
+        t_end: f64,
+        obs: &mut impl Observer,
+        scratch: &mut Scratch,
+    ) -> Result<(), Stop> {
         let mut events = 0;
-        let mut watches = Vec::new();
-        // Reused at every event: the watches that fire, the events applied, the state before.
-        let mut hits = Vec::new();
-        let mut applied = Vec::new();
-        let mut before: Option<State> = None;
+        // Reused at every event: the watches, those that fire, the events applied, the state
+        // before.
+        let Scratch { watches, hits, applied, before } = scratch;
         while s.t < t_end {
             let seg = Segment::start(self.d, s.mask(), s.t, &s.x, &s.v);
-            self.watches(s, &mut watches);
-            match self.next_event(&seg, &watches, s.t, t_end, &mut hits) {
+            self.watches(s, watches);
+            match self.next_event(&seg, watches, s.t, t_end, hits) {
                 None => {
                     obs.segment(self.d, &seg, &s.beds, s.t, t_end);
                     let pt = seg.point(self.d, t_end);
@@ -124,17 +150,17 @@ impl<'a> Engine<'a> {
                     s.t = te;
                     let jumps = obs.wants_jumps();
                     if jumps {
-                        match &mut before {
+                        match before {
                             Some(b) => b.clone_from(s),
-                            None => before = Some(s.clone()),
+                            None => *before = Some(s.clone()),
                         }
                     }
-                    self.apply(s, &hits, &mut applied);
-                    for ev in &applied {
+                    self.apply(s, hits, applied);
+                    for ev in applied.iter() {
                         obs.event(ev, s);
                     }
                     if let Some(before) = before.as_ref().filter(|_| jumps) {
-                        obs.jump(self.d, before, s, &hits);
+                        obs.jump(self.d, before, s, hits);
                     }
                     if obs.done() {
                         return Ok(());
@@ -194,10 +220,10 @@ impl<'a> Engine<'a> {
         while a < t_b {
             let b = (a + step).min(t_b);
             if a != t_a {
-                current = match carry {
-                    Some(st) => current.advanced(st, a),
-                    None => seg.point(d, a),
-                };
+                match carry {
+                    Some(st) => current.advance(st, a),
+                    None => current = seg.point(d, a),
+                }
             }
             let pt = &current;
             for (w, &start) in watches.iter().zip(&starts[..n_starts]) {
@@ -220,7 +246,7 @@ impl<'a> Engine<'a> {
                 // point is carried from the one before when that near.
                 let mut near = base.clone();
                 let mut eval = |t: f64| {
-                    near = seg.point_near(d, &near, t);
+                    seg.move_near(d, &mut near, t);
                     w.taylor(seg, d, &near)
                 };
                 if let Some(r) = first_root_from(&mut eval, lo, ta, tau, b) {

@@ -135,11 +135,14 @@ impl Observer for Extrema {
         points.push(seg.point(d, t_a));
         let step = (m > 2).then(|| seg.step(d, (t_b - t_a) / m as f64));
         for k in 1..m {
-            let next = match &step {
-                Some(step) => points[k - 1].advanced(step, times[k]),
-                None => seg.point(d, times[k]),
-            };
-            points.push(next);
+            match &step {
+                Some(step) => {
+                    let mut next = points[k - 1].clone();
+                    next.advance(step, times[k]);
+                    points.push(next);
+                }
+                None => points.push(seg.point(d, times[k])),
+            }
         }
         points.push(seg.point(d, t_b));
         at.clear();

@@ -47,19 +47,18 @@ pub struct Point {
 }
 
 impl Point {
-    /// The point `step.dt` later, at time `t` (which the caller keeps equal to `self.t +
+    /// Moves the point `step.dt` later, to time `t` (which the caller keeps equal to `self.t +
     /// step.dt` up to rounding): each term times its factor, the forcing phase rotated. It
     /// agrees with [`Segment::point`] at that time to a few roundings per step.
-    pub fn advanced(&self, step: &Step, t: f64) -> Point {
-        let mut e = [Complex64::new(0.0, 0.0); MAX_TERMS];
-        let mut e_abs = [0.0; MAX_TERMS];
+    pub fn advance(&mut self, step: &Step, t: f64) {
         for r in 0..step.len {
-            e[r] = self.e[r] * step.factor[r];
-            e_abs[r] = self.e_abs[r] * step.decay[r];
+            self.e[r] *= step.factor[r];
+            self.e_abs[r] *= step.decay[r];
         }
-        let sin = self.sin * step.cos + self.cos * step.sin;
-        let cos = self.cos * step.cos - self.sin * step.sin;
-        Point { t, e, e_abs, sin, cos }
+        let (sin, cos) = (self.sin, self.cos);
+        self.sin = sin * step.cos + cos * step.sin;
+        self.cos = cos * step.cos - sin * step.sin;
+        self.t = t;
     }
 }
 
@@ -117,40 +116,40 @@ impl Segment {
         Point { t, e, e_abs, sin, cos }
     }
 
-    /// The factors that carry a point of this segment `dt` later ([`Point::advanced`]).
+    /// The factors that carry a point of this segment `dt` later ([`Point::advance`]).
     pub fn step(&self, d: &Dynamics, dt: f64) -> Step {
         d.step(self.slot, dt)
     }
 
-    /// The point at `t`, carried from `from` (a point of this segment) by the series of each
-    /// factor `e^{lambda_r (t - from.t)}` and of the forcing's rotation when `t` is that near
-    /// (`|lambda| |t - from.t|` at most [`NEAR`]: the series' remainders are below 2e-21
-    /// relative), else evaluated ([`Segment::point`]). For the certified search's last
-    /// advances, which are short.
-    pub fn point_near(&self, d: &Dynamics, from: &Point, t: f64) -> Point {
-        let dt = t - from.t;
+    /// Moves `pt` (a point of this segment) to `t`: by the series of each factor
+    /// `e^{lambda_r (t - pt.t)}` and of the forcing's rotation when `t` is that near
+    /// (`|lambda| |t - pt.t|` at most [`NEAR`]: the series' remainders are below 2e-21
+    /// relative), else by evaluating it there ([`Segment::point`]). For the certified search's
+    /// last advances, which are short.
+    pub fn move_near(&self, d: &Dynamics, pt: &mut Point, t: f64) {
+        let dt = t - pt.t;
         if (dt * 2.0 * std::f64::consts::PI / d.min_period).abs() > NEAR {
-            return self.point(d, t);
+            *pt = self.point(d, t);
+            return;
         }
         let cfg = &d.configs[self.slot];
         let one = Complex64::new(1.0, 0.0);
-        let mut e = [Complex64::new(0.0, 0.0); MAX_TERMS];
-        let mut e_abs = [0.0; MAX_TERMS];
         for r in 0..self.len {
             let z = cfg.modes.lambda[r] * dt;
             let factor = one + z * (one + z / 2.0 * (one + z / 3.0 * (one + z / 4.0 * (one + z / 5.0))));
             let x = z.re;
             let decay = 1.0 + x * (1.0 + x / 2.0 * (1.0 + x / 3.0 * (1.0 + x / 4.0 * (1.0 + x / 5.0))));
-            e[r] = from.e[r] * factor;
-            e_abs[r] = from.e_abs[r] * decay;
+            pt.e[r] *= factor;
+            pt.e_abs[r] *= decay;
         }
         let x = d.omega * dt;
         let x2 = x * x;
         let sn = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0));
         let cs = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0));
-        let sin = from.sin * cs + from.cos * sn;
-        let cos = from.cos * cs - from.sin * sn;
-        Point { t, e, e_abs, sin, cos }
+        let (sin, cos) = (pt.sin, pt.cos);
+        pt.sin = sin * cs + cos * sn;
+        pt.cos = cos * cs - sin * sn;
+        pt.t = t;
     }
 
     /// Derivative `order` of the displacement of mass `p`.

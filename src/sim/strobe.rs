@@ -137,7 +137,7 @@ impl Strobe {
         let mut both = Both(&mut tangent, &mut log);
         Engine::new(d).advance(&mut s, t_end, &mut Both(&mut both, extra)).map_err(OrbitError::Stopped)?;
         let image = self.coordinates(d, &s)?;
-        let jacobian = self.restriction(d) * &tangent.m;
+        let jacobian = self.restrict(d, &tangent.m);
         let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
         Ok((Return { image, events: log.0, jacobian: Some((jacobian, smooth)), d_omega: None }, s))
     }
@@ -212,28 +212,32 @@ impl Strobe {
         e
     }
 
-    /// `d u / d xi` on the section.
-    fn restriction(&self, d: &Dynamics) -> DMatrix<f64> {
+    /// `(d u / d xi) m`: the derivative `m` of the full state taken to the section's
+    /// coordinates. Row by row, as the product with the sparse `d u / d xi` (displacements over
+    /// the length scale, velocities over the rate, a free bed's place relative to its host's)
+    /// sums it: the terms in the order of the full state's rows, zeros left out.
+    fn restrict(&self, d: &Dynamics, m: &DMatrix<f64>) -> DMatrix<f64> {
         let n = d.system.dof();
         let (l, w) = (self.length, self.rate(d));
-        let mut r = DMatrix::zeros(self.dim(n), Tangent::full_dim(d));
-        for i in 0..n {
-            r[(i, i)] = 1.0 / l;
-            r[(n + i, n + i)] = 1.0 / w;
-        }
-        let mut c = 2 * n;
-        for (j, rest) in self.beds.iter().enumerate() {
-            if *rest == Rest::Free {
-                let p = d.system.dampers[j].host;
-                let row = 2 * n + 2 * j;
-                r[(c, row)] = 1.0 / l;
-                r[(c, p)] = -1.0 / l;
-                r[(c + 1, row + 1)] = 1.0 / w;
-                r[(c + 1, n + p)] = -1.0 / w;
-                c += 2;
+        let (inv_l, inv_w) = (1.0 / l, 1.0 / w);
+        let mut out = DMatrix::zeros(self.dim(n), m.ncols());
+        for col in 0..m.ncols() {
+            for i in 0..n {
+                out[(i, col)] = inv_l * m[(i, col)];
+                out[(n + i, col)] = inv_w * m[(n + i, col)];
+            }
+            let mut c = 2 * n;
+            for (j, rest) in self.beds.iter().enumerate() {
+                if *rest == Rest::Free {
+                    let p = d.system.dampers[j].host;
+                    let row = 2 * n + 2 * j;
+                    out[(c, col)] = -inv_l * m[(p, col)] + inv_l * m[(row, col)];
+                    out[(c + 1, col)] = -inv_w * m[(n + p, col)] + inv_w * m[(row + 1, col)];
+                    c += 2;
+                }
             }
         }
-        r
+        out
     }
 }
 

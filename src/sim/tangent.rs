@@ -180,15 +180,18 @@ fn transition_into(d: &Dynamics, mask: usize, tau: f64, out: &mut DMatrix<f64>) 
         *e = (l * tau).exp();
     }
     let mut scaled = [Complex64::new(0.0, 0.0); super::system::MAX_TERMS];
+    // The inverse's column `j` holds the terms' coefficients of start coordinate `j`, in order
+    // (column-major storage: a contiguous run).
+    let (inverse, stride) = (cfg.modes.inverse.as_slice(), cfg.modes.inverse.nrows());
     for i in 0..2 * n {
         let row = if i < n { &cfg.modes.vl[i][0] } else { &cfg.modes.vl[i - n][1] };
         for r in 0..len {
             scaled[r] = row[r] * e[r];
         }
         for j in 0..2 * n {
-            out[(i, j)] = (0..len)
-                .map(|r| scaled[r].re * cfg.modes.inverse[(r, j)].re - scaled[r].im * cfg.modes.inverse[(r, j)].im)
-                .sum();
+            let column = &inverse[j * stride..j * stride + len];
+            // The real part of the sum over the terms, added in order from -0 (as `Sum` does).
+            out[(i, j)] = column.iter().zip(&scaled[..len]).fold(-0.0, |acc, (w, s)| acc + (s.re * w.re - s.im * w.im));
         }
     }
 }
@@ -203,13 +206,16 @@ impl Observer for Tangent {
         transition_into(d, seg.mask, tau, &mut self.phi);
         // `Phi` times the masses' rows, summed in plain loops (the matrices are at most 16
         // square; a general product's packing costs more than the arithmetic here).
-        for c in 0..self.m.ncols() {
-            for i in 0..2 * n {
+        let (dim, rows) = (2 * n, self.m.nrows());
+        let (phi, m, top) = (self.phi.as_slice(), self.m.as_slice(), self.top.as_mut_slice());
+        for (c, out) in top.chunks_exact_mut(dim).enumerate() {
+            let column = &m[c * rows..c * rows + dim];
+            for (i, o) in out.iter_mut().enumerate() {
                 let mut acc = 0.0;
-                for k in 0..2 * n {
-                    acc += self.phi[(i, k)] * self.m[(k, c)];
+                for (k, mk) in column.iter().enumerate() {
+                    acc += phi[k * dim + i] * mk;
                 }
-                self.top[(i, c)] = acc;
+                *o = acc;
             }
         }
         self.m.rows_mut(0, 2 * n).copy_from(&self.top);
