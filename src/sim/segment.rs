@@ -27,7 +27,7 @@ pub struct Segment {
     sin_cos0: (f64, f64),
 }
 
-/// Largest `|lambda| dt` over which [`Segment::point_near`] carries a point by series.
+/// Largest `|lambda| dt` over which [`Segment::move_near`] carries a point by series.
 pub const NEAR: f64 = 1e-3;
 
 /// `c_r e^{lambda_r (t - t0)}` and the forcing phase at one time: everything an evaluation
