@@ -9,7 +9,7 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum Error {
     /// A value in an input file is not allowed.
-    #[error("{file}: {key} = {value}: {message}")]
+    #[error("{file}: {key} = {}: {}", crate::number::tidy_numbers(.value), crate::number::tidy_numbers(.message))]
     Invalid {
         /// The file (or the caller, outside files).
         file: String,
@@ -21,7 +21,7 @@ pub enum Error {
         message: String,
     },
     /// An input file is not valid TOML or does not have the expected shape.
-    #[error("{file}: {message}")]
+    #[error("{file}: {}", crate::number::tidy_numbers(.message))]
     Parse {
         /// The file.
         file: String,

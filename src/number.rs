@@ -25,3 +25,50 @@ pub fn fmt_num(v: f64) -> String {
         format!("{v:.5e}")
     }
 }
+
+/// A list of numbers as `[a, b, c]`, each as [`fmt_num`] writes it (never a 300-digit
+/// decimal, never `Some(..)`).
+pub fn fmt_list(values: &[f64]) -> String {
+    let parts: Vec<String> = values.iter().map(|v| fmt_num(*v)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// `text` with every decimal number longer than 20 characters (how `Display` writes 1e-320 or
+/// 1e300) written as [`fmt_num`] writes it: messages quote values as a person reads them.
+pub fn tidy_numbers(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut run = String::new();
+    let flush = |run: &mut String, out: &mut String| {
+        match run.parse::<f64>() {
+            Ok(v) if run.len() > 20 && run.bytes().any(|b| b.is_ascii_digit()) => out.push_str(&fmt_num(v)),
+            _ => out.push_str(run),
+        }
+        run.clear();
+    };
+    for c in text.chars() {
+        let continues = c.is_ascii_digit() || c == '.' || (c == '-' && run.is_empty());
+        if continues {
+            run.push(c);
+        } else {
+            flush(&mut run, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut run, &mut out);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_decimals_are_written_short_and_the_rest_is_kept() {
+        let tiny = format!("invalid type: floating point `{}`, expected a string", 1e-320);
+        assert_eq!(tidy_numbers(&tiny), "invalid type: floating point `9.99989e-321`, expected a string");
+        let huge = format!("value {} and 12.5 and -3 in cases[2]", 1e300);
+        assert_eq!(tidy_numbers(&huge), "value 1.00000e300 and 12.5 and -3 in cases[2]");
+        assert_eq!(tidy_numbers("a-b 2026-11-26 x.y"), "a-b 2026-11-26 x.y");
+        assert_eq!(fmt_list(&[0.5, 1e-320, 2.0]), "[0.5, 9.99989e-321, 2]");
+    }
+}

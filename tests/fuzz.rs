@@ -23,7 +23,12 @@ enum Mutation {
     ReplaceNumber(usize, usize),
     Truncate(f64),
     InvalidUtf8(usize),
+    /// Multiply the n-th number of the file by one of [`FACTORS`] (a value of the right type,
+    /// physically odd: what reaches the solvers and the plots).
+    ScaleNumber(usize, usize),
 }
+
+const FACTORS: [f64; 10] = [1e-9, 1e-3, 0.1, 0.5, 2.0, 10.0, 1e3, 1e6, 1e12, -1.0];
 
 const ODD_VALUES: [&str; 14] = [
     "1e308",
@@ -102,6 +107,24 @@ fn apply(bytes: &[u8], muts: &[Mutation]) -> Vec<u8> {
                 } else {
                     let (s, e) = nums[n % nums.len()];
                     format!("{}{}{}", &text[..s], ODD_VALUES[v], &text[e..]).into_bytes()
+                }
+            }
+            Mutation::ScaleNumber(n, f) => {
+                let nums = numbers(&text);
+                match nums
+                    .get(n % nums.len().max(1))
+                    .and_then(|&(s, e)| text[s..e].parse::<f64>().ok().map(|v| (s, e, v)))
+                {
+                    Some((s, e, v)) => {
+                        let scaled = v * FACTORS[f];
+                        let written = if text[s..e].contains(['.', 'e', 'E']) {
+                            format!("{scaled:e}")
+                        } else {
+                            format!("{}", scaled.round() as i64)
+                        };
+                        format!("{}{written}{}", &text[..s], &text[e..]).into_bytes()
+                    }
+                    None => b,
                 }
             }
             Mutation::Truncate(f) => {
@@ -300,6 +323,194 @@ fn the_binary_answers_bad_experiment_files_with_exit_2_and_a_message() {
         if code == Some(2) {
             let msg = String::from_utf8_lossy(&out.stderr);
             assert!(msg.starts_with("error: ") && msg.contains("fig04b_no_damper.toml"), "{m:?}: {msg}");
+        }
+    }
+}
+
+/// The experiment files another one takes values from (`@EXPERIMENT.KEY`), run beside it.
+fn dependencies(name: &str) -> &'static [&'static str] {
+    match name {
+        "fig05_low_damping.toml" | "fig05_third_mode.toml" | "fig09_third_mode.toml" => &["fig05_clearance_scan.toml"],
+        "fig06_waveforms.toml" => &["fig05_clearance_scan.toml", "fig05_third_mode.toml"],
+        _ => &[],
+    }
+}
+
+/// One run of the binary under the campaign's bounds: `(exit code or None when killed, wall
+/// seconds, peak resident memory in KiB, stderr)`.
+fn bounded_run(dir: &Path, args: &[String], seconds: u64, bytes: u64) -> (Option<i32>, f64, u64, String) {
+    // SHOTDAMP_BIN: a copy of the binary, so that a long campaign is not changed by a build.
+    let bin = std::env::var_os("SHOTDAMP_BIN")
+        .map_or_else(|| assert_cmd::cargo::cargo_bin("shotdamp"), std::path::PathBuf::from);
+    let started = std::time::Instant::now();
+    let out = std::process::Command::new("timeout")
+        .args(["-s", "KILL", &seconds.to_string(), "/usr/bin/time", "-f", "peak-kib %M", "prlimit"])
+        .arg(format!("--as={bytes}"))
+        .arg("--")
+        .arg(bin)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let wall = started.elapsed().as_secs_f64();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    let peak =
+        stderr.lines().rev().find_map(|l| l.strip_prefix("peak-kib ")).and_then(|v| v.trim().parse().ok()).unwrap_or(0);
+    // time(1) reports the command's own exit status; a signal shows as "Command terminated".
+    let code = if stderr.contains("Command terminated by signal") { None } else { out.status.code() };
+    (code, wall, peak, stderr)
+}
+
+/// The fuzz campaign of docs/reliability.md, through the binary under a memory limit:
+/// `FUZZ_EXPERIMENTS` mutated experiment files (every file of `experiments/`, impulse and plot
+/// keys included, each run with the files it takes values from) and `FUZZ_DESIGNS` mutated
+/// design files (a small search of the five-storey example), each into a new folder beside a
+/// folder of the user's and, every tenth run, into a folder shotdamp wrote that holds a
+/// user's file. The property: exit 0, 1 or 2 (2 with a message naming a file or the command
+/// line), never a signal, a panic or the memory limit; a design search within its printed
+/// bound; nothing of the user's touched. Prints the counts.
+///
+///     FUZZ_EXPERIMENTS=3000 FUZZ_DESIGNS=300 cargo test --release --locked --test fuzz -- --ignored --nocapture campaign
+#[test]
+#[ignore = "a campaign of hours: run by hand (docs/reliability.md)"]
+fn campaign() {
+    use proptest::strategy::ValueTree;
+    let count = |k: &str, d: usize| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
+    let (n_exp, n_des) = (count("FUZZ_EXPERIMENTS", 30), count("FUZZ_DESIGNS", 10));
+    const LIMIT: u64 = 4_000_000_000;
+    const SECONDS: u64 = 300;
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    for sub in ["experiments", "reference"] {
+        copy(&common::repo().join(sub), &root.join(sub));
+    }
+    std::fs::create_dir(root.join("users")).unwrap();
+    std::fs::write(root.join("users/thesis.tex"), "precious").unwrap();
+    let five = String::from_utf8(repo_file("designs/five_storey.toml")).unwrap();
+    let small = five
+        .replace("max_beds = 2", "max_beds = 2\nstarts = 1\nmax_iters = 4")
+        .replace("step = 0.1 }", "step = 0.5 }")
+        .replace("step = 0.2 }", "step = 1.0 }");
+    let files = experiment_files();
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    // Mostly values of the right type scaled to odd sizes (they reach the solvers and the
+    // plots), the rest the loaders' mutations (most of those stop at the parser).
+    let scale = (any::<usize>(), 0..FACTORS.len()).prop_map(|(n, f)| Mutation::ScaleNumber(n, f));
+    let strategy = proptest::collection::vec(prop_oneof![4 => scale, 1 => mutation()], 1..3);
+    let mut tally = std::collections::BTreeMap::<String, usize>::new();
+    let (mut peak, mut slowest, mut over) = (0u64, 0.0f64, Vec::new());
+    let mut worst_ratio = (0.0f64, String::new());
+    let mut failures = Vec::new();
+    for i in 0..n_exp + n_des {
+        let muts = strategy.new_tree(&mut runner).unwrap().current();
+        let design = i >= n_exp;
+        let (name, base) = if design {
+            ("small_five_storey.toml".to_string(), small.as_bytes().to_vec())
+        } else {
+            let name = files[i % files.len()].clone();
+            let bytes = repo_file(&format!("experiments/{name}"));
+            (name, bytes)
+        };
+        let target = root.join("experiments").join(&name);
+        std::fs::write(&target, apply(&base, &muts)).unwrap();
+        // Every tenth run writes into a folder shotdamp wrote, with a user's file in it.
+        let out = root.join("out");
+        let guarded = i % 10 == 9;
+        if guarded {
+            std::fs::create_dir_all(&out).unwrap();
+            std::fs::write(out.join(".shotdamp-report"), "").unwrap();
+            std::fs::write(out.join(".shotdamp-files"), ".shotdamp-report\n").unwrap();
+            std::fs::write(out.join("mine.txt"), "user").unwrap();
+        }
+        let mut args: Vec<String> = vec![if design { "design" } else { "run" }.into()];
+        if !design {
+            args.extend(dependencies(&name).iter().map(|d| format!("experiments/{d}")));
+        }
+        args.extend([format!("experiments/{name}"), "--out".into(), "out".into(), "--jobs".into(), "1".into()]);
+        let budget = if design {
+            shotdamp::runner::designs::budgets(std::slice::from_ref(&target), &root.join("reference"))
+                .ok()
+                .and_then(|b| b.first().map(|(key, n, b)| (key.clone(), b.evaluations, b.nominal_seconds(*n, 1))))
+        } else {
+            None
+        };
+        let (code, wall, kib, stderr) = bounded_run(root, &args, SECONDS, LIMIT);
+        peak = peak.max(kib);
+        slowest = slowest.max(wall);
+        if let (Some((key, most, nominal)), Some(0 | 1)) = (&budget, code) {
+            // The evaluations the search made (the placements table) within the bound printed
+            // before it; the time against the nominal estimate, recorded.
+            let table = std::fs::read_to_string(out.join(key).join("data/design_placements.csv")).unwrap_or_default();
+            let made: u64 = table.lines().skip(1).filter_map(|l| l.rsplit(',').next()?.parse::<u64>().ok()).sum();
+            let now = std::fs::read_to_string(&target).unwrap_or_default();
+            let was = String::from_utf8_lossy(&base).into_owned();
+            let changed: Vec<&str> = now.lines().filter(|l| !was.lines().any(|w| w == *l)).collect();
+            if made == 0 || made > *most {
+                over.push(format!("{name} {changed:?}: {made} evaluations, the bound printed {most}"));
+            }
+            if wall / nominal > worst_ratio.0 {
+                worst_ratio = (wall / nominal, format!("{changed:?}: {wall:.1} s against {nominal:.1} s"));
+            }
+        }
+        let key = match code {
+            Some(c @ 0..=2) => format!("exit {c}"),
+            Some(c) => format!("exit {c} (unexpected)"),
+            None => "killed (signal, time or memory)".into(),
+        };
+        *tally.entry(key.clone()).or_default() += 1;
+        let message = stderr.lines().rev().find(|l| l.starts_with("error: ")).unwrap_or("");
+        if std::env::var_os("FUZZ_VERBOSE").is_some() {
+            println!("{name}: {key}: {message}");
+        }
+        let ok = match code {
+            Some(0) | Some(1) => !stderr.contains("panicked"),
+            Some(2) => message.contains(".toml") || message.contains("(command line)") || message.contains("out:"),
+            _ => false,
+        };
+        if !ok {
+            failures
+                .push(format!("{name} {muts:?}: {key}: {}", stderr.lines().take(3).collect::<Vec<_>>().join(" / ")));
+        }
+        if guarded {
+            if std::fs::read_to_string(out.join("mine.txt")).ok().as_deref() != Some("user") {
+                failures.push(format!("{name} {muts:?}: the user's file in a folder shotdamp wrote was lost"));
+            }
+            if code == Some(0) || code == Some(1) {
+                failures.push(format!("{name} {muts:?}: ran into a folder holding a user's file"));
+            }
+        }
+        if std::fs::read_to_string(root.join("users/thesis.tex")).ok().as_deref() != Some("precious") {
+            failures.push(format!("{name} {muts:?}: the user's folder beside the output changed"));
+        }
+        let _ = std::fs::remove_dir_all(&out);
+        std::fs::write(&target, &base).unwrap();
+        if design {
+            std::fs::remove_file(&target).unwrap();
+        }
+    }
+    println!(
+        "campaign: {n_exp} experiment files, {n_des} design files; {tally:?}; peak memory {:.0} MiB (limit {:.0} MiB); slowest run {slowest:.1} s; design searches past their bound of evaluations: {}; largest ratio of a design run's wall time to its nominal estimate {:.2} ({})",
+        peak as f64 / 1024.0,
+        LIMIT as f64 / 1048576.0,
+        over.len(),
+        worst_ratio.0,
+        worst_ratio.1
+    );
+    for f in failures.iter().chain(&over) {
+        println!("FAILURE {f}");
+    }
+    assert!(failures.is_empty() && over.is_empty(), "{} failures, {} past their bound", failures.len(), over.len());
+}
+
+fn copy(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let p = e.unwrap().path();
+        let t = to.join(p.file_name().unwrap());
+        if p.is_dir() {
+            copy(&p, &t);
+        } else {
+            std::fs::copy(&p, &t).unwrap();
         }
     }
 }

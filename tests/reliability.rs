@@ -423,3 +423,208 @@ fn absurd_tolerances_are_input_errors() {
         assert!(stderr(&out).contains(expect), "{}", stderr(&out));
     }
 }
+
+/// Every entry below `dir` with its bytes (files) or nothing (folders), sorted.
+fn tree(dir: &Path) -> Vec<(String, Option<Vec<u8>>)> {
+    let mut v = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(p) = stack.pop() {
+        for e in std::fs::read_dir(&p).unwrap() {
+            let e = e.unwrap().path();
+            let rel = e.strip_prefix(dir).unwrap().display().to_string();
+            if e.is_dir() {
+                stack.push(e);
+                v.push((rel, None));
+            } else {
+                v.push((rel, Some(std::fs::read(&e).unwrap())));
+            }
+        }
+    }
+    v.sort();
+    v
+}
+
+/// A file or folder a user puts into a folder shotdamp wrote is never deleted: the next run
+/// into it is refused (exit 2, naming what it found) and leaves the folder as it was; once
+/// they are moved away, the run replaces the folder. The same for `compare --out`.
+#[test]
+fn a_users_entry_inside_a_folder_shotdamp_wrote_is_never_deleted() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps = linear_experiments(dir.path());
+    let file = exps.join("fig04b_no_damper.toml");
+    let a = dir.path().join("a");
+    let run = || shotdamp().arg("run").arg(&file).arg("--out").arg(&a).output().unwrap();
+    let out = run();
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    std::fs::write(a.join("mynotes.txt"), "precious").unwrap();
+    std::fs::create_dir(a.join("fig04b_no_damper/mine")).unwrap();
+    std::fs::write(a.join("fig04b_no_damper/mine/keep.txt"), "x").unwrap();
+    let before = tree(&a);
+    let out = run();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let msg = stderr(&out);
+    assert!(
+        msg.contains("2 entries that shotdamp did not write: fig04b_no_damper/mine/, mynotes.txt")
+            && msg.contains("never deletes"),
+        "{msg}"
+    );
+    assert_eq!(tree(&a), before, "the folder is left as it was, the user's entries in it");
+    // A file put in while nothing else is there: refused as well.
+    std::fs::remove_dir_all(a.join("fig04b_no_damper/mine")).unwrap();
+    let out = run();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("1 entry that shotdamp did not write: mynotes.txt"), "{}", stderr(&out));
+    std::fs::rename(a.join("mynotes.txt"), dir.path().join("mynotes.txt")).unwrap();
+    let out = run();
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // compare A B --out C, with a user's file in C (a comparison written before).
+    let c = dir.path().join("c");
+    let compare = || shotdamp().arg("compare").arg(&a).arg(&a).arg("--out").arg(&c).output().unwrap();
+    assert_eq!(compare().status.code(), Some(0));
+    std::fs::write(c.join("review.md"), "my review").unwrap();
+    let out = compare();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("review.md"), "{}", stderr(&out));
+    assert_eq!(std::fs::read_to_string(c.join("review.md")).unwrap(), "my review");
+    // A report folder of an earlier version (the marker, no list of its files) with more
+    // than the marker and the README is refused too, and says why.
+    std::fs::remove_file(a.join(".shotdamp-files")).unwrap();
+    let out = run();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("a report of an earlier version"), "{}", stderr(&out));
+}
+
+/// Inputs that would make the run unbounded are refused up front with the key, the value
+/// and what is allowed: an impulse's kick, `--jobs`, a structure larger than the simulator
+/// takes, a design band of 100,000 points, a repeated Pareto ratio.
+#[test]
+fn unbounded_inputs_are_refused_before_anything_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps = experiments(dir.path(), &["fig10b_impulse.toml", "fig04b_no_damper.toml"]);
+    let impulse = exps.join("fig10b_impulse.toml");
+    let text = std::fs::read_to_string(&impulse).unwrap();
+    for (kick, key) in [
+        ("initial_velocity_m_s = 1e200", "analysis.initial_velocity_m_s = 1.00000e200"),
+        ("impulse_n_s = 1e160", "analysis.impulse_n_s = 1.00000e160"),
+        ("initial_velocity_m_s = 1e-9", "analysis.initial_velocity_m_s = 1.00000e-9"),
+    ] {
+        std::fs::write(&impulse, text.replace("initial_velocity_m_s = 0.5", kick)).unwrap();
+        let out = shotdamp().arg("run").arg(&impulse).arg("--out").arg(dir.path().join("o")).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{kick}: {}", stderr(&out));
+        assert!(stderr(&out).contains(key) && stderr(&out).contains("[1e-6, 100] m/s"), "{}", stderr(&out));
+    }
+    let linear = exps.join("fig04b_no_damper.toml");
+    for jobs in ["100000", "0"] {
+        let out = shotdamp().arg("run").arg(&linear).arg("--jobs").arg(jobs).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains(&format!("--jobs = {jobs}: give 1 to")), "{}", stderr(&out));
+    }
+    // Twelve masses: the simulator's kinds refuse them, the linear ones take them.
+    let chain = |kind: &str| {
+        let n = 12;
+        let list = |v: &str| vec![v; n].join(", ");
+        format!(
+            "[experiment]\nid = \"m12\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n[structure]\nmasses_kg = [{}]\nchain_stiffness_n_per_m = [{}]\n[structure.damping]\nmodal_ratios = [{}]\n[excitation]\nmass = 1\nforce_n = 2.0\n[analysis]\nkind = \"{kind}\"\nfreq_hz = {{ start = 5.0, stop = 6.0, step = 0.5 }}\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{{ mass = 12, mass_ratio = 0.1, clearance_mm = 1.0 }}]\n",
+            list("1.0"),
+            list("2e4"),
+            list("0.02")
+        )
+    };
+    let m12 = dir.path().join("m12.toml");
+    std::fs::write(&m12, chain("sweep")).unwrap();
+    let out = shotdamp().arg("run").arg(&m12).arg("--out").arg(dir.path().join("m")).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("structure.masses_kg = 12 masses: analysis kind \"sweep\" runs the exact simulator, which takes at most 8 masses"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.path().join("m").exists(), "nothing written");
+    std::fs::write(&m12, chain("linear_frf")).unwrap();
+    let out = shotdamp().arg("run").arg(&m12).arg("--out").arg(dir.path().join("m")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // Designs: a band of 100,000 points, a repeated Pareto ratio; a dry run prints the most a
+    // search can cost and searches nothing.
+    let design = dir.path().join("five_storey.toml");
+    let text = std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap();
+    for (edit, said) in [
+        (
+            text.replace("start = 5.0, stop = 8.0, step = 0.1", "start = 5.0, stop = 8.0, points = 100000"),
+            "design.bands[0].freq_hz = 100000 frequencies: a design band has at most 1000",
+        ),
+        (
+            text.replace("max_beds = 2", "max_beds = 2\npareto_mass_ratios = [0.02, 0.05, 0.02]"),
+            "design.pareto_mass_ratios[2] = 0.02: repeats design.pareto_mass_ratios[0]",
+        ),
+        (
+            text.replace("max_beds = 2", "max_beds = 2\nmax_iters = 1e9"),
+            "design.max_iters = 1000000000: give a whole number from 1 to 10000",
+        ),
+    ] {
+        std::fs::write(&design, edit).unwrap();
+        let out = shotdamp().arg("design").arg(&design).arg("--dry-run").output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains(said), "{}", stderr(&out));
+    }
+    std::fs::write(&design, &text).unwrap();
+    let out =
+        shotdamp().arg("design").arg(&design).arg("--dry-run").arg("--out").arg(dir.path().join("d")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        said.contains("design design_five_storey: 15 placements x 1 search(es), at most")
+            && said.contains("layout evaluations of 114 steady states each"),
+        "{said}"
+    );
+    assert!(!dir.path().join("d").exists(), "a dry run writes nothing");
+}
+
+/// Messages quote values as a person reads them: no `Some(..)`, no 320-digit decimal, the
+/// range of a whole number, the output folder as given.
+#[test]
+fn messages_quote_values_as_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps =
+        experiments(dir.path(), &["fig04b_no_damper.toml", "fig05_clearance_scan.toml", "fig05_hysteresis.toml"]);
+    let nowhere = dir.path().join("never-written");
+    let fig04 = exps.join("fig04b_no_damper.toml");
+    let text = std::fs::read_to_string(&fig04).unwrap();
+    std::fs::write(&fig04, text.replace("figure = \"Fig. 4(b)\"", "figure = 1e-320")).unwrap();
+    let out = shotdamp().arg("run").arg(&fig04).arg("--out").arg(&nowhere).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("experiment.figure: invalid type: floating point `9.99989e-321`"),
+        "{}",
+        stderr(&out)
+    );
+    std::fs::write(&fig04, &text).unwrap();
+    let scan = exps.join("fig05_clearance_scan.toml");
+    let scan_text = std::fs::read_to_string(&scan).unwrap();
+    std::fs::write(&scan, scan_text.replacen("clearance_mm = 0.1\n", "clearance_mm = 0.12\n", 1)).unwrap();
+    let out = shotdamp().arg("run").arg(&scan).arg("--out").arg(&nowhere).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("checks[0].clearance_mm = 0.12: name one of the clearances"), "{}", stderr(&out));
+    let hysteresis = exps.join("fig05_hysteresis.toml");
+    let h = std::fs::read_to_string(&hysteresis).unwrap();
+    std::fs::write(&hysteresis, h.replacen("direction = \"up\"\n", "", 1)).unwrap();
+    let out = shotdamp().arg("run").arg(&hysteresis).arg("--out").arg(&nowhere).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains(".direction = (missing): a continuation sweep"), "{}", stderr(&out));
+    assert!(!nowhere.exists());
+    // The output folder as given on the command line (relative), not made absolute.
+    std::fs::create_dir(dir.path().join("mine")).unwrap();
+    std::fs::write(dir.path().join("mine/notes.txt"), "x").unwrap();
+    let reference = common::repo().join("reference");
+    let out = shotdamp()
+        .current_dir(dir.path())
+        .arg("--reference")
+        .arg(&reference)
+        .arg("run")
+        .arg(&fig04)
+        .arg("--out")
+        .arg("mine")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).starts_with("error: mine: is a folder that shotdamp did not write"), "{}", stderr(&out));
+}

@@ -180,6 +180,38 @@ fn parts_of_two_versions_of_a_study_are_never_merged() {
 }
 
 #[test]
+fn a_part_of_another_version_renamed_to_this_folders_fingerprint_is_never_merged() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a");
+    let b = dir.path().join("b");
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::create_dir_all(&b).unwrap();
+    let (fa, fb) = (small_study(&a, 4), small_study(&b, 5));
+    let (oa, ob) = (dir.path().join("out-a"), dir.path().join("out-b"));
+    for (f, o, shard) in [(&fa, &oa, "0/2"), (&fb, &ob, "1/2")] {
+        let (code, text) =
+            finish(spawn(&[], &["study", f.to_str().unwrap(), "--shard", shard, "--out", o.to_str().unwrap()], &[]));
+        assert_eq!(code, Some(0), "{text}");
+    }
+    let ma: serde_json::Value = serde_json::from_slice(&std::fs::read(oa.join("study.json")).unwrap()).unwrap();
+    let mb: serde_json::Value = serde_json::from_slice(&std::fs::read(ob.join("study.json")).unwrap()).unwrap();
+    let (fpa, fpb) = (ma["fingerprint"].as_str().unwrap(), mb["fingerprint"].as_str().unwrap());
+    // Version b's shard 1 renamed as version a's shard 1 (its name now says version a).
+    let part = ob.join("parts").join(format!("part-0001-of-0002-{fpb}.parquet"));
+    let renamed = oa.join("parts").join(format!("part-0001-of-0002-{fpa}.parquet"));
+    std::fs::copy(&part, &renamed).unwrap();
+    let (code, text) = merge(&oa);
+    assert_eq!(code, Some(2), "{text}");
+    assert!(text.contains(&format!("another version (fingerprint {fpb})")) && text.contains(fpa), "{text}");
+    assert!(text.contains("part-0001-of-0002") && text.contains("rm '"), "names the file and how to remove it: {text}");
+    // Shard 1 of version a, run into the folder, finds the renamed part and refuses it too.
+    let (code, text) =
+        finish(spawn(&[], &["study", fa.to_str().unwrap(), "--shard", "1/2", "--out", oa.to_str().unwrap()], &[]));
+    assert_eq!(code, Some(2), "{text}");
+    assert!(text.contains(&format!("another version (fingerprint {fpb})")), "{text}");
+}
+
+#[test]
 fn a_slurm_array_reruns_one_shard_of_the_folder_and_never_writes_a_part_of_another_count() {
     let dir = tempfile::tempdir().unwrap();
     let file = small_study(dir.path(), 7);

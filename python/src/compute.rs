@@ -82,6 +82,20 @@ const POLL: Duration = Duration::from_millis(50);
 /// Least time between two calls of the progress callback.
 const PROGRESS_EVERY: Duration = Duration::from_millis(200);
 
+/// `jobs=` of a call: `None` (one thread per core) or 1 to `shotdamp.runner::max_jobs()`
+/// worker threads; anything else is a `ValueError` (never an `OverflowError`).
+pub fn jobs(jobs: Option<i64>) -> PyResult<Option<usize>> {
+    let max = shotdamp::runner::max_jobs();
+    match jobs {
+        None => Ok(None),
+        Some(j) if j >= 1 && j as u64 <= max as u64 => Ok(Some(j as usize)),
+        Some(j) => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "jobs = {j}: give 1 to {max} worker threads (up to {} per core, and never fewer than 16: more only add switching), or None for one per core",
+            shotdamp::runner::JOBS_PER_CORE
+        ))),
+    }
+}
+
 /// Runs `work` on a pool of `jobs` threads (`None`: one per core) without the interpreter
 /// lock. The calling thread waits, runs Python's signal handlers (Ctrl-C raises
 /// `KeyboardInterrupt` once the computation has stopped at its next point) and calls

@@ -217,10 +217,11 @@ pub fn run_experiment<'py>(
     files: &Bound<'py, PyAny>,
     out: PathBuf,
     reference: PathBuf,
-    jobs: Option<usize>,
+    jobs: Option<i64>,
     full_csv: bool,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let jobs = compute::jobs(jobs)?;
     let files = paths(files)?;
     let settings = Settings {
         reference: reference.clone(),
@@ -248,10 +249,11 @@ pub fn design<'py>(
     files: &Bound<'py, PyAny>,
     out: PathBuf,
     reference: PathBuf,
-    jobs: Option<usize>,
+    jobs: Option<i64>,
     store: bool,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let jobs = compute::jobs(jobs)?;
     let files = paths(files)?;
     let settings = DesignSettings { reference, out, jobs, store };
     let run = compute::run(py, jobs, progress, |t| runner::designs::run(&files, &settings, t, &|_| {}, &|_| {}))?;
@@ -274,11 +276,12 @@ pub fn report<'py>(
     reference: Option<PathBuf>,
     studies: Option<PathBuf>,
     designs: Option<PathBuf>,
-    jobs: Option<usize>,
+    jobs: Option<i64>,
     full_csv: bool,
     bless: bool,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let jobs = compute::jobs(jobs)?;
     let at = ReportInputs::at(&root);
     let inputs = ReportInputs {
         experiments: experiments.unwrap_or(at.experiments),
@@ -352,9 +355,10 @@ pub fn study<'py>(
     out: Option<PathBuf>,
     reference: PathBuf,
     shard: Option<&Bound<'py, PyAny>>,
-    jobs: Option<usize>,
+    jobs: Option<i64>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let jobs = compute::jobs(jobs)?;
     let shard = self::shard(shard)?;
     let s = experiment::study::load(&path, &reference).map_err(error)?;
     let out = out.unwrap_or_else(|| studies::default_out(&s));

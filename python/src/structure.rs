@@ -174,13 +174,16 @@ impl Damper {
             ("restitution", restitution),
             ("stick_speed_m_s", stick_speed_m_s),
         ])?;
+        parts::damper("shotdamp.Damper", keys.clone()).map_err(error)?;
         Ok(Damper { keys })
     }
 
     /// A damper from a dict with the keys of an experiment file's `dampers` entry.
     #[staticmethod]
     fn from_dict(keys: &Bound<'_, PyDict>) -> PyResult<Damper> {
-        Ok(Damper { keys: table("damper", keys)? })
+        let keys = table("damper", keys)?;
+        parts::damper("shotdamp.Damper.from_dict", keys.clone()).map_err(error)?;
+        Ok(Damper { keys })
     }
 
     /// The keys given, as a dict.

@@ -61,6 +61,7 @@ impl System {
     ) -> PyResult<System> {
         let origin = "shotdamp.System";
         let bare = &structure.get().bare;
+        parts::simulated_structure(origin, bare).map_err(error)?;
         let excitation = parts::excitation(origin, force_mass, force_n, bare).map_err(error)?;
         let case = match dampers {
             Some(d) => case(bare, d, origin)?,
@@ -115,9 +116,10 @@ impl System {
         start: &str,
         steady: Option<&Bound<'py, PyDict>>,
         curve: &str,
-        jobs: Option<usize>,
+        jobs: Option<i64>,
         progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let jobs = compute::jobs(jobs)?;
         let origin = "shotdamp.System.sweep";
         let f = simulated(origin, &floats("freq_hz", freq_hz)?, &self.sim.structure)?;
         let opts = steady_options(origin, steady)?;
@@ -179,6 +181,7 @@ impl System {
         ])?;
         t.insert("struck_mass".into(), toml::Value::Integer(struck_mass));
         let opts = parts::impulse(origin, t, &self.sim.structure).map_err(error)?;
+        parts::kick(origin, &opts, &self.sim.structure, &self.case).map_err(error)?;
         let sim = &self.sim;
         let run = compute::run(py, Some(1), None, |_| {
             shotdamp::sim::impulse::free_response(sim, &opts)

@@ -78,8 +78,9 @@ def python_message(structure, damper, force_n=2.6):
         sd.System(s, [sd.Damper(**damper)], force_n=force_n)
     text = str(e.value)
     origin, _, rest = text.partition(": ")
-    assert origin in ("shotdamp.Structure", "shotdamp.System"), text
-    return rest
+    assert origin in ("shotdamp.Structure", "shotdamp.Damper", "shotdamp.System"), text
+    # A Damper is checked when it is built, before it is in a case: its keys are `damper.KEY`.
+    return rest.replace("damper.", "dampers[0].") if origin == "shotdamp.Damper" else rest
 
 
 CASES = [
@@ -112,10 +113,31 @@ def test_bad_arguments_raise_the_command_lines_message(cli, tmp_path, name, stru
 
 
 def test_unknown_keys_and_wrong_types_name_the_key():
-    with pytest.raises(ValueError, match=r"dampers\[0\]\.mass_ratio"):
-        sd.System(sd.Structure(**GOOD_STRUCTURE), [sd.Damper(mass=2, mass_ratio="much", clearance_mm=0.3)], force_n=2.6)
+    with pytest.raises(ValueError, match=r"shotdamp\.Damper: damper\.mass_ratio"):
+        sd.Damper(mass=2, mass_ratio="much", clearance_mm=0.3)
     with pytest.raises(TypeError):
         sd.Structure(**GOOD_STRUCTURE, mases_kg=[1.0])  # a misspelt keyword
+
+
+DAMPER_ALONE = [
+    (dict(GOOD_DAMPER, mass_ratio=-0.1), r"damper\.mass_ratio = -0\.1: a mass ratio must be positive"),
+    (dict(GOOD_DAMPER, mass=0), r"damper\.mass = 0: masses are numbered from 1"),
+    (dict(mass=2, clearance_mm=0.3), r"damper\.mass_ratio = \(missing\): give exactly one of mass_ratio and mass_kg"),
+    (dict(GOOD_DAMPER, mass_kg=0.1), r"damper\.mass_ratio = \(both mass_ratio and mass_kg\): give exactly one"),
+    (dict(GOOD_DAMPER, clearance_mm=-0.3), r"damper\.clearance_mm = -0\.3"),
+    (dict(GOOD_DAMPER, clearance_mm="scan"), r"damper\.clearance_mm = \(scan or @EXPERIMENT\.KEY\)"),
+    (dict(GOOD_DAMPER, bed="foam"), r"damper\.bed"),
+    (dict(GOOD_DAMPER, bed="restitution", restitution=1.5), r"damper\.restitution = 1\.5"),
+    (dict(GOOD_DAMPER, bed="column", grains=0), r"damper\.grains"),
+]
+
+
+@pytest.mark.parametrize("damper,message", DAMPER_ALONE, ids=[m for _, m in DAMPER_ALONE])
+def test_a_damper_is_checked_when_it_is_built(damper, message):
+    with pytest.raises(ValueError, match=r"^shotdamp\.Damper: " + message):
+        sd.Damper(**damper)
+    with pytest.raises(ValueError, match=r"^shotdamp\.Damper\.from_dict: " + message):
+        sd.Damper.from_dict(damper)
 
 
 def test_bad_frequencies_and_options_name_the_argument():

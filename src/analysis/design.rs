@@ -11,16 +11,13 @@ use crate::checks::reference::ReferenceStore;
 use crate::checks::{CheckOutcome, Source, Status};
 use crate::design::search::{optimise_checked, placements, Found, Space};
 use crate::design::stored::{fingerprint, StoredDesign, StoredLayout, StoredPareto};
-use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec};
+use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec, PROFILE_POINTS};
 use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::{Damping, Structure};
 use crate::number::fmt_num;
 use crate::sim::{SteadyOptions, System};
 use crate::table::Table;
-
-/// Clearances of the profile around the best layout.
-const PROFILE_POINTS: usize = 11;
 
 /// A clearance is in the robust band when its objective is within this factor of the best.
 pub const ROBUST: f64 = 1.05;

@@ -66,6 +66,18 @@ pub struct Cli {
     pub command: Command,
 }
 
+impl Cli {
+    /// The project's input folders as the options name them.
+    fn project(&self) -> runner::ReportInputs {
+        runner::ReportInputs {
+            experiments: self.experiments.clone(),
+            reference: self.reference.clone(),
+            studies: self.studies.clone(),
+            designs: self.designs.clone(),
+        }
+    }
+}
+
 /// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -143,6 +155,10 @@ pub enum Command {
         /// designs/, where `shotdamp report` evaluates them again instead of searching.
         #[arg(long)]
         store: bool,
+        /// Print what each search costs at most (placements, layout evaluations, steady
+        /// states, time); search nothing.
+        #[arg(long)]
+        dry_run: bool,
     },
     /// Run every experiment and regenerate the whole report.
     Report {
@@ -287,6 +303,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             Ok(true)
         }
         Command::Run { files, out, jobs, writing } => {
+            cli.project().refuse_overlap(out)?;
             let exps = experiment::load_all(files, &cli.reference)?;
             Ok(run_and_write(
                 &exps,
@@ -300,7 +317,23 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             )?
             .0)
         }
-        Command::Design { files, out, jobs, store } => {
+        Command::Design { files, out, jobs, store, dry_run } => {
+            cli.project().refuse_overlap(out)?;
+            let threads = runner::pool(*jobs)?.current_num_threads();
+            for (key, n, b) in runner::designs::budgets(files, &cli.reference)? {
+                say!(
+                    "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} threads at {:.0} us a steady state (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
+                    b.placements,
+                    b.searches,
+                    b.evaluations,
+                    b.points,
+                    study::duration(b.nominal_seconds(n, threads)),
+                    1e6 * crate::design::Budget::seconds_per_point(n),
+                );
+            }
+            if *dry_run {
+                return Ok(true);
+            }
             let settings = runner::designs::DesignSettings {
                 reference: cli.reference.clone(),
                 out: out.clone(),
@@ -322,7 +355,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             import(&cli.command, &cli.reference)?;
             Ok(true)
         }
-        Command::Study(args) => study::dispatch(args, &cli.reference),
+        Command::Study(args) => study::dispatch(args, &cli.project()),
         Command::Compare { a, b, out } => {
             crate::output::destination::refuse_overlap(out, &[("REPORT_A", a), ("REPORT_B", b)])?;
             let dest = crate::output::compare::write(a, b, out)?;
@@ -330,12 +363,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             Ok(true)
         }
         Command::Report { out, jobs, writing, bless } => {
-            let inputs = runner::ReportInputs {
-                experiments: cli.experiments.clone(),
-                reference: cli.reference.clone(),
-                studies: cli.studies.clone(),
-                designs: cli.designs.clone(),
-            };
+            let inputs = cli.project();
             let settings =
                 runner::ReportSettings { out: out.clone(), jobs: *jobs, writing: writing.options(), bless: *bless };
             Ok(finish(|progress, log, staging| runner::report(&inputs, &settings, progress, log, staging))?.0)

@@ -52,7 +52,8 @@ pub enum StudyCommand {
 }
 
 /// Runs `shotdamp study`.
-pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
+pub fn dispatch(args: &StudyArgs, project: &crate::runner::ReportInputs) -> anyhow::Result<bool> {
+    let reference = project.reference.as_path();
     if let Some(StudyCommand::Merge { dir }) = &args.command {
         print_merged(&shards::merge(dir)?);
         return Ok(true);
@@ -63,6 +64,7 @@ pub fn dispatch(args: &StudyArgs, reference: &Path) -> anyhow::Result<bool> {
     let study = study::load(file, reference)?;
     let out = args.out.clone().unwrap_or_else(|| shards::default_out(&study));
     shards::refuse_overlap(&study, reference, &out)?;
+    project.refuse_overlap(&out)?;
     let manifest = Manifest::of(&study, &file.display().to_string());
     let shard = shard(args, &out, &manifest)?;
     let pool = crate::runner::pool(args.jobs)?;
@@ -300,7 +302,7 @@ fn print_samples(study: &Study, shard: Shard) {
     }
 }
 
-fn duration(seconds: f64) -> String {
+pub(super) fn duration(seconds: f64) -> String {
     if seconds < 90.0 {
         format!("{seconds:.0} s")
     } else if seconds < 5400.0 {

@@ -60,6 +60,99 @@ pub struct Spec {
     pub replay: bool,
 }
 
+/// Stated limits of a design file, so that every search it can ask for ends in a time its
+/// estimate states (docs/design.md, "Limits and cost").
+pub mod limits {
+    /// Frequencies of one band.
+    pub const BAND_POINTS: usize = 1000;
+    /// Steady-state points of one layout evaluation: every band's frequencies, swept each
+    /// way asked, in every scenario.
+    pub const EVALUATION_POINTS: usize = 20_000;
+    /// Total shot mass ratios of the Pareto front (distinct).
+    pub const PARETO_RATIOS: usize = 20;
+    /// Values of each scenario list (`damping`, `force_n`; distinct).
+    pub const SCENARIO_VALUES: usize = 10;
+    /// Scenarios of one search (every combination, times the models with `models = true`).
+    pub const SCENARIOS: usize = 60;
+    /// Candidate clearances of the paper's SDOF rule (distinct).
+    pub const SDOF_CLEARANCES: usize = 50;
+    /// Nelder-Mead iterations per start.
+    pub const MAX_ITERS: usize = 10_000;
+    /// Starts per placement.
+    pub const STARTS: usize = 100;
+}
+
+/// What a design search costs at most, known before it runs (printed by `shotdamp design`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// Placements searched (each search).
+    pub placements: usize,
+    /// Searches: the best layout's, then one per Pareto ratio.
+    pub searches: usize,
+    /// Most layout evaluations, over every search and what follows it (the experiment's
+    /// cases, the clearance profile, the SDOF rule's layouts).
+    pub evaluations: u64,
+    /// Steady-state points of one layout evaluation (bands x sweeps x scenarios).
+    pub points: u64,
+}
+
+impl Budget {
+    /// Nominal CPU seconds of one steady-state point of a structure of `n` masses on one
+    /// core: 150 us on the paper's three masses (BENCHMARKS.md: 49 us a followed point, 147
+    /// us from rest), growing as `n^2` above three.
+    pub fn seconds_per_point(n: usize) -> f64 {
+        let r = (n as f64 / 3.0).max(1.0);
+        1.5e-4 * r * r
+    }
+
+    /// Wall seconds of the most evaluations on `threads` threads for a structure of `n`
+    /// masses at the nominal cost of a point ([`Budget::seconds_per_point`]): a point of
+    /// violent motion (many impacts a period, a transient that settles late) costs more, so
+    /// this is an estimate, not a bound; the number of evaluations is a bound.
+    pub fn nominal_seconds(&self, n: usize, threads: usize) -> f64 {
+        self.evaluations as f64 * self.points as f64 * Self::seconds_per_point(n) / threads.max(1) as f64
+    }
+}
+
+impl Spec {
+    /// Scenarios of one evaluation (1: the nominal structure and force).
+    pub fn scenario_count(&self) -> usize {
+        let models = if self.scenario_models { self.model_structures.len().max(1) } else { 1 };
+        self.scenario_damping.len().max(1) * self.scenario_force_n.len().max(1) * models
+    }
+
+    /// Steady-state points of one layout evaluation.
+    pub fn evaluation_points(&self) -> u64 {
+        let band: u64 = self.bands.iter().map(|b| b.freq_hz.len() as u64).sum();
+        band * self.sweeps.len() as u64 * self.scenario_count() as u64
+    }
+
+    /// What a search of this design costs at most (a replay: the stored layouts only).
+    pub fn budget(&self, cases: usize) -> Budget {
+        let placements = search::placements(&self.candidates, self.max_beds);
+        let searches = 1 + self.pareto_mass_ratios.len();
+        let space = search::Space {
+            placements: placements.clone(),
+            shot_kg: self.shot_kg,
+            clearance_mm: self.clearance_mm,
+            shared_clearance: self.shared_clearance,
+        };
+        let search = if self.replay { placements.len() as u64 } else { search::most_evaluations(&space, &self.search) };
+        let sdof = if self.sdof.is_some() { placements.len() as u64 } else { 0 };
+        let after = cases as u64 + PROFILE_POINTS as u64 + sdof;
+        Budget {
+            placements: placements.len(),
+            searches,
+            evaluations: search.saturating_mul(searches as u64).saturating_add(after),
+            points: self.evaluation_points(),
+        }
+    }
+}
+
+/// Layouts of the clearance profile drawn after a search (the best layout at clearances
+/// spread over the file's range).
+pub const PROFILE_POINTS: usize = 11;
+
 /// A frequency band and the masses whose compliance counts in it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Band {

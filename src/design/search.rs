@@ -63,6 +63,23 @@ pub fn dimension(k: usize, space: &Space) -> usize {
     (k - 1) + if space.shared_clearance { 1 } else { k }
 }
 
+/// The most layout evaluations one search of `space` can make with `opts`: per placement the
+/// coarse scan, each start's initial simplex and at most `d + 2` evaluations per Nelder-Mead
+/// iteration (a reflection, an expansion or contraction, or a shrink of `d` points), and the
+/// final evaluation of its best layout. Searches stop far earlier when the simplex's
+/// objectives agree to the tolerance: this bounds, it does not predict.
+pub fn most_evaluations(space: &Space, opts: &Options) -> u64 {
+    space
+        .placements
+        .iter()
+        .map(|hosts| {
+            let d = dimension(hosts.len(), space) as u64;
+            let per_start = (d + 1).saturating_add(opts.max_iters.saturating_mul(d + 2));
+            (COARSE.len() as u64 + 1).saturating_add((opts.starts.max(1) as u64).saturating_mul(per_start))
+        })
+        .fold(0u64, u64::saturating_add)
+}
+
 fn sigmoid(z: f64) -> f64 {
     1.0 / (1.0 + (-z).exp())
 }

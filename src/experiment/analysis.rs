@@ -362,6 +362,39 @@ pub fn analysis(
     }
 }
 
+/// The range of the struck mass's initial speed, m/s (given, or an impulse shared by the
+/// mass and the beds resting on it): from 1 um/s (a motion of nanometres) to 100 m/s (far
+/// beyond any hammer blow on a bench structure). Outside it the decay's amplitudes, and so
+/// its axes, span no physical range.
+pub const KICK_SPEED_M_S: (f64, f64) = (1e-6, 100.0);
+
+/// Refuses a kick whose initial speed of the struck mass lies outside [`KICK_SPEED_M_S`]:
+/// `moving` is the mass that shares it (the struck mass and the beds resting on it, kg).
+pub fn kick_speed_fits(path: &Path, kick: Kick, moving: f64) -> Result<()> {
+    let (lo, hi) = KICK_SPEED_M_S;
+    let (key, value, speed) = match kick {
+        Kick::Velocity(v) => ("analysis.initial_velocity_m_s", v, v),
+        Kick::Impulse(i) => ("analysis.impulse_n_s", i, i / moving),
+    };
+    if (lo..=hi).contains(&speed) {
+        return Ok(());
+    }
+    let speed_words = match kick {
+        Kick::Velocity(_) => String::new(),
+        Kick::Impulse(_) => format!(
+            "it gives the struck mass and the beds resting on it ({} kg) {} m/s; ",
+            crate::number::fmt_num(moving),
+            crate::number::fmt_num(speed)
+        ),
+    };
+    Err(Error::invalid(
+        path,
+        key,
+        crate::number::fmt_num(value),
+        format!("{speed_words}the struck mass's initial speed must lie in [{lo:e}, {hi}] m/s"),
+    ))
+}
+
 /// Validates an impulse analysis.
 pub(super) fn impulse(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
     let key = |k: &str| format!("analysis.{k}");

@@ -107,7 +107,7 @@ pub fn check(
                         return Err(Error::invalid(
                             path,
                             key("direction"),
-                            format!("{:?}", c.direction),
+                            c.direction.as_deref().map_or_else(|| "(missing)".to_string(), |d| format!("\"{d}\"")),
                             "a continuation sweep has an \"up\" and a \"down\" curve: give direction",
                         ));
                     }
@@ -120,7 +120,7 @@ pub fn check(
                         return Err(Error::invalid(
                             path,
                             key("clearance_mm"),
-                            format!("{:?}", c.clearance_mm),
+                            c.clearance_mm.map_or_else(|| "(missing)".to_string(), crate::number::fmt_num),
                             "name one of the clearances the study scans (analysis.clearances_mm)",
                         ));
                     }
@@ -366,7 +366,7 @@ fn window(path: &Path, key: String, v: &Option<Vec<f64>>) -> Result<Option<(f64,
     match v.as_deref() {
         None => Ok(None),
         Some(&[a, b]) if a.is_finite() && b.is_finite() && a < b => Ok(Some((a, b))),
-        Some(w) => Err(Error::invalid(path, key, format!("{w:?}"), "give [from, to] in Hz with from < to")),
+        Some(w) => Err(Error::invalid(path, key, crate::number::fmt_list(w), "give [from, to] in Hz with from < to")),
     }
 }
 

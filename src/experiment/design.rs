@@ -4,8 +4,9 @@
 use std::path::Path;
 
 use crate::design::search::Options;
-use crate::design::{Band, Combine, Measure, Spec, Sweep};
+use crate::design::{limits, Band, Combine, Measure, Spec, Sweep};
 use crate::error::{Error, Result};
+use crate::number::{fmt_list as fmt_num_list, fmt_num};
 
 use super::analysis::grid;
 use super::raw::RawDesign;
@@ -31,6 +32,52 @@ fn masses(path: &Path, key: &str, list: &[i64], n: usize) -> Result<Vec<usize>> 
         out.push(m as usize - 1);
     }
     Ok(out)
+}
+
+/// Refuses a design whose one layout evaluation would hold more scenarios or steady-state
+/// points than the stated limits (checked again once models are taken as scenarios).
+pub(super) fn sized(path: &Path, spec: &Spec) -> Result<()> {
+    let scenarios = spec.scenario_count();
+    if scenarios > limits::SCENARIOS {
+        return Err(Error::invalid(
+            path,
+            "design.scenarios",
+            format!("{scenarios} scenarios"),
+            format!("at most {} scenarios (damping x force x models)", limits::SCENARIOS),
+        ));
+    }
+    let points = spec.evaluation_points();
+    if points > limits::EVALUATION_POINTS as u64 {
+        return Err(Error::invalid(
+            path,
+            "design.bands",
+            format!("{points} steady states per layout"),
+            format!(
+                "at most {} steady states per layout evaluation (the bands' frequencies x {} sweeps x {scenarios} scenarios)",
+                limits::EVALUATION_POINTS,
+                spec.sweeps.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Refuses a list with a repeated value or more than `max` values.
+fn distinct(path: &Path, key: &str, list: &[f64], max: usize, what: &str) -> Result<()> {
+    if list.len() > max {
+        return Err(Error::invalid(path, key, format!("{} values", list.len()), format!("at most {max} {what}")));
+    }
+    for (i, v) in list.iter().enumerate() {
+        if let Some(j) = list[..i].iter().position(|w| w == v) {
+            return Err(Error::invalid(
+                path,
+                format!("{key}[{i}]"),
+                fmt_num(*v),
+                format!("repeats {key}[{j}]: give each value once"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn whole(path: &Path, key: &str, v: Option<i64>, default: usize, max: usize) -> Result<usize> {
@@ -74,7 +121,7 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
     let clearance_mm = match raw.clearance_mm.as_slice() {
         &[lo, hi] if lo.is_finite() && hi.is_finite() && 0.0 < lo && lo < hi => (lo, hi),
         other => {
-            return Err(bad("clearance_mm", &format!("{other:?}"), "[min, max] in mm with 0 < min < max, both finite"))
+            return Err(bad("clearance_mm", &fmt_num_list(other), "[min, max] in mm with 0 < min < max, both finite"))
         }
     };
     let measure = match raw.measure.as_deref() {
@@ -104,11 +151,17 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            Ok(Band {
-                name: b.name.clone(),
-                freq_hz: grid(path, &format!("design.bands[{i}].freq_hz"), &b.freq_hz)?,
-                masses: masses(path, &format!("design.bands[{i}].masses"), &b.masses, n)?,
-            })
+            let key = format!("design.bands[{i}].freq_hz");
+            let freq_hz = grid(path, &key, &b.freq_hz)?;
+            if freq_hz.len() > limits::BAND_POINTS {
+                return Err(Error::invalid(
+                    path,
+                    key,
+                    format!("{} frequencies", freq_hz.len()),
+                    format!("a design band has at most {} frequencies (each is a steady state in every layout the search evaluates)", limits::BAND_POINTS),
+                ));
+            }
+            Ok(Band { name: b.name.clone(), freq_hz, masses: masses(path, &format!("design.bands[{i}].masses"), &b.masses, n)? })
         })
         .collect::<Result<Vec<_>>>()?;
     let pareto_mass_ratios = raw.pareto_mass_ratios.clone().unwrap_or_default();
@@ -117,6 +170,13 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
     {
         return Err(bad(&format!("pareto_mass_ratios[{i}]"), r, "total shot mass ratios in (0, 10]"));
     }
+    distinct(
+        path,
+        "design.pareto_mass_ratios",
+        &pareto_mass_ratios,
+        limits::PARETO_RATIOS,
+        "Pareto ratios (each is a search of its own)",
+    )?;
     let scenario_models = raw.scenarios.as_ref().and_then(|sc| sc.models).unwrap_or(false);
     let (scenario_damping, scenario_force_n, combine) = match &raw.scenarios {
         None => (Vec::new(), Vec::new(), Combine::Worst),
@@ -126,10 +186,12 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
             {
                 return Err(bad(&format!("scenarios.damping[{i}]"), z, "a modal damping ratio in [0, 1)"));
             }
+            distinct(path, "design.scenarios.damping", &damping, limits::SCENARIO_VALUES, "damping scenarios")?;
             let force = sc.force_n.clone().unwrap_or_default();
             if let Some((i, f)) = force.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
                 return Err(bad(&format!("scenarios.force_n[{i}]"), f, "a force amplitude in N, positive and finite"));
             }
+            distinct(path, "design.scenarios.force_n", &force, limits::SCENARIO_VALUES, "force scenarios")?;
             if damping.is_empty() && force.is_empty() && !scenario_models {
                 return Err(bad("scenarios", &"(empty)", "give damping = [...], force_n = [...] and/or models = true"));
             }
@@ -153,13 +215,21 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
             if let Some((i, d)) = sd.clearances_mm.iter().enumerate().find(|(_, d)| !(d.is_finite() && **d > 0.0)) {
                 return Err(bad(&format!("sdof.clearances_mm[{i}]"), d, "a clearance in mm, positive and finite"));
             }
+            distinct(
+                path,
+                "design.sdof.clearances_mm",
+                &sd.clearances_mm,
+                limits::SDOF_CLEARANCES,
+                "candidate clearances",
+            )?;
             Some((sd.mode as usize - 1, sd.clearances_mm.clone()))
         }
     };
     let defaults = Options::default();
     let search = Options {
-        starts: whole(path, "design.starts", raw.starts, defaults.starts, 100)?,
-        max_iters: whole(path, "design.max_iters", raw.max_iters, defaults.max_iters as usize, 100_000)? as u64,
+        starts: whole(path, "design.starts", raw.starts, defaults.starts, limits::STARTS)?,
+        max_iters: whole(path, "design.max_iters", raw.max_iters, defaults.max_iters as usize, limits::MAX_ITERS)?
+            as u64,
         tolerance: defaults.tolerance,
         seed: match raw.seed {
             None => defaults.seed,
@@ -167,7 +237,7 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
             Some(s) => return Err(bad("seed", &s, "a whole number >= 0")),
         },
     };
-    Ok(Some(Spec {
+    let spec = Spec {
         candidates,
         max_beds,
         shot_kg,
@@ -186,5 +256,7 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
         report: raw.report.unwrap_or(false),
         scenario_models,
         model_structures: Vec::new(),
-    }))
+    };
+    sized(path, &spec)?;
+    Ok(Some(spec))
 }

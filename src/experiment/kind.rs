@@ -148,6 +148,12 @@ impl Analysis {
         }
     }
 
+    /// Whether it runs the exact simulator (every kind but the modal and the linear ones,
+    /// which take a structure of any size).
+    pub fn simulates(&self) -> bool {
+        !matches!(self, Analysis::Modal | Analysis::LinearFrf { .. })
+    }
+
     /// Whether every damper's clearance is scanned (`clearance_mm = "scan"` required).
     pub fn scans_clearances(&self) -> bool {
         matches!(self, Analysis::ClearanceStudy { .. })

@@ -208,7 +208,8 @@ fn select_model(path: &Path, table: &mut toml::Table, model: Option<&str>, ids: 
 
 /// Stage one: a merged table deserialised into raw structs; unknown keys are errors that
 /// name their path.
-pub fn read_raw(path: &Path, table: toml::Table) -> Result<RawExperiment> {
+pub fn read_raw(path: &Path, mut table: toml::Table) -> Result<RawExperiment> {
+    table.iter_mut().for_each(|(_, v)| whole_floats(v));
     let raw: RawExperiment =
         serde_path_to_error::deserialize(table).map_err(|e: serde_path_to_error::Error<toml::de::Error>| {
             let key = e.path().to_string();
@@ -216,13 +217,40 @@ pub fn read_raw(path: &Path, table: toml::Table) -> Result<RawExperiment> {
             Error::Parse {
                 file: path.display().to_string(),
                 message: if key == "." || key.is_empty() {
-                    inner.message().to_string()
+                    serde_words(inner.message())
                 } else {
-                    format!("{key}: {}", inner.message())
+                    format!("{key}: {}", serde_words(inner.message()))
                 },
             }
         })?;
     Ok(raw)
+}
+
+/// Whole-valued floats (`1e3`, `4.0`) made integers, so that a key taking a whole number
+/// reads them and its validation states the allowed range (`max_iters = 1e9`: "give a whole
+/// number from 1 to 10000"); a key taking a float reads an integer as the same float.
+/// Beyond 2^53 a float stays a float.
+pub(super) fn whole_floats(v: &mut toml::Value) {
+    match v {
+        toml::Value::Float(f) if f.fract() == 0.0 && f.abs() <= 9_007_199_254_740_992.0 => {
+            *v = toml::Value::Integer(*f as i64);
+        }
+        toml::Value::Array(a) => a.iter_mut().for_each(whole_floats),
+        toml::Value::Table(t) => t.iter_mut().for_each(|(_, v)| whole_floats(v)),
+        _ => {}
+    }
+}
+
+/// A deserialiser's message in the words of the files: Rust's type names become what a
+/// file gives ("expected i64" is "expected a whole number").
+pub(super) fn serde_words(message: &str) -> String {
+    [
+        ("expected i64", "expected a whole number"),
+        ("expected u64", "expected a whole number >= 0"),
+        ("expected f64", "expected a number"),
+    ]
+    .iter()
+    .fold(message.to_string(), |m, (from, to)| m.replace(from, to))
 }
 
 #[cfg(test)]

@@ -631,6 +631,7 @@ fn models_as_scenarios(path: &Path, mut exps: Vec<Experiment>) -> Result<Vec<Exp
     one.model = None;
     if let Analysis::Design { spec, .. } = &mut one.analysis {
         spec.model_structures = structures;
+        design::sized(path, spec)?;
     }
     Ok(vec![one])
 }

@@ -113,7 +113,7 @@ pub fn plot(path: &Path, i: usize, p: RawPlot, n: usize, case_ids: &[String], an
             return Err(Error::invalid(
                 path,
                 key("x_range"),
-                format!("{v:?}"),
+                crate::number::fmt_list(v),
                 "give [from, to] with from < to, both finite",
             ))
         }

@@ -16,7 +16,8 @@ use super::{Analysis, Case, ClearanceSource, Excitation};
 pub use super::fields::{check_frequencies, MIN_FREQUENCY_RATIO};
 
 /// Reads `value` as a `T`, naming a wrong key `{prefix}KEY` as an experiment file would.
-fn read<T: DeserializeOwned>(origin: &str, prefix: &str, value: toml::Value) -> Result<T> {
+fn read<T: DeserializeOwned>(origin: &str, prefix: &str, mut value: toml::Value) -> Result<T> {
+    super::load::whole_floats(&mut value);
     serde_path_to_error::deserialize(value).map_err(|e: serde_path_to_error::Error<toml::de::Error>| {
         let key = e.path().to_string();
         let inner = e.into_inner();
@@ -27,7 +28,11 @@ fn read<T: DeserializeOwned>(origin: &str, prefix: &str, value: toml::Value) -> 
         };
         Error::Parse {
             file: origin.to_string(),
-            message: if key.is_empty() { inner.message().to_string() } else { format!("{key}: {}", inner.message()) },
+            message: if key.is_empty() {
+                super::load::serde_words(inner.message())
+            } else {
+                format!("{key}: {}", super::load::serde_words(inner.message()))
+            },
         }
     })
 }
@@ -51,14 +56,31 @@ pub fn case(origin: &str, id: &str, dampers: Vec<toml::Table>, structure: &Struc
     }
     let (dampers, clearances, laws, grains) = super::validate::dampers(origin.as_ref(), "", raw, structure)?;
     if let Some(i) = clearances.iter().position(|c| *c != ClearanceSource::Fixed) {
-        return Err(Error::invalid(
-            origin,
-            format!("dampers[{i}].clearance_mm"),
-            "(scan or @EXPERIMENT.KEY)",
-            "a clearance outside an experiment file is a number of millimetres >= 0 or \"inf\"",
-        ));
+        return Err(fixed_only(origin, &format!("dampers[{i}].")));
     }
     Ok(Case { id: id.into(), label: id.into(), dampers, clearances, laws, grains })
+}
+
+/// Validates one damper entry (the keys of [`case`]'s tables) on its own, before any
+/// structure is known: everything but whether its host mass exists, with the messages an
+/// experiment file gets. Keys are named `damper.KEY`.
+pub fn damper(origin: &str, table: toml::Table) -> Result<()> {
+    let raw: RawDamper = read(origin, "damper.", toml::Value::Table(table))?;
+    let f = super::validate::damper_alone(origin.as_ref(), &|k: &str| format!("damper.{k}"), &raw)?;
+    if f.spec != ClearanceSource::Fixed {
+        return Err(fixed_only(origin, "damper."));
+    }
+    Ok(())
+}
+
+/// A clearance other than a number or "inf" outside an experiment file.
+fn fixed_only(origin: &str, prefix: &str) -> Error {
+    Error::invalid(
+        origin,
+        format!("{prefix}clearance_mm"),
+        "(scan or @EXPERIMENT.KEY)",
+        "a clearance outside an experiment file is a number of millimetres >= 0 or \"inf\"",
+    )
 }
 
 /// The excitation: `mass` (1-based) driven by `force_n` sin(omega t), as an experiment file's
@@ -84,6 +106,18 @@ pub fn impulse(origin: &str, mut table: toml::Table, structure: &Structure) -> R
         Analysis::Impulse { options, .. } => Ok(options),
         other => Err(Error::invalid(origin, "analysis.kind", other.kind(), "an impulse analysis")),
     }
+}
+
+/// Refuses a structure the exact simulator cannot take (more masses than it holds), before
+/// anything runs: `origin` names the caller (e.g. "shotdamp.System").
+pub fn simulated_structure(origin: &str, structure: &Structure) -> Result<()> {
+    super::validate::simulator_fits(origin.as_ref(), structure.dof(), &format!("{origin} runs"))
+}
+
+/// Refuses a kick that gives the struck mass an initial speed outside the physical range
+/// (`experiment::analysis::KICK_SPEED_M_S`) in `case`.
+pub fn kick(origin: &str, options: &ImpulseOptions, structure: &Structure, case: &Case) -> Result<()> {
+    super::validate::kick_fits(origin.as_ref(), options, structure, case)
 }
 
 /// The simulated system of a case: the structure, the case's dampers with their impact laws

@@ -8,7 +8,8 @@ use nalgebra::DMatrix;
 use crate::error::{Error, Result};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 use crate::model::{Damper, Damping, Structure};
-use crate::sim::system::{MAX_BEDS, MAX_CONFIGS};
+use crate::sim::impulse::ImpulseOptions;
+use crate::sim::system::{MAX_BEDS, MAX_CONFIGS, MAX_MASSES};
 
 use super::analysis::{analysis, export_ref};
 use super::checks::check;
@@ -63,6 +64,14 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
                     "a clearance study scans every damper's clearance (clearance_mm = \"scan\"), an sdof_periodic analysis with clearances_mm may; other analyses take a number, \"inf\" or \"@EXPERIMENT.KEY\"",
                 ));
             }
+        }
+    }
+    if analysis.simulates() {
+        simulator_fits(path, n, &format!("analysis kind \"{}\" runs", analysis.kind()))?;
+    }
+    if let Analysis::Impulse { options, .. } = &analysis {
+        for case in &cases {
+            kick_fits(path, options, &structure, case)?;
         }
     }
     let simulated = analysis.simulated_frequencies();
@@ -360,6 +369,31 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
     Ok(out)
 }
 
+/// Refuses an impulse whose kick gives the struck mass an initial speed outside
+/// `KICK_SPEED_M_S` in `case` (an impulse is shared with the beds resting
+/// on the struck mass, as the simulation shares it).
+pub(super) fn kick_fits(path: &Path, options: &ImpulseOptions, structure: &Structure, case: &Case) -> Result<()> {
+    let k = options.mass;
+    let resting: f64 = case.dampers.iter().filter(|d| d.host == k).map(|d| d.mass).sum();
+    super::analysis::kick_speed_fits(path, options.kick, structure.masses[k] + resting)
+}
+
+/// Refuses a structure of `n` masses larger than the exact simulator takes; `who` says what
+/// runs it (e.g. `analysis kind "sweep" runs`).
+pub(super) fn simulator_fits(path: &Path, n: usize, who: &str) -> Result<()> {
+    if n <= MAX_MASSES {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        path,
+        "structure.masses_kg",
+        format!("{n} masses"),
+        format!(
+            "{who} the exact simulator, which takes at most {MAX_MASSES} masses (analysis kinds \"modal\" and \"linear_frf\" take any number)"
+        ),
+    ))
+}
+
 /// The dampers of a case, one per container: their masses and clearances, clearance specs,
 /// impact laws and grains. Keys are named `{prefix}dampers[i].KEY` (`prefix` "cases[0]." in an
 /// experiment file).
@@ -382,34 +416,15 @@ pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Struct
     for (di, d) in raw.into_iter().enumerate() {
         let key = |k: &str| format!("{prefix}dampers[{di}].{k}");
         let host = mass_index(path, &key("mass"), d.mass, n)?;
-        let mass = match (d.mass_ratio, d.mass_kg) {
-            (Some(r), None) => {
-                if !(r.is_finite() && r > 0.0) {
-                    return Err(Error::invalid(path, key("mass_ratio"), r, "a mass ratio must be positive"));
-                }
-                r * s.masses[host]
-            }
-            (None, Some(m)) => {
-                if !(m.is_finite() && m > 0.0) {
-                    return Err(Error::invalid(path, key("mass_kg"), m, "a damper mass must be positive"));
-                }
-                m
-            }
-            _ => {
-                return Err(Error::invalid(
-                    path,
-                    key("mass_ratio"),
-                    "(missing)",
-                    "give exactly one of mass_ratio and mass_kg",
-                ))
-            }
+        let f = damper_alone(path, &key, &d)?;
+        let mass = match f.mass {
+            DamperMass::Ratio(r) => r * s.masses[host],
+            DamperMass::Kg(m) => m,
         };
-        let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
-        dampers.push(Damper { host, mass, clearance });
-        clearances.push(spec);
-        let (law, n) = bed_model(path, &key, &d)?;
-        laws.push(law);
-        grains.push(n);
+        dampers.push(Damper { host, mass, clearance: f.clearance });
+        clearances.push(f.spec);
+        laws.push(f.law);
+        grains.push(f.grains);
     }
     let configs = grains.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS));
     if configs.is_none() {
@@ -421,6 +436,71 @@ pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Struct
         ));
     }
     Ok((dampers, clearances, laws, grains))
+}
+
+/// A damper's mass as given: a ratio to its host's mass, or kilograms.
+pub(super) enum DamperMass {
+    /// `mass_ratio`.
+    Ratio(f64),
+    /// `mass_kg`.
+    Kg(f64),
+}
+
+/// What a damper entry says, validated without its structure.
+pub(super) struct DamperAlone {
+    /// Its mass.
+    pub mass: DamperMass,
+    /// Its clearance and where it comes from.
+    pub clearance: crate::model::Clearance,
+    /// How the clearance is given.
+    pub spec: ClearanceSource,
+    /// Its bed's impact law.
+    pub law: crate::sim::bed::ImpactLaw,
+    /// Grains of its column (1: one mass).
+    pub grains: usize,
+}
+
+/// Validates every key of a damper entry that does not depend on the structure (all but the
+/// host's upper bound): the host is a mass number >= 1, exactly one of `mass_ratio` and
+/// `mass_kg`, positive and finite, the clearance, the bed model. What the Python package's
+/// `Damper(...)` checks when it is built; an experiment file's dampers pass here first.
+pub(super) fn damper_alone(path: &Path, key: &dyn Fn(&str) -> String, d: &RawDamper) -> Result<DamperAlone> {
+    if d.mass < 1 {
+        return Err(Error::invalid(path, key("mass"), d.mass, "masses are numbered from 1"));
+    }
+    let mass = match (d.mass_ratio, d.mass_kg) {
+        (Some(r), None) => {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(Error::invalid(path, key("mass_ratio"), r, "a mass ratio must be positive"));
+            }
+            DamperMass::Ratio(r)
+        }
+        (None, Some(m)) => {
+            if !(m.is_finite() && m > 0.0) {
+                return Err(Error::invalid(path, key("mass_kg"), m, "a damper mass must be positive"));
+            }
+            DamperMass::Kg(m)
+        }
+        (None, None) => {
+            return Err(Error::invalid(
+                path,
+                key("mass_ratio"),
+                "(missing)",
+                "give exactly one of mass_ratio and mass_kg",
+            ))
+        }
+        (Some(_), Some(_)) => {
+            return Err(Error::invalid(
+                path,
+                key("mass_ratio"),
+                "(both mass_ratio and mass_kg)",
+                "give exactly one of mass_ratio and mass_kg",
+            ))
+        }
+    };
+    let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
+    let (law, grains) = bed_model(path, key, d)?;
+    Ok(DamperAlone { mass, clearance, spec, law, grains })
 }
 
 /// Default sticking speed of a bed with restitution, m/s: slower impacts are plastic (what

@@ -1,8 +1,10 @@
 //! Output folders. A report is written into a new staging folder beside its destination and
 //! renamed into place at the end, so a failed or interrupted run leaves the previous report
 //! intact. shotdamp replaces only a folder that it wrote itself (it carries the marker file
-//! [`MARKER`]) or an empty one: a folder of someone else's files, or a path that is a file, is
-//! refused before the run starts. Nothing of the user's is moved, renamed or deleted.
+//! [`MARKER`] and the list [`MANIFEST`] of every entry it wrote) or an empty one: a folder of
+//! someone else's files, a report folder into which anyone put an entry shotdamp did not
+//! write, or a path that is a file, is refused before the run starts (and again just before
+//! the new report replaces the old). Nothing of the user's is moved, renamed or deleted.
 //!
 //! Staging folders are `.NAME.tmp-PID` beside the destination; the next run into the same
 //! destination removes those of processes that no longer run (never a live one).
@@ -99,7 +101,17 @@ pub fn staging_path(out: &Path) -> Result<PathBuf> {
 pub const MARKER: &str = ".shotdamp-report";
 
 /// The marker's text (fixed, so that a tracked copy never shows as changed).
-pub const MARKER_TEXT: &str = "This folder was written by shotdamp. shotdamp replaces it on its next run into this folder;\nfiles added here are lost then.\n";
+pub const MARKER_TEXT: &str = "This folder was written by shotdamp. shotdamp replaces it on its next run into this folder,\nand refuses to while it holds anything shotdamp did not write (.shotdamp-files lists what it wrote).\n";
+
+/// The list of every entry (file, folder, link) shotdamp wrote into a report folder, one path
+/// relative to the folder a line (`/` between parts, a folder's path ending in `/`), sorted.
+/// Written last, just before the report is moved into place; read before the folder is
+/// replaced, so that an entry added by anyone else is found and the folder refused.
+pub const MANIFEST: &str = ".shotdamp-files";
+
+/// The entries a marked folder without a [`MANIFEST`] may hold: the tracked `reports/` of a
+/// fresh checkout (the marker and the README).
+const BARE_MARKED: [&str; 2] = [MARKER, "README.md"];
 
 /// The README every report folder carries (the same bytes as the tracked `reports/README.md`).
 pub const README: &str = include_str!("../../reports/README.md");
@@ -107,6 +119,8 @@ pub const README: &str = include_str!("../../reports/README.md");
 /// A report being written.
 pub struct Staging {
     out: PathBuf,
+    /// `out` as the caller gave it (for messages).
+    given: PathBuf,
     dir: PathBuf,
 }
 
@@ -123,33 +137,44 @@ fn name(out: &Path) -> String {
     out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "reports".into())
 }
 
-/// Whether `out` may be replaced: it does not exist, or it is a folder that shotdamp wrote or
-/// an empty one. Anything else is an error that says what is there and what to do.
+/// Whether `out` may be replaced: it does not exist, or it is a folder that shotdamp wrote (and
+/// holds nothing it did not write) or an empty one. Anything else is an error that says what
+/// is there and what to do.
 pub fn check(out: &Path) -> Result<()> {
     let meta = match std::fs::symlink_metadata(out) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
         Err(e) => return Err(Error::io(out, e)),
     };
-    let refuse = |what: String| {
-        Error::Destination {
-        path: out.to_path_buf(),
-        message: format!(
-            "{what}; shotdamp replaces only a folder it wrote itself (with a {MARKER} file) or an empty one. Give --out a new folder, or move those files away first"
-        ),
-    }
-    };
+    let refuse =
+        |what: String, rule: &str| Error::Destination { path: out.to_path_buf(), message: format!("{what}; {rule}") };
+    const RULE: &str = "shotdamp replaces only a folder it wrote itself (with a .shotdamp-report file) or an empty one. Give --out a new folder, or move those files away first";
     if !meta.is_dir() {
-        return Err(refuse(if meta.file_type().is_symlink() {
-            "is a symbolic link, not a folder".into()
-        } else {
-            "is a file, not a folder".into()
-        }));
+        return Err(refuse(
+            if meta.file_type().is_symlink() {
+                "is a symbolic link, not a folder".into()
+            } else {
+                "is a file, not a folder".into()
+            },
+            RULE,
+        ));
     }
     if out.join(MARKER).is_file() {
-        return Ok(());
+        let (foreign, listed) = foreign_entries(out)?;
+        if foreign.is_empty() {
+            return Ok(());
+        }
+        return Err(refuse(
+            format!(
+                "is a folder shotdamp wrote, but it holds {} that shotdamp did not write: {}{}",
+                count(foreign.len()),
+                shown(&foreign),
+                if listed { "" } else { " (it has no list of what shotdamp wrote, .shotdamp-files: a report of an earlier version)" }
+            ),
+            "shotdamp never deletes what it did not write. Move them out of the folder (or the whole folder away), or give --out a new folder",
+        ));
     }
-    let entries: Vec<String> = std::fs::read_dir(out)
+    let mut entries: Vec<String> = std::fs::read_dir(out)
         .map_err(io(out))?
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
@@ -157,15 +182,82 @@ pub fn check(out: &Path) -> Result<()> {
     if entries.is_empty() {
         return Ok(());
     }
-    let mut shown: Vec<&str> = entries.iter().map(String::as_str).take(3).collect();
-    shown.sort_unstable();
+    entries.sort_unstable();
+    Err(refuse(
+        format!("is a folder that shotdamp did not write ({}: {})", count(entries.len()), shown(&entries)),
+        RULE,
+    ))
+}
+
+/// "1 entry" or "N entries".
+fn count(n: usize) -> String {
+    format!("{n} {}", if n == 1 { "entry" } else { "entries" })
+}
+
+/// The first three of `entries` (sorted), and how many more.
+fn shown(entries: &[String]) -> String {
     let more = if entries.len() > 3 { format!(" and {} more", entries.len() - 3) } else { String::new() };
-    Err(refuse(format!(
-        "is a folder that shotdamp did not write ({} {}: {}{more})",
-        entries.len(),
-        if entries.len() == 1 { "entry" } else { "entries" },
-        shown.join(", ")
-    )))
+    format!("{}{more}", entries[..entries.len().min(3)].join(", "))
+}
+
+/// Every entry below `dir` (files, folders and links, not following links), as paths relative
+/// to it with `/` between parts and a folder's path ending in `/`, sorted.
+fn entries_below(dir: &Path) -> Result<Vec<String>> {
+    let mut out = Vec::new();
+    let mut stack = vec![(dir.to_path_buf(), String::new())];
+    while let Some((path, rel)) = stack.pop() {
+        for e in std::fs::read_dir(&path).map_err(io(&path))? {
+            let e = e.map_err(io(&path))?;
+            let name = e.file_name().to_string_lossy().into_owned();
+            let is_dir = e.file_type().map_err(io(&e.path()))?.is_dir();
+            let r = format!("{rel}{name}{}", if is_dir { "/" } else { "" });
+            if is_dir {
+                stack.push((e.path(), r.clone()));
+            }
+            out.push(r);
+        }
+    }
+    out.sort_unstable();
+    Ok(out)
+}
+
+/// The entries of the marked folder `dir` that shotdamp did not write: those its
+/// [`MANIFEST`] does not list (without one: all but [`BARE_MARKED`]). Of a foreign folder
+/// only the folder is named, not what it holds. The flag: whether the folder has a manifest.
+fn foreign_entries(dir: &Path) -> Result<(Vec<String>, bool)> {
+    let manifest = dir.join(MANIFEST);
+    let (written, listed): (std::collections::BTreeSet<String>, bool) = match std::fs::read_to_string(&manifest) {
+        Ok(text) => (text.lines().map(str::to_string).collect(), true),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            (BARE_MARKED.iter().map(|s| s.to_string()).collect(), false)
+        }
+        Err(e) => return Err(Error::io(&manifest, e)),
+    };
+    let mut foreign: Vec<String> = Vec::new();
+    for e in entries_below(dir)? {
+        if e == MARKER || e == MANIFEST || written.contains(&e) {
+            continue;
+        }
+        // Inside a foreign folder: that folder is named already.
+        if foreign.iter().any(|f| f.ends_with('/') && e.starts_with(f.as_str())) {
+            continue;
+        }
+        foreign.push(e);
+    }
+    Ok((foreign, listed))
+}
+
+/// Writes the [`MANIFEST`] of the staging folder `dir` (every entry in it).
+fn write_manifest(dir: &Path) -> Result<()> {
+    let mut text = String::new();
+    for e in entries_below(dir)? {
+        if e != MANIFEST {
+            text.push_str(&e);
+            text.push('\n');
+        }
+    }
+    let path = dir.join(MANIFEST);
+    std::fs::write(&path, text).map_err(io(&path))
 }
 
 /// Whether process `pid` is running (on systems without `/proc`: assumed running).
@@ -202,9 +294,9 @@ pub fn remove_stale(out: &Path) -> Vec<PathBuf> {
 impl Staging {
     /// Checks the destination and prepares a staging folder for it (with the marker and the
     /// README), before any long run.
-    pub fn create(out: &Path) -> Result<Staging> {
-        let out = absolute(out)?;
-        check(&out)?;
+    pub fn create(given: &Path) -> Result<Staging> {
+        check(given)?;
+        let out = absolute(given)?;
         if let Some(parent) = out.parent() {
             std::fs::create_dir_all(parent).map_err(io(parent))?;
         }
@@ -216,7 +308,7 @@ impl Staging {
         std::fs::create_dir_all(&dir).map_err(io(&dir))?;
         std::fs::write(dir.join(MARKER), MARKER_TEXT).map_err(io(&dir))?;
         std::fs::write(dir.join("README.md"), README).map_err(io(&dir))?;
-        Ok(Staging { out, dir })
+        Ok(Staging { out, given: given.to_path_buf(), dir })
     }
 
     /// The staging folder (what an interrupt handler removes).
@@ -229,8 +321,9 @@ impl Staging {
         &self.out
     }
 
-    /// Moves the report into place; the previous one (checked again: it may have changed
-    /// during the run) is removed only after the new one is there.
+    /// Moves the report into place, with the list of what it holds ([`MANIFEST`]); the
+    /// previous one (checked again: it may have changed during the run) is removed only after
+    /// the new one is there.
     pub fn commit(self) -> Result<PathBuf> {
         // (`self` is dropped at the end: its staging folder is gone by then, or abandoned.)
         let mut committed = commit_lock();
@@ -238,11 +331,21 @@ impl Staging {
             // An interrupt removed it before the lock was taken: the process is ending.
             return Err(Error::Destination { path: self.dir.clone(), message: "removed by an interrupt".into() });
         }
-        check(&self.out)?;
+        check(&self.given)?;
+        write_manifest(&self.dir)?;
         let backup = sibling(&self.out, "old", std::process::id());
         let had_old = self.out.exists();
         if had_old {
             std::fs::rename(&self.out, &backup).map_err(io(&self.out))?;
+            // Checked once more where no one else writes: anything added between the check
+            // above and the rename is found here, and the folder is put back as it was.
+            if let Err(e) = check(&backup) {
+                let _ = std::fs::rename(&backup, &self.out);
+                return Err(match check(&self.given) {
+                    Err(named) => named,
+                    Ok(()) => e,
+                });
+            }
         }
         if let Err(e) = std::fs::rename(&self.dir, &self.out) {
             if had_old {

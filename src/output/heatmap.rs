@@ -310,12 +310,14 @@ fn draw_panel<DB: DrawingBackend>(
     };
     let range = |all: &[f64], log: bool| -> (f64, f64) {
         if map.grid {
-            (-0.5, all.len() as f64 - 0.5)
+            (-0.5, all.len().max(1) as f64 - 0.5)
+        } else if all.is_empty() {
+            (0.0, 1.0)
         } else {
             let lo = tx(all[0], log, all);
             let hi = tx(all[all.len() - 1], log, all);
             let pad = ((hi - lo) * 0.05).max(1e-9);
-            (lo - pad, hi + pad)
+            super::plot::axis_range(lo - pad, hi + pad, false)
         }
     };
     let (x0, x1) = range(&xs, map.x_log);

@@ -188,6 +188,55 @@ fn y_extent(panel: &Panel) -> (f64, f64) {
     }
 }
 
+/// The largest magnitude an axis end may have (beyond it a tick's arithmetic overflows).
+const AXIS_MAX: f64 = 1e300;
+
+/// The most decades a logarithmic axis spans (its key points are computed per decade).
+const AXIS_DECADES: f64 = 30.0;
+
+/// An axis range that plotters can draw whatever the data: finite ends inside
+/// +-[`AXIS_MAX`], `lo < hi` with a width tick labels can resolve, and on a logarithmic axis
+/// positive ends at most [`AXIS_DECADES`] apart (the upper end kept: the largest values
+/// matter). Every axis of every plot passes here.
+pub(crate) fn axis_range(lo: f64, hi: f64, log: bool) -> (f64, f64) {
+    if log {
+        let (mut lo, mut hi) = (lo.clamp(1.0 / AXIS_MAX, AXIS_MAX), hi.clamp(1.0 / AXIS_MAX, AXIS_MAX));
+        if lo.is_nan() || hi.is_nan() || lo <= 0.0 {
+            return (1e-6, 1e-3);
+        }
+        if lo > hi {
+            std::mem::swap(&mut lo, &mut hi);
+        }
+        if hi / lo < 1.0 + 1e-9 {
+            // One value: a decade around it.
+            let (a, b) = (lo / 10f64.sqrt(), hi * 10f64.sqrt());
+            return (a.max(1.0 / AXIS_MAX), b.min(AXIS_MAX));
+        }
+        if (hi / lo).log10() > AXIS_DECADES {
+            lo = hi / 10f64.powf(AXIS_DECADES);
+        }
+        (lo, hi)
+    } else {
+        if lo.is_nan() || hi.is_nan() {
+            return (0.0, 1.0);
+        }
+        let (mut lo, mut hi) = (lo.clamp(-AXIS_MAX, AXIS_MAX), hi.clamp(-AXIS_MAX, AXIS_MAX));
+        if lo > hi {
+            std::mem::swap(&mut lo, &mut hi);
+        }
+        // Tick labels resolve about 1e-9 of the ends' magnitude; a narrower range is widened
+        // around its middle (or to +-1 around 0).
+        let scale = lo.abs().max(hi.abs());
+        let least = if scale > 0.0 { (scale * 1e-9).max(1e-300) } else { 1.0 };
+        if hi - lo < least {
+            let mid = 0.5 * (lo + hi);
+            (mid - least, mid + least)
+        } else {
+            (lo, hi)
+        }
+    }
+}
+
 /// Tick labels of a value axis: scientific notation for small or large values.
 fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> String> {
     let big = lo.abs().max(hi.abs());
@@ -213,7 +262,8 @@ fn draw_panel<DB: DrawingBackend>(
     what: &str,
 ) -> Result<()> {
     let (y0, y1) = y_extent(panel);
-    let (x0, x1) = panel.x_range;
+    let (y0, y1) = axis_range(y0, y1, panel.y_log);
+    let (x0, x1) = axis_range(panel.x_range.0, panel.x_range.1, panel.x_log);
     let mut builder = ChartBuilder::on(area);
     builder
         .caption(&panel.title, ("sans-serif", 22).into_font())
@@ -432,6 +482,68 @@ fn dash_segments(dash: Dash) -> [(i32, i32); 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::figure::{Figure, Panel, Series};
+
+    /// Data no run should produce, but a guard must survive: every plot's axes pass through
+    /// `axis_range`, so every kind of panel (linear or logarithmic on either axis, ranges from
+    /// the data or given) draws it in bounded time and memory.
+    #[test]
+    fn extreme_data_draws_on_every_kind_of_axis() {
+        let sets: Vec<(&str, Vec<f64>, Vec<f64>)> = vec![
+            ("tiny", vec![1e-320, 2e-320, 5e-300], vec![1e-320, 1e-310, 4e-300]),
+            ("huge", vec![1.0, 1e200, 1e308], vec![1e160, 1e300, f64::MAX]),
+            ("both", vec![1e-300, 1.0, 1e300], vec![1e-300, 1.0, 1e300]),
+            ("flat", vec![3.0, 3.0, 3.0], vec![7.5, 7.5, 7.5]),
+            ("non-finite", vec![f64::NAN, 1.0, f64::INFINITY], vec![f64::NEG_INFINITY, f64::NAN, 2.0]),
+            ("negative", vec![-5.0, -1.0, 0.0], vec![-1e300, -2.0, 0.0]),
+            ("empty", vec![], vec![]),
+        ];
+        for (name, x, y) in &sets {
+            let finite = |v: &[f64]| {
+                let f: Vec<f64> = v.iter().copied().filter(|a| a.is_finite()).collect();
+                (f.iter().copied().fold(f64::INFINITY, f64::min), f.iter().copied().fold(f64::NEG_INFINITY, f64::max))
+            };
+            for (x_log, y_log) in [(false, false), (true, false), (false, true), (true, true)] {
+                for y_range in [None, Some(finite(y)), Some((f64::NAN, f64::INFINITY))] {
+                    let mut panel = Panel::new(*name, "x", "y", finite(x));
+                    panel.x_log = x_log;
+                    panel.y_log = y_log;
+                    panel.y_range = y_range;
+                    panel.series.push(Series::line("data", x.clone(), y.clone(), 0));
+                    let fig =
+                        Figure { id: "extreme".into(), title: "t".into(), caption: String::new(), panels: vec![panel] };
+                    let what = format!("{name}, log x {x_log}, log y {y_log}, y range {y_range:?}");
+                    assert!(to_png(&fig).is_ok(), "{what}");
+                    assert!(to_svg(&fig).is_ok(), "{what}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn axis_ranges_are_finite_ordered_and_bounded() {
+        let cases = [
+            (1e-320, 1e308, true),
+            (0.0, 0.0, true),
+            (-1.0, 5.0, true),
+            (f64::NAN, 1.0, false),
+            (5.0, 5.0, false),
+            (0.0, 0.0, false),
+            (-f64::MAX, f64::MAX, false),
+            (f64::NEG_INFINITY, f64::INFINITY, true),
+            (3.0, 1.0, false),
+        ];
+        for (lo, hi, log) in cases {
+            let (a, b) = axis_range(lo, hi, log);
+            assert!(a.is_finite() && b.is_finite() && a < b, "({lo}, {hi}, log {log}) -> ({a}, {b})");
+            assert!(a.abs() <= AXIS_MAX && b.abs() <= AXIS_MAX);
+            if log {
+                assert!(a > 0.0 && (b / a).log10() <= AXIS_DECADES + 1e-9, "({lo}, {hi}) -> ({a}, {b})");
+            }
+        }
+        assert_eq!(axis_range(1e-4, 1e-2, true), (1e-4, 1e-2), "sane ranges are kept");
+        assert_eq!(axis_range(-2.0, 3.0, false), (-2.0, 3.0));
+    }
 
     #[test]
     fn png_is_indexed_when_few_colours_and_decodes_to_the_same_pixels() {

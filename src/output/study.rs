@@ -301,9 +301,47 @@ pub fn read_manifest(dir: &Path) -> Result<Manifest> {
     Err(Error::Parse { file: path.display().to_string(), message: last.map(|e| e.to_string()).unwrap_or_default() })
 }
 
-fn read_parquet(path: &Path) -> Result<DataFrame> {
+/// The key under which a part or batch records the fingerprint of the study version that
+/// computed it (Parquet key-value metadata): a file renamed to another version's name is
+/// still known for what it is.
+const FINGERPRINT_KEY: &str = "shotdamp.study.fingerprint";
+
+/// A part or batch of the study of `manifest`: its rows, once the fingerprint recorded
+/// inside it is found to be the folder's (a part of another version, whatever its name, is
+/// refused with the command that removes it).
+fn read_parquet(path: &Path, manifest: &Manifest) -> Result<DataFrame> {
     let file = std::fs::File::open(path).map_err(io(path))?;
-    ParquetReader::new(file).finish().map_err(|e| damaged(path, &e.to_string()))
+    let mut reader = ParquetReader::new(file);
+    let recorded = reader
+        .get_metadata()
+        .map_err(|e| damaged(path, &e.to_string()))?
+        .key_value_metadata
+        .as_ref()
+        .and_then(|kv| kv.iter().find(|k| k.key == FINGERPRINT_KEY).and_then(|k| k.value.clone()));
+    if recorded.as_deref() != Some(manifest.fingerprint.as_str()) {
+        return Err(Error::Destination {
+            path: path.to_path_buf(),
+            message: format!(
+                "was computed by {} of study \"{}\", not by the version of the folder's study.json (fingerprint {}), whatever its name says: remove it (`rm '{}'`) and run its shard again",
+                match &recorded {
+                    Some(f) => format!("another version (fingerprint {f})"),
+                    None => "a version that recorded no fingerprint".to_string(),
+                },
+                manifest.study,
+                manifest.fingerprint,
+                path.display()
+            ),
+        });
+    }
+    reader.finish().map_err(|e| damaged(path, &e.to_string()))
+}
+
+/// `df` as Parquet bytes recording `manifest`'s fingerprint ([`FINGERPRINT_KEY`]).
+fn to_parquet(df: &mut DataFrame, manifest: &Manifest, path: &Path) -> Result<Vec<u8>> {
+    let mut buf = Vec::new();
+    let kv = KeyValueMetadata::from_static(vec![(FINGERPRINT_KEY.to_string(), manifest.fingerprint.clone())]);
+    ParquetWriter::new(&mut buf).with_key_value_metadata(Some(kv)).finish(df).map_err(|e| table_err(path, e))?;
+    Ok(buf)
 }
 
 /// A part or batch that cannot be read, named with the command that removes it.
@@ -334,7 +372,7 @@ pub fn lock(dir: &Path, shard: Shard) -> Result<std::result::Result<ShardLock, s
 pub fn done(dir: &Path, manifest: &Manifest, shard: Shard) -> Result<(bool, Vec<usize>)> {
     let part = dir.join("parts").join(shard.part_name(&manifest.fingerprint));
     if part.is_file() {
-        let mut got = samples_of(&read_parquet(&part)?, &part)?;
+        let mut got = samples_of(&read_parquet(&part, manifest)?, &part)?;
         got.dedup();
         let owned: Vec<usize> = (0..manifest.samples).filter(|&i| shard.owns(i)).collect();
         if got != owned {
@@ -347,7 +385,7 @@ pub fn done(dir: &Path, manifest: &Manifest, shard: Shard) -> Result<(bool, Vec<
     }
     let mut out = Vec::new();
     for p in batches(dir, manifest, shard)? {
-        out.extend(samples_of(&read_parquet(&p)?, &p)?);
+        out.extend(samples_of(&read_parquet(&p, manifest)?, &p)?);
     }
     out.sort_unstable();
     out.dedup();
@@ -376,7 +414,9 @@ fn is_temporary(p: &Path) -> bool {
 pub fn write_batch(dir: &Path, manifest: &Manifest, shard: Shard, first_sample: usize, rows: &Table) -> Result<()> {
     let folder = dir.join("parts").join(shard.batch_dir(&manifest.fingerprint));
     std::fs::create_dir_all(&folder).map_err(io(&folder))?;
-    write_atomic(&folder.join(format!("batch-{first_sample:08}.parquet")), &table::to_parquet(rows)?)
+    let path = folder.join(format!("batch-{first_sample:08}.parquet"));
+    let mut df = rows.to_frame().map_err(|e| table_err(&path, e))?;
+    write_atomic(&path, &to_parquet(&mut df, manifest, &path)?)
 }
 
 /// Joins a shard's batches into its part (sorted by sample and check) and removes them; a
@@ -386,7 +426,7 @@ pub fn finish_shard(dir: &Path, manifest: &Manifest, shard: Shard, empty: &Table
     let part = dir.join("parts").join(shard.part_name(&manifest.fingerprint));
     let mut frames = Vec::new();
     for p in batches(dir, manifest, shard)? {
-        frames.push(read_parquet(&p)?);
+        frames.push(read_parquet(&p, manifest)?);
     }
     if frames.is_empty() {
         frames.push(empty.to_frame().map_err(|e| table_err(&part, e))?);
@@ -401,9 +441,7 @@ pub fn finish_shard(dir: &Path, manifest: &Manifest, shard: Shard, empty: &Table
             format!("shard {shard} has {} of its {owned} samples written: run it again to compute the rest", got.len()),
         ));
     }
-    let mut buf = Vec::new();
-    ParquetWriter::new(&mut buf).finish(&mut df).map_err(|e| table_err(&part, e))?;
-    write_atomic(&part, &buf)?;
+    write_atomic(&part, &to_parquet(&mut df, manifest, &part)?)?;
     let folder = dir.join("parts").join(shard.batch_dir(&manifest.fingerprint));
     if folder.exists() {
         std::fs::remove_dir_all(&folder).map_err(io(&folder))?;
@@ -465,7 +503,7 @@ pub fn merge(dir: &Path, manifest: &Manifest) -> Result<DataFrame> {
         if !counts.contains(&n) {
             counts.push(n);
         }
-        let df = read_parquet(p)?;
+        let df = read_parquet(p, manifest)?;
         let names: Vec<String> = df.get_column_names().iter().map(|c| c.to_string()).collect();
         if names != manifest.columns {
             return Err(table_err(p, format!("columns {names:?}, expected {:?}", manifest.columns)));

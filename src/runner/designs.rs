@@ -70,6 +70,20 @@ pub fn run(
     Ok(DesignRun { finished, stored })
 }
 
+/// What each design of `files` costs at most, before anything runs: the experiment's key, its
+/// structure's number of masses and its [`Budget`](crate::design::Budget) (loading validates
+/// the files as [`run`] does).
+pub fn budgets(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String, usize, crate::design::Budget)>> {
+    let exps = experiment::load_all(files, reference)?;
+    Ok(exps
+        .iter()
+        .filter_map(|e| match &e.analysis {
+            experiment::Analysis::Design { spec, .. } => Some((e.key(), e.structure.dof(), spec.budget(e.cases.len()))),
+            _ => None,
+        })
+        .collect())
+}
+
 /// The design files of `dir` marked `report = true` (none when the folder does not exist), set to evaluate the
 /// answers their searches stored instead of searching (docs/design.md, "In the report").
 pub fn report_designs(dir: &Path, reference: &Path) -> crate::Result<Vec<Experiment>> {

@@ -76,16 +76,35 @@ impl Finished {
     }
 }
 
-/// A thread pool of `jobs` workers (`None`: one per core).
+/// Most worker threads per core: more threads than this only add switching (the work is
+/// CPU-bound) and each takes a stack; results never depend on the count.
+pub const JOBS_PER_CORE: usize = 8;
+
+/// The most worker threads `--jobs` (and `jobs=` in Python) may ask for on this machine:
+/// [`JOBS_PER_CORE`] per core, and never fewer than 16.
+pub fn max_jobs() -> usize {
+    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    (JOBS_PER_CORE * cores).max(16)
+}
+
+/// A thread pool of `jobs` workers (`None`: one per core), at most [`max_jobs`].
 pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(j) = jobs {
-        if j == 0 {
-            return Err(Error::invalid("--jobs", "jobs", 0, "give at least 1 worker thread"));
+        let max = max_jobs();
+        if j == 0 || j > max {
+            let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+            return Err(Error::invalid(
+                "(command line)",
+                "--jobs",
+                j,
+                format!("give 1 to {max} worker threads (up to {JOBS_PER_CORE} per core, here {cores} cores, and never fewer than 16: more only add switching)"),
+            ));
         }
         b = b.num_threads(j);
     }
-    b.build().map_err(|e| Error::invalid("--jobs", "jobs", format!("{jobs:?}"), format!("no thread pool: {e}")))
+    let shown = jobs.map_or_else(|| "(one per core)".to_string(), |j| j.to_string());
+    b.build().map_err(|e| Error::invalid("(command line)", "--jobs", shown, format!("no thread pool: {e}")))
 }
 
 /// The references of a study's experiment and of those it takes values from, without the
@@ -223,6 +242,20 @@ impl ReportInputs {
     pub fn designs_dir(&self) -> PathBuf {
         self.designs.clone().unwrap_or_else(|| self.beside("designs"))
     }
+
+    /// Refuses an output folder that is, contains or lies inside one of these folders (every
+    /// command's inputs live there: `run`, `design`, `study` and `report` alike).
+    pub fn refuse_overlap(&self, out: &Path) -> Result<()> {
+        crate::output::destination::refuse_overlap(
+            out,
+            &[
+                ("the experiments folder", &self.experiments),
+                ("the reference folder", &self.reference),
+                ("the studies folder", &self.studies_dir()),
+                ("the designs folder", &self.designs_dir()),
+            ],
+        )
+    }
 }
 
 /// The whole report, as `shotdamp report` writes it: every experiment file of the folder, the
@@ -249,14 +282,7 @@ pub fn report(
     exps.extend(designs::report_designs(&designs_dir, reference)?);
     let studies_dir = inputs.studies_dir();
     let studies = report_studies(&studies_dir, reference)?;
-    crate::output::destination::refuse_overlap(
-        &settings.out,
-        &[
-            ("the experiments folder", &inputs.experiments),
-            ("the studies folder", &studies_dir),
-            ("the designs folder", &designs_dir),
-        ],
-    )?;
+    inputs.refuse_overlap(&settings.out)?;
     let settings = Settings {
         reference: reference.to_path_buf(),
         out: settings.out.clone(),

@@ -175,10 +175,14 @@ pub fn is_claim(kind: &CheckKind) -> bool {
 /// bad value is reported before anything runs).
 pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
     let text = read_to_string(path)?;
-    let table = loader::parse_table(path, &text)?;
+    let mut table = loader::parse_table(path, &text)?;
+    table.iter_mut().for_each(|(_, v)| loader::whole_floats(v));
     let raw: RawFile = serde_path_to_error::deserialize(table).map_err(|e| {
         let key = e.path().to_string();
-        Error::Parse { file: path.display().to_string(), message: format!("{key}: {}", e.into_inner().message()) }
+        Error::Parse {
+            file: path.display().to_string(),
+            message: format!("{key}: {}", loader::serde_words(e.into_inner().message())),
+        }
     })?;
     let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
     let s = raw.study;
@@ -341,7 +345,7 @@ fn vary_entry(path: &Path, i: usize, v: RawVary) -> Result<Vary> {
     let domain = match (v.values, v.range) {
         (Some(values), None) => {
             if values.is_empty() || values.iter().any(|x| !x.is_finite()) {
-                return Err(bad("values", &format!("{values:?}"), "a non-empty list of finite numbers"));
+                return Err(bad("values", &crate::number::fmt_list(&values), "a non-empty list of finite numbers"));
             }
             Domain::Values(values)
         }
@@ -368,10 +372,10 @@ fn vary_entry(path: &Path, i: usize, v: RawVary) -> Result<Vary> {
             };
             Domain::Range { start: r.start, stop: r.stop, count, log }
         }
-        _ => {
+        (values, _) => {
             return Err(bad(
                 "values",
-                &"(values and range)",
+                &if values.is_some() { "(values and range)" } else { "(missing)" },
                 "give exactly one of `values = [...]` or `range = { start, stop, count }`",
             ))
         }
