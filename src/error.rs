@@ -9,7 +9,7 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum Error {
     /// A value in an input file is not allowed.
-    #[error("{file}: {key} = {}: {}", crate::number::tidy_numbers(.value), crate::number::tidy_numbers(.message))]
+    #[error("{file}: {key} = {}: {}", crate::number::tidy_value(.value), crate::number::tidy_numbers(.message))]
     Invalid {
         /// The file (or the caller, outside files).
         file: String,

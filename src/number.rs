@@ -36,6 +36,17 @@ pub fn fmt_list(values: &[f64]) -> String {
 /// `text` with every decimal number longer than 20 characters (how `Display` writes 1e-320 or
 /// 1e300) written as [`fmt_num`] writes it: messages quote values as a person reads them.
 pub fn tidy_numbers(text: &str) -> String {
+    tidy(text, false)
+}
+
+/// A value as a message quotes it: [`tidy_numbers`], and control characters (a newline or tab
+/// inside a quoted string) escaped as a TOML file writes them (`\n`, `\t`, `\u001B`), so that
+/// the message stays one line that reads as the file does.
+pub fn tidy_value(text: &str) -> String {
+    tidy(text, true)
+}
+
+fn tidy(text: &str, controls: bool) -> String {
     let mut out = String::with_capacity(text.len());
     let mut run = String::new();
     let flush = |run: &mut String, out: &mut String| {
@@ -46,6 +57,16 @@ pub fn tidy_numbers(text: &str) -> String {
         run.clear();
     };
     for c in text.chars() {
+        if controls && c.is_control() {
+            flush(&mut run, &mut out);
+            match c {
+                '\n' => out.push_str("\\n"),
+                '\t' => out.push_str("\\t"),
+                '\r' => out.push_str("\\r"),
+                other => out.push_str(&format!("\\u{:04X}", other as u32)),
+            }
+            continue;
+        }
         let continues = c.is_ascii_digit() || c == '.' || (c == '-' && run.is_empty());
         if continues {
             run.push(c);
@@ -70,5 +91,7 @@ mod tests {
         assert_eq!(tidy_numbers(&huge), "value 1.00000e300 and 12.5 and -3 in cases[2]");
         assert_eq!(tidy_numbers("a-b 2026-11-26 x.y"), "a-b 2026-11-26 x.y");
         assert_eq!(fmt_list(&[0.5, 1e-320, 2.0]), "[0.5, 9.99989e-321, 2]");
+        assert_eq!(tidy_value("\"a\tb\nc\u{1b}\""), "\"a\\tb\\nc\\u001B\"");
+        assert_eq!(tidy_numbers("line 1\nline 2"), "line 1\nline 2", "a message's own lines are kept");
     }
 }

@@ -120,6 +120,13 @@ fn rows() -> Vec<Row> {
             2,
         ),
         row("experiment", "id with a space", Replace(F04, "id = \"fig04b_no_damper\"", "id = \"fig 4b\""), RUN_04, 2),
+        row(
+            "experiment",
+            "id with a tab and an escape character",
+            Replace(F04, "id = \"fig04b_no_damper\"", "id = \"fig\\t4b\\u001B\""),
+            RUN_04,
+            2,
+        ),
         row("experiment (model file stated.toml)", "mass 0 kg", Replace(STATED, "[0.74,", "[0.0,"), RUN_04, 2),
         row("experiment (model file stated.toml)", "mass nan", Replace(STATED, "[0.74,", "[nan,"), RUN_04, 2),
         row(

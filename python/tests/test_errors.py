@@ -156,3 +156,25 @@ def test_bad_frequencies_and_options_name_the_argument():
         s.impulse(struck_mass=1)
     with pytest.raises(OSError):
         sd.load("experiments/no_such_file.toml")
+
+
+def test_jobs_out_of_range_raise_value_error():
+    s = sd.System(sd.Structure(**GOOD_STRUCTURE), [sd.Damper(**GOOD_DAMPER)], force_n=2.6)
+    for jobs in (-1, 0, 100000):
+        with pytest.raises(ValueError, match=rf"jobs = {jobs}: give 1 to \d+ worker threads"):
+            s.sweep([44.0], jobs=jobs)
+
+
+def test_a_structure_larger_than_the_simulator_takes_is_refused_when_the_system_is_built():
+    n = 12
+    big = sd.Structure(masses_kg=[1.0] * n, chain_stiffness_n_per_m=[2e4] * n, modal_ratios=[0.02] * n)
+    assert len(big.modes()["omega_rad_s"]) == n, "the modal analysis takes any size"
+    with pytest.raises(ValueError, match=r"shotdamp\.System: structure\.masses_kg = 12 masses: shotdamp\.System runs the exact simulator, which takes at most 8 masses"):
+        sd.System(big, [sd.Damper(mass=12, mass_ratio=0.1, clearance_mm=1.0)], force_n=2.0)
+
+
+def test_an_impulse_outside_the_physical_range_is_refused():
+    s = sd.System(sd.Structure(**GOOD_STRUCTURE), [sd.Damper(**GOOD_DAMPER)], force_n=2.6)
+    for v in (1e200, 1e-9):
+        with pytest.raises(ValueError, match=r"analysis\.initial_velocity_m_s = .*must lie in \[1e-6, 100\] m/s"):
+            s.impulse(struck_mass=1, initial_velocity_m_s=v, duration_s=0.01, sample_rate_hz=1000)
