@@ -319,15 +319,16 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         }
         Command::Design { files, out, jobs, store, dry_run } => {
             cli.project().refuse_overlap(out)?;
-            let threads = runner::pool(*jobs)?.current_num_threads();
+            let threads = runner::threads(*jobs)?;
             for (key, n, b) in runner::designs::budgets(files, &cli.reference)? {
                 say!(
-                    "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} threads at {:.0} us a steady state (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
+                    "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {:.0} us a steady state (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
                     b.placements,
                     b.searches,
                     b.evaluations,
                     b.points,
                     study::duration(b.nominal_seconds(n, threads)),
+                    if threads == 1 { "" } else { "s" },
                     1e6 * crate::design::Budget::seconds_per_point(n),
                 );
             }

@@ -62,7 +62,7 @@ pub fn run(
     };
     let finished = run_and_write(&exps, &[], &run, progress, log, staging)?;
     let stored = if settings.store {
-        let threads = super::pool(settings.jobs)?.current_num_threads();
+        let threads = super::threads(settings.jobs)?;
         store_designs(&finished.results, &settings.reference, started.elapsed().as_secs_f64(), threads)?
     } else {
         Vec::new()

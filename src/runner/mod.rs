@@ -87,21 +87,30 @@ pub fn max_jobs() -> usize {
     (JOBS_PER_CORE * cores).max(16)
 }
 
+/// The number of worker threads `jobs` asks for (`None`: what a default pool takes, one per
+/// core unless `RAYON_NUM_THREADS` says otherwise), checked against [`max_jobs`].
+pub fn threads(jobs: Option<usize>) -> Result<usize> {
+    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    match jobs {
+        None => Ok(rayon::current_num_threads()),
+        Some(j) if j >= 1 && j <= max_jobs() => Ok(j),
+        Some(j) => Err(Error::invalid(
+            "(command line)",
+            "--jobs",
+            j,
+            format!(
+                "give 1 to {} worker threads (up to {JOBS_PER_CORE} per core, here {cores} cores, and never fewer than 16: more only add switching)",
+                max_jobs()
+            ),
+        )),
+    }
+}
+
 /// A thread pool of `jobs` workers (`None`: one per core), at most [`max_jobs`].
 pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(j) = jobs {
-        let max = max_jobs();
-        if j == 0 || j > max {
-            let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
-            return Err(Error::invalid(
-                "(command line)",
-                "--jobs",
-                j,
-                format!("give 1 to {max} worker threads (up to {JOBS_PER_CORE} per core, here {cores} cores, and never fewer than 16: more only add switching)"),
-            ));
-        }
-        b = b.num_threads(j);
+        b = b.num_threads(threads(Some(j))?);
     }
     let shown = jobs.map_or_else(|| "(one per core)".to_string(), |j| j.to_string());
     b.build().map_err(|e| Error::invalid("(command line)", "--jobs", shown, format!("no thread pool: {e}")))
