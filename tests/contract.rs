@@ -158,6 +158,7 @@ fn rows() -> Vec<Row> {
             2,
         ),
         row("experiment", "force on mass 4 of 3", Replace(SHARED, "mass = 1", "mass = 4"), RUN_04, 2),
+        row("experiment", "force 1e6 N (1.4e5 g on m1)", Replace(SHARED, "force_n = 2.6", "force_n = 1e6"), RUN_04, 2),
         row(
             "experiment",
             "force 1e400 (overflows to inf)",

@@ -86,7 +86,7 @@ fn fixed_only(origin: &str, prefix: &str) -> Error {
 /// The excitation: `mass` (1-based) driven by `force_n` sin(omega t), as an experiment file's
 /// `[excitation]`.
 pub fn excitation(origin: &str, mass: i64, force_n: f64, structure: &Structure) -> Result<Excitation> {
-    super::validate::excitation(origin.as_ref(), &RawExcitation { mass, force_n }, structure.dof())
+    super::validate::excitation(origin.as_ref(), &RawExcitation { mass, force_n }, &structure.masses)
 }
 
 /// Steady-state settings from the keys of an experiment file's `[analysis.steady]` (the

@@ -45,7 +45,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let Built { structure, source, damping_assumption, fit } = structure(path, raw.structure)?;
     let n = structure.dof();
 
-    let excitation = excitation(path, &raw.excitation, n)?;
+    let excitation = excitation(path, &raw.excitation, &structure.masses)?;
 
     let cases = cases(path, raw.cases, &structure)?;
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
@@ -153,8 +153,8 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
 }
 
 /// The excitation: a 1-based driven mass of `n` and a positive force amplitude.
-pub(super) fn excitation(path: &Path, e: &RawExcitation, n: usize) -> Result<Excitation> {
-    let mass = mass_index(path, "excitation.mass", e.mass, n)?;
+pub(super) fn excitation(path: &Path, e: &RawExcitation, masses: &[f64]) -> Result<Excitation> {
+    let mass = mass_index(path, "excitation.mass", e.mass, masses.len())?;
     if !(e.force_n.is_finite() && e.force_n > 0.0) {
         return Err(Error::invalid(
             path,
@@ -163,8 +163,24 @@ pub(super) fn excitation(path: &Path, e: &RawExcitation, n: usize) -> Result<Exc
             "the force amplitude must be positive and finite (N)",
         ));
     }
+    let most = MAX_FORCE_G * crate::model::GRAVITY * masses[mass];
+    if e.force_n > most {
+        return Err(Error::invalid(
+            path,
+            "excitation.force_n",
+            e.force_n,
+            format!(
+                "the force amplitude may accelerate the driven mass ({} kg) by at most {MAX_FORCE_G} g, {} N: beyond it no bench structure holds together and the beds' flights leave every axis",
+                crate::number::fmt_num(masses[mass]),
+                crate::number::fmt_num(most)
+            ),
+        ));
+    }
     Ok(Excitation { mass, force: e.force_n })
 }
+
+/// The largest force amplitude over the driven mass, in g.
+pub const MAX_FORCE_G: f64 = 1e4;
 
 fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<()> {
     if values.is_empty() {
