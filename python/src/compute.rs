@@ -83,14 +83,24 @@ const POLL: Duration = Duration::from_millis(50);
 const PROGRESS_EVERY: Duration = Duration::from_millis(200);
 
 /// `jobs=` of a call: `None` (one thread per core) or 1 to `shotdamp.runner::max_jobs()`
-/// worker threads; anything else is a `ValueError` (never an `OverflowError`).
-pub fn jobs(jobs: Option<i64>) -> PyResult<Option<usize>> {
+/// worker threads; another whole number, however large, is a `ValueError` (never an
+/// `OverflowError`), anything else a `TypeError`.
+pub fn jobs(jobs: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     let max = shotdamp::runner::max_jobs();
-    match jobs {
-        None => Ok(None),
-        Some(j) if j >= 1 && j as u64 <= max as u64 => Ok(Some(j as usize)),
-        Some(j) => Err(pyo3::exceptions::PyValueError::new_err(format!(
-            "jobs = {j}: give 1 to {max} worker threads (up to {} per core, and never fewer than 16: more only add switching), or None for one per core",
+    let Some(value) = jobs else { return Ok(None) };
+    if value.is_none() {
+        return Ok(None);
+    }
+    if !value.is_instance_of::<pyo3::types::PyInt>() || value.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "jobs = {}: a whole number of worker threads, or None",
+            value.repr().map(|r| r.to_string()).unwrap_or_default()
+        )));
+    }
+    match value.extract::<i64>() {
+        Ok(j) if j >= 1 && j as u64 <= max as u64 => Ok(Some(j as usize)),
+        _ => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "jobs = {value}: give 1 to {max} worker threads (up to {} per core, and never fewer than 16: more only add switching), or None for one per core",
             shotdamp::runner::JOBS_PER_CORE
         ))),
     }

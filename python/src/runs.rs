@@ -217,7 +217,7 @@ pub fn run_experiment<'py>(
     files: &Bound<'py, PyAny>,
     out: PathBuf,
     reference: PathBuf,
-    jobs: Option<i64>,
+    jobs: Option<&Bound<'py, PyAny>>,
     full_csv: bool,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -249,7 +249,7 @@ pub fn design<'py>(
     files: &Bound<'py, PyAny>,
     out: PathBuf,
     reference: PathBuf,
-    jobs: Option<i64>,
+    jobs: Option<&Bound<'py, PyAny>>,
     store: bool,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -276,7 +276,7 @@ pub fn report<'py>(
     reference: Option<PathBuf>,
     studies: Option<PathBuf>,
     designs: Option<PathBuf>,
-    jobs: Option<i64>,
+    jobs: Option<&Bound<'py, PyAny>>,
     full_csv: bool,
     bless: bool,
     progress: Option<&Bound<'py, PyAny>>,
@@ -355,7 +355,7 @@ pub fn study<'py>(
     out: Option<PathBuf>,
     reference: PathBuf,
     shard: Option<&Bound<'py, PyAny>>,
-    jobs: Option<i64>,
+    jobs: Option<&Bound<'py, PyAny>>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let jobs = compute::jobs(jobs)?;

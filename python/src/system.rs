@@ -116,7 +116,7 @@ impl System {
         start: &str,
         steady: Option<&Bound<'py, PyDict>>,
         curve: &str,
-        jobs: Option<i64>,
+        jobs: Option<&Bound<'py, PyAny>>,
         progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let jobs = compute::jobs(jobs)?;

@@ -160,8 +160,11 @@ def test_bad_frequencies_and_options_name_the_argument():
 
 def test_jobs_out_of_range_raise_value_error():
     s = sd.System(sd.Structure(**GOOD_STRUCTURE), [sd.Damper(**GOOD_DAMPER)], force_n=2.6)
-    for jobs in (-1, 0, 100000):
+    for jobs in (-1, 0, 100000, 2**70):
         with pytest.raises(ValueError, match=rf"jobs = {jobs}: give 1 to \d+ worker threads"):
+            s.sweep([44.0], jobs=jobs)
+    for jobs in (2.0, "2", True):
+        with pytest.raises(TypeError, match=r"jobs = .*: a whole number of worker threads, or None"):
             s.sweep([44.0], jobs=jobs)
 
 
