@@ -468,6 +468,13 @@ fn rows() -> Vec<Row> {
         ),
         row(
             "design",
+            "a force scenario of 1e9 N on a 1 kg floor",
+            Replace(FIVE, "max_beds = 2", "max_beds = 2\nscenarios = { force_n = [2.0, 1e9] }"),
+            &["design", FIVE, "--dry-run"],
+            2,
+        ),
+        row(
+            "design",
             "eleven force scenarios",
             Replace(
                 FIVE,

@@ -52,6 +52,11 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let total_mass = structure.mass_matrix().trace();
     let design = super::design::design(path, raw.design, &raw.analysis.kind, n, total_mass)?;
     let analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
+    if let Analysis::Design { spec, .. } = &analysis {
+        for (i, &f) in spec.scenario_force_n.iter().enumerate() {
+            force_fits(path, &format!("design.scenarios.force_n[{i}]"), f, structure.masses[excitation.mass])?;
+        }
+    }
     let (scanning, may_scan) = (analysis.scans_clearances(), analysis.may_scan_clearances());
     for (ci, case) in cases.iter().enumerate() {
         for (di, c) in case.clearances.iter().enumerate() {
@@ -163,20 +168,27 @@ pub(super) fn excitation(path: &Path, e: &RawExcitation, masses: &[f64]) -> Resu
             "the force amplitude must be positive and finite (N)",
         ));
     }
-    let most = MAX_FORCE_G * crate::model::GRAVITY * masses[mass];
-    if e.force_n > most {
-        return Err(Error::invalid(
-            path,
-            "excitation.force_n",
-            e.force_n,
-            format!(
-                "the force amplitude may accelerate the driven mass ({} kg) by at most {MAX_FORCE_G} g, {} N: beyond it no bench structure holds together and the beds' flights leave every axis",
-                crate::number::fmt_num(masses[mass]),
-                crate::number::fmt_num(most)
-            ),
-        ));
-    }
+    force_fits(path, "excitation.force_n", e.force_n, masses[mass])?;
     Ok(Excitation { mass, force: e.force_n })
+}
+
+/// Refuses a force amplitude (N) that accelerates the driven mass (kg) by more than
+/// [`MAX_FORCE_G`].
+fn force_fits(path: &Path, key: &str, force: f64, driven: f64) -> Result<()> {
+    let most = MAX_FORCE_G * crate::model::GRAVITY * driven;
+    if force <= most {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        path,
+        key,
+        force,
+        format!(
+            "the force amplitude may accelerate the driven mass ({} kg) by at most {MAX_FORCE_G} g, {} N: beyond it no bench structure holds together and the beds' flights leave every axis",
+            crate::number::fmt_num(driven),
+            crate::number::fmt_num(most)
+        ),
+    ))
 }
 
 /// The largest force amplitude over the driven mass, in g.
