@@ -585,20 +585,6 @@ fn rows() -> Vec<Row> {
     v
 }
 
-/// Copies `from` into `to` (files and folders).
-fn copy_tree(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let p = e.unwrap().path();
-        let target = to.join(p.file_name().unwrap());
-        if p.is_dir() {
-            copy_tree(&p, &target);
-        } else {
-            std::fs::copy(&p, &target).unwrap();
-        }
-    }
-}
-
 /// The names in `dir` (top level).
 fn names(dir: &Path) -> Vec<std::ffi::OsString> {
     let mut v: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name()).collect();
@@ -677,7 +663,7 @@ const END: &str = "<!-- end of the rows written by tests/contract.rs -->";
 fn every_row_of_the_contract_is_what_the_binary_does() {
     let dir = tempfile::tempdir().unwrap();
     for sub in ["experiments", "reference", "studies", "designs"] {
-        copy_tree(&repo().join(sub), &dir.path().join(sub));
+        common::copy_tree(&repo().join(sub), &dir.path().join(sub));
     }
     let mut table = String::from("| area | input | exit | message |\n|---|---|---|---|\n");
     let mut wrong = Vec::new();

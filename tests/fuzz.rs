@@ -382,7 +382,7 @@ fn campaign() {
     let dir = tempfile::tempdir().unwrap();
     let root = dir.path();
     for sub in ["experiments", "reference"] {
-        copy(&common::repo().join(sub), &root.join(sub));
+        common::copy_tree(&common::repo().join(sub), &root.join(sub));
     }
     std::fs::create_dir(root.join("users")).unwrap();
     std::fs::write(root.join("users/thesis.tex"), "precious").unwrap();
@@ -500,17 +500,4 @@ fn campaign() {
         println!("FAILURE {f}");
     }
     assert!(failures.is_empty() && over.is_empty(), "{} failures, {} past their bound", failures.len(), over.len());
-}
-
-fn copy(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let p = e.unwrap().path();
-        let t = to.join(p.file_name().unwrap());
-        if p.is_dir() {
-            copy(&p, &t);
-        } else {
-            std::fs::copy(&p, &t).unwrap();
-        }
-    }
 }

@@ -142,7 +142,7 @@ fn a_missing_file_is_named_once_with_its_os_error_once() {
 /// A copy of `reference/` in `dir` with `file` rewritten by `edit` (rows as CSV cells).
 fn corrupted_reference(dir: &Path, file: &str, edit: impl Fn(&mut Vec<Vec<String>>)) -> std::path::PathBuf {
     let refs = dir.join("reference");
-    copy_tree(&common::repo().join("reference"), &refs);
+    common::copy_tree(&common::repo().join("reference"), &refs);
     let path = refs.join(file);
     let text = std::fs::read_to_string(&path).unwrap();
     let mut rows: Vec<Vec<String>> = text.lines().map(|l| l.split(',').map(str::to_string).collect()).collect();
@@ -150,18 +150,6 @@ fn corrupted_reference(dir: &Path, file: &str, edit: impl Fn(&mut Vec<Vec<String
     let out: Vec<String> = rows.iter().map(|r| r.join(",")).collect();
     std::fs::write(&path, out.join("\n") + "\n").unwrap();
     refs
-}
-
-fn copy_tree(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        if e.file_type().unwrap().is_dir() {
-            copy_tree(&e.path(), &to.join(e.file_name()));
-        } else {
-            std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
-        }
-    }
 }
 
 /// Runs the Fig. 8 experiment against a reference folder; exit code and stderr.
@@ -224,7 +212,7 @@ fn a_corrupted_reference_curve_is_an_input_error_naming_file_line_column_and_val
 fn non_finite_paper_values_are_input_errors() {
     let dir = tempfile::tempdir().unwrap();
     let refs = dir.path().join("reference");
-    copy_tree(&common::repo().join("reference"), &refs);
+    common::copy_tree(&common::repo().join("reference"), &refs);
     let path = refs.join("paper-text.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     let (head, tail) = text.split_once("value = ").unwrap();

@@ -198,7 +198,7 @@ fn bad_scan_files_are_named() {
 fn the_page_shows_our_curves_over_the_scan() {
     let dir = tempfile::tempdir().unwrap();
     let reference = dir.path().join("reference");
-    copy_dir(&common::repo().join("reference"), &reference);
+    common::copy_tree(&common::repo().join("reference"), &reference);
     let scans = reference.join("scans");
     std::fs::create_dir_all(&scans).unwrap();
     let (xp, yp) = make_scan(&scans.join("fig04b.png"), (2.0, 60.0), (1e-6, 1e-2), true);
@@ -240,17 +240,4 @@ fn the_page_shows_our_curves_over_the_scan() {
     let err = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(2), "{err}");
     assert!(err.contains("fig04b.toml") && err.contains("plot = \"nope\"") && err.contains("compliance"), "{err}");
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let p = e.unwrap().path();
-        let dest = to.join(p.file_name().unwrap());
-        if p.is_dir() {
-            copy_dir(&p, &dest);
-        } else {
-            std::fs::copy(&p, &dest).unwrap();
-        }
-    }
 }

@@ -153,20 +153,27 @@ fn the_same_shard_started_twice_at_once_is_computed_once_and_merges_identically(
     }
 }
 
-#[test]
-fn parts_of_two_versions_of_a_study_are_never_merged() {
-    let dir = tempfile::tempdir().unwrap();
-    let a = dir.path().join("a");
-    let b = dir.path().join("b");
+/// Two versions of the small study (4 and 5 clearances) in `dir`, shard `shards[0]` of the
+/// first and `shards[1]` of the second computed into folders of their own: (file, folder) of
+/// each.
+fn two_versions(dir: &Path, shards: [&str; 2]) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
+    let (a, b) = (dir.join("a"), dir.join("b"));
     std::fs::create_dir_all(&a).unwrap();
     std::fs::create_dir_all(&b).unwrap();
     let (fa, fb) = (small_study(&a, 4), small_study(&b, 5));
-    let (oa, ob) = (dir.path().join("out-a"), dir.path().join("out-b"));
-    for (f, o) in [(&fa, &oa), (&fb, &ob)] {
+    let (oa, ob) = (dir.join("out-a"), dir.join("out-b"));
+    for ((f, o), shard) in [(&fa, &oa), (&fb, &ob)].into_iter().zip(shards) {
         let (code, text) =
-            finish(spawn(&[], &["study", f.to_str().unwrap(), "--shard", "0/2", "--out", o.to_str().unwrap()], &[]));
+            finish(spawn(&[], &["study", f.to_str().unwrap(), "--shard", shard, "--out", o.to_str().unwrap()], &[]));
         assert_eq!(code, Some(0), "{text}");
     }
+    (fa, oa, fb, ob)
+}
+
+#[test]
+fn parts_of_two_versions_of_a_study_are_never_merged() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, oa, _, ob) = two_versions(dir.path(), ["0/2", "0/2"]);
     // Version b's part 0 copied beside version a's (a user merging folders by hand).
     let part = std::fs::read_dir(ob.join("parts")).unwrap().map(|e| e.unwrap().path()).find(|p| p.is_file()).unwrap();
     std::fs::copy(&part, oa.join("parts").join(part.file_name().unwrap())).unwrap();
@@ -182,17 +189,7 @@ fn parts_of_two_versions_of_a_study_are_never_merged() {
 #[test]
 fn a_part_of_another_version_renamed_to_this_folders_fingerprint_is_never_merged() {
     let dir = tempfile::tempdir().unwrap();
-    let a = dir.path().join("a");
-    let b = dir.path().join("b");
-    std::fs::create_dir_all(&a).unwrap();
-    std::fs::create_dir_all(&b).unwrap();
-    let (fa, fb) = (small_study(&a, 4), small_study(&b, 5));
-    let (oa, ob) = (dir.path().join("out-a"), dir.path().join("out-b"));
-    for (f, o, shard) in [(&fa, &oa, "0/2"), (&fb, &ob, "1/2")] {
-        let (code, text) =
-            finish(spawn(&[], &["study", f.to_str().unwrap(), "--shard", shard, "--out", o.to_str().unwrap()], &[]));
-        assert_eq!(code, Some(0), "{text}");
-    }
+    let (fa, oa, _, ob) = two_versions(dir.path(), ["0/2", "1/2"]);
     let ma: serde_json::Value = serde_json::from_slice(&std::fs::read(oa.join("study.json")).unwrap()).unwrap();
     let mb: serde_json::Value = serde_json::from_slice(&std::fs::read(ob.join("study.json")).unwrap()).unwrap();
     let (fpa, fpb) = (ma["fingerprint"].as_str().unwrap(), mb["fingerprint"].as_str().unwrap());

@@ -19,6 +19,20 @@ pub fn shotdamp() -> Command {
     c
 }
 
+/// Copies the folder `from` into `to`, files and folders.
+pub fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let p = e.unwrap().path();
+        let target = to.join(p.file_name().unwrap());
+        if p.is_dir() {
+            copy_tree(&p, &target);
+        } else {
+            std::fs::copy(&p, &target).unwrap();
+        }
+    }
+}
+
 /// Copies `experiments/shared` (the shared structure file and the model files) into
 /// `exps/shared`.
 pub fn copy_shared(exps: &Path) {
