@@ -321,15 +321,24 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             cli.project().refuse_overlap(out)?;
             let threads = runner::threads(*jobs)?;
             for (key, n, b) in runner::designs::budgets(files, &cli.reference)? {
+                let point = crate::design::Budget::seconds_per_point(n) * b.fast;
+                let fast = if b.fast > 1.0 {
+                    format!(
+                        ", the structure's fastest mode oscillating {:.0} times a period of the lowest forcing frequency",
+                        b.fast * crate::design::Budget::FAST_RATIO
+                    )
+                } else {
+                    String::new()
+                };
                 say!(
-                    "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {:.0} us a steady state (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
+                    "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {} a steady state{fast} (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
                     b.placements,
                     b.searches,
                     b.evaluations,
                     b.points,
                     study::duration(b.nominal_seconds(n, threads)),
                     if threads == 1 { "" } else { "s" },
-                    1e6 * crate::design::Budget::seconds_per_point(n),
+                    if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.0} ms", point * 1e3) },
                 );
             }
             if *dry_run {

@@ -94,9 +94,18 @@ pub struct Budget {
     pub evaluations: u64,
     /// Steady-state points of one layout evaluation (bands x sweeps x scenarios).
     pub points: u64,
+    /// How much dearer a point is than on the paper's structure because the structure's
+    /// fastest mode oscillates many times per forcing period (the event search steps through
+    /// each): the highest natural frequency over the lowest band frequency, over
+    /// [`Budget::FAST_RATIO`], at least 1.
+    pub fast: f64,
 }
 
 impl Budget {
+    /// Fastest-mode oscillations per forcing period that the nominal cost covers (the
+    /// five-storey example's 43 Hz top mode over its 5 Hz band edge is 8.6).
+    pub const FAST_RATIO: f64 = 10.0;
+
     /// Nominal CPU seconds of one steady-state point of a structure of `n` masses on one
     /// core: 150 us on the paper's three masses (BENCHMARKS.md: 49 us a followed point, 147
     /// us from rest), growing as `n^2` above three.
@@ -110,7 +119,7 @@ impl Budget {
     /// violent motion (many impacts a period, a transient that settles late) costs more, so
     /// this is an estimate, not a bound; the number of evaluations is a bound.
     pub fn nominal_seconds(&self, n: usize, threads: usize) -> f64 {
-        self.evaluations as f64 * self.points as f64 * Self::seconds_per_point(n) / threads.max(1) as f64
+        self.evaluations as f64 * self.points as f64 * Self::seconds_per_point(n) * self.fast / threads.max(1) as f64
     }
 }
 
@@ -127,8 +136,10 @@ impl Spec {
         band * self.sweeps.len() as u64 * self.scenario_count() as u64
     }
 
-    /// What a search of this design costs at most (a replay: the stored layouts only).
-    pub fn budget(&self, cases: usize) -> Budget {
+    /// What a search of this design costs at most (a replay: the stored layouts only), on a
+    /// structure whose highest natural frequency is `highest_hz`.
+    pub fn budget(&self, cases: usize, highest_hz: f64) -> Budget {
+        let lowest = self.bands.iter().flat_map(|b| b.freq_hz.first().copied()).fold(f64::INFINITY, f64::min);
         let placements = search::placements(&self.candidates, self.max_beds);
         let searches = 1 + self.pareto_mass_ratios.len();
         let space = search::Space {
@@ -145,6 +156,7 @@ impl Spec {
             searches,
             evaluations: search.saturating_mul(searches as u64).saturating_add(after),
             points: self.evaluation_points(),
+            fast: (highest_hz / lowest / Budget::FAST_RATIO).max(1.0),
         }
     }
 }
