@@ -35,8 +35,7 @@ pub const MIN_FREQUENCY_RATIO: f64 = 1e-5;
 /// [`MIN_FREQUENCY_RATIO`] times the structure's highest natural frequency; a bad one is
 /// named `{key}[i]`.
 pub fn check_frequencies(origin: &str, key: &str, freq_hz: &[f64], structure: &Structure) -> Result<()> {
-    let modes = crate::model::modal::symmetric_modes(&structure.mass_matrix(), &structure.stiffness);
-    let top = modes.omegas.last().copied().unwrap_or(0.0) / (2.0 * std::f64::consts::PI);
+    let top = structure.highest_natural_frequency_hz();
     let floor = MIN_FREQUENCY_RATIO * top;
     for (i, &f) in freq_hz.iter().enumerate() {
         if !(f.is_finite() && f > 0.0) {

@@ -38,6 +38,13 @@ pub struct Structure {
 }
 
 impl Structure {
+    /// The highest undamped natural frequency, Hz (0 for an empty structure): what sets the
+    /// event search's steps and the lowest forcing frequency worth simulating.
+    pub fn highest_natural_frequency_hz(&self) -> f64 {
+        let modes = symmetric_modes(&self.mass_matrix(), &self.stiffness);
+        modes.omegas.last().copied().unwrap_or(0.0) / (2.0 * std::f64::consts::PI)
+    }
+
     /// Builds the chain ground - k_1 - m_1 - k_2 - m_2 - ... - k_n - m_n.
     ///
     /// Inputs are assumed validated (positive masses and stiffnesses, matching lengths).

@@ -82,10 +82,7 @@ pub fn budgets(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String
                 // The fastest structure of the search (its models, when they are scenarios).
                 let highest = std::iter::once(&e.structure)
                     .chain(spec.model_structures.iter().map(|(_, s, _)| s))
-                    .map(|s| {
-                        let modes = crate::model::modes::symmetric_modes(&s.mass_matrix(), &s.stiffness);
-                        modes.omegas.last().copied().unwrap_or(0.0) / (2.0 * std::f64::consts::PI)
-                    })
+                    .map(crate::model::Structure::highest_natural_frequency_hz)
                     .fold(0.0, f64::max);
                 Some((e.key(), e.structure.dof(), spec.budget(e.cases.len(), highest)))
             }
