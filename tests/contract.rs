@@ -322,11 +322,11 @@ fn rows() -> Vec<Row> {
         ),
         row(
             "experiment",
-            "12 masses in a sweep (the simulator takes 8)",
+            "257 masses in a sweep (the simulator takes 256)",
             Setup(|d| {
-                let list = |v: &str| [v; 12].join(", ");
+                let list = |v: &str| [v; 257].join(", ");
                 std::fs::write(d.join("m12.toml"), format!(
-                "[experiment]\nid = \"m12\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n[structure]\nmasses_kg = [{}]\nchain_stiffness_n_per_m = [{}]\n[structure.damping]\nmodal_ratios = [{}]\n[excitation]\nmass = 1\nforce_n = 2.0\n[analysis]\nkind = \"sweep\"\nfreq_hz = {{ start = 5.0, stop = 6.0, step = 0.5 }}\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{{ mass = 12, mass_ratio = 0.1, clearance_mm = 1.0 }}]\n",
+                "[experiment]\nid = \"m257\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n[structure]\nmasses_kg = [{}]\nchain_stiffness_n_per_m = [{}]\n[structure.damping]\nmodal_ratios = [{}]\n[excitation]\nmass = 1\nforce_n = 2.0\n[analysis]\nkind = \"sweep\"\nfreq_hz = {{ start = 5.0, stop = 6.0, step = 0.5 }}\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{{ mass = 257, mass_ratio = 0.1, clearance_mm = 1.0 }}]\n",
                 list("1.0"), list("2e4"), list("0.02"))).unwrap();
             }),
             &["run", "m12.toml", "--out", "out"],

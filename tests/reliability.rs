@@ -507,30 +507,53 @@ fn unbounded_inputs_are_refused_before_anything_runs() {
         assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
         assert!(stderr(&out).contains(&format!("--jobs = {jobs}: give 1 to")), "{}", stderr(&out));
     }
-    // Twelve masses: the simulator's kinds refuse them, the linear ones take them.
-    let chain = |kind: &str| {
-        let n = 12;
+    // 257 masses: the simulator's kinds refuse them, the linear ones take them; 64 masses take
+    // 9 containers, not 10 (the decompositions of 2^10 configurations of 128 terms).
+    let chain = |n: usize, beds: usize, kind: &str| {
         let list = |v: &str| vec![v; n].join(", ");
+        let dampers: Vec<String> =
+            (0..beds).map(|j| format!("{{ mass = {}, mass_ratio = 0.1, clearance_mm = 1.0 }}", n - j)).collect();
         format!(
-            "[experiment]\nid = \"m12\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n[structure]\nmasses_kg = [{}]\nchain_stiffness_n_per_m = [{}]\n[structure.damping]\nmodal_ratios = [{}]\n[excitation]\nmass = 1\nforce_n = 2.0\n[analysis]\nkind = \"{kind}\"\nfreq_hz = {{ start = 5.0, stop = 6.0, step = 0.5 }}\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{{ mass = 12, mass_ratio = 0.1, clearance_mm = 1.0 }}]\n",
+            "[experiment]\nid = \"big\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n[structure]\nmasses_kg = [{}]\nchain_stiffness_n_per_m = [{}]\n[structure.damping]\nmodal_ratios = [{}]\n[excitation]\nmass = 1\nforce_n = 2.0\n[analysis]\nkind = \"{kind}\"\nfreq_hz = {{ start = 5.0, stop = 6.0, step = 0.5 }}\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{}]\n",
             list("1.0"),
             list("2e4"),
-            list("0.02")
+            list("0.02"),
+            dampers.join(", ")
         )
     };
-    let m12 = dir.path().join("m12.toml");
-    std::fs::write(&m12, chain("sweep")).unwrap();
-    let out = shotdamp().arg("run").arg(&m12).arg("--out").arg(dir.path().join("m")).output().unwrap();
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(
-        stderr(&out).contains("structure.masses_kg = 12 masses: analysis kind \"sweep\" runs the exact simulator, which takes at most 8 masses"),
-        "{}",
-        stderr(&out)
-    );
-    assert!(!dir.path().join("m").exists(), "nothing written");
-    std::fs::write(&m12, chain("linear_frf")).unwrap();
-    let out = shotdamp().arg("run").arg(&m12).arg("--out").arg(dir.path().join("m")).output().unwrap();
+    let big = dir.path().join("big.toml");
+    for (n, beds, key, says) in [
+        (
+            257,
+            1,
+            "structure.masses_kg = 257 masses",
+            "analysis kind \"sweep\" runs the exact simulator, which takes at most 256 degrees of freedom",
+        ),
+        (
+            64,
+            10,
+            "cases[0].dampers = 10 dampers with grains [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]",
+            "at most 512 configurations on 64 degrees of freedom",
+        ),
+    ] {
+        std::fs::write(&big, chain(n, beds, "sweep")).unwrap();
+        let out = shotdamp().arg("run").arg(&big).arg("--out").arg(dir.path().join("m")).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains(&format!("{key}: ")) && stderr(&out).contains(says), "{}", stderr(&out));
+        assert!(!dir.path().join("m").exists(), "nothing written");
+    }
+    std::fs::write(&big, chain(257, 1, "linear_frf")).unwrap();
+    let out = shotdamp().arg("run").arg(&big).arg("--out").arg(dir.path().join("m")).output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // 64 masses with three containers: the simulator runs them (every point a certified orbit).
+    std::fs::write(&big, chain(64, 3, "sweep")).unwrap();
+    let out = shotdamp().arg("run").arg(&big).arg("--out").arg(dir.path().join("m64")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let table = std::fs::read_to_string(dir.path().join("m64/big/data/compliance.csv")).unwrap();
+    let rows = common::csv_rows(&table);
+    let col = |name: &str| rows[0].iter().position(|c| c == name).unwrap();
+    assert_eq!(rows.len(), 4, "a header and three frequencies");
+    assert!(rows[1..].iter().all(|r| r[col("converged")] == "1" && r[col("stop")].is_empty()), "{table}");
     // Designs: a band of 100,000 points, a repeated Pareto ratio; a dry run prints the most a
     // search can cost and searches nothing.
     let design = dir.path().join("five_storey.toml");

@@ -398,7 +398,7 @@ fn more_beds_than_the_limit_are_refused_before_any_decomposition() {
     assert!(Dynamics::new(&ok, 2.0 * PI * 20.0).is_ok());
     let many = System::plastic(paper(), dampers(&[0; MAX_BEDS + 1], f64::INFINITY), 0, 2.6);
     match Dynamics::new(&many, 2.0 * PI * 20.0) {
-        Err(e @ SetupError::TooManyBeds { beds }) => {
+        Err(e @ SetupError::TooManyBeds { beds, .. }) => {
             assert_eq!(beds, MAX_BEDS + 1);
             assert!(e.to_string().contains(&format!("at most {MAX_BEDS}")), "{e}");
         }
@@ -410,7 +410,7 @@ fn more_beds_than_the_limit_are_refused_before_any_decomposition() {
     assert_eq!(fits.configs.len(), 21 * 21 * 21);
     assert!(matches!(
         Dynamics::new(&three.with_grains(&[30, 30, 30]), 2.0 * PI * 20.0),
-        Err(SetupError::TooManyBeds { beds: 90 })
+        Err(SetupError::TooManyBeds { beds: 90, .. })
     ));
 }
 

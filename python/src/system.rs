@@ -67,6 +67,7 @@ impl System {
             Some(d) => case(bare, d, origin)?,
             None => parts::case(origin, "python", Vec::new(), bare).map_err(error)?,
         };
+        parts::simulated_case(origin, &case, bare).map_err(error)?;
         let sim = parts::system(bare, &excitation, &case);
         Ok(System { sim, case, force: force_n })
     }

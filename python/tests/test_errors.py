@@ -169,11 +169,18 @@ def test_jobs_out_of_range_raise_value_error():
 
 
 def test_a_structure_larger_than_the_simulator_takes_is_refused_when_the_system_is_built():
-    n = 12
+    n = 257
     big = sd.Structure(masses_kg=[1.0] * n, chain_stiffness_n_per_m=[2e4] * n, modal_ratios=[0.02] * n)
     assert len(big.modes()["omega_rad_s"]) == n, "the modal analysis takes any size"
-    with pytest.raises(ValueError, match=r"shotdamp\.System: structure\.masses_kg = 12 masses: shotdamp\.System runs the exact simulator, which takes at most 8 masses"):
-        sd.System(big, [sd.Damper(mass=12, mass_ratio=0.1, clearance_mm=1.0)], force_n=2.0)
+    with pytest.raises(ValueError, match=r"shotdamp\.System: structure\.masses_kg = 257 masses: shotdamp\.System runs the exact simulator, which takes at most 256 degrees of freedom"):
+        sd.System(big, [sd.Damper(mass=n, mass_ratio=0.1, clearance_mm=1.0)], force_n=2.0)
+    # 64 masses take 9 containers, not 10 (2^10 configurations of 128 terms each).
+    n = 64
+    chain = sd.Structure(masses_kg=[1.0] * n, chain_stiffness_n_per_m=[2e4] * n, modal_ratios=[0.02] * n)
+    beds = [sd.Damper(mass=n - j, mass_ratio=0.01, clearance_mm=1.0) for j in range(10)]
+    assert sd.System(chain, beds[:9], force_n=2.0).dof == n
+    with pytest.raises(ValueError, match=r"shotdamp\.System: dampers = 10 dampers with grains \[1, 1, 1, 1, 1, 1, 1, 1, 1, 1\]: shotdamp\.System runs the exact simulator, which decomposes every configuration up front: at most 512 configurations on 64 degrees of freedom"):
+        sd.System(chain, beds, force_n=2.0)
 
 
 def test_an_impulse_outside_the_physical_range_is_refused():

@@ -109,6 +109,16 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
     let bad = |key: &str, v: &dyn std::fmt::Display, msg: &str| Error::invalid(path, format!("design.{key}"), v, msg);
     let candidates = masses(path, "design.candidates", &raw.candidates, n)?;
     let max_beds = whole(path, "design.max_beds", raw.max_beds, candidates.len(), candidates.len())?;
+    let most = crate::sim::system::config_limit(n).ilog2() as usize;
+    if max_beds > most {
+        return Err(bad(
+            "max_beds",
+            &max_beds,
+            &format!(
+                "at most {most} containers at once on {n} degrees of freedom (the exact simulator decomposes all 2^N configurations up front; give design.max_beds, which defaults to the number of candidates)"
+            ),
+        ));
+    }
     let shot_kg = match (raw.shot_mass_ratio, raw.shot_kg) {
         (Some(r), None) if r.is_finite() && r > 0.0 && r <= 10.0 => r * total_mass,
         (Some(r), None) => return Err(bad("shot_mass_ratio", &r, "a total shot mass ratio in (0, 10]")),

@@ -114,6 +114,18 @@ pub fn simulated_structure(origin: &str, structure: &Structure) -> Result<()> {
     super::validate::simulator_fits(origin.as_ref(), structure.dof(), &format!("{origin} runs"))
 }
 
+/// Refuses the beds of `case` when the exact simulator cannot decompose their configurations on
+/// `structure` (`crate::sim::system::config_limit`), before anything runs.
+pub fn simulated_case(origin: &str, case: &Case, structure: &Structure) -> Result<()> {
+    super::validate::configurations_fit(
+        origin.as_ref(),
+        "dampers",
+        &case.grains,
+        structure.dof(),
+        &format!("{origin} runs"),
+    )
+}
+
 /// Refuses a kick that gives the struck mass an initial speed outside the physical range
 /// (`experiment::analysis::KICK_SPEED_M_S`) in `case`.
 pub fn kick(origin: &str, options: &ImpulseOptions, structure: &Structure, case: &Case) -> Result<()> {

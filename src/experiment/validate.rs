@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 use crate::model::{Damper, Damping, Structure};
 use crate::sim::impulse::ImpulseOptions;
-use crate::sim::system::{MAX_BEDS, MAX_CONFIGS, MAX_MASSES};
+use crate::sim::system::{config_limit, MAX_BEDS, MAX_CONFIGS, MAX_DOF};
 
 use super::analysis::{analysis, export_ref};
 use super::checks::check;
@@ -72,7 +72,11 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         }
     }
     if analysis.simulates() {
-        simulator_fits(path, n, &format!("analysis kind \"{}\" runs", analysis.kind()))?;
+        let who = format!("analysis kind \"{}\" runs", analysis.kind());
+        simulator_fits(path, n, &who)?;
+        for (ci, case) in cases.iter().enumerate() {
+            configurations_fit(path, &format!("cases[{ci}].dampers"), &case.grains, n, &who)?;
+        }
     }
     if let Analysis::Impulse { options, .. } = &analysis {
         for case in &cases {
@@ -406,10 +410,10 @@ pub(super) fn kick_fits(path: &Path, options: &ImpulseOptions, structure: &Struc
     super::analysis::kick_speed_fits(path, options.kick, structure.masses[k] + resting)
 }
 
-/// Refuses a structure of `n` masses larger than the exact simulator takes; `who` says what
-/// runs it (e.g. `analysis kind "sweep" runs`).
+/// Refuses a structure of `n` degrees of freedom larger than the exact simulator takes; `who`
+/// says what runs it (e.g. `analysis kind "sweep" runs`).
 pub(super) fn simulator_fits(path: &Path, n: usize, who: &str) -> Result<()> {
-    if n <= MAX_MASSES {
+    if n <= MAX_DOF {
         return Ok(());
     }
     Err(Error::invalid(
@@ -417,7 +421,30 @@ pub(super) fn simulator_fits(path: &Path, n: usize, who: &str) -> Result<()> {
         "structure.masses_kg",
         format!("{n} masses"),
         format!(
-            "{who} the exact simulator, which takes at most {MAX_MASSES} masses (analysis kinds \"modal\" and \"linear_frf\" take any number)"
+            "{who} the exact simulator, which takes at most {MAX_DOF} degrees of freedom (analysis kinds \"modal\" and \"linear_frf\" take any number)"
+        ),
+    ))
+}
+
+/// Refuses beds (`grains` of each, 1 for a single bed) whose configurations the exact
+/// simulator cannot decompose on a structure of `n` degrees of freedom
+/// ([`crate::sim::system::config_limit`]); `key` names them, `who` says what runs them.
+pub(super) fn configurations_fit(path: &Path, key: &str, grains: &[usize], n: usize, who: &str) -> Result<()> {
+    let limit = config_limit(n);
+    let configs = grains.iter().try_fold(1usize, |acc, &g| acc.checked_mul(g.max(1) + 1).filter(|&k| k <= limit));
+    if configs.is_some() {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        path,
+        key,
+        format!(
+            "{} dampers with grains [{}]",
+            grains.len(),
+            grains.iter().map(|g| g.to_string()).collect::<Vec<_>>().join(", ")
+        ),
+        format!(
+            "{who} the exact simulator, which decomposes every configuration up front: at most {limit} configurations on {n} degrees of freedom (the product over the dampers of grains + 1; a single bed counts 2; docs/simulator.md, \"Cost per degree of freedom\")"
         ),
     ))
 }

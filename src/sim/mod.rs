@@ -4,10 +4,12 @@
 //! return data and a stop reason and do no I/O.
 
 pub mod bed;
+pub mod buf;
 pub mod column;
 pub mod continuation;
 pub mod eigen;
 pub mod engine;
+pub mod forced;
 pub mod impulse;
 pub mod long_record;
 pub mod observe;

@@ -6,7 +6,8 @@ use num_complex::Complex64;
 
 use crate::model::GRAVITY;
 
-use super::system::{Dynamics, Step, MAX_TERMS};
+use super::buf::Terms;
+use super::system::{Dynamics, Step};
 
 /// The homogeneous part's coefficients from a start state: `c = V^-1 (z0 - z_p(t0))`.
 #[derive(Debug, Clone)]
@@ -20,9 +21,9 @@ pub struct Segment {
     /// Number of representative terms.
     pub len: usize,
     /// Coefficients `c_r` of the representative terms.
-    pub c: [Complex64; MAX_TERMS],
+    pub c: Terms<Complex64>,
     /// Their moduli (for derivative bounds).
-    pub c_abs: [f64; MAX_TERMS],
+    pub c_abs: Terms<f64>,
     /// `sin(omega t0)` and `cos(omega t0)`, for the point at the start.
     sin_cos0: (f64, f64),
 }
@@ -37,9 +38,9 @@ pub struct Point {
     /// The time, s.
     pub t: f64,
     /// `c_r e^{lambda_r (t - t0)}` of each representative term.
-    pub e: [Complex64; MAX_TERMS],
+    pub e: Terms<Complex64>,
     /// Their moduli.
-    pub e_abs: [f64; MAX_TERMS],
+    pub e_abs: Terms<f64>,
     /// `sin(omega t)`.
     pub sin: f64,
     /// `cos(omega t)`.
@@ -51,9 +52,13 @@ impl Point {
     /// step.dt` up to rounding): each term times its factor, the forcing phase rotated. It
     /// agrees with [`Segment::point`] at that time to a few roundings per step.
     pub fn advance(&mut self, step: &Step, t: f64) {
-        for r in 0..step.len {
-            self.e[r] *= step.factor[r];
-            self.e_abs[r] *= step.decay[r];
+        // Slices taken once: the loop then runs on plain memory, inline or not.
+        let n = step.len;
+        let (e, e_abs) = (&mut self.e[..n], &mut self.e_abs[..n]);
+        let (factor, decay) = (&step.factor[..n], &step.decay[..n]);
+        for r in 0..n {
+            e[r] *= factor[r];
+            e_abs[r] *= decay[r];
         }
         let (sin, cos) = (self.sin, self.cos);
         self.sin = sin * step.cos + cos * step.sin;
@@ -67,53 +72,65 @@ impl Segment {
     pub fn start(d: &Dynamics, mask: usize, t0: f64, x0: &DVector<f64>, v0: &DVector<f64>) -> Segment {
         let n = x0.len();
         let slot = d.slot(mask);
-        let cfg = &d.configs[slot];
+        let (cfg, forced) = (&d.configs[slot], d.forced(slot));
         // The start's departure from the forced response (`Dynamics::particular`, inline).
         let (sn, cs) = (d.omega * t0).sin_cos();
-        let mut z = [0.0; MAX_TERMS];
+        let mut z_buf = Terms::<f64>::zeros(2 * n);
+        let z = &mut z_buf[..];
         for i in 0..n {
-            let xp = cfg.p[i] * cs + cfg.q[i] * sn + cfg.modes.offset[i];
-            let vp = (cfg.q[i] * cs - cfg.p[i] * sn) * d.omega;
+            let xp = forced[i].p * cs + forced[i].q * sn + cfg.modes.offset[i];
+            let vp = (forced[i].q * cs - forced[i].p * sn) * d.omega;
             z[i] = x0[i] - xp;
             z[n + i] = v0[i] - vp;
         }
         let len = cfg.modes.lambda.len();
-        let mut c = [Complex64::new(0.0, 0.0); MAX_TERMS];
-        let mut c_abs = [0.0; MAX_TERMS];
-        for r in 0..len {
-            c[r] = (0..2 * n).map(|j| cfg.modes.inverse[(r, j)] * z[j]).sum();
+        // Built in place and filled (moving filled buffers into it would copy them).
+        let mut seg =
+            Segment { t0, mask, slot, len, c: Terms::zeros(len), c_abs: Terms::zeros(len), sin_cos0: (sn, cs) };
+        for (r, (c, c_abs)) in seg.c.iter_mut().zip(seg.c_abs.iter_mut()).enumerate() {
+            *c = (0..2 * n).map(|j| cfg.modes.inverse[(r, j)] * z[j]).sum();
             // Only bounds use the modulus: the square root of the sum of squares (no `hypot`:
             // the coefficients are far from overflow).
-            c_abs[r] = (c[r].re * c[r].re + c[r].im * c[r].im).sqrt();
+            *c_abs = (c.re * c.re + c.im * c.im).sqrt();
         }
-        Segment { t0, mask, slot, len, c, c_abs, sin_cos0: (sn, cs) }
+        seg
     }
 
     /// The shared quantities at time `t`.
     pub fn point(&self, d: &Dynamics, t: f64) -> Point {
-        let mut e = [Complex64::new(0.0, 0.0); MAX_TERMS];
-        let mut e_abs = [0.0; MAX_TERMS];
+        let mut pt = Point { t, e: Terms::zeros(self.len), e_abs: Terms::zeros(self.len), sin: 0.0, cos: 0.0 };
+        self.point_into(d, t, &mut pt);
+        pt
+    }
+
+    /// [`Segment::point`] written over `pt` (any point: its buffers are reused, which spares
+    /// the copies of returning a point).
+    pub fn point_into(&self, d: &Dynamics, t: f64, pt: &mut Point) {
+        pt.t = t;
+        pt.e.set_len(self.len);
+        pt.e_abs.set_len(self.len);
+        let (c, c_abs) = (&self.c[..], &self.c_abs[..]);
+        let (e, e_abs) = (&mut pt.e[..], &mut pt.e_abs[..]);
         if t == self.t0 {
             // At the start every exponential is exactly 1 (`exp(0)`, `sin_cos(0)`) and the
             // forcing phase is the start's: the same numbers without evaluating them again.
-            for r in 0..self.len {
-                e[r] = self.c[r] * Complex64::new(1.0, 0.0);
-                e_abs[r] = self.c_abs[r] * 1.0;
+            for ((e, a), (c, c_abs)) in e.iter_mut().zip(e_abs.iter_mut()).zip(c.iter().zip(c_abs)) {
+                *e = c * Complex64::new(1.0, 0.0);
+                *a = c_abs * 1.0;
             }
-            let (sin, cos) = self.sin_cos0;
-            return Point { t, e, e_abs, sin, cos };
+            (pt.sin, pt.cos) = self.sin_cos0;
+            return;
         }
         let cfg = &d.configs[self.slot];
         let s = t - self.t0;
-        for r in 0..self.len {
-            let l = cfg.modes.lambda[r];
+        let terms = e.iter_mut().zip(e_abs.iter_mut()).zip(c.iter().zip(c_abs)).zip(&cfg.modes.lambda);
+        for (((e, a), (c, c_abs)), l) in terms {
             let decay = (l.re * s).exp();
             let (si, co) = (l.im * s).sin_cos();
-            e[r] = self.c[r] * Complex64::new(decay * co, decay * si);
-            e_abs[r] = self.c_abs[r] * decay;
+            *e = c * Complex64::new(decay * co, decay * si);
+            *a = c_abs * decay;
         }
-        let (sin, cos) = (d.omega * t).sin_cos();
-        Point { t, e, e_abs, sin, cos }
+        (pt.sin, pt.cos) = (d.omega * t).sin_cos();
     }
 
     /// The factors that carry a point of this segment `dt` later ([`Point::advance`]).
@@ -129,18 +146,19 @@ impl Segment {
     pub fn move_near(&self, d: &Dynamics, pt: &mut Point, t: f64) {
         let dt = t - pt.t;
         if (dt * 2.0 * std::f64::consts::PI / d.min_period).abs() > NEAR {
-            *pt = self.point(d, t);
+            self.point_into(d, t, pt);
             return;
         }
         let cfg = &d.configs[self.slot];
         let one = Complex64::new(1.0, 0.0);
-        for r in 0..self.len {
-            let z = cfg.modes.lambda[r] * dt;
+        let terms = pt.e.iter_mut().zip(pt.e_abs.iter_mut()).zip(&cfg.modes.lambda[..self.len]);
+        for ((e, a), l) in terms {
+            let z = l * dt;
             let factor = one + z * (one + z / 2.0 * (one + z / 3.0 * (one + z / 4.0 * (one + z / 5.0))));
             let x = z.re;
             let decay = 1.0 + x * (1.0 + x / 2.0 * (1.0 + x / 3.0 * (1.0 + x / 4.0 * (1.0 + x / 5.0))));
-            pt.e[r] *= factor;
-            pt.e_abs[r] *= decay;
+            *e *= factor;
+            *a *= decay;
         }
         let x = d.omega * dt;
         let x2 = x * x;
@@ -156,8 +174,9 @@ impl Segment {
     pub fn deriv(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.slot];
         let row = &cfg.modes.vl[p][order];
-        let hom: f64 = row[..self.len].iter().zip(&pt.e[..self.len]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
-        let (pp, qq) = (cfg.p[p], cfg.q[p]);
+        let hom: f64 = row[..self.len].iter().zip(&pt.e[..]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
+        let f = &d.forced(self.slot)[p];
+        let (pp, qq) = (f.p, f.q);
         let w = d.omega_pow[order];
         let forced = match order % 4 {
             0 => pp * pt.cos + qq * pt.sin,
@@ -172,27 +191,50 @@ impl Segment {
     pub fn bound(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> f64 {
         let cfg = &d.configs[self.slot];
         let row = &cfg.modes.vl_abs[p][order];
-        let hom: f64 = row[..self.len].iter().zip(&pt.e_abs[..self.len]).map(|(a, e)| a * e).sum();
-        hom + d.omega_pow[order] * cfg.amp[p]
+        let hom: f64 = row[..self.len].iter().zip(&pt.e_abs[..]).map(|(a, e)| a * e).sum();
+        hom + d.omega_pow[order] * d.forced(self.slot)[p].amp
     }
 
-    /// Four successive derivatives of the displacement of mass `p` from `order` on.
-    pub fn derivs4(&self, d: &Dynamics, pt: &Point, p: usize, order: usize) -> [f64; 4] {
+    /// Four successive derivatives of the displacement of mass `p` from `order` on (each what
+    /// [`Segment::deriv`] gives) and [`Segment::bound`] of order `bound_order`, in one pass
+    /// over the terms.
+    #[inline]
+    pub fn derivs4_bound(
+        &self,
+        d: &Dynamics,
+        pt: &Point,
+        p: usize,
+        order: usize,
+        bound_order: usize,
+    ) -> ([f64; 4], f64) {
         let cfg = &d.configs[self.slot];
+        let (e, e_abs) = (&pt.e[..], &pt.e_abs[..]);
+        let rows = &cfg.modes.vl[p][order..order + 4];
+        let (r0, r1, r2, r3) = (&rows[0][..e.len()], &rows[1][..e.len()], &rows[2][..e.len()], &rows[3][..e.len()]);
+        let ra = &cfg.modes.vl_abs[p][bound_order][..e.len()];
+        // Each sum from -0, term by term, as `Iterator::sum` adds.
+        let (mut h, mut b) = ([-0.0; 4], -0.0);
+        for r in 0..e.len() {
+            let z = e[r];
+            h[0] += r0[r].re * z.re - r0[r].im * z.im;
+            h[1] += r1[r].re * z.re - r1[r].im * z.im;
+            h[2] += r2[r].re * z.re - r2[r].im * z.im;
+            h[3] += r3[r].re * z.re - r3[r].im * z.im;
+            b += ra[r] * e_abs[r];
+        }
+        let f = &d.forced(self.slot)[p];
+        let (pp, qq) = (f.p, f.q);
         let mut out = [0.0; 4];
         for (i, o) in out.iter_mut().enumerate() {
-            let row = &cfg.modes.vl[p][order + i];
-            let hom: f64 = row[..self.len].iter().zip(&pt.e[..self.len]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
-            let (pp, qq) = (cfg.p[p], cfg.q[p]);
             let forced = match (order + i) % 4 {
                 0 => pp * pt.cos + qq * pt.sin,
                 1 => -pp * pt.sin + qq * pt.cos,
                 2 => -(pp * pt.cos + qq * pt.sin),
                 _ => pp * pt.sin - qq * pt.cos,
             } * d.omega_pow[order + i];
-            *o = hom + forced + if order + i == 0 { cfg.modes.offset[p] } else { 0.0 };
+            *o = h[i] + forced + if order + i == 0 { cfg.modes.offset[p] } else { 0.0 };
         }
-        out
+        (out, b + d.omega_pow[bound_order] * f.amp)
     }
 
     /// Displacements and velocities of all masses at a point.
@@ -306,25 +348,22 @@ impl Watch {
     pub fn taylor(&self, seg: &Segment, d: &Dynamics, pt: &Point) -> Taylor {
         match *self {
             Watch::Contact { host, sigma, .. } => {
-                let x = seg.derivs4(d, pt, host, 2);
-                Taylor {
-                    h: [sigma * (x[0] + GRAVITY), sigma * x[1], sigma * x[2], sigma * x[3]],
-                    bound4: seg.bound(d, pt, host, 6),
-                }
+                let (x, bound4) = seg.derivs4_bound(d, pt, host, 2, 6);
+                Taylor { h: [sigma * (x[0] + GRAVITY), sigma * x[1], sigma * x[2], sigma * x[3]], bound4 }
             }
             Watch::GapBottom { host, y0, u0, tf, .. } => {
-                let x = seg.derivs4(d, pt, host, 0);
+                let (x, bound4) = seg.derivs4_bound(d, pt, host, 0, 4);
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
-                Taylor { h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]], bound4: seg.bound(d, pt, host, 4) }
+                Taylor { h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]], bound4 }
             }
             Watch::GapTop { host, d: clearance, y0, u0, tf, .. } => {
-                let x = seg.derivs4(d, pt, host, 0);
+                let (x, bound4) = seg.derivs4_bound(d, pt, host, 0, 4);
                 let tau = pt.t - tf;
                 let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
                 let u = u0 - GRAVITY * tau;
-                Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4: seg.bound(d, pt, host, 4) }
+                Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4 }
             }
             Watch::Pair { lower_flight: [tl, yl, ul], upper_flight: [tu, yu, uu], .. } => {
                 let (a, va) = super::bed::flight(tl, yl, ul, pt.t);

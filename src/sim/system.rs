@@ -8,13 +8,17 @@ use num_complex::Complex64;
 
 use crate::model::{Damper, Structure, GRAVITY};
 
+use super::buf::{PerMass, Terms};
 use super::eigen;
+use super::forced::{forced_into, Forced};
 
-/// Most terms a closed form may have (conjugate pairs count once): up to 8 masses.
-pub const MAX_TERMS: usize = 16;
+/// Most degrees of freedom (masses, or generalised coordinates) the closed form takes.
+pub const MAX_DOF: usize = 256;
 
-/// Most masses a closed form may have.
-pub const MAX_MASSES: usize = MAX_TERMS / 2;
+/// Most numbers the decompositions of one system may store, counted as configurations x
+/// degrees of freedom x terms (each configuration keeps its eigenvectors' displacement rows
+/// in [`ORDERS`] derivative orders, about 170 bytes a number): about 700 MB.
+pub const MAX_STORED: usize = 1 << 22;
 
 /// Highest derivative order of a host displacement the event functions need (contact
 /// forces are second derivatives; their certified bounds need four more).
@@ -26,7 +30,15 @@ const MAX_CONDITION: f64 = 1e12;
 /// Most configurations one system may have: every one is decomposed up front. A single bed
 /// doubles their number (attached or not); a column of `n` grains multiplies it by `n + 1`
 /// (how many of its grains ride on the host), so 14 single beds, or three 20-grain columns.
+/// A large structure allows fewer ([`config_limit`]).
 pub const MAX_CONFIGS: usize = 1 << 14;
+
+/// Most configurations a structure of `dof` degrees of freedom may have: [`MAX_CONFIGS`], or
+/// fewer where their decompositions would store more than [`MAX_STORED`] numbers.
+pub fn config_limit(dof: usize) -> usize {
+    let per_config = (dof * 2 * dof).max(1);
+    (MAX_STORED / per_config).min(MAX_CONFIGS)
+}
 
 /// Most single beds one system may carry (`2^N <= MAX_CONFIGS`).
 pub const MAX_BEDS: usize = 14;
@@ -187,15 +199,17 @@ pub enum SetupError {
         /// The configuration.
         mask: usize,
     },
-    /// More masses than the closed form supports.
+    /// More degrees of freedom than the closed form supports ([`MAX_DOF`]).
     TooLarge {
         /// Masses given.
         masses: usize,
     },
-    /// More single beds than [`MAX_BEDS`], or more configurations than [`MAX_CONFIGS`].
+    /// More single beds than [`MAX_BEDS`], or more configurations than [`config_limit`].
     TooManyBeds {
         /// Beds given.
         beds: usize,
+        /// Degrees of freedom of the structure.
+        dof: usize,
     },
     /// A column whose grains differ (host, clearance, mass or law), overlap another, or leave
     /// the bed list.
@@ -227,10 +241,10 @@ impl std::fmt::Display for SetupError {
                 "configuration {mask:#b}: numerically singular (eigenvector condition {condition:.1e}, or a growing mode): masses, stiffnesses or damping differ by too many orders of magnitude"
             ),
             SetupError::TooLarge { masses } => {
-                write!(f, "{masses} masses: the simulator supports at most {}", MAX_TERMS / 2)
+                write!(f, "{masses} degrees of freedom: the simulator supports at most {MAX_DOF}")
             }
-            SetupError::TooManyBeds { beds } => {
-                write!(f, "{beds} beds: the simulator supports at most {MAX_BEDS} single beds, or {MAX_CONFIGS} configurations with columns of grains (it decomposes every configuration)")
+            SetupError::TooManyBeds { beds, dof } => {
+                write!(f, "{beds} beds on {dof} degrees of freedom: the simulator supports at most {MAX_BEDS} single beds and {} configurations (counting each column of grains as its grains + 1) on this many degrees of freedom (it decomposes every configuration)", config_limit(*dof))
             }
             SetupError::Column { first } => {
                 write!(f, "the column starting at bed {first}: its grains must be consecutive beds with one host, clearance, mass and law, and columns may not overlap")
@@ -261,9 +275,13 @@ pub struct Modes {
     pub max_rate: f64,
     /// Largest eigen-residual (diagnostics).
     pub residual: f64,
+    /// `max |V| max |V^-1|` of the eigenvectors: how much rounding a round trip from a state
+    /// to the terms' coefficients and back may grow by.
+    pub condition: f64,
 }
 
-/// Closed-form dynamics of one configuration at one forcing frequency:
+/// Closed-form dynamics of one configuration (its forced part at the dynamics' frequency is
+/// [`Dynamics::forced`]):
 /// `x(t) = sum_r w_r Re(V_r c_r e^{lambda_r (t - t0)}) + P cos(omega t) + Q sin(omega t) + s`,
 /// summed over one eigenvalue of each conjugate pair (weight 2) and the real ones (weight 1).
 #[derive(Debug, Clone)]
@@ -272,17 +290,6 @@ pub struct Config {
     pub mask: usize,
     /// The decomposition (does not depend on the forcing frequency).
     pub modes: Arc<Modes>,
-    /// `sqrt(P^2 + Q^2)` per mass (the first `n` entries; the forced part is held in place,
-    /// so that the dynamics at another frequency is a copy without allocations).
-    pub amp: [f64; MAX_MASSES],
-    /// Cosine coefficients of the forced response, m.
-    pub p: [f64; MAX_MASSES],
-    /// Sine coefficients of the forced response, m.
-    pub q: [f64; MAX_MASSES],
-    /// Derivative of `p` in the forcing frequency, m s.
-    pub dp: [f64; MAX_MASSES],
-    /// Derivative of `q` in the forcing frequency, m s.
-    pub dq: [f64; MAX_MASSES],
 }
 
 /// The event search's step as a fraction of [`Dynamics::min_period`] (the engine's default;
@@ -299,96 +306,24 @@ pub struct Step {
     /// Number of terms.
     pub len: usize,
     /// `e^{lambda_r dt}`.
-    pub factor: [Complex64; MAX_TERMS],
+    pub factor: Terms<Complex64>,
     /// `|e^{lambda_r dt}|`.
-    pub decay: [f64; MAX_TERMS],
+    pub decay: Terms<f64>,
     /// `sin(omega dt)`.
     pub sin: f64,
     /// `cos(omega dt)`.
     pub cos: f64,
 }
 
-/// The forced response `X` of one configuration (`Z X = F e_driven`, `Z = K - omega^2 M + i
-/// omega C`) and its frequency derivative (`Z dX/domega = -(dZ/domega) X`, `dZ/domega = -2
-/// omega M + i C`), by Gaussian elimination with partial pivoting on the stack (the systems are
-/// at most [`MAX_MASSES`] square); `None` when `Z` is singular.
-fn forced_response(
-    k: &DMatrix<f64>,
-    c: &DMatrix<f64>,
-    mass: &DMatrix<f64>,
-    omega: f64,
-    driven: usize,
-    force: f64,
-) -> Option<([Complex64; MAX_MASSES], [Complex64; MAX_MASSES])> {
-    let n = k.nrows();
-    let zero = Complex64::new(0.0, 0.0);
-    let mut z = [[zero; MAX_MASSES]; MAX_MASSES];
-    for (i, row) in z.iter_mut().enumerate().take(n) {
-        for (j, e) in row.iter_mut().enumerate().take(n) {
-            *e = Complex64::new(k[(i, j)] - omega * omega * mass[(i, j)], omega * c[(i, j)]);
-        }
-    }
-    // LU in place, the row exchanges in `perm`.
-    let mut perm = [0usize; MAX_MASSES];
-    for col in 0..n {
-        let pivot = (col..n).max_by(|&a, &b| z[a][col].l1_norm().total_cmp(&z[b][col].l1_norm()))?;
-        if z[pivot][col] == zero {
-            return None;
-        }
-        z.swap(col, pivot);
-        perm[col] = pivot;
-        let (upper, lower) = z.split_at_mut(col + 1);
-        let pivot_row = &upper[col];
-        for row in lower.iter_mut().take(n - col - 1) {
-            let f = row[col] / pivot_row[col];
-            row[col] = f;
-            for (e, u) in row[col + 1..n].iter_mut().zip(&pivot_row[col + 1..n]) {
-                *e -= f * u;
-            }
-        }
-    }
-    let solve = |b: &mut [Complex64; MAX_MASSES]| {
-        for (col, &p) in perm.iter().enumerate().take(n) {
-            b.swap(col, p);
-        }
-        for col in 0..n {
-            let v = b[col];
-            for r in col + 1..n {
-                b[r] -= z[r][col] * v;
-            }
-        }
-        for col in (0..n).rev() {
-            b[col] /= z[col][col];
-            let v = b[col];
-            for r in 0..col {
-                b[r] -= z[r][col] * v;
-            }
-        }
-    };
-    let mut x = [zero; MAX_MASSES];
-    x[driven] = Complex64::new(force, 0.0);
-    solve(&mut x);
-    let mut dx = [zero; MAX_MASSES];
-    for (i, d) in dx.iter_mut().enumerate().take(n) {
-        let mut acc = zero;
-        for (j, xj) in x.iter().enumerate().take(n) {
-            acc += Complex64::new(-2.0 * omega * mass[(i, j)], c[(i, j)]) * xj;
-        }
-        *d = -acc;
-    }
-    solve(&mut dx);
-    Some((x, dx))
-}
-
 /// The parts of the accelerations at one state that do not depend on the configuration
 /// ([`Dynamics::at_state`]).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct AtState {
     f: f64,
     fdot: f64,
-    cv: [f64; MAX_MASSES],
-    kx: [f64; MAX_MASSES],
-    kv: [f64; MAX_MASSES],
+    cv: PerMass,
+    kx: PerMass,
+    kv: PerMass,
 }
 
 /// Row `i` of `m` times `z`, accumulated column by column; `sign` -1 negates `m`.
@@ -405,6 +340,12 @@ pub struct Dynamics {
     pub omega: f64,
     /// Every configuration, numbered by [`Dynamics::slot`].
     pub configs: Vec<Config>,
+    /// Degrees of freedom.
+    pub dof: usize,
+    /// The forced response of every configuration at every mass, configuration by
+    /// configuration ([`Dynamics::forced`]): one buffer for all, so that the dynamics at
+    /// another frequency costs one allocation.
+    forced: Vec<Forced>,
     /// Stiffness and damping (shared by all configurations).
     pub k: Arc<DMatrix<f64>>,
     /// Damping matrix, N s/m.
@@ -431,21 +372,14 @@ impl Dynamics {
     /// again (the decompositions do not depend on the frequency), so a sweep or a
     /// continuation in frequency decomposes once. Identical to [`Dynamics::new`] at `omega`.
     pub fn at_omega(&self, omega: f64) -> Result<Dynamics, SetupError> {
-        let n = self.system.dof();
-        let mut configs = self.configs.clone();
-        for cfg in &mut configs {
-            let (x, dx) = if self.system.force != 0.0 {
-                forced_response(&self.k, &self.c, &cfg.modes.mass, omega, self.system.driven, self.system.force)
-                    .ok_or(SetupError::Singular { mask: cfg.mask })?
-            } else {
-                ([Complex64::new(0.0, 0.0); MAX_MASSES], [Complex64::new(0.0, 0.0); MAX_MASSES])
-            };
-            for i in 0..n {
-                cfg.p[i] = x[i].im;
-                cfg.q[i] = x[i].re;
-                cfg.dp[i] = dx[i].im;
-                cfg.dq[i] = dx[i].re;
-                cfg.amp[i] = cfg.p[i].hypot(cfg.q[i]);
+        let n = self.dof;
+        let configs = self.configs.clone();
+        let mut forced = vec![Forced::default(); n * configs.len()];
+        if self.system.force != 0.0 {
+            for (cfg, out) in configs.iter().zip(forced.chunks_exact_mut(n.max(1))) {
+                let drive = (self.system.driven, self.system.force);
+                forced_into(&self.k, &self.c, &cfg.modes.mass, omega, drive, out)
+                    .ok_or(SetupError::Singular { mask: cfg.mask })?;
             }
         }
         let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
@@ -454,6 +388,8 @@ impl Dynamics {
             system: Arc::clone(&self.system),
             omega,
             configs,
+            dof: n,
+            forced,
             k: Arc::clone(&self.k),
             c: Arc::clone(&self.c),
             min_period: 2.0 * std::f64::consts::PI / max_rate,
@@ -468,14 +404,15 @@ impl Dynamics {
     pub fn unforced(system: &System) -> Result<Dynamics, SetupError> {
         let omega = 0.0;
         let n = system.dof();
-        if 2 * n > MAX_TERMS {
+        if n > MAX_DOF {
             return Err(SetupError::TooLarge { masses: n });
         }
         check_columns(system)?;
         let groups = system.groups();
-        let slots = groups.iter().try_fold(1usize, |acc, g| acc.checked_mul(g.len() + 1).filter(|&c| c <= MAX_CONFIGS));
+        let limit = config_limit(n);
+        let slots = groups.iter().try_fold(1usize, |acc, g| acc.checked_mul(g.len() + 1).filter(|&c| c <= limit));
         let Some(slots) = slots.filter(|_| system.dampers.len() <= MAX_GRAINS) else {
-            return Err(SetupError::TooManyBeds { beds: system.dampers.len() });
+            return Err(SetupError::TooManyBeds { beds: system.dampers.len(), dof: n });
         };
         let k = system.structure.stiffness.clone();
         let c = system.structure.damping.clone();
@@ -534,23 +471,18 @@ impl Dynamics {
                 mass_inv: m_inv,
                 max_rate,
                 residual: eig.residual,
+                condition,
             };
-            configs.push(Config {
-                mask,
-                modes: Arc::new(modes),
-                amp: [0.0; MAX_MASSES],
-                p: [0.0; MAX_MASSES],
-                q: [0.0; MAX_MASSES],
-                dp: [0.0; MAX_MASSES],
-                dq: [0.0; MAX_MASSES],
-            });
+            configs.push(Config { mask, modes: Arc::new(modes) });
         }
         let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
         let configs_len = configs.len();
         Ok(Dynamics {
             system: Arc::new(system.clone()),
             omega,
+            forced: vec![Forced::default(); n * configs.len()],
             configs,
+            dof: n,
             k: Arc::new(k),
             c: Arc::new(c),
             min_period: 2.0 * std::f64::consts::PI / max_rate,
@@ -582,13 +514,12 @@ impl Dynamics {
     pub fn step(&self, slot: usize, dt: f64) -> Step {
         let cfg = &self.configs[slot];
         let len = cfg.modes.lambda.len();
-        let mut factor = [Complex64::new(0.0, 0.0); MAX_TERMS];
-        let mut decay = [0.0; MAX_TERMS];
-        for r in 0..len {
-            let l = cfg.modes.lambda[r];
-            decay[r] = (l.re * dt).exp();
+        let mut factor = Terms::<Complex64>::zeros(len);
+        let mut decay = Terms::<f64>::zeros(len);
+        for ((f, e), l) in factor.iter_mut().zip(decay.iter_mut()).zip(&cfg.modes.lambda) {
+            *e = (l.re * dt).exp();
             let (si, co) = (l.im * dt).sin_cos();
-            factor[r] = Complex64::new(decay[r] * co, decay[r] * si);
+            *f = Complex64::new(*e * co, *e * si);
         }
         let (sin, cos) = (self.omega * dt).sin_cos();
         Step { dt, len, factor, decay, sin, cos }
@@ -605,27 +536,34 @@ impl Dynamics {
         &self.configs[self.slot(mask)]
     }
 
+    /// The forced response of configuration `slot` at every mass.
+    #[inline]
+    pub fn forced(&self, slot: usize) -> &[Forced] {
+        &self.forced[slot * self.dof..(slot + 1) * self.dof]
+    }
+
     /// The forced (particular) displacement and velocity of `mask` at time `t`.
     pub fn particular(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
-        let cfg = self.config(mask);
+        let slot = self.slot(mask);
+        let (cfg, f) = (&self.configs[slot], self.forced(slot));
         let (s, c) = (self.omega * t).sin_cos();
-        let n = self.system.dof();
-        let x = DVector::from_fn(n, |i, _| cfg.p[i] * c + cfg.q[i] * s + cfg.modes.offset[i]);
-        let v = DVector::from_fn(n, |i, _| (cfg.q[i] * c - cfg.p[i] * s) * self.omega);
+        let n = self.dof;
+        let x = DVector::from_fn(n, |i, _| f[i].p * c + f[i].q * s + cfg.modes.offset[i]);
+        let v = DVector::from_fn(n, |i, _| (f[i].q * c - f[i].p * s) * self.omega);
         (x, v)
     }
 
     /// The derivatives of [`Dynamics::particular`] in the forcing frequency at fixed `t`.
     pub fn particular_d_omega(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
-        let cfg = self.config(mask);
+        let f = self.forced(self.slot(mask));
         let w = self.omega;
         let (s, c) = (w * t).sin_cos();
         // x_p = P cos(w t) + Q sin(w t) + s, v_p = w (Q cos(w t) - P sin(w t)).
-        let n = self.system.dof();
-        let (p, q, dp, dq) = (&cfg.p, &cfg.q, &cfg.dp, &cfg.dq);
-        let x = DVector::from_fn(n, |i, _| dp[i] * c + dq[i] * s + (q[i] * c - p[i] * s) * t);
+        let n = self.dof;
+        let x = DVector::from_fn(n, |i, _| f[i].dp * c + f[i].dq * s + (f[i].q * c - f[i].p * s) * t);
         let v = DVector::from_fn(n, |i, _| {
-            (q[i] * c - p[i] * s) + (dq[i] * c - dp[i] * s) * w - (p[i] * c + q[i] * s) * (w * t)
+            let Forced { p, q, dp, dq, .. } = f[i];
+            (q * c - p * s) + (dq * c - dp * s) * w - (p * c + q * s) * (w * t)
         });
         (x, v)
     }
@@ -639,13 +577,7 @@ impl Dynamics {
     /// Accelerations and jerks of all masses in configuration `mask` at state `(x, v)`, time
     /// `t` (the first `n` entries): `a = M^-1 (w - C v - K x + f)`, `j = M^-1 (-C a - K v + f')`,
     /// each product summed over the columns in order, without allocating.
-    pub fn accelerations(
-        &self,
-        mask: usize,
-        t: f64,
-        x: &DVector<f64>,
-        v: &DVector<f64>,
-    ) -> ([f64; MAX_MASSES], [f64; MAX_MASSES]) {
+    pub fn accelerations(&self, mask: usize, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> (PerMass, PerMass) {
         self.accelerations_in(mask, &self.at_state(t, x, v))
     }
 
@@ -654,90 +586,45 @@ impl Dynamics {
     pub fn at_state(&self, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> AtState {
         let n = self.system.dof();
         let (f, fdot) = self.force(t);
-        let mut out = AtState { f, fdot, cv: [0.0; MAX_MASSES], kx: [0.0; MAX_MASSES], kv: [0.0; MAX_MASSES] };
-        for i in 0..n {
-            out.cv[i] = row(&self.c, i, v.as_slice(), 1.0);
-            out.kx[i] = row(&self.k, i, x.as_slice(), 1.0);
-            out.kv[i] = row(&self.k, i, v.as_slice(), 1.0);
+        let (mut cv, mut kx, mut kv) = (PerMass::zeros(n), PerMass::zeros(n), PerMass::zeros(n));
+        for (i, ((cv, kx), kv)) in cv.iter_mut().zip(kx.iter_mut()).zip(kv.iter_mut()).enumerate() {
+            *cv = row(&self.c, i, v.as_slice(), 1.0);
+            *kx = row(&self.k, i, x.as_slice(), 1.0);
+            *kv = row(&self.k, i, v.as_slice(), 1.0);
         }
-        out
+        AtState { f, fdot, cv, kx, kv }
     }
 
     /// [`Dynamics::accelerations`] in configuration `mask` at a state prepared by
     /// [`Dynamics::at_state`] (the same numbers: the same sums in the same order).
-    pub fn accelerations_in(&self, mask: usize, st: &AtState) -> ([f64; MAX_MASSES], [f64; MAX_MASSES]) {
+    pub fn accelerations_in(&self, mask: usize, st: &AtState) -> (PerMass, PerMass) {
         let n = self.system.dof();
         let cfg = self.config(mask);
-        let mut rhs = [0.0; MAX_MASSES];
+        let mut rhs_buf = PerMass::zeros(n);
+        let rhs = &mut rhs_buf[..];
         for (j, d) in self.system.dampers.iter().enumerate() {
             if mask & (1 << j) != 0 {
                 rhs[d.host] -= d.mass * GRAVITY;
             }
         }
-        for (i, r) in rhs.iter_mut().enumerate().take(n) {
-            *r = *r - st.cv[i] - st.kx[i];
+        for (r, (cv, kx)) in rhs.iter_mut().zip(st.cv.iter().zip(&st.kx[..])) {
+            *r = *r - cv - kx;
         }
         rhs[self.system.driven] += st.f;
-        let mut a = [0.0; MAX_MASSES];
-        for (i, ai) in a.iter_mut().enumerate().take(n) {
-            *ai = row(&cfg.modes.mass_inv, i, &rhs, 1.0);
+        let mut a = PerMass::zeros(n);
+        for (i, ai) in a.iter_mut().enumerate() {
+            *ai = row(&cfg.modes.mass_inv, i, rhs, 1.0);
         }
-        let mut rhs_dot = [0.0; MAX_MASSES];
-        for (i, r) in rhs_dot.iter_mut().enumerate().take(n) {
-            *r = row(&self.c, i, &a, -1.0) - st.kv[i];
+        // `rhs` is spent: it holds the right-hand side of the jerks.
+        let rhs_dot = rhs;
+        for (i, (r, kv)) in rhs_dot.iter_mut().zip(&st.kv[..]).enumerate() {
+            *r = row(&self.c, i, &a, -1.0) - kv;
         }
         rhs_dot[self.system.driven] += st.fdot;
-        let mut jerk = [0.0; MAX_MASSES];
-        for (i, ji) in jerk.iter_mut().enumerate().take(n) {
-            *ji = row(&cfg.modes.mass_inv, i, &rhs_dot, 1.0);
+        let mut jerk = PerMass::zeros(n);
+        for (i, ji) in jerk.iter_mut().enumerate() {
+            *ji = row(&cfg.modes.mass_inv, i, rhs_dot, 1.0);
         }
         (a, jerk)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn forced_response_solves_its_system_and_its_derivative_is_the_difference_quotient() {
-        // A 4-mass chain with non-proportional damping and a mass matrix whose largest
-        // entries are not on the first rows (the pivoting matters), driven at mass 2.
-        let k = DMatrix::from_row_slice(
-            4,
-            4,
-            &[3e4, -2e4, 0.0, 0.0, -2e4, 5e4, -3e4, 0.0, 0.0, -3e4, 4e4, -1e4, 0.0, 0.0, -1e4, 1e4],
-        );
-        let c = DMatrix::from_row_slice(
-            4,
-            4,
-            &[3.0, -1.0, 0.0, 0.0, -1.0, 2.5, -0.7, 0.0, 0.0, -0.7, 0.9, -0.2, 0.0, 0.0, -0.2, 0.4],
-        );
-        let m = DMatrix::from_diagonal(&DVector::from_vec(vec![0.5, 0.9, 1.7, 0.3]));
-        for omega in [10.0, 150.0, 240.0, 900.0] {
-            let (x, dx) = forced_response(&k, &c, &m, omega, 2, 2.6).unwrap();
-            // Z X = F e_2, to rounding of the largest term.
-            for i in 0..4 {
-                let mut r = Complex64::new(if i == 2 { -2.6 } else { 0.0 }, 0.0);
-                let mut scale = 2.6;
-                for j in 0..4 {
-                    let z = Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)]);
-                    r += z * x[j];
-                    scale += (z * x[j]).norm();
-                }
-                assert!(r.norm() < 1e-13 * scale, "omega {omega}: residual {} of {scale}", r.norm());
-            }
-            // dX/domega against a central difference.
-            let h = 1e-5 * omega;
-            let (xp, _) = forced_response(&k, &c, &m, omega + h, 2, 2.6).unwrap();
-            let (xm, _) = forced_response(&k, &c, &m, omega - h, 2, 2.6).unwrap();
-            for i in 0..4 {
-                let fd = (xp[i] - xm[i]) / (2.0 * h);
-                assert!((fd - dx[i]).norm() <= 1e-6 * dx[i].norm().max(1e-12), "omega {omega}: {fd} vs {}", dx[i]);
-            }
-        }
-        // A singular dynamic stiffness (no damping, at a natural frequency of a single mass).
-        let one = DMatrix::from_element(1, 1, 4.0);
-        assert!(forced_response(&one, &DMatrix::zeros(1, 1), &DMatrix::from_element(1, 1, 1.0), 2.0, 0, 1.0).is_none());
     }
 }

@@ -175,18 +175,18 @@ fn transition_into(d: &Dynamics, mask: usize, tau: f64, out: &mut DMatrix<f64>) 
     let cfg = d.config(mask);
     let n = d.system.dof();
     let len = cfg.modes.lambda.len();
-    let mut e = [Complex64::new(0.0, 0.0); super::system::MAX_TERMS];
+    let mut e = super::buf::Terms::<Complex64>::zeros(len);
     for (e, l) in e.iter_mut().zip(&cfg.modes.lambda) {
         *e = (l * tau).exp();
     }
-    let mut scaled = [Complex64::new(0.0, 0.0); super::system::MAX_TERMS];
+    let mut scaled = super::buf::Terms::<Complex64>::zeros(len);
     // The inverse's column `j` holds the terms' coefficients of start coordinate `j`, in order
     // (column-major storage: a contiguous run).
     let (inverse, stride) = (cfg.modes.inverse.as_slice(), cfg.modes.inverse.nrows());
     for i in 0..2 * n {
         let row = if i < n { &cfg.modes.vl[i][0] } else { &cfg.modes.vl[i - n][1] };
-        for r in 0..len {
-            scaled[r] = row[r] * e[r];
+        for ((s, w), e) in scaled.iter_mut().zip(&row[..len]).zip(&e[..]) {
+            *s = w * e;
         }
         for j in 0..2 * n {
             let column = &inverse[j * stride..j * stride + len];

@@ -1,0 +1,67 @@
+//! Cost per degree of freedom (docs/simulator.md, "Cost per degree of freedom"): chains of
+//! n = 3, 8, 16, 32, 64 equal masses refining the paper's structure (2.09 kg in all, series
+//! stiffness 7.27 kN/m, Rayleigh damping of 1 % at 14.6 and 73 Hz), three containers of 10 %
+//! of their host's mass with 0.5 mm of clearance on the last three masses, driven at the first
+//! by the force that gives the first mode the paper's modal force, over the band of its top
+//! three modes below 60 Hz (12 points). On one thread: the decomposition of the 8
+//! configurations, the band from rest, and the band followed. tests/size.rs builds the same
+//! family. Results and the machine they ran on are recorded in BENCHMARKS.md.
+
+use std::f64::consts::PI;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use shotdamp::model::modes::symmetric_modes;
+use shotdamp::model::{Clearance, Damper, Damping, Structure};
+use shotdamp::sim::sweep::{self, Direction};
+use shotdamp::sim::{Dynamics, SteadyOptions, System};
+
+fn refined(n: usize) -> System {
+    let m = 2.09 / n as f64;
+    let k = 7.27e3 * n as f64;
+    let (w1, w3) = (2.0 * PI * 14.6, 2.0 * PI * 73.0);
+    let damping = Damping::Rayleigh { alpha: 0.02 * w1 * w3 / (w1 + w3), beta: 0.02 / (w1 + w3) };
+    let s = Structure::chain(&vec![m; n], &vec![k; n], damping);
+    let dampers = (n - 3..n).map(|h| Damper { host: h, mass: 0.1 * m, clearance: Clearance::from_m(0.5e-3) }).collect();
+    let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
+    System::plastic(s, dampers, 0, force)
+}
+
+/// 12 frequencies from 0.9 times the lowest to 1.1 times the highest (at most 60 Hz) of the
+/// top three modes below 60 Hz.
+fn band(sys: &System) -> Vec<f64> {
+    let modes = symmetric_modes(&sys.structure.mass_matrix(), &sys.structure.stiffness);
+    let below: Vec<f64> = modes.omegas.iter().map(|w| w / (2.0 * PI)).filter(|&f| f < 60.0).collect();
+    let top = &below[below.len().saturating_sub(3)..];
+    let (lo, hi) = (0.9 * top[0], (1.1 * top[top.len() - 1]).min(60.0));
+    (0..12).map(|i| lo + (hi - lo) * i as f64 / 11.0).collect()
+}
+
+fn per_dof(c: &mut Criterion) {
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool of one thread");
+    let mut group = c.benchmark_group("size");
+    group.sample_size(10);
+    for n in [3, 8, 16, 32, 64] {
+        let sys = refined(n);
+        let freqs = band(&sys);
+        group.bench_function(format!("n={n}: decompose 8 configurations"), |b| {
+            b.iter(|| Dynamics::unforced(&sys).expect("decomposed"))
+        });
+        let base = Dynamics::unforced(&sys);
+        group.bench_function(format!("n={n}: 12 points from rest"), |b| {
+            b.iter(|| one.install(|| sweep::from_rest_on(&base, &freqs, &SteadyOptions::default(), &|| {})))
+        });
+        let follow = SteadyOptions { follow: true, ..SteadyOptions::default() };
+        group.bench_function(format!("n={n}: 12 points followed"), |b| {
+            b.iter(|| sweep::continued_on(&base, &freqs, Direction::Up, &follow, &|| {}))
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
+    config = Criterion::default().without_plots();
+    targets = per_dof
+}
+criterion_main!(benches);

@@ -1,0 +1,221 @@
+//! The exact simulator beyond the paper's three masses (docs/simulator.md, "Cost per degree of
+//! freedom"): extra degrees of freedom that are uncoupled change nothing, the numbering of the
+//! degrees of freedom changes nothing, the energy balances and the two steady-state methods
+//! agree on a 32-mass chain, and the thread count changes no bit.
+
+use std::f64::consts::PI;
+
+use nalgebra::DMatrix;
+use shotdamp::model::{Clearance, Damper, Damping, Structure};
+use shotdamp::sim::sweep;
+use shotdamp::sim::{steady_state, Dynamics, State, Steady, SteadyMethod, SteadyOptions, System};
+
+/// The paper's chain with modal damping 0.01.
+fn paper() -> Structure {
+    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
+}
+
+/// `a` and `b` on the diagonal.
+fn block_diagonal(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    let (n, m) = (a.nrows(), b.nrows());
+    let mut out = DMatrix::zeros(n + m, n + m);
+    out.view_mut((0, 0), (n, n)).copy_from(a);
+    out.view_mut((n, n), (m, m)).copy_from(b);
+    out
+}
+
+/// The paper's chain and, uncoupled from it, a grounded chain of `extra` masses (1 kg,
+/// 10 kN/m: every mode below the paper's third) with modal damping 0.02 of its own: the mass,
+/// stiffness and damping matrices are block-diagonal.
+fn with_uncoupled(extra: usize) -> Structure {
+    let p = paper();
+    let other = Structure::chain(&vec![1.0; extra], &vec![1e4; extra], Damping::ModalRatios(vec![0.02; extra]));
+    let masses = [p.masses.clone(), other.masses.clone()].concat();
+    Structure {
+        masses,
+        stiffness: block_diagonal(&p.stiffness, &other.stiffness),
+        damping: block_diagonal(&p.damping, &other.damping),
+        damping_spec: p.damping_spec.clone(),
+    }
+}
+
+/// The same structure with degree of freedom `i` renumbered `perm[i]`.
+fn renumbered(s: &Structure, perm: &[usize]) -> Structure {
+    let n = s.dof();
+    let mut masses = vec![0.0; n];
+    let mut k = DMatrix::zeros(n, n);
+    let mut c = DMatrix::zeros(n, n);
+    for i in 0..n {
+        masses[perm[i]] = s.masses[i];
+        for j in 0..n {
+            k[(perm[i], perm[j])] = s.stiffness[(i, j)];
+            c[(perm[i], perm[j])] = s.damping[(i, j)];
+        }
+    }
+    Structure { masses, stiffness: k, damping: c, damping_spec: s.damping_spec.clone() }
+}
+
+/// Beds of 10 % of their host's paper mass on `hosts` (paper numbering), placed at
+/// `place(host)`.
+fn beds(hosts: &[usize], clearance: f64, place: impl Fn(usize) -> usize) -> Vec<Damper> {
+    let m = [0.74, 0.71, 0.64];
+    hosts
+        .iter()
+        .map(|&h| Damper { host: place(h), mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) })
+        .collect()
+}
+
+fn points(sys: &System, freqs: &[f64]) -> Vec<Steady> {
+    sweep::from_rest(sys, freqs, &SteadyOptions::default(), &|| {}).into_iter().map(|p| p.result.unwrap()).collect()
+}
+
+/// `a` (the paper's numbering through `place`) against `b`: the same motion to `tol` of the
+/// largest amplitude, the same events.
+fn same_motion(a: &Steady, b: &Steady, place: impl Fn(usize) -> usize, tol: f64, what: &str) {
+    assert_eq!((a.converged, a.period), (b.converged, b.period), "{what}");
+    let scale = a.amplitude.iter().copied().fold(0.0, f64::max);
+    for i in 0..a.amplitude.len() {
+        let diff = (a.amplitude[i] - b.amplitude[place(i)]).abs();
+        assert!(
+            diff <= tol * scale,
+            "{what}: m{} {} vs {} ({:.1e} of the largest)",
+            i + 1,
+            a.amplitude[i],
+            b.amplitude[place(i)],
+            diff / scale
+        );
+    }
+    assert_eq!(a.bottom_impacts, b.bottom_impacts, "{what}");
+    assert_eq!(a.top_impacts, b.top_impacts, "{what}");
+    assert_eq!(a.liftoffs, b.liftoffs, "{what}");
+}
+
+#[test]
+fn uncoupled_degrees_of_freedom_leave_the_fig5_sweeps_unchanged() {
+    let freqs = [45.0, 47.0, 48.8, 50.0, 53.0];
+    for (hosts, clearance) in [(vec![1], 0.5e-3), (vec![0, 1, 2], 0.2e-3)] {
+        let three = points(&System::plastic(paper(), beds(&hosts, clearance, |h| h), 0, 2.6), &freqs);
+        assert!(three.iter().all(|s| s.converged && s.certificate.is_some()));
+        for dof in [8, 16, 64] {
+            let big = System::plastic(with_uncoupled(dof - 3), beds(&hosts, clearance, |h| h), 0, 2.6);
+            assert_eq!(big.dof(), dof);
+            for (f, (a, b)) in freqs.iter().zip(three.iter().zip(points(&big, &freqs))) {
+                let what = format!("{dof} dof, beds on {hosts:?}, {f} Hz");
+                same_motion(a, &b, |i| i, 1e-10, &what);
+                assert!(b.certificate.is_some(), "{what}: certified");
+                // The extra masses are neither forced nor touched: they stay at rest.
+                let scale = a.amplitude.iter().copied().fold(0.0, f64::max);
+                assert!(b.amplitude[3..].iter().all(|&x| x <= 1e-12 * scale), "{what}: {:?}", &b.amplitude[3..]);
+            }
+        }
+    }
+}
+
+#[test]
+fn another_numbering_of_the_degrees_of_freedom_gives_the_same_steady_states() {
+    let base = with_uncoupled(13);
+    let n = base.dof();
+    // Reversed, then the paper's masses moved into the middle of the extra chain.
+    let perm: Vec<usize> = (0..n).map(|i| (n - 1 - i + 7) % n).collect();
+    let place = |i: usize| perm[i];
+    let freqs = [46.0, 48.8, 51.0];
+    for (hosts, clearance) in [(vec![1], 0.5e-3), (vec![0, 1, 2], 0.2e-3)] {
+        let a = points(&System::plastic(base.clone(), beds(&hosts, clearance, |h| h), 0, 2.6), &freqs);
+        let b =
+            points(&System::plastic(renumbered(&base, &perm), beds(&hosts, clearance, place), place(0), 2.6), &freqs);
+        for (f, (a, b)) in freqs.iter().zip(a.iter().zip(&b)) {
+            same_motion(a, b, place, 1e-10, &format!("beds on {hosts:?}, {f} Hz"));
+        }
+    }
+}
+
+/// Rayleigh damping of 1 % at the refined chain's first and third modes (14.6 and 73 Hz as
+/// `n` grows), growing with frequency above: the stiff modes of a fine chain ring down within a
+/// few of their periods, as a structure's do.
+fn damping(n: usize) -> Damping {
+    let _ = n;
+    let (w1, w3) = (2.0 * PI * 14.6, 2.0 * PI * 73.0);
+    Damping::Rayleigh { alpha: 0.02 * w1 * w3 / (w1 + w3), beta: 0.02 / (w1 + w3) }
+}
+
+/// A chain of `n` equal masses refining the paper's (2.09 kg in all, series stiffness
+/// 7.27 kN/m), Rayleigh damping ([`damping`]), beds of 10 % of their host on the last three masses with
+/// 0.5 mm of clearance, driven at the first by a force that gives the lowest mode the paper's
+/// modal force (benches/size.rs builds the same family).
+fn refined(n: usize) -> System {
+    let m = 2.09 / n as f64;
+    let k = 7.27e3 * n as f64;
+    let s = Structure::chain(&vec![m; n], &vec![k; n], damping(n));
+    let dampers = (n - 3..n).map(|h| Damper { host: h, mass: 0.1 * m, clearance: Clearance::from_m(0.5e-3) }).collect();
+    let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
+    System::plastic(s, dampers, 0, force)
+}
+
+#[test]
+fn a_32_mass_chain_balances_its_energy_and_both_methods_agree() {
+    let sys = refined(32);
+    let d0 = Dynamics::unforced(&sys).unwrap();
+    let mut compared = 0;
+    for f in [14.0, 40.0, 44.0] {
+        let d = d0.at_omega(2.0 * PI * f).unwrap();
+        let orbit = steady_state(&d, State::at_rest(&d), &SteadyOptions { energy: true, ..SteadyOptions::default() });
+        assert!(orbit.converged && orbit.certificate.is_some(), "{f} Hz: {:?}", orbit.failure);
+        assert!(orbit.bottom_impacts.iter().sum::<f64>() > 0.0, "{f} Hz: the beds impact");
+        let e = orbit.energy.as_ref().unwrap();
+        assert!(e.impact > 0.0 && e.relative_residual() < 1e-9, "{f} Hz: {e:?} residual {}", e.relative_residual());
+        let transient = SteadyOptions { method: SteadyMethod::Transient, ..SteadyOptions::default() };
+        let t = steady_state(&d, State::at_rest(&d), &transient);
+        if t.converged && t.period == orbit.period {
+            compared += 1;
+            let scale = orbit.amplitude.iter().copied().fold(0.0, f64::max);
+            for (i, (a, b)) in orbit.amplitude.iter().zip(&t.amplitude).enumerate() {
+                assert!((a - b).abs() <= 1e-5 * scale, "{f} Hz m{}: orbit {a} transient {b}", i + 1);
+            }
+        }
+    }
+    assert!(compared >= 2, "both methods settle on most of these points");
+}
+
+#[test]
+fn a_32_mass_sweep_is_the_same_on_one_thread_and_two() {
+    let sys = refined(32);
+    let freqs: Vec<f64> = (0..8).map(|i| 13.0 + 0.5 * i as f64).collect();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pts = pool.install(|| points(&sys, &freqs));
+        pts.iter()
+            .flat_map(|s| s.amplitude.iter().chain(&s.bottom_impacts).map(|x| x.to_bits()).collect::<Vec<_>>())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn the_one_pass_parts_of_an_event_function_are_its_single_derivatives_bit_for_bit() {
+    use shotdamp::sim::segment::Segment;
+    // Three masses (buffers on the stack) and 32 (on the heap), away from any particular state.
+    for sys in [System::plastic(paper(), beds(&[0, 1, 2], 0.5e-3, |h| h), 0, 2.6), refined(32)] {
+        let d = Dynamics::new(&sys, 2.0 * PI * 44.0).unwrap();
+        let n = sys.dof();
+        let x0 = nalgebra::DVector::from_fn(n, |i, _| 1e-4 * (i as f64 + 1.0).sin());
+        let v0 = nalgebra::DVector::from_fn(n, |i, _| 1e-2 * (i as f64 + 2.0).cos());
+        let seg = Segment::start(&d, 0b101, 0.01, &x0, &v0);
+        for t in [0.01, 0.0137] {
+            let pt = seg.point(&d, t);
+            for p in 0..n {
+                for (order, bound_order) in [(0, 4), (2, 6)] {
+                    let (h, b) = seg.derivs4_bound(&d, &pt, p, order, bound_order);
+                    for (i, hi) in h.iter().enumerate() {
+                        assert_eq!(
+                            hi.to_bits(),
+                            seg.deriv(&d, &pt, p, order + i).to_bits(),
+                            "n {n} m{p} order {}",
+                            order + i
+                        );
+                    }
+                    assert_eq!(b.to_bits(), seg.bound(&d, &pt, p, bound_order).to_bits(), "n {n} m{p}");
+                }
+            }
+        }
+    }
+}
