@@ -571,6 +571,15 @@ fn unbounded_inputs_are_refused_before_anything_runs() {
             text.replace("max_beds = 2", "max_beds = 2\nmax_iters = 1e9"),
             "design.max_iters = 1000000000: give a whole number from 1 to 10000",
         ),
+        (
+            // 64 masses: at most 9 containers at once (2^9 configurations of 64 terms).
+            text.replace("[1.0, 1.0, 1.0, 1.0, 1.0]", &format!("[{}]", ["1.0"; 64].join(", ")))
+                .replace("[20000.0, 20000.0, 20000.0, 20000.0, 20000.0]", &format!("[{}]", ["20000.0"; 64].join(", ")))
+                .replace("[0.02, 0.02, 0.02, 0.02, 0.02]", &format!("[{}]", ["0.02"; 64].join(", ")))
+                .replace("candidates = [1, 2, 3, 4, 5]", "candidates = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]")
+                .replace("max_beds = 2", "max_beds = 10"),
+            "design.max_beds = 10: at most 9 containers at once on 64 degrees of freedom",
+        ),
     ] {
         std::fs::write(&design, edit).unwrap();
         let out = shotdamp().arg("design").arg(&design).arg("--dry-run").output().unwrap();
