@@ -130,10 +130,9 @@ fn another_numbering_of_the_degrees_of_freedom_gives_the_same_steady_states() {
 }
 
 /// Rayleigh damping of 1 % at the refined chain's first and third modes (14.6 and 73 Hz as
-/// `n` grows), growing with frequency above: the stiff modes of a fine chain ring down within a
-/// few of their periods, as a structure's do.
-fn damping(n: usize) -> Damping {
-    let _ = n;
+/// the chain is refined), growing with frequency above: the stiff modes of a fine chain ring
+/// down within a few of their periods, as a structure's do.
+fn damping() -> Damping {
     let (w1, w3) = (2.0 * PI * 14.6, 2.0 * PI * 73.0);
     Damping::Rayleigh { alpha: 0.02 * w1 * w3 / (w1 + w3), beta: 0.02 / (w1 + w3) }
 }
@@ -145,7 +144,7 @@ fn damping(n: usize) -> Damping {
 fn refined(n: usize) -> System {
     let m = 2.09 / n as f64;
     let k = 7.27e3 * n as f64;
-    let s = Structure::chain(&vec![m; n], &vec![k; n], damping(n));
+    let s = Structure::chain(&vec![m; n], &vec![k; n], damping());
     let dampers = (n - 3..n).map(|h| Damper { host: h, mass: 0.1 * m, clearance: Clearance::from_m(0.5e-3) }).collect();
     let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
     System::plastic(s, dampers, 0, force)
