@@ -255,3 +255,58 @@ fn an_export_of_an_experiment_that_does_not_run_is_named() {
         "{stderr}"
     );
 }
+
+/// The stated chain with one container on m2, as lumped masses or (`coupled`) in coordinates
+/// `q3 = x3 - 0.4 x1 - 0.3 x2`: a full mass matrix `T^T M T` and stiffness `T^T K T`, the
+/// host and the driven mass physical.
+fn mass_matrix_sweep(coupled: bool) -> String {
+    use nalgebra::DMatrix;
+    let (m, k) = ([0.74, 0.71, 0.64], [24.3e3, 21.8e3, 19.8e3]);
+    let mm = DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(&m));
+    let kk = DMatrix::from_row_slice(3, 3, &[k[0] + k[1], -k[1], 0.0, -k[1], k[1] + k[2], -k[2], 0.0, -k[2], k[2]]);
+    let mut t = DMatrix::<f64>::identity(3, 3);
+    t[(2, 0)] = 0.4;
+    t[(2, 1)] = 0.3;
+    let rows = |a: &DMatrix<f64>| {
+        let r: Vec<String> = (0..3)
+            .map(|i| format!("[{}]", (0..3).map(|j| format!("{:e}", a[(i, j)])).collect::<Vec<_>>().join(", ")))
+            .collect();
+        format!("[{}]", r.join(", "))
+    };
+    let structure = if coupled {
+        let (mq, kq) = (t.transpose() * &mm * &t, t.transpose() * &kk * &t);
+        format!("mass_matrix_kg = {}\nstiffness_matrix_n_per_m = {}", rows(&mq), rows(&kq))
+    } else {
+        "masses_kg = [0.74, 0.71, 0.64]\nchain_stiffness_n_per_m = [24.3e3, 21.8e3, 19.8e3]".to_string()
+    };
+    format!(
+        "[experiment]\nid = \"mm\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n[structure]\n{structure}\n[structure.damping]\nmodal_ratios = [0.01, 0.01, 0.01]\n[excitation]\nmass = 1\nforce_n = 2.6\n[analysis]\nkind = \"sweep\"\nfreq_hz = {{ start = 44.0, stop = 52.0, step = 2.0 }}\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{{ mass = 2, mass_kg = 0.071, clearance_mm = 0.5 }}]\n"
+    )
+}
+
+#[test]
+fn a_full_mass_matrix_runs_from_an_experiment_file_and_keeps_the_chain_s_motion() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut tables = Vec::new();
+    for coupled in [false, true] {
+        let path = dir.path().join(format!("mm{}.toml", u8::from(coupled)));
+        std::fs::write(&path, mass_matrix_sweep(coupled)).unwrap();
+        let out_dir = dir.path().join(format!("out{}", u8::from(coupled)));
+        let out = shotdamp().arg("run").arg(&path).arg("--out").arg(&out_dir).output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+        let table = std::fs::read_to_string(out_dir.join("mm/data/compliance.csv")).unwrap();
+        tables.push(common::csv_rows(&table));
+    }
+    let (a, b) = (&tables[0], &tables[1]);
+    assert_eq!(a.len(), 6, "a header and five frequencies");
+    assert_eq!(a[0], b[0]);
+    let col = |name: &str| a[0].iter().position(|c| c == name).unwrap_or_else(|| panic!("{name} in {:?}", a[0]));
+    for (ra, rb) in a[1..].iter().zip(&b[1..]) {
+        assert_eq!((&ra[col("converged")], &rb[col("converged")]), (&"1".to_string(), &"1".to_string()));
+        // The host and the driven mass are the same physical coordinates in both.
+        for name in ["c1", "c2"] {
+            let (x, y): (f64, f64) = (ra[col(name)].parse().unwrap(), rb[col(name)].parse().unwrap());
+            assert!((x - y).abs() <= 1e-9 * x.abs(), "{name} at {}: {x} vs {y}", ra[col("freq_hz")]);
+        }
+    }
+}

@@ -1,7 +1,8 @@
 //! The exact simulator beyond the paper's three masses (docs/simulator.md, "Cost per degree of
 //! freedom"): extra degrees of freedom that are uncoupled change nothing, the numbering of the
 //! degrees of freedom changes nothing, the energy balances and the two steady-state methods
-//! agree on a 32-mass chain, and the thread count changes no bit.
+//! agree on a 32-mass chain, the thread count changes no bit, and a full mass matrix (the same
+//! chain in coordinates that keep the hosts physical) gives the same motion.
 
 use std::f64::consts::PI;
 
@@ -33,6 +34,7 @@ fn with_uncoupled(extra: usize) -> Structure {
     let masses = [p.masses.clone(), other.masses.clone()].concat();
     Structure {
         masses,
+        coupled_mass: None,
         stiffness: block_diagonal(&p.stiffness, &other.stiffness),
         damping: block_diagonal(&p.damping, &other.damping),
         damping_spec: p.damping_spec.clone(),
@@ -52,7 +54,7 @@ fn renumbered(s: &Structure, perm: &[usize]) -> Structure {
             c[(perm[i], perm[j])] = s.damping[(i, j)];
         }
     }
-    Structure { masses, stiffness: k, damping: c, damping_spec: s.damping_spec.clone() }
+    Structure { masses, coupled_mass: None, stiffness: k, damping: c, damping_spec: s.damping_spec.clone() }
 }
 
 /// Beds of 10 % of their host's paper mass on `hosts` (paper numbering), placed at
@@ -215,6 +217,133 @@ fn the_one_pass_parts_of_an_event_function_are_its_single_derivatives_bit_for_bi
                     assert_eq!(b.to_bits(), seg.bound(&d, &pt, p, bound_order).to_bits(), "n {n} m{p}");
                 }
             }
+        }
+    }
+}
+
+/// The refined chain of `n` masses in other coordinates: the degrees of freedom in `keep`
+/// (the driven mass and the hosts) stay physical, each other one becomes `q_i = x_i - sum_b
+/// R_ib x_b`, so that `x = T q` with `T = [[I, 0], [R, I]]` and `M_q = T^T M T` is full (as a
+/// reduced finite-element model's is). The force and the beds act on kept coordinates, whose
+/// motion is the chain's own.
+fn in_coupled_coordinates(n: usize, keep: &[usize]) -> (System, System) {
+    let chain = refined(n);
+    let mut t = DMatrix::<f64>::identity(n, n);
+    for i in (0..n).filter(|i| !keep.contains(i)) {
+        for (bi, &b) in keep.iter().enumerate() {
+            t[(i, b)] = 0.3 * ((i * 7 + bi * 3) as f64).sin();
+        }
+    }
+    let s = &chain.structure;
+    let m = t.transpose() * s.mass_matrix() * &t;
+    let k = t.transpose() * &s.stiffness * &t;
+    // Rayleigh damping carries through T unchanged: T^T (a M + b K) T = a M_q + b K_q.
+    let coupled = Structure::from_mass_matrix(m, k, s.damping_spec.clone());
+    assert!(!coupled.is_lumped());
+    let sys = System { structure: coupled, ..chain.clone() };
+    (chain, sys)
+}
+
+#[test]
+fn a_full_mass_matrix_in_coordinates_that_keep_the_hosts_physical_gives_the_chain_s_motion() {
+    let n = 8;
+    let keep = [0, 5, 6, 7];
+    let (chain, coupled) = in_coupled_coordinates(n, &keep);
+    let freqs = [12.0, 14.0, 15.0, 40.0, 44.0];
+    let a = points(&chain, &freqs);
+    let b = points(&coupled, &freqs);
+    let mut impacting = 0;
+    for (f, (a, b)) in freqs.iter().zip(a.iter().zip(&b)) {
+        let what = format!("{f} Hz");
+        assert!(a.converged && a.certificate.is_some(), "{what}: {:?}", a.failure);
+        assert_eq!((a.converged, a.period), (b.converged, b.period), "{what}");
+        let scale = keep.iter().map(|&i| a.amplitude[i]).fold(0.0, f64::max);
+        for &i in &keep {
+            let diff = (a.amplitude[i] - b.amplitude[i]).abs();
+            assert!(diff <= 1e-10 * scale, "{what} m{}: {} vs {}", i + 1, a.amplitude[i], b.amplitude[i]);
+        }
+        for (x, y) in
+            [(&a.bottom_impacts, &b.bottom_impacts), (&a.top_impacts, &b.top_impacts), (&a.liftoffs, &b.liftoffs)]
+        {
+            assert_eq!(x, y, "{what}: events");
+        }
+        impacting += usize::from(a.bottom_impacts.iter().sum::<f64>() > 0.0);
+        // The same orbit in other coordinates: the same Floquet multipliers.
+        let (ca, cb) = (a.certificate.as_ref().unwrap(), b.certificate.as_ref().unwrap());
+        let mut ma: Vec<_> = ca.multipliers.iter().map(|z| (z.norm(), z.im.abs())).collect();
+        let mut mb: Vec<_> = cb.multipliers.iter().map(|z| (z.norm(), z.im.abs())).collect();
+        ma.sort_by(|x, y| x.partial_cmp(y).unwrap());
+        mb.sort_by(|x, y| x.partial_cmp(y).unwrap());
+        assert_eq!(ma.len(), mb.len(), "{what}");
+        let (na, nb) = (ma.last().unwrap().0, mb.last().unwrap().0);
+        assert!((na - nb).abs() <= 1e-10 * na, "{what}: spectral radius {na} vs {nb}");
+        assert_eq!(ca.stable, cb.stable, "{what}");
+    }
+    assert!(impacting >= 3, "most of these points impact");
+}
+
+#[test]
+fn a_full_mass_matrix_balances_its_energy_and_both_methods_agree() {
+    let (_, sys) = in_coupled_coordinates(8, &[0, 5, 6, 7]);
+    let d0 = Dynamics::unforced(&sys).unwrap();
+    // Points where the chain's transient settles within its budget (at 44 Hz it does not).
+    for f in [14.0, 40.0] {
+        let d = d0.at_omega(2.0 * PI * f).unwrap();
+        let orbit = steady_state(&d, State::at_rest(&d), &SteadyOptions { energy: true, ..SteadyOptions::default() });
+        assert!(orbit.converged && orbit.certificate.is_some(), "{f} Hz: {:?}", orbit.failure);
+        let e = orbit.energy.as_ref().unwrap();
+        assert!(e.impact > 0.0 && e.relative_residual() < 1e-9, "{f} Hz: {e:?} residual {}", e.relative_residual());
+        let transient = SteadyOptions { method: SteadyMethod::Transient, ..SteadyOptions::default() };
+        let t = steady_state(&d, State::at_rest(&d), &transient);
+        assert!(t.converged && t.period == orbit.period, "{f} Hz: transient {:?}", t.failure);
+        let scale = orbit.amplitude.iter().copied().fold(0.0, f64::max);
+        for (i, (a, b)) in orbit.amplitude.iter().zip(&t.amplitude).enumerate() {
+            assert!((a - b).abs() <= 1e-5 * scale, "{f} Hz q{}: orbit {a} transient {b}", i + 1);
+        }
+    }
+}
+
+#[test]
+fn a_full_mass_matrix_carries_columns_restitution_and_impulses_as_the_chain_does() {
+    use shotdamp::sim::bed::ImpactLaw;
+    use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
+    let keep = [0, 5, 6, 7];
+    let (chain, coupled) = in_coupled_coordinates(8, &keep);
+    let law = ImpactLaw { restitution: 0.4, stick_speed: 1e-3 };
+    // Columns of three grains, and single beds that bounce.
+    for (what, f) in [("columns", 1usize), ("restitution", 0)] {
+        let shape = |s: System| if f == 1 { s.with_grains(&[3, 3, 3]) } else { s.with_law(law) };
+        let freqs = [14.0, 40.0];
+        // Columns settle by the transient method: settle deeply, so that its own tolerance
+        // does not hide a difference.
+        let deep = SteadyOptions { tol: 1e-12, ..SteadyOptions::default() };
+        let run = |s: System| -> Vec<Steady> {
+            sweep::from_rest(&shape(s), &freqs, &deep, &|| {}).into_iter().map(|p| p.result.unwrap()).collect()
+        };
+        let (a, b) = (run(chain.clone()), run(coupled.clone()));
+        for (f, (a, b)) in freqs.iter().zip(a.iter().zip(&b)) {
+            assert_eq!((a.converged, a.period), (b.converged, b.period), "{what} {f} Hz");
+            assert!(a.bottom_impacts.iter().sum::<f64>() > 0.0, "{what} {f} Hz: the beds impact");
+            let scale = keep.iter().map(|&i| a.amplitude[i]).fold(0.0, f64::max);
+            for &i in &keep {
+                let diff = (a.amplitude[i] - b.amplitude[i]).abs();
+                assert!(diff <= 1e-10 * scale, "{what} {f} Hz m{}: {} vs {}", i + 1, a.amplitude[i], b.amplitude[i]);
+            }
+            assert_eq!(a.bottom_impacts, b.bottom_impacts, "{what} {f} Hz");
+        }
+    }
+    // An impulse on a host moves every coordinate of the full model (v = M_S^-1 e_k I); the
+    // kept coordinates follow the chain's own masses, and both balance their energy.
+    let opts = ImpulseOptions { mass: 6, kick: Kick::Impulse(0.02), duration: 0.3, dt: 1e-3 };
+    let (ra, rb) = (free_response(&chain, &opts).unwrap(), free_response(&coupled, &opts).unwrap());
+    assert!((ra.initial_velocity - rb.initial_velocity).abs() <= 1e-12 * ra.initial_velocity.abs());
+    assert!(ra.stop.is_none() && rb.stop.is_none());
+    assert!(ra.impact_loss > 0.0 && rb.energy_residual() < 1e-9, "residual {}", rb.energy_residual());
+    assert!((ra.impact_loss - rb.impact_loss).abs() <= 1e-9 * ra.impact_loss);
+    let peak = ra.samples.x.iter().flat_map(|x| keep.iter().map(|&i| x[i].abs())).fold(0.0, f64::max);
+    for (xa, xb) in ra.samples.x.iter().zip(&rb.samples.x) {
+        for &i in &keep {
+            assert!((xa[i] - xb[i]).abs() <= 1e-9 * peak, "m{}: {} vs {}", i + 1, xa[i], xb[i]);
         }
     }
 }

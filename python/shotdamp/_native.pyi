@@ -22,7 +22,8 @@ class Structure:
     def __init__(
         self,
         *,
-        masses_kg: _Floats,
+        masses_kg: Optional[_Floats] = None,
+        mass_matrix_kg: Optional[Union[Sequence[Sequence[float]], npt.NDArray[np.floating[Any]]]] = None,
         chain_stiffness_n_per_m: Optional[_Floats] = None,
         stiffness_matrix_n_per_m: Optional[Union[Sequence[Sequence[float]], npt.NDArray[np.floating[Any]]]] = None,
         fit: Optional[Mapping[str, Any]] = None,
@@ -36,7 +37,10 @@ class Structure:
         """Number of masses."""
     @property
     def masses_kg(self) -> npt.NDArray[np.float64]:
-        """Masses, kg."""
+        """Masses, kg (a full mass matrix's diagonal)."""
+    @property
+    def mass_matrix(self) -> npt.NDArray[np.float64]:
+        """Mass matrix, kg (diagonal for lumped masses)."""
     @property
     def stiffness(self) -> npt.NDArray[np.float64]:
         """Stiffness matrix, N/m."""

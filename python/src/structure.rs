@@ -14,8 +14,8 @@ use crate::convert::{array1, array2, floats, matrix, named, table};
 /// Where a bad structure value came from, in messages.
 const ORIGIN: &str = "shotdamp.Structure";
 
-/// The bare primary structure: lumped masses, a stiffness and a fixed damping matrix
-/// (docs/model.md section 1).
+/// The bare primary structure: lumped masses or a full mass matrix, a stiffness and a fixed
+/// damping matrix (docs/model.md sections 1 and 5).
 #[pyclass(module = "shotdamp._native", frozen)]
 pub struct Structure {
     pub bare: Bare,
@@ -23,15 +23,17 @@ pub struct Structure {
 
 #[pymethods]
 impl Structure {
-    /// The keys of an experiment file's `[structure]` table: `masses_kg` and exactly one of
+    /// The keys of an experiment file's `[structure]` table: `masses_kg` (lumped) or
+    /// `mass_matrix_kg` (a symmetric positive definite mass matrix, rows), and exactly one of
     /// `chain_stiffness_n_per_m`, `stiffness_matrix_n_per_m` and `fit` (measured modes: a dict
     /// with `omegas_rad_per_s` and `shapes`); damping by `modal_ratios` or both `rayleigh_alpha`
     /// and `rayleigh_beta`; springs to ground by `ground_stiffness_n_per_m`.
     #[new]
-    #[pyo3(signature = (*, masses_kg, chain_stiffness_n_per_m=None, stiffness_matrix_n_per_m=None, fit=None, ground_stiffness_n_per_m=None, modal_ratios=None, rayleigh_alpha=None, rayleigh_beta=None))]
+    #[pyo3(signature = (*, masses_kg=None, mass_matrix_kg=None, chain_stiffness_n_per_m=None, stiffness_matrix_n_per_m=None, fit=None, ground_stiffness_n_per_m=None, modal_ratios=None, rayleigh_alpha=None, rayleigh_beta=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
-        masses_kg: &Bound<'_, PyAny>,
+        masses_kg: Option<&Bound<'_, PyAny>>,
+        mass_matrix_kg: Option<&Bound<'_, PyAny>>,
         chain_stiffness_n_per_m: Option<&Bound<'_, PyAny>>,
         stiffness_matrix_n_per_m: Option<&Bound<'_, PyAny>>,
         fit: Option<&Bound<'_, PyAny>>,
@@ -41,7 +43,8 @@ impl Structure {
         rayleigh_beta: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Structure> {
         let mut t = named(&[
-            ("masses_kg", Some(masses_kg)),
+            ("masses_kg", masses_kg),
+            ("mass_matrix_kg", mass_matrix_kg),
             ("chain_stiffness_n_per_m", chain_stiffness_n_per_m),
             ("stiffness_matrix_n_per_m", stiffness_matrix_n_per_m),
             ("fit", fit),
@@ -62,10 +65,16 @@ impl Structure {
         self.bare.dof()
     }
 
-    /// Masses, kg.
+    /// Masses, kg (a full mass matrix's diagonal).
     #[getter]
     fn masses_kg<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         array1(py, self.bare.masses.clone())
+    }
+
+    /// Mass matrix, kg (diagonal for lumped masses).
+    #[getter]
+    fn mass_matrix<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        matrix(py, &self.bare.mass_matrix())
     }
 
     /// Stiffness matrix, N/m.

@@ -39,6 +39,24 @@ def test_modes_of_the_paper_structure():
     assert np.allclose(mu, expected, rtol=1e-12)
 
 
+def test_a_full_mass_matrix_in_coordinates_that_keep_the_host_gives_the_chain_s_motion():
+    # q3 = x3 - 0.4 x1 - 0.3 x2: M_q = T^T M T is full; the driven mass and the host stay
+    # physical, so their steady motion is the lumped chain's (docs/model.md section 5).
+    lumped = paper_structure()
+    t = np.eye(3)
+    t[2, 0], t[2, 1] = 0.4, 0.3
+    m = t.T @ lumped.mass_matrix @ t
+    k = t.T @ lumped.stiffness @ t
+    coupled = sd.Structure(mass_matrix_kg=m, stiffness_matrix_n_per_m=k, modal_ratios=[0.01] * 3)
+    assert np.allclose(coupled.mass_matrix, m, rtol=0, atol=0)
+    d = sd.Damper(mass=2, mass_kg=0.071, clearance_mm=0.5)
+    for f in (46.0, 48.8, 51.0):
+        a = sd.System(lumped, [d], force_n=2.6).steady_state(f)
+        b = sd.System(coupled, [d], force_n=2.6).steady_state(f)
+        assert a.converged and b.converged
+        assert np.max(np.abs(b.compliance[:2] / a.compliance[:2] - 1)) < 1e-9
+
+
 def test_infinite_clearance_far_above_the_flight_equals_stuck_masses_below_lift_off():
     # Far below resonance the bed never lifts off (acceleration below g): the response is the
     # linear one of the structure with the damper mass rigidly added.

@@ -95,6 +95,19 @@ CASES = [
         GOOD_DAMPER,
         2.6,
     ),
+    (
+        "masses and a mass matrix both",
+        dict(GOOD_STRUCTURE, mass_matrix_kg=[[0.74, 0.0, 0.0], [0.0, 0.71, 0.0], [0.0, 0.0, 0.64]]),
+        GOOD_DAMPER,
+        2.6,
+    ),
+    (
+        "mass matrix not symmetric",
+        {k: v for k, v in GOOD_STRUCTURE.items() if k != "masses_kg"}
+        | {"mass_matrix_kg": [[0.74, 0.1, 0.0], [0.0, 0.71, 0.0], [0.0, 0.0, 0.64]]},
+        GOOD_DAMPER,
+        2.6,
+    ),
     ("no damping", {k: v for k, v in GOOD_STRUCTURE.items() if k != "modal_ratios"}, GOOD_DAMPER, 2.6),
     ("negative mass ratio", GOOD_STRUCTURE, dict(GOOD_DAMPER, mass_ratio=-0.1), 2.6),
     ("host mass 4 of 3", GOOD_STRUCTURE, dict(GOOD_DAMPER, mass=4), 2.6),

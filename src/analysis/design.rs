@@ -197,11 +197,7 @@ pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem
                 for &f in &forces {
                     let (structure, zname) = match z {
                         Some(z) => (
-                            Structure::from_matrices(
-                                &base.masses,
-                                base.stiffness.clone(),
-                                Damping::ModalRatios(vec![*z; base.dof()]),
-                            ),
+                            base.with_damping(Damping::ModalRatios(vec![*z; base.dof()])),
                             format!("damping {}", fmt_num(*z)),
                         ),
                         None => (base.clone(), "damping as the model".to_string()),

@@ -94,11 +94,14 @@ pub fn run(
             .map(|(k, m)| {
                 let phi = bare.mass_normalised.column(k);
                 let scale = phi[m.reference_mass];
+                // The modal coordinate's weights `M0 phi` (lumped: each mass times phi).
+                let weights: Vec<f64> = match &exp.structure.coupled_mass {
+                    None => (0..n).map(|r| phi[r] * exp.structure.masses[r]).collect(),
+                    Some(m0) => (m0 * phi).iter().copied().collect(),
+                };
                 let q: Vec<f64> =
                     s.x.iter()
-                        .map(|x| {
-                            (0..n).map(|r| phi[r] * exp.structure.masses[r] * (x[r] - run.rest[r])).sum::<f64>() * scale
-                        })
+                        .map(|x| (0..n).map(|r| weights[r] * (x[r] - run.rest[r])).sum::<f64>() * scale)
                         .collect();
                 log_decrements(t, &q, DECREMENT_SPAN)
             })

@@ -175,8 +175,18 @@ fn list(v: &[f64]) -> String {
 /// The parameter table of the report.
 pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
     let s = &exp.structure;
+    let rows = |m: &nalgebra::DMatrix<f64>| {
+        (0..s.dof())
+            .map(|i| format!("[{}]", list(&m.row(i).iter().copied().collect::<Vec<_>>())))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let masses = match &s.coupled_mass {
+        None => ("masses m_1..m_n (kg)".to_string(), list(&s.masses)),
+        Some(m) => ("mass matrix M0 (kg), rows (not diagonal: coordinates, not masses)".to_string(), rows(m)),
+    };
     let mut p = vec![
-        ("masses m_1..m_n (kg)".to_string(), list(&s.masses)),
+        masses,
         (
             "stiffness K (N/m), rows".to_string(),
             (0..s.dof())

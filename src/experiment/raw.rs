@@ -80,7 +80,11 @@ pub struct RawModel {
 /// `[structure]`: masses, stiffness, damping.
 pub struct RawStructure {
     /// Lumped masses, kg.
-    pub masses_kg: Vec<f64>,
+    #[serde(default)]
+    pub masses_kg: Option<Vec<f64>>,
+    /// A general symmetric positive definite mass matrix, rows, kg (instead of `masses_kg`).
+    #[serde(default)]
+    pub mass_matrix_kg: Option<Vec<Vec<f64>>>,
     /// Chain stiffnesses k_1..k_n (ground - k_1 - m_1 - k_2 - m_2 ...).
     #[serde(default)]
     pub chain_stiffness_n_per_m: Option<Vec<f64>>,

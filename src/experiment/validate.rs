@@ -224,12 +224,38 @@ pub(super) struct Built {
 }
 
 pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
-    positive_list(path, "structure.masses_kg", &s.masses_kg, "mass")?;
-    let n = s.masses_kg.len();
+    // Lumped masses, or a full mass matrix (its diagonal stands for the masses elsewhere).
+    let (masses, full_mass) = match (&s.masses_kg, &s.mass_matrix_kg) {
+        (Some(m), None) => {
+            positive_list(path, "structure.masses_kg", m, "mass")?;
+            (m.clone(), None)
+        }
+        (None, Some(rows)) => {
+            let m = symmetric_positive(path, "structure.mass_matrix_kg", rows, rows.len(), "mass")?;
+            (m.diagonal().iter().copied().collect(), Some(m))
+        }
+        _ => {
+            return Err(Error::invalid(
+                path,
+                "structure",
+                "masses_kg / mass_matrix_kg",
+                "give exactly one of masses_kg (lumped masses) and mass_matrix_kg (a symmetric positive definite mass matrix, rows)",
+            ))
+        }
+    };
+    let n = masses.len();
     let mut fit = None;
     let mut k = match (&s.chain_stiffness_n_per_m, &s.stiffness_matrix_n_per_m, &s.fit) {
+        (None, None, Some(_)) if full_mass.is_some() => {
+            return Err(Error::invalid(
+                path,
+                "structure.fit",
+                "(with mass_matrix_kg)",
+                "fitting a chain's stiffness to measured modes takes lumped masses_kg",
+            ))
+        }
         (None, None, Some(f)) => {
-            let out = fitted(path, &s.masses_kg, f)?;
+            let out = fitted(path, &masses, f)?;
             let k = out.stiffness.clone();
             fit = Some(out);
             k
@@ -241,12 +267,14 @@ pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
                     path,
                     "structure.chain_stiffness_n_per_m",
                     format!("{} values", k.len()),
-                    format!("expected {n} stiffnesses, one per mass (masses_kg has {n})"),
+                    format!("expected {n} stiffnesses, one per mass (the structure has {n})"),
                 ));
             }
             crate::model::structure::chain_stiffness(k)
         }
-        (None, Some(rows), None) => stiffness_matrix(path, rows, n)?,
+        (None, Some(rows), None) => {
+            symmetric_positive(path, "structure.stiffness_matrix_n_per_m", rows, n, "stiffness")?
+        }
         _ => {
             return Err(Error::invalid(
                 path,
@@ -324,7 +352,10 @@ pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
         }
     };
     Ok(Built {
-        structure: Structure::from_matrices(&s.masses_kg, k, damping),
+        structure: match full_mass {
+            Some(m) => Structure::from_mass_matrix(m, k, damping),
+            None => Structure::from_matrices(&masses, k, damping),
+        },
         source: s.source,
         damping_assumption: d.assumption,
         fit,
@@ -346,14 +377,15 @@ fn fitted(path: &Path, masses: &[f64], f: &RawFit) -> Result<StiffnessFit> {
     })
 }
 
-fn stiffness_matrix(path: &Path, rows: &[Vec<f64>], n: usize) -> Result<DMatrix<f64>> {
-    let key = "structure.stiffness_matrix_n_per_m";
-    if rows.len() != n || rows.iter().any(|r| r.len() != n) {
+/// A symmetric positive definite `n` x `n` matrix from `rows` (the `what` matrix of `key`).
+fn symmetric_positive(path: &Path, key: &str, rows: &[Vec<f64>], n: usize, what: &str) -> Result<DMatrix<f64>> {
+    if n == 0 || rows.len() != n || rows.iter().any(|r| r.len() != n) {
+        let shape = rows.iter().map(|r| r.len().to_string()).collect::<Vec<_>>().join(", ");
         return Err(Error::invalid(
             path,
             key,
-            format!("{} rows", rows.len()),
-            format!("expected {n} rows of {n} values"),
+            format!("{} rows of [{shape}] values", rows.len()),
+            format!("expected {} rows of {} values", n.max(1), n.max(1)),
         ));
     }
     let k = DMatrix::from_fn(n, n, |i, j| rows[i][j]);
@@ -365,13 +397,13 @@ fn stiffness_matrix(path: &Path, rows: &[Vec<f64>], n: usize) -> Result<DMatrix<
                     path,
                     format!("{key}[{i}][{j}]"),
                     a,
-                    "the stiffness matrix must be symmetric and finite",
+                    format!("the {what} matrix must be symmetric and finite"),
                 ));
             }
         }
     }
     if k.clone().cholesky().is_none() {
-        return Err(Error::invalid(path, key, "(matrix)", "the stiffness matrix must be positive definite"));
+        return Err(Error::invalid(path, key, "(matrix)", format!("the {what} matrix must be positive definite")));
     }
     Ok(k)
 }

@@ -107,7 +107,7 @@ pub fn fit_modal_damping(
     }
     let model = |x: &DVector<f64>| -> Option<DVector<f64>> {
         let ratios: Vec<f64> = x.iter().map(|v| v.exp()).collect();
-        let s = Structure::from_matrices(&structure.masses, structure.stiffness.clone(), Damping::ModalRatios(ratios));
+        let s = structure.with_damping(Damping::ModalRatios(ratios));
         let r: Option<Vec<f64>> = used
             .iter()
             .map(|&(mass, f, c)| {

@@ -1,5 +1,6 @@
-//! The primary structure: lumped masses in a chain, its stiffness and its fixed damping
-//! matrix (docs/model.md section 1).
+//! The primary structure: its mass matrix (lumped masses, or a general symmetric positive
+//! definite matrix such as a reduced finite-element model's), its stiffness and its fixed
+//! damping matrix (docs/model.md sections 1 and 5).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -25,16 +26,35 @@ pub enum Damping {
 }
 
 /// The bare primary structure: `M0 xddot + C xdot + K x = f`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct Structure {
-    /// Lumped masses `m_1..m_n`, kg.
+    /// The diagonal of `M0`, kg: the lumped masses `m_1..m_n`, or a full mass matrix's
+    /// diagonal (what reports list and mass ratios refer to).
     pub masses: Vec<f64>,
+    /// The whole of `M0` when it is not diagonal (a reduced finite-element model), its
+    /// diagonal equal to `masses`; `None` for lumped masses (the paper's). Build it with
+    /// [`Structure::from_mass_matrix`].
+    pub coupled_mass: Option<DMatrix<f64>>,
     /// Stiffness matrix, N/m.
     pub stiffness: DMatrix<f64>,
     /// Damping matrix, N s/m (fixed: damper masses never change it).
     pub damping: DMatrix<f64>,
     /// How `damping` was specified (for reports).
     pub damping_spec: Damping,
+}
+
+/// Lists the fields; `coupled_mass` only when there is one, so that a lumped structure reads
+/// as it always has (stored design answers fingerprint this text).
+impl std::fmt::Debug for Structure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut d = f.debug_struct("Structure");
+        d.field("masses", &self.masses);
+        if let Some(m) = &self.coupled_mass {
+            d.field("coupled_mass", m);
+        }
+        d.field("stiffness", &self.stiffness).field("damping", &self.damping).field("damping_spec", &self.damping_spec);
+        d.finish()
+    }
 }
 
 impl Structure {
@@ -56,12 +76,35 @@ impl Structure {
     /// Builds a structure from a symmetric positive definite stiffness matrix.
     pub fn from_matrices(masses: &[f64], stiffness: DMatrix<f64>, damping: Damping) -> Structure {
         let m0 = DMatrix::from_diagonal(&DVector::from_column_slice(masses));
+        Structure::assemble(m0, None, stiffness, damping)
+    }
+
+    /// Builds a structure from a symmetric positive definite mass matrix and a symmetric
+    /// stiffness matrix (inputs assumed validated). A diagonal mass matrix gives the lumped
+    /// structure of [`Structure::from_matrices`], bit for bit.
+    pub fn from_mass_matrix(mass: DMatrix<f64>, stiffness: DMatrix<f64>, damping: Damping) -> Structure {
+        let n = mass.nrows();
+        let coupled = (0..n).any(|i| (0..n).any(|j| i != j && mass[(i, j)] != 0.0));
+        if !coupled {
+            let masses: Vec<f64> = mass.diagonal().iter().copied().collect();
+            return Structure::from_matrices(&masses, stiffness, damping);
+        }
+        Structure::assemble(mass.clone(), Some(mass), stiffness, damping)
+    }
+
+    /// The structure of mass matrix `m0` (`coupled` when not diagonal).
+    fn assemble(
+        m0: DMatrix<f64>,
+        coupled: Option<DMatrix<f64>>,
+        stiffness: DMatrix<f64>,
+        damping: Damping,
+    ) -> Structure {
         let c = match &damping {
             Damping::Rayleigh { alpha, beta } => &m0 * *alpha + &stiffness * *beta,
             Damping::ModalRatios(zetas) => {
                 let modes = symmetric_modes(&m0, &stiffness);
                 // Mass-normalised Phi: phi^T M0 phi = 1.
-                let n = masses.len();
+                let n = m0.nrows();
                 let mut diag = DMatrix::<f64>::zeros(n, n);
                 for i in 0..n {
                     diag[(i, i)] = 2.0 * zetas[i] * modes.omegas[i];
@@ -70,7 +113,21 @@ impl Structure {
                 &m0 * phi * diag * phi.transpose() * &m0
             }
         };
-        Structure { masses: masses.to_vec(), stiffness, damping: c, damping_spec: damping }
+        let masses = m0.diagonal().iter().copied().collect();
+        Structure { masses, coupled_mass: coupled, stiffness, damping: c, damping_spec: damping }
+    }
+
+    /// The same mass and stiffness with another damping.
+    pub fn with_damping(&self, damping: Damping) -> Structure {
+        match &self.coupled_mass {
+            Some(m) => Structure::assemble(m.clone(), Some(m.clone()), self.stiffness.clone(), damping),
+            None => Structure::from_matrices(&self.masses, self.stiffness.clone(), damping),
+        }
+    }
+
+    /// Whether `M0` is diagonal (lumped masses, the paper's structure).
+    pub fn is_lumped(&self) -> bool {
+        self.coupled_mass.is_none()
     }
 
     /// Number of primary masses.
@@ -78,9 +135,12 @@ impl Structure {
         self.masses.len()
     }
 
-    /// The diagonal mass matrix of the bare structure.
+    /// The mass matrix `M0` of the bare structure.
     pub fn mass_matrix(&self) -> DMatrix<f64> {
-        DMatrix::from_diagonal(&DVector::from_column_slice(&self.masses))
+        match &self.coupled_mass {
+            Some(m) => m.clone(),
+            None => DMatrix::from_diagonal(&DVector::from_column_slice(&self.masses)),
+        }
     }
 
     /// The mass matrix with extra masses rigidly added: `M0 + sum m_dj e_pj e_pj^T`.

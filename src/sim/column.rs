@@ -148,14 +148,14 @@ pub(super) fn resolve(
     }
     // Bodies: grains 0..n, the host n (with every bed resting on it, this column's too).
     let host = n;
-    let mut host_mass = sys.structure.masses[p];
-    for (k, other) in sys.dampers.iter().enumerate() {
-        if !col.contains(&k) && side[k].is_some() && other.host == p {
-            host_mass += other.mass;
-        }
-    }
+    let host_side = super::single::host_side(d, p, |k| !col.contains(&k) && side[k].is_some());
     let mut b = Bodies { parent: (0..=n).collect(), mass: vec![dm.mass; n + 1], vel: vec![0.0; n + 1] };
-    b.mass[host] = host_mass;
+    b.mass[host] = if sys.structure.is_lumped() {
+        // Added one bed at a time (the order the column's collisions have always used).
+        host_side.riders.iter().fold(sys.structure.masses[p], |m, &k| m + sys.dampers[k].mass)
+    } else {
+        host_side.mass
+    };
     b.vel[host] = s.v[p];
     let mut y = vec![0.0; n];
     for (i, j) in col.clone().enumerate() {
@@ -214,7 +214,9 @@ pub(super) fn resolve(
     }
     // The host's new velocity, the grains joined to it, and the flights of the others.
     let host_root = b.find(host);
+    let vp = s.v[p];
     s.v[p] = b.vel[host_root];
+    host_side.carry(p, s.v[p] - vp, s.v.as_mut_slice());
     let floor_run = touching.iter().take(n).take_while(|&&t| t).count();
     let lid_run = touching.iter().skip(1).rev().take_while(|&&t| t).count();
     for (i, &inv) in involved.iter().enumerate() {

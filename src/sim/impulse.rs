@@ -86,9 +86,20 @@ pub fn free_response(sys: &System, opts: &ImpulseOptions) -> Result<ImpulseRun, 
         .filter(|(dm, b)| dm.host == k && matches!(b, Bed::Bottom))
         .map(|(dm, _)| dm.mass)
         .sum();
-    let v0 = match opts.kick {
-        Kick::Velocity(v) => v,
-        Kick::Impulse(i) => i / (free.structure.masses[k] + resting),
+    let v0 = match (opts.kick, &free.structure.coupled_mass) {
+        (Kick::Velocity(v), _) => v,
+        (Kick::Impulse(i), None) => i / (free.structure.masses[k] + resting),
+        (Kick::Impulse(i), Some(_)) => {
+            // A coupled mass matrix: the impulse moves every degree of freedom,
+            // `v = M_S^-1 e_k I` with the resting beds attached (docs/model.md section 5).
+            let inv = &d.config(s.mask()).modes.mass_inv;
+            for r in 0..d.dof {
+                if r != k {
+                    s.v[r] = inv[(r, k)] * i;
+                }
+            }
+            inv[(k, k)] * i
+        }
     };
     s.v[k] = v0;
     let initial_energy = stored_energy(&d, &s) - e_rest;

@@ -273,9 +273,12 @@ pub fn stored_energy(d: &Dynamics, s: &State) -> f64 {
 /// Stored energy from displacements `x`, velocities `v` of the masses and positions `y`,
 /// velocities `u` of the beds (in the frame of the bare structure's static equilibrium).
 pub fn energy_of(d: &Dynamics, x: &[f64], v: &[f64], y: &[f64], u: &[f64]) -> f64 {
-    let m0 = &d.system.structure.masses;
-    let kinetic: f64 = v.iter().zip(m0).map(|(v, m)| 0.5 * m * v * v).sum();
+    let structure = &d.system.structure;
     let n = x.len();
+    let kinetic: f64 = match &structure.coupled_mass {
+        None => v.iter().zip(&structure.masses).map(|(v, m)| 0.5 * m * v * v).sum(),
+        Some(m0) => (0..n).map(|i| (0..n).map(|j| 0.5 * v[i] * m0[(i, j)] * v[j]).sum::<f64>()).sum(),
+    };
     let elastic: f64 = (0..n).map(|i| (0..n).map(|j| 0.5 * x[i] * d.k[(i, j)] * x[j]).sum::<f64>()).sum();
     let beds: f64 = d
         .system

@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector, Dim, Dyn, Matrix, RowDVector, StorageMut};
 
 use super::segment::Watch;
 use super::state::{Bed, Event, EventKind, State};
-use super::system::{Dynamics, System, MAX_GRAINS};
+use super::system::{Dynamics, MAX_GRAINS};
 
 /// The functions to watch for single bed `j` in state `s`, pushed onto `w`: the contact force
 /// of a resting bed, the gaps to the bottom and the top of a flying one.
@@ -29,13 +29,52 @@ pub(super) fn watches(d: &Dynamics, s: &State, j: usize, w: &mut Vec<Watch>) {
     }
 }
 
-/// The mass an impact of bed `j` meets: its host's, with every other bed resting on that host
-/// (`resting(k)`) moving with it, and those beds.
-pub(super) fn host_mass(sys: &System, j: usize, resting: impl Fn(usize) -> bool) -> (f64, Vec<usize>) {
-    let p = sys.dampers[j].host;
-    let riders: Vec<usize> =
-        (0..sys.dampers.len()).filter(|&k| k != j && resting(k) && sys.dampers[k].host == p).collect();
-    (sys.structure.masses[p] + riders.iter().map(|&k| sys.dampers[k].mass).sum::<f64>(), riders)
+/// What an impact on a host meets: the host's effective mass, the beds riding with it, and
+/// (for a mass matrix that is not diagonal) how the other degrees of freedom follow it.
+pub(super) struct HostSide {
+    /// The effective mass `1 / (M_S^-1)_pp` of the host with the riders attached (lumped:
+    /// its mass plus the beds resting on it), kg.
+    pub mass: f64,
+    /// The beds riding their hosts whose velocities the impact changes: those on the host
+    /// (lumped), or every resting bed (coupled).
+    pub riders: Vec<usize>,
+    /// Coupled mass only: `M_S^-1 e_p / (M_S^-1)_pp`, the velocity change of every degree of
+    /// freedom per unit change of the host's (an impulse on `p` moves them all).
+    pub follow: Option<Vec<f64>>,
+}
+
+impl HostSide {
+    /// Adds the velocity change the host's `dv` brings to the other degrees of freedom of
+    /// `v` (nothing for lumped masses).
+    pub fn carry(&self, p: usize, dv: f64, v: &mut [f64]) {
+        if let Some(f) = &self.follow {
+            for (r, (vr, fr)) in v.iter_mut().zip(f).enumerate() {
+                if r != p {
+                    *vr += fr * dv;
+                }
+            }
+        }
+    }
+}
+
+/// What an impact on host `p` meets when the beds `resting(k)` ride their hosts (the caller
+/// excludes the beds taking part in the impact): docs/model.md sections 2 and 5. Lumped
+/// masses: the host's mass with the beds resting on it, added in bed order. A coupled mass
+/// matrix: the effective mass of configuration `M_S`'s degree of freedom `p`.
+pub(super) fn host_side(d: &Dynamics, p: usize, resting: impl Fn(usize) -> bool) -> HostSide {
+    let sys = &d.system;
+    let beds = sys.dampers.len();
+    if sys.structure.is_lumped() {
+        let riders: Vec<usize> = (0..beds).filter(|&k| resting(k) && sys.dampers[k].host == p).collect();
+        let mass = sys.structure.masses[p] + riders.iter().map(|&k| sys.dampers[k].mass).sum::<f64>();
+        return HostSide { mass, riders, follow: None };
+    }
+    let riders: Vec<usize> = (0..beds).filter(|&k| resting(k)).collect();
+    let mask = riders.iter().fold(0usize, |m, &k| m | (1 << k));
+    let inv = &d.config(mask).modes.mass_inv;
+    let pp = inv[(p, p)];
+    let follow = (0..d.dof).map(|r| inv[(r, p)] / pp).collect();
+    HostSide { mass: 1.0 / pp, riders, follow: Some(follow) }
 }
 
 /// Applies the impacts of single beds among `hits` at `s.t`, in the order of the beds: each
@@ -62,11 +101,12 @@ pub(super) fn impacts(d: &Dynamics, s: &mut State, hits: &[Watch], side: &mut [O
         let p = dm.host;
         let (_, u) = Bed::flight(t0, y0, u0, s.t);
         // The host's effective mass includes beds already resting on it.
-        let (m_host, _) = host_mass(sys, j, |k| side[k].is_some());
+        let host = host_side(d, p, |k| k != j && side[k].is_some());
         let vp = s.v[p];
         let rel = u - vp;
-        let x = sys.impact_law(j).exchange(m_host, vp, dm.mass, u);
+        let x = sys.impact_law(j).exchange(host.mass, vp, dm.mass, u);
         s.v[p] = x.host;
+        host.carry(p, x.host - vp, s.v.as_mut_slice());
         if x.sticks {
             side[j] = Some(top);
         } else {
@@ -93,8 +133,12 @@ pub(super) struct ImpactJump {
     /// Rows of the host's velocity and of the bed's velocity.
     host_v: usize,
     bed_u: usize,
-    /// Velocity rows of the beds resting on the host (they take its new velocity).
-    riders_u: Vec<usize>,
+    /// Velocity rows of the beds riding (lumped: on the host) and of their hosts: they take
+    /// their hosts' new velocities.
+    riders_u: Vec<(usize, usize)>,
+    /// Coupled mass only: the other degrees of freedom's velocity rows and how much of the
+    /// host's velocity change each takes ([`HostSide::follow`]).
+    follow: Vec<(usize, f64)>,
     /// Rows of the host's and the bed's positions, and the sign of `h` in them.
     host_x: usize,
     bed_y: usize,
@@ -117,16 +161,21 @@ impl ImpactJump {
         let sys = &d.system;
         let p = sys.dampers[j].host;
         // The host moves with the beds already resting on it.
-        let (mh, riders) = host_mass(sys, j, |k| before.beds[k].attached());
+        let host = host_side(d, p, |k| k != j && before.beds[k].attached());
         let (_, u) = before.bed_motion(d, j);
         let rel = u - before.v[p];
-        let (a, b) = sys.impact_law(j).derivative(mh, sys.dampers[j].mass, rel);
+        let (a, b) = sys.impact_law(j).derivative(host.mass, sys.dampers[j].mass, rel);
+        let follow = match &host.follow {
+            Some(f) => f.iter().enumerate().filter(|&(r, _)| r != p).map(|(r, &fr)| (n + r, fr)).collect(),
+            None => Vec::new(),
+        };
         ImpactJump {
             a,
             b,
             host_v: n + p,
             bed_u: row(j) + 1,
-            riders_u: riders.iter().map(|&k| row(k) + 1).collect(),
+            riders_u: host.riders.iter().map(|&k| (row(k) + 1, n + sys.dampers[k].host)).collect(),
+            follow,
             host_x: p,
             bed_y: row(j),
             sign: if top { -1.0 } else { 1.0 },
@@ -134,16 +183,21 @@ impl ImpactJump {
         }
     }
 
-    /// Applies `G` to the rows of `m` (plastic: both velocities the common one; beds riding on
-    /// the host take the host's new velocity), column by column in place.
+    /// Applies `G` to the rows of `m` (plastic: both velocities the common one; a coupled
+    /// mass matrix carries the host's change to every degree of freedom; riding beds take
+    /// their hosts' new velocities), column by column in place.
     pub(super) fn apply_g<C: Dim, S: StorageMut<f64, Dyn, C>>(&self, m: &mut Matrix<f64, Dyn, C, S>) {
         for c in 0..m.ncols() {
             let (vp, uj) = (m[(self.host_v, c)], m[(self.bed_u, c)]);
             let new_v = vp * (1.0 - self.a) + uj * self.a;
             m[(self.host_v, c)] = new_v;
             m[(self.bed_u, c)] = vp * self.b + uj * (1.0 - self.b);
-            for &r in &self.riders_u {
-                m[(r, c)] = new_v;
+            let dv = new_v - vp;
+            for &(r, fr) in &self.follow {
+                m[(r, c)] += fr * dv;
+            }
+            for &(r, host_v) in &self.riders_u {
+                m[(r, c)] = m[(host_v, c)];
             }
         }
     }

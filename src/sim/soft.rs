@@ -83,6 +83,8 @@ pub fn amplitude(
 ) -> Option<(Vec<f64>, u64)> {
     let n = sys.dof();
     let m0 = &sys.structure.masses;
+    // A coupled mass matrix's inverse (lumped masses divide).
+    let m0_inv = sys.structure.coupled_mass.as_ref().and_then(|m| m.clone().try_inverse());
     let k = &sys.structure.stiffness;
     let c = &sys.structure.damping;
     // Beds in columns: (first, last) bed of each container's grains.
@@ -96,7 +98,8 @@ pub fn amplitude(
     for g in &groups {
         let dm = sys.dampers[g.start];
         let zeta = damping_ratio(sys.impact_law(g.start).restitution)?;
-        let m0p = sys.structure.masses[dm.host];
+        // The host's effective mass (a coupled mass matrix: `1 / (M0^-1)_pp`).
+        let m0p = m0_inv.as_ref().map_or(m0[dm.host], |inv| 1.0 / inv[(dm.host, dm.host)]);
         let (mu_wall, mu_pair) = (dm.mass * m0p / (dm.mass + m0p), 0.5 * dm.mass);
         dashpots.push((2.0 * zeta * (kc * mu_wall).sqrt(), 2.0 * zeta * (kc * mu_pair).sqrt()));
         dt = dt.min(contact_time(mu_pair, kc, zeta) / opts.steps_per_contact as f64);
@@ -152,8 +155,19 @@ pub fn amplitude(
                 fx[p] += f;
             }
         }
+        match &m0_inv {
+            None => {
+                for i in 0..n {
+                    v[i] += dt * fx[i] / m0[i];
+                }
+            }
+            Some(inv) => {
+                for (i, vi) in v.iter_mut().enumerate() {
+                    *vi += dt * (0..n).map(|j| inv[(i, j)] * fx[j]).sum::<f64>();
+                }
+            }
+        }
         for i in 0..n {
-            v[i] += dt * fx[i] / m0[i];
             x[i] += dt * v[i];
         }
         for j in 0..nb {
