@@ -56,6 +56,7 @@ pub struct Tangent {
     /// it, the vector fields before and after an event, and the event function's gradient.
     phi: DMatrix<f64>,
     top: DMatrix<f64>,
+    planes: Planes,
     f_minus: DVector<f64>,
     f_plus: DVector<f64>,
     g_f: DVector<f64>,
@@ -74,6 +75,7 @@ impl Tangent {
         Tangent {
             phi: DMatrix::zeros(2 * n, 2 * n),
             top: DMatrix::zeros(2 * n, k),
+            planes: Planes::default(),
             f_minus: DVector::zeros(full),
             f_plus: DVector::zeros(full),
             g_f: DVector::zeros(full),
@@ -196,6 +198,55 @@ fn transition_into(d: &Dynamics, mask: usize, tau: f64, out: &mut DMatrix<f64>) 
     }
 }
 
+/// Degrees of freedom above which the linearised flow multiplies with nalgebra's blocked
+/// matrix product (SIMD, cache-aware) instead of the plain loops that keep the paper's
+/// small structures' numbers bit for bit.
+const PLAIN_DOF: usize = 8;
+
+/// Buffers of the blocked transition: the scaled eigenvector rows and the inverse's rows,
+/// real and imaginary parts (`2n x terms` and `terms x 2n`).
+#[derive(Debug, Clone, Default)]
+struct Planes {
+    s_re: DMatrix<f64>,
+    s_im: DMatrix<f64>,
+    i_re: DMatrix<f64>,
+    i_im: DMatrix<f64>,
+}
+
+/// [`transition_into`] by blocked products: `Phi = Re(S) Re(W) - Im(S) Im(W)` with
+/// `S = V_w e^(Lambda tau)` (the weighted displacement and velocity rows) and `W` the rows of
+/// `V^-1` of the terms.
+fn transition_blocked(d: &Dynamics, mask: usize, tau: f64, planes: &mut Planes, out: &mut DMatrix<f64>) {
+    let cfg = d.config(mask);
+    let n = d.system.dof();
+    let len = cfg.modes.lambda.len();
+    let p = planes;
+    if p.s_re.shape() != (2 * n, len) {
+        p.s_re = DMatrix::zeros(2 * n, len);
+        p.s_im = DMatrix::zeros(2 * n, len);
+        p.i_re = DMatrix::zeros(len, 2 * n);
+        p.i_im = DMatrix::zeros(len, 2 * n);
+    }
+    for (r, l) in cfg.modes.lambda.iter().enumerate() {
+        let e = (l * tau).exp();
+        for i in 0..2 * n {
+            let w = if i < n { cfg.modes.vl[i][0][r] } else { cfg.modes.vl[i - n][1][r] };
+            let s = w * e;
+            p.s_re[(i, r)] = s.re;
+            p.s_im[(i, r)] = s.im;
+        }
+    }
+    for j in 0..2 * n {
+        for r in 0..len {
+            let w = cfg.modes.inverse[(r, j)];
+            p.i_re[(r, j)] = w.re;
+            p.i_im[(r, j)] = w.im;
+        }
+    }
+    out.gemm(1.0, &p.s_re, &p.i_re, 0.0);
+    out.gemm(-1.0, &p.s_im, &p.i_im, 1.0);
+}
+
 impl Observer for Tangent {
     fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
         let tau = t_b - t_a;
@@ -203,19 +254,26 @@ impl Observer for Tangent {
             return;
         }
         let n = self.n;
-        transition_into(d, seg.mask, tau, &mut self.phi);
-        // `Phi` times the masses' rows, summed in plain loops (the matrices are at most 16
-        // square; a general product's packing costs more than the arithmetic here).
-        let (dim, rows) = (2 * n, self.m.nrows());
-        let (phi, m, top) = (self.phi.as_slice(), self.m.as_slice(), self.top.as_mut_slice());
-        for (c, out) in top.chunks_exact_mut(dim).enumerate() {
-            let column = &m[c * rows..c * rows + dim];
-            for (i, o) in out.iter_mut().enumerate() {
-                let mut acc = 0.0;
-                for (k, mk) in column.iter().enumerate() {
-                    acc += phi[k * dim + i] * mk;
+        if n > PLAIN_DOF {
+            // Large structures: blocked products (the transition's and `Phi` times the masses'
+            // rows), several times faster than the loops below from 16 degrees of freedom.
+            transition_blocked(d, seg.mask, tau, &mut self.planes, &mut self.phi);
+            self.top.gemm(1.0, &self.phi, &self.m.rows(0, 2 * n), 0.0);
+        } else {
+            transition_into(d, seg.mask, tau, &mut self.phi);
+            // `Phi` times the masses' rows, summed in plain loops (the matrices are at most 16
+            // square; a general product's packing costs more than the arithmetic here).
+            let (dim, rows) = (2 * n, self.m.nrows());
+            let (phi, m, top) = (self.phi.as_slice(), self.m.as_slice(), self.top.as_mut_slice());
+            for (c, out) in top.chunks_exact_mut(dim).enumerate() {
+                let column = &m[c * rows..c * rows + dim];
+                for (i, o) in out.iter_mut().enumerate() {
+                    let mut acc = 0.0;
+                    for (k, mk) in column.iter().enumerate() {
+                        acc += phi[k * dim + i] * mk;
+                    }
+                    *o = acc;
                 }
-                *o = acc;
             }
         }
         self.m.rows_mut(0, 2 * n).copy_from(&self.top);
@@ -292,6 +350,34 @@ impl Observer for Tangent {
                     self.m += &self.f_plus * &dt;
                     self.dt = Some(dt);
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Clearance, Damper, Damping, Structure};
+    use crate::sim::System;
+
+    /// The blocked transition is the plain one's number to rounding, on a structure large
+    /// enough to take it, in every configuration, at a short and a long step.
+    #[test]
+    fn the_blocked_transition_is_the_plain_one() {
+        let n = 12;
+        let s = Structure::chain(&vec![0.2; n], &vec![8e4; n], Damping::ModalRatios(vec![0.02; n]));
+        let dampers = (n - 3..n).map(|h| Damper { host: h, mass: 0.02, clearance: Clearance::from_m(5e-4) }).collect();
+        let d = Dynamics::new(&System::plastic(s, dampers, 0, 2.0), 2.0 * std::f64::consts::PI * 30.0).unwrap();
+        let (mut plain, mut blocked) = (DMatrix::zeros(2 * n, 2 * n), DMatrix::zeros(2 * n, 2 * n));
+        let mut planes = Planes::default();
+        for mask in 0..8 {
+            for tau in [1.3e-4, 0.021] {
+                transition_into(&d, mask, tau, &mut plain);
+                transition_blocked(&d, mask, tau, &mut planes, &mut blocked);
+                let scale = plain.amax();
+                let diff = (&plain - &blocked).amax();
+                assert!(scale > 0.1 && diff <= 1e-13 * scale, "mask {mask} tau {tau}: {diff:e} of {scale}");
             }
         }
     }
