@@ -354,9 +354,10 @@ where
         draw_series(&mut chart, s, panel, what)?;
     }
     if panel.series.iter().any(|s| !s.label.is_empty()) {
+        let corner = clear_corner(&chart, panel);
         chart
             .configure_series_labels()
-            .position(match panel.legend {
+            .position(match corner {
                 Corner::UpperRight => SeriesLabelPosition::UpperRight,
                 Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
                 Corner::LowerRight => SeriesLabelPosition::LowerRight,
@@ -369,6 +370,63 @@ where
             .map_err(|e| render_err(what, e))?;
     }
     Ok(())
+}
+
+/// The legend's corner: the panel's own unless its box would hide more of the drawn data
+/// than another corner's would, then the corner hiding least (ties keep the panel's own, then
+/// upper right, upper left, lower right, lower left). The box is estimated from the labels'
+/// lengths and count at the legend's font; the data are the series' points and the midpoints
+/// of their lines, in pixels.
+fn clear_corner<'a, DB, X, Y>(chart: &ChartContext<'a, DB, Cartesian2d<X, Y>>, panel: &Panel) -> Corner
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let labels: Vec<&Series> = panel.series.iter().filter(|s| !s.label.is_empty()).collect();
+    let chars = labels.iter().map(|s| s.label.chars().count()).max().unwrap_or(0) as i32;
+    // At 14 px: about 7.5 px a character, 20 px a row, the swatch and margins around them.
+    let (w, h) = (60 + chars * 15 / 2, 12 + 20 * labels.len() as i32);
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let boxes = |c: Corner| {
+        let (left, top) = match c {
+            Corner::UpperRight => (xr.end - w, yr.start),
+            Corner::UpperLeft => (xr.start, yr.start),
+            Corner::LowerRight => (xr.end - w, yr.end - h),
+            Corner::LowerLeft => (xr.start, yr.end - h),
+        };
+        (left..left + w, top..top + h)
+    };
+    let ok = |x: f64, y: f64| x.is_finite() && y.is_finite() && (!panel.x_log || x > 0.0) && (!panel.y_log || y > 0.0);
+    let mut pixels: Vec<(i32, i32)> = Vec::new();
+    for s in &panel.series {
+        let mut last: Option<(i32, i32)> = None;
+        for (&x, &y) in s.x.iter().zip(&s.y) {
+            if !ok(x, y) {
+                last = None;
+                continue;
+            }
+            let p = chart.backend_coord(&(x, y));
+            if let (true, Some(q)) = (s.line, last) {
+                pixels.push(((p.0 + q.0) / 2, (p.1 + q.1) / 2));
+            }
+            pixels.push(p);
+            last = Some(p);
+        }
+    }
+    let hidden = |c: Corner| {
+        let (bx, by) = boxes(c);
+        pixels.iter().filter(|p| bx.contains(&p.0) && by.contains(&p.1)).count()
+    };
+    let order = [panel.legend, Corner::UpperRight, Corner::UpperLeft, Corner::LowerRight, Corner::LowerLeft];
+    let mut best = (panel.legend, hidden(panel.legend));
+    for c in order.into_iter().skip(1) {
+        let n = hidden(c);
+        if n < best.1 {
+            best = (c, n);
+        }
+    }
+    best.0
 }
 
 fn draw_series<'a, DB, X, Y>(
