@@ -310,3 +310,70 @@ fn a_full_mass_matrix_runs_from_an_experiment_file_and_keeps_the_chain_s_motion(
         }
     }
 }
+
+/// The numbers of a design table's rows (text columns kept as they are).
+fn design_rows(dir: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(dir.join("design_five_storey/data/design_placements.csv")).unwrap();
+    common::csv_rows(&text)
+}
+
+#[test]
+fn a_design_on_a_full_mass_matrix_is_the_lumped_frame_s_design() {
+    use nalgebra::DMatrix;
+    // The 5-storey frame with containers on floors 4 and 5 only, and the same frame in
+    // coordinates that mix floors 1-3 with them (q_i = x_i - T_i4 x_4 - T_i5 x_5): a full mass
+    // matrix whose design must be the frame's.
+    let text = std::fs::read_to_string(repo().join("designs/five_storey.toml"))
+        .unwrap()
+        .replace("candidates = [1, 2, 3, 4, 5]", "candidates = [4, 5]")
+        .replace("shot_mass_ratio = 0.05", "shot_kg = 0.25");
+    let chain = "masses_kg = [1.0, 1.0, 1.0, 1.0, 1.0]\nchain_stiffness_n_per_m = [20000.0, 20000.0, 20000.0, 20000.0, 20000.0]";
+    assert!(text.contains(chain) && text.contains("shot_kg = 0.25"));
+    let n = 5;
+    let k = DMatrix::from_fn(n, n, |i, j| match (i, j) {
+        _ if i == j => {
+            if i + 1 < n {
+                40000.0
+            } else {
+                20000.0
+            }
+        }
+        _ if i.abs_diff(j) == 1 => -20000.0,
+        _ => 0.0,
+    });
+    let mut t = DMatrix::<f64>::identity(n, n);
+    for i in 0..3 {
+        t[(i, 3)] = 0.2 * (i + 1) as f64;
+        t[(i, 4)] = 0.3 - 0.1 * i as f64;
+    }
+    let rows = |a: &DMatrix<f64>| {
+        let r: Vec<String> = (0..n)
+            .map(|i| format!("[{}]", (0..n).map(|j| format!("{:e}", a[(i, j)])).collect::<Vec<_>>().join(", ")))
+            .collect();
+        format!("[{}]", r.join(", "))
+    };
+    let (mq, kq) = (t.transpose() * &t, t.transpose() * &k * &t);
+    let coupled =
+        text.replace(chain, &format!("mass_matrix_kg = {}\nstiffness_matrix_n_per_m = {}", rows(&mq), rows(&kq)));
+    let dir = tempfile::tempdir().unwrap();
+    let mut tables = Vec::new();
+    for (name, body) in [("lumped", &text), ("coupled", &coupled)] {
+        let path = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&path, body).unwrap();
+        let out_dir = dir.path().join(name);
+        let out = shotdamp().arg("design").arg(&path).arg("--out").arg(&out_dir).output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        tables.push(design_rows(&out_dir));
+    }
+    let (a, b) = (&tables[0], &tables[1]);
+    assert_eq!(a.len(), 4, "a header and three placements: {a:?}");
+    assert_eq!(a[0], b[0]);
+    for (ra, rb) in a[1..].iter().zip(&b[1..]) {
+        for (h, (x, y)) in a[0].iter().zip(ra.iter().zip(rb)) {
+            match (x.parse::<f64>(), y.parse::<f64>()) {
+                (Ok(x), Ok(y)) => assert!((x - y).abs() <= 1e-10 * x.abs().max(1e-12), "{h}: {x} vs {y}"),
+                _ => assert_eq!(x, y, "{h}"),
+            }
+        }
+    }
+}
