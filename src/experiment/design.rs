@@ -89,8 +89,15 @@ fn whole(path: &Path, key: &str, v: Option<i64>, default: usize, max: usize) -> 
 }
 
 /// The design of an experiment: required by kind "design", refused by every other kind.
-/// `total_mass`: the structure's total mass, kg (for a shot mass ratio).
-pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_mass: f64) -> Result<Option<Spec>> {
+/// `total_mass`: the structure's total mass, kg (for a shot mass ratio; `None` for a full mass
+/// matrix, whose total mass the file does not give).
+pub fn design(
+    path: &Path,
+    raw: Option<RawDesign>,
+    kind: &str,
+    n: usize,
+    total_mass: Option<f64>,
+) -> Result<Option<Spec>> {
     let raw = match (raw, kind) {
         (None, "design") => {
             return Err(Error::invalid(path, "design", "(missing)", "analysis kind \"design\" needs a [design] table"))
@@ -120,7 +127,14 @@ pub fn design(path: &Path, raw: Option<RawDesign>, kind: &str, n: usize, total_m
         ));
     }
     let shot_kg = match (raw.shot_mass_ratio, raw.shot_kg) {
-        (Some(r), None) if r.is_finite() && r > 0.0 && r <= 10.0 => r * total_mass,
+        (Some(r), None) if total_mass.is_none() => {
+            return Err(bad(
+                "shot_mass_ratio",
+                &r,
+                "a structure given by a full mass matrix (structure.mass_matrix_kg) has no total mass to take a ratio of: give design.shot_kg",
+            ))
+        }
+        (Some(r), None) if r.is_finite() && r > 0.0 && r <= 10.0 => r * total_mass.unwrap_or(0.0),
         (Some(r), None) => return Err(bad("shot_mass_ratio", &r, "a total shot mass ratio in (0, 10]")),
         (None, Some(kg)) if kg.is_finite() && kg > 0.0 => kg,
         (None, Some(kg)) => return Err(bad("shot_kg", &kg, "a shot mass in kg, positive and finite")),
