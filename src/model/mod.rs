@@ -7,6 +7,7 @@ pub mod frf;
 pub mod least_squares;
 pub mod modal;
 pub mod modes;
+pub mod reduction;
 pub mod sdof;
 pub mod structure;
 
