@@ -256,6 +256,12 @@ fn an_export_of_an_experiment_that_does_not_run_is_named() {
     );
 }
 
+/// A matrix as a TOML array of rows (every digit kept).
+fn toml_rows(a: &nalgebra::DMatrix<f64>) -> String {
+    let row = |i: usize| format!("[{}]", a.row(i).iter().map(|v| format!("{v:e}")).collect::<Vec<_>>().join(", "));
+    format!("[{}]", (0..a.nrows()).map(row).collect::<Vec<_>>().join(", "))
+}
+
 /// The stated chain with one container on m2, as lumped masses or (`coupled`) in coordinates
 /// `q3 = x3 - 0.4 x1 - 0.3 x2`: a full mass matrix `T^T M T` and stiffness `T^T K T`, the
 /// host and the driven mass physical.
@@ -267,15 +273,9 @@ fn mass_matrix_sweep(coupled: bool) -> String {
     let mut t = DMatrix::<f64>::identity(3, 3);
     t[(2, 0)] = 0.4;
     t[(2, 1)] = 0.3;
-    let rows = |a: &DMatrix<f64>| {
-        let r: Vec<String> = (0..3)
-            .map(|i| format!("[{}]", (0..3).map(|j| format!("{:e}", a[(i, j)])).collect::<Vec<_>>().join(", ")))
-            .collect();
-        format!("[{}]", r.join(", "))
-    };
     let structure = if coupled {
         let (mq, kq) = (t.transpose() * &mm * &t, t.transpose() * &kk * &t);
-        format!("mass_matrix_kg = {}\nstiffness_matrix_n_per_m = {}", rows(&mq), rows(&kq))
+        format!("mass_matrix_kg = {}\nstiffness_matrix_n_per_m = {}", toml_rows(&mq), toml_rows(&kq))
     } else {
         "masses_kg = [0.74, 0.71, 0.64]\nchain_stiffness_n_per_m = [24.3e3, 21.8e3, 19.8e3]".to_string()
     };
@@ -346,15 +346,9 @@ fn a_design_on_a_full_mass_matrix_is_the_lumped_frame_s_design() {
         t[(i, 3)] = 0.2 * (i + 1) as f64;
         t[(i, 4)] = 0.3 - 0.1 * i as f64;
     }
-    let rows = |a: &DMatrix<f64>| {
-        let r: Vec<String> = (0..n)
-            .map(|i| format!("[{}]", (0..n).map(|j| format!("{:e}", a[(i, j)])).collect::<Vec<_>>().join(", ")))
-            .collect();
-        format!("[{}]", r.join(", "))
-    };
     let (mq, kq) = (t.transpose() * &t, t.transpose() * &k * &t);
-    let coupled =
-        text.replace(chain, &format!("mass_matrix_kg = {}\nstiffness_matrix_n_per_m = {}", rows(&mq), rows(&kq)));
+    let coupled = text
+        .replace(chain, &format!("mass_matrix_kg = {}\nstiffness_matrix_n_per_m = {}", toml_rows(&mq), toml_rows(&kq)));
     let dir = tempfile::tempdir().unwrap();
     let mut tables = Vec::new();
     for (name, body) in [("lumped", &text), ("coupled", &coupled)] {
