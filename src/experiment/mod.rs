@@ -8,6 +8,7 @@ mod design;
 mod fields;
 mod kind;
 mod load;
+pub mod matrix_market;
 mod outputs;
 pub mod parts;
 pub mod raw;
