@@ -7,15 +7,19 @@
 #      natural rerun) resumes it as shard 1 of the folder's 3;
 #   4. an array with task 1 cancelled mid-run and requeued by Slurm;
 # every merge equal to the unsharded table byte for byte. Tears down on success, on failure and
-# on SIGTERM/SIGINT. Usage, from a checkout with target/release/shotdamp built:
+# on SIGTERM/SIGINT. Usage, from a checkout with target/release/shotdamp built (or under
+# $CARGO_TARGET_DIR when that is set):
 #   bash deploy/slurm/ci.sh [WORK_DIR]        (STUDY=studies/... to choose another study)
 # It writes the system paths a Slurm install needs (/etc/slurm, /var/lib/slurm, /run/munge):
 # run it only on a machine or container made for it (CI).
 set -euo pipefail
 REPO=$(realpath "$(dirname "$0")/../..")
 W=${1:-$(mktemp -d)}; STUDY=${STUDY:-studies/fig05_damping_clearance.toml}
-BIN=$REPO/target/release/shotdamp
+TARGET=${CARGO_TARGET_DIR:-target}; case $TARGET in /*) ;; *) TARGET=$REPO/$TARGET ;; esac
+BIN=$TARGET/release/shotdamp
 [ -x "$BIN" ] || { echo "build first: cargo build --release --locked"; exit 2; }
+# The jobs take the submitting environment (sbatch's default): they run this binary.
+export SHOTDAMP=$BIN
 ID=$(sed -n 's/^id = "\(.*\)"$/\1/p' "$REPO/$STUDY"); R=$W/runs; P=$W/pids.txt
 say() { echo "[$(date +%T)] $*"; }
 teardown() {  # cancel our jobs, stop exactly the daemons started here (newest first), drop state

@@ -22,7 +22,9 @@ def at_root(monkeypatch):
 
 @pytest.fixture(scope="session")
 def cli() -> Path:
-    binary = Path(os.environ.get("SHOTDAMP_BIN", ROOT / "target" / "release" / "shotdamp"))
+    # Cargo's own target folder: CARGO_TARGET_DIR when set (relative to the checkout).
+    target = ROOT / os.environ.get("CARGO_TARGET_DIR", "target")
+    binary = Path(os.environ.get("SHOTDAMP_BIN", target / "release" / "shotdamp"))
     if not binary.exists():
         subprocess.run(["cargo", "build", "--release", "--locked"], cwd=ROOT, check=True)
     return binary
