@@ -28,6 +28,7 @@ class Structure:
         stiffness_matrix_n_per_m: Optional[Union[Sequence[Sequence[float]], npt.NDArray[np.floating[Any]]]] = None,
         fit: Optional[Mapping[str, Any]] = None,
         ground_stiffness_n_per_m: Optional[_Floats] = None,
+        finite_element: Optional[Mapping[str, Any]] = None,
         modal_ratios: Optional[_Floats] = None,
         rayleigh_alpha: Optional[float] = None,
         rayleigh_beta: Optional[float] = None,

@@ -27,9 +27,12 @@ impl Structure {
     /// `mass_matrix_kg` (a symmetric positive definite mass matrix, rows), and exactly one of
     /// `chain_stiffness_n_per_m`, `stiffness_matrix_n_per_m` and `fit` (measured modes: a dict
     /// with `omegas_rad_per_s` and `shapes`); damping by `modal_ratios` or both `rayleigh_alpha`
-    /// and `rayleigh_beta`; springs to ground by `ground_stiffness_n_per_m`.
+    /// and `rayleigh_beta`; springs to ground by `ground_stiffness_n_per_m`. Or
+    /// `finite_element`: a dict with the keys of `[structure.finite_element]` (a finite-element
+    /// model's files, relative to the working directory, reduced at its points:
+    /// docs/fe-models.md), the structure's coordinates then the points' followed by modal ones.
     #[new]
-    #[pyo3(signature = (*, masses_kg=None, mass_matrix_kg=None, chain_stiffness_n_per_m=None, stiffness_matrix_n_per_m=None, fit=None, ground_stiffness_n_per_m=None, modal_ratios=None, rayleigh_alpha=None, rayleigh_beta=None))]
+    #[pyo3(signature = (*, masses_kg=None, mass_matrix_kg=None, chain_stiffness_n_per_m=None, stiffness_matrix_n_per_m=None, fit=None, ground_stiffness_n_per_m=None, finite_element=None, modal_ratios=None, rayleigh_alpha=None, rayleigh_beta=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         masses_kg: Option<&Bound<'_, PyAny>>,
@@ -38,6 +41,7 @@ impl Structure {
         stiffness_matrix_n_per_m: Option<&Bound<'_, PyAny>>,
         fit: Option<&Bound<'_, PyAny>>,
         ground_stiffness_n_per_m: Option<&Bound<'_, PyAny>>,
+        finite_element: Option<&Bound<'_, PyAny>>,
         modal_ratios: Option<&Bound<'_, PyAny>>,
         rayleigh_alpha: Option<&Bound<'_, PyAny>>,
         rayleigh_beta: Option<&Bound<'_, PyAny>>,
@@ -49,6 +53,7 @@ impl Structure {
             ("stiffness_matrix_n_per_m", stiffness_matrix_n_per_m),
             ("fit", fit),
             ("ground_stiffness_n_per_m", ground_stiffness_n_per_m),
+            ("finite_element", finite_element),
         ])?;
         let damping = named(&[
             ("modal_ratios", modal_ratios),

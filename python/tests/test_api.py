@@ -57,6 +57,23 @@ def test_a_full_mass_matrix_in_coordinates_that_keep_the_host_gives_the_chain_s_
         assert np.max(np.abs(b.compliance[:2] / a.compliance[:2] - 1)) < 1e-9
 
 
+def test_a_finite_element_plate_from_calculix_reduces_to_its_points(tmp_path, monkeypatch):
+    # The plate CalculiX meshed (examples/plate): four points and the fixed-interface modes
+    # below 2.5 kHz; its first mode is CalculiX's 38.633 Hz from above, within 2e-6.
+    import pathlib
+
+    repo = pathlib.Path(__file__).resolve().parents[2]
+    monkeypatch.chdir(repo / "examples" / "plate")
+    points = [{"node": n, "dof": 3} for n in (224, 290, 257, 252)]
+    fe = dict(format="calculix", stiffness="data/plate.sti", mass="data/plate.mas", dofs="data/plate.dof", up="z", points=points, cutoff_hz=2500.0)
+    s = sd.Structure(finite_element=fe, modal_ratios=[0.01])
+    assert s.dof == 20
+    f1 = s.modes()["freq_hz"][0]
+    assert 0 < f1 / 38.63284950725794 - 1 < 2e-6
+    with pytest.raises(ValueError, match="node = 99999"):
+        sd.Structure(finite_element=dict(fe, points=[{"node": 99999, "dof": 3}]), modal_ratios=[0.01])
+
+
 def test_infinite_clearance_far_above_the_flight_equals_stuck_masses_below_lift_off():
     # Far below resonance the bed never lifts off (acceleration below g): the response is the
     # linear one of the structure with the damper mass rigidly added.

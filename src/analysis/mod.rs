@@ -18,6 +18,7 @@ mod orbit_checks;
 mod orbit_figures;
 pub mod orbits;
 mod overlays;
+mod reduction;
 pub mod result;
 pub mod study;
 mod sweep;
@@ -147,6 +148,11 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         refs,
     );
     checks.extend(design_checks);
+    if let Some(fe) = &exp.finite_element {
+        let out = reduction::run(exp, fe);
+        tables.extend(out.tables);
+        checks.extend(out.check);
+    }
     let (id, figure) = (&exp.key(), &exp.meta.figure);
     match (refs.baseline(id), refs.baseline_mode) {
         (_, BaselineMode::Off) => {}

@@ -5,10 +5,11 @@ mod analysis;
 mod checks;
 pub mod curve_id;
 mod design;
+pub mod fe;
 mod fields;
 mod kind;
 mod load;
-pub mod matrix_market;
+pub use fe::matrix_market;
 mod outputs;
 pub mod parts;
 pub mod raw;
@@ -440,6 +441,8 @@ pub struct Experiment {
     pub fit: Option<StiffnessFit>,
     /// Where the structure's numbers come from.
     pub structure_source: Option<String>,
+    /// The finite-element model the structure was reduced from, if any.
+    pub finite_element: Option<std::sync::Arc<crate::model::fe::FeStructure>>,
     /// Why the damping has the values it has.
     pub damping_assumption: Option<String>,
     /// The driven mass and the force amplitude.

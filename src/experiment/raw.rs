@@ -97,11 +97,68 @@ pub struct RawStructure {
     /// Springs from each mass to ground, added to the stiffness (0: none).
     #[serde(default)]
     pub ground_stiffness_n_per_m: Option<Vec<f64>>,
+    /// `[structure.finite_element]`: a finite-element model's matrices, reduced at its points
+    /// (instead of masses and stiffness).
+    #[serde(default)]
+    pub finite_element: Option<RawFiniteElement>,
     /// `[structure.damping]`.
     pub damping: RawDamping,
     #[serde(default)]
     /// Where the numbers come from.
     pub source: Option<String>,
+}
+
+/// `[structure.finite_element]`: files written by a finite-element program.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFiniteElement {
+    /// `"calculix"`, `"matrix-market"` or `"abaqus"`.
+    pub format: String,
+    /// The stiffness matrix's file, relative to the experiment file.
+    pub stiffness: String,
+    /// The mass matrix's file.
+    pub mass: String,
+    /// CalculiX's `.dof` file (required for `calculix`; for `matrix-market`, optional: names
+    /// the rows by node and direction in the same format).
+    #[serde(default)]
+    pub dofs: Option<String>,
+    /// `"N-m-kg"` (default) or `"N-mm-t"` (stiffness in N/mm, mass in tonnes).
+    #[serde(default)]
+    pub units: Option<String>,
+    /// The global direction that points up: `"x"`, `"y"`, `"z"`, `"-x"`, `"-y"` or `"-z"`.
+    pub up: String,
+    /// The points kept as physical coordinates, in order: the structure's coordinates 1 to P
+    /// (container hosts, the force, reported responses).
+    pub points: Vec<RawPoint>,
+    /// Fixed-interface modes kept (instead of `cutoff_hz`).
+    #[serde(default)]
+    pub modes: Option<i64>,
+    /// Keep every fixed-interface mode below this, Hz (instead of `modes`).
+    #[serde(default)]
+    pub cutoff_hz: Option<f64>,
+    /// The largest relative difference of the reduced model's compliance from the full
+    /// model's over the analysis' frequencies (default 1e-3).
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+}
+
+/// A point of a finite-element model: a node and direction, or (a Matrix Market model
+/// without names) a row.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPoint {
+    /// Its name in reports.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Node number.
+    #[serde(default)]
+    pub node: Option<i64>,
+    /// Direction 1 to 3 (x, y, z).
+    #[serde(default)]
+    pub dof: Option<i64>,
+    /// The matrix row, 1-based (instead of node and dof).
+    #[serde(default)]
+    pub row: Option<i64>,
 }
 
 /// Measured natural frequencies and mode shapes (model updating).

@@ -42,17 +42,31 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     };
 
     let model = raw.model.map(|m| ModelInfo { id: m.id, label: m.label, description: m.description });
-    let Built { structure, source, damping_assumption, fit } = structure(path, raw.structure)?;
+    let Built { structure, source, damping_assumption, fit, fe } = structure(path, raw.structure)?;
     let n = structure.dof();
+    // A finite-element structure reports its points only (its other coordinates are modal).
+    let responses = fe.as_ref().map_or(n, |f| f.points.len());
 
-    let excitation = excitation(path, &raw.excitation, &structure.masses)?;
+    let excitation = excitation(path, &raw.excitation, &structure.masses[..responses])?;
 
     let cases = cases(path, raw.cases, &structure)?;
+    if let Some(f) = &fe {
+        for (ci, case) in cases.iter().enumerate() {
+            for (di, d) in case.dampers.iter().enumerate() {
+                super::fe::host_fits(path, f, &format!("cases[{ci}].dampers[{di}].mass"), d.host)?;
+            }
+        }
+    }
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
     // A full mass matrix's coordinates are not all displacements: its trace is no mass.
     let total_mass = structure.is_lumped().then(|| structure.mass_matrix().trace());
-    let design = super::design::design(path, raw.design, &raw.analysis.kind, n, total_mass)?;
+    let design = super::design::design(path, raw.design, &raw.analysis.kind, responses, total_mass)?;
     let analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
+    if let (Analysis::Design { spec, .. }, Some(f)) = (&analysis, &fe) {
+        for (i, &c) in spec.candidates.iter().enumerate() {
+            super::fe::host_fits(path, f, &format!("design.candidates[{i}]"), c)?;
+        }
+    }
     if let Analysis::Design { spec, .. } = &analysis {
         for (i, &f) in spec.scenario_force_n.iter().enumerate() {
             force_fits(path, &format!("design.scenarios.force_n[{i}]"), f, structure.masses[excitation.mass])?;
@@ -135,13 +149,13 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         .plots
         .into_iter()
         .enumerate()
-        .map(|(i, p)| plot(path, i, p, n, &case_ids, &analysis))
+        .map(|(i, p)| plot(path, i, p, responses, &case_ids, &analysis))
         .collect::<Result<Vec<_>>>()?;
     let checks = raw
         .checks
         .into_iter()
         .enumerate()
-        .map(|(i, c)| check(path, i, c, n, &case_ids, &analysis, reference_dir))
+        .map(|(i, c)| check(path, i, c, responses, &case_ids, &analysis, reference_dir))
         .collect::<Result<Vec<_>>>()?;
     super::texts::validate(path, &meta, &checks)?;
 
@@ -153,6 +167,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         structure,
         fit,
         structure_source: source,
+        finite_element: fe.map(std::sync::Arc::new),
         damping_assumption,
         excitation,
         analysis,
@@ -222,11 +237,38 @@ pub(super) struct Built {
     source: Option<String>,
     damping_assumption: Option<String>,
     fit: Option<StiffnessFit>,
+    fe: Option<crate::model::fe::FeStructure>,
 }
 
-pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
+pub(super) fn structure(path: &Path, mut s: RawStructure) -> Result<Built> {
+    let fe = match s.finite_element.take() {
+        Some(raw) => {
+            let given = [
+                ("masses_kg", s.masses_kg.is_some()),
+                ("mass_matrix_kg", s.mass_matrix_kg.is_some()),
+                ("chain_stiffness_n_per_m", s.chain_stiffness_n_per_m.is_some()),
+                ("stiffness_matrix_n_per_m", s.stiffness_matrix_n_per_m.is_some()),
+                ("fit", s.fit.is_some()),
+                ("ground_stiffness_n_per_m", s.ground_stiffness_n_per_m.is_some()),
+            ];
+            if let Some((k, _)) = given.iter().find(|g| g.1) {
+                return Err(Error::invalid(
+                    path,
+                    format!("structure.{k}"),
+                    "(with finite_element)",
+                    format!("a finite-element structure takes its masses and stiffness from its files: leave structure.{k} out"),
+                ));
+            }
+            Some(super::fe::build(path, raw)?)
+        }
+        None => None,
+    };
     // Lumped masses, or a full mass matrix (its diagonal stands for the masses elsewhere).
     let (masses, full_mass) = match (&s.masses_kg, &s.mass_matrix_kg) {
+        _ if fe.is_some() => {
+            let m = fe.as_ref().map(|f| f.mass.clone()).unwrap_or_default();
+            (m.diagonal().iter().copied().collect(), Some(m))
+        }
         (Some(m), None) => {
             positive_list(path, "structure.masses_kg", m, "mass")?;
             (m.clone(), None)
@@ -247,6 +289,7 @@ pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
     let n = masses.len();
     let mut fit = None;
     let mut k = match (&s.chain_stiffness_n_per_m, &s.stiffness_matrix_n_per_m, &s.fit) {
+        _ if fe.is_some() => fe.as_ref().map(|f| f.stiffness.clone()).unwrap_or_default(),
         (None, None, Some(_)) if full_mass.is_some() => {
             return Err(Error::invalid(
                 path,
@@ -310,6 +353,8 @@ pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
     let d = s.damping;
     let damping = match (d.modal_ratios, d.rayleigh_alpha, d.rayleigh_beta) {
         (Some(z), None, None) => {
+            // A reduced model's modes are not known before it is reduced: one ratio for all.
+            let z = if fe.is_some() && z.len() == 1 { vec![z[0]; n] } else { z };
             if z.len() != n {
                 return Err(Error::invalid(
                     path,
@@ -360,6 +405,7 @@ pub(super) fn structure(path: &Path, s: RawStructure) -> Result<Built> {
         source: s.source,
         damping_assumption: d.assumption,
         fit,
+        fe: fe.map(|f| f.fe),
     })
 }
 

@@ -2,13 +2,16 @@
 
 pub mod clearance;
 pub mod damping_fit;
+pub mod fe;
 pub mod fit;
 pub mod frf;
+pub mod lanczos;
 pub mod least_squares;
 pub mod modal;
 pub mod modes;
 pub mod reduction;
 pub mod sdof;
+pub mod sparse;
 pub mod structure;
 
 pub use clearance::Clearance;

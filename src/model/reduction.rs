@@ -8,8 +8,11 @@
 //! thousand degrees of freedom. No I/O.
 
 use nalgebra::DMatrix;
+use rayon::prelude::*;
 
+use super::lanczos::{lowest, Failure, Want};
 use super::modes::symmetric_modes;
+use super::sparse::{rcm, Skyline, SymSparse};
 
 /// A model reduced at its boundary.
 #[derive(Debug, Clone)]
@@ -51,6 +54,14 @@ pub enum ReductionError {
     /// The interior is not held by the boundary: `K_ii` or `M_ii` is not positive definite
     /// (a rigid-body motion of the interior, or a degree of freedom without mass).
     Interior,
+    /// The eigen solver's certificate failed: fewer fixed-interface modes found below the
+    /// last one kept than the inertia of `K_ii - s M_ii` counts there.
+    Missed {
+        /// Found.
+        found: usize,
+        /// Counted.
+        counted: usize,
+    },
 }
 
 impl std::fmt::Display for ReductionError {
@@ -66,6 +77,10 @@ impl std::fmt::Display for ReductionError {
             ReductionError::Interior => write!(
                 f,
                 "the interior degrees of freedom are not held by the boundary (K_ii or M_ii not positive definite): a rigid-body motion, or a degree of freedom without mass"
+            ),
+            ReductionError::Missed { found, counted } => write!(
+                f,
+                "the eigen solver found {found} fixed-interface modes where the inertia counts {counted}: please report this model"
             ),
         }
     }
@@ -148,6 +163,175 @@ pub fn craig_bampton(
     })
 }
 
+/// How many fixed-interface modes a reduction keeps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Keep {
+    /// The lowest `n`.
+    Count(usize),
+    /// Every mode below this natural frequency, rad/s.
+    Below(f64),
+}
+
+/// [`craig_bampton`] of a sparse model: `K_ii` factored once in envelope storage (reverse
+/// Cuthill-McKee order), the constraint modes by its solves, the fixed-interface modes by
+/// shift-invert Lanczos certified by inertia counts ([`super::lanczos`]). The same reduced
+/// model as the dense function to rounding; `cutoff` is the lowest mode left out (found too).
+pub fn craig_bampton_sparse(
+    m: &SymSparse,
+    k: &SymSparse,
+    boundary: &[usize],
+    keep: Keep,
+) -> Result<Reduced, ReductionError> {
+    let n = m.n();
+    let finite = |a: &SymSparse| (0..a.n()).all(|i| a.row(i).all(|(_, v)| v.is_finite()));
+    if k.n() != n || !finite(m) || !finite(k) {
+        return Err(ReductionError::Shape);
+    }
+    let mut is_boundary = vec![false; n];
+    for &b in boundary {
+        if b >= n || is_boundary[b] {
+            return Err(ReductionError::Boundary { dof: b });
+        }
+        is_boundary[b] = true;
+    }
+    let interior: Vec<usize> = (0..n).filter(|&i| !is_boundary[i]).collect();
+    let (nb, ni) = (boundary.len(), interior.len());
+    let (k_ii, m_ii) = (k.principal(&interior), m.principal(&interior));
+    let mut factor = Skyline::pattern(&k_ii, Some(&m_ii), rcm(&k_ii));
+    factor.factor(&k_ii, None).map_err(|_| ReductionError::Interior)?;
+    factor.positive().map_err(|_| ReductionError::Interior)?;
+    if m_ii.diagonal().iter().any(|&v| v <= 0.0) {
+        return Err(ReductionError::Interior);
+    }
+    let k_ib = k.block(&interior, boundary);
+    let mut t = DMatrix::<f64>::zeros(n, nb);
+    let mut col = vec![0.0; ni];
+    for (c, &b) in boundary.iter().enumerate() {
+        col.iter_mut().zip(k_ib.column(c).iter()).for_each(|(x, v)| *x = -v);
+        factor.solve(&mut col);
+        t[(b, c)] = 1.0;
+        for (r, &i) in interior.iter().enumerate() {
+            t[(i, c)] = col[r];
+        }
+    }
+    // One mode more than kept: the lowest left out is the cutoff.
+    let count = match keep {
+        Keep::Count(c) => c,
+        Keep::Below(w) => {
+            let mut shifted = Skyline::pattern(&k_ii, Some(&m_ii), factor.order().to_vec());
+            shifted.factor(&k_ii, Some((&m_ii, w * w))).map_err(|_| ReductionError::Interior)?
+        }
+    }
+    .min(ni);
+    let want = Want::Count((count + 1).min(ni));
+    let eig = if ni == 0 {
+        None
+    } else {
+        Some(lowest(&k_ii, &m_ii, &factor, want).map_err(|e| match e {
+            Failure::Singular(_) => ReductionError::Interior,
+            Failure::Missed { found, counted } => ReductionError::Missed { found, counted },
+        })?)
+    };
+    let (values, vectors) = match &eig {
+        Some(e) => (e.values.clone(), e.vectors.clone()),
+        None => (Vec::new(), DMatrix::zeros(0, 0)),
+    };
+    let kept = count.min(values.len());
+    let mut t = t.resize_horizontally(nb + kept, 0.0);
+    for q in 0..kept {
+        for (r, &i) in interior.iter().enumerate() {
+            t[(i, nb + q)] = vectors[(r, q)];
+        }
+    }
+    let project = |a: &SymSparse| {
+        let mut at = DMatrix::<f64>::zeros(n, t.ncols());
+        let mut y = vec![0.0; n];
+        for c in 0..t.ncols() {
+            let x: Vec<f64> = t.column(c).iter().copied().collect();
+            a.mul(&x, &mut y);
+            at.column_mut(c).iter_mut().zip(&y).for_each(|(p, v)| *p = *v);
+        }
+        let r = t.transpose() * at;
+        (&r + r.transpose()) * 0.5
+    };
+    Ok(Reduced {
+        mass: project(m),
+        stiffness: project(k),
+        boundary: boundary.to_vec(),
+        interior_omegas: values[..kept].iter().map(|l| l.sqrt()).collect(),
+        cutoff: values.get(kept).map_or(f64::INFINITY, |l| l.sqrt()),
+        transform: t,
+    })
+}
+
+/// The undamped compliance at the boundary for a unit force at boundary coordinate `force`,
+/// at one frequency: the full model's (a sparse direct solve of `K - omega^2 M`) and the
+/// reduced model's (dense), one value per boundary coordinate, m/N.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompliancePair {
+    /// rad/s.
+    pub omega: f64,
+    /// The full model's.
+    pub full: Vec<f64>,
+    /// The reduced model's.
+    pub reduced: Vec<f64>,
+}
+
+/// [`CompliancePair`]s over `omegas`; `None` at a frequency on a natural frequency of either
+/// model (a zero pivot).
+pub fn compliance_pairs(
+    m: &SymSparse,
+    k: &SymSparse,
+    r: &Reduced,
+    force: usize,
+    omegas: &[f64],
+) -> Vec<Option<CompliancePair>> {
+    let n = m.n();
+    let pattern = Skyline::pattern(k, Some(m), rcm(k));
+    let nb = r.boundary.len();
+    // Frequencies in parallel, each its own factorisation (the order of the results is the
+    // order of `omegas` whatever the threads).
+    omegas
+        .par_iter()
+        .map_init(
+            || pattern.clone(),
+            |factor, &w| {
+                factor.factor(k, Some((m, w * w))).ok()?;
+                let mut x = vec![0.0; n];
+                x[r.boundary[force]] = 1.0;
+                factor.solve(&mut x);
+                let a = &r.stiffness - &r.mass * (w * w);
+                let mut e = nalgebra::DVector::zeros(a.nrows());
+                e[force] = 1.0;
+                let y = a.lu().solve(&e)?;
+                Some(CompliancePair {
+                    omega: w,
+                    full: r.boundary.iter().map(|&b| x[b]).collect(),
+                    reduced: (0..nb).map(|i| y[i]).collect(),
+                })
+            },
+        )
+        .collect()
+}
+
+/// The largest difference of the reduced compliance from the full one over `pairs`, relative
+/// to the full compliance's largest magnitude there, for each boundary coordinate (a relative
+/// error at each frequency would be undefined at the full model's anti-resonances).
+pub fn largest_difference(pairs: &[CompliancePair]) -> Vec<f64> {
+    let nb = pairs.first().map_or(0, |p| p.full.len());
+    (0..nb)
+        .map(|i| {
+            let peak = pairs.iter().fold(0.0_f64, |a, p| a.max(p.full[i].abs()));
+            let diff = pairs.iter().fold(0.0_f64, |a, p| a.max((p.reduced[i] - p.full[i]).abs()));
+            if peak > 0.0 {
+                diff / peak
+            } else {
+                diff
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -223,5 +407,62 @@ mod tests {
             &[2e4, -1e4, 0.0, 0.0, -1e4, 1e4, 0.0, 0.0, 0.0, 0.0, 1e3, -1e3, 0.0, 0.0, -1e3, 1e3],
         );
         assert_eq!(craig_bampton(&m, &loose, &[0, 1], 1).unwrap_err(), ReductionError::Interior);
+    }
+
+    fn sparse(a: &DMatrix<f64>) -> SymSparse {
+        let n = a.nrows();
+        let e = (0..n).flat_map(|i| (0..=i).map(move |j| (i, j))).filter(|&(i, j)| a[(i, j)] != 0.0);
+        SymSparse::from_entries(n, e.map(|(i, j)| (i, j, a[(i, j)])).collect::<Vec<_>>(), true).unwrap()
+    }
+
+    #[test]
+    fn the_sparse_reduction_is_the_dense_one() {
+        let (m, k) = chain(40);
+        let b = [0, 37, 38, 39];
+        let dense = craig_bampton(&m, &k, &b, 6).unwrap();
+        let sp = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(6)).unwrap();
+        // The modes' signs are conventions: align the sparse ones to the dense ones.
+        let signs = DVector::from_fn(sp.mass.nrows(), |c, _| {
+            let col = dense.transform.column(c);
+            let i = col.iamax();
+            (col[i] * sp.transform[(i, c)]).signum()
+        });
+        let d = DMatrix::from_diagonal(&signs);
+        let (sm, sk) = (&d * &sp.mass * &d, &d * &sp.stiffness * &d);
+        assert!((&dense.stiffness - &sk).amax() <= 1e-9 * dense.stiffness.amax());
+        assert!((&dense.mass - &sm).amax() <= 1e-9 * dense.mass.amax());
+        for (a, c) in dense.interior_omegas.iter().zip(&sp.interior_omegas) {
+            assert!((a - c).abs() <= 1e-11 * a);
+        }
+        assert!((dense.cutoff - sp.cutoff).abs() <= 1e-11 * dense.cutoff);
+        // By a cutoff: every mode below it, the next one above.
+        let w = 0.5 * (sp.interior_omegas[3] + sp.interior_omegas[4]);
+        let by = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Below(w)).unwrap();
+        assert_eq!(by.interior_omegas.len(), 4);
+        assert!(by.cutoff > w);
+    }
+
+    #[test]
+    fn with_every_interior_mode_kept_the_compliance_is_the_full_models() {
+        let (m, k) = chain(14);
+        let b = [0, 11, 12, 13];
+        let r = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(10)).unwrap();
+        let omegas: Vec<f64> = (1..60).map(|i| 7.3 * i as f64).collect();
+        let pairs: Vec<CompliancePair> =
+            compliance_pairs(&sparse(&m), &sparse(&k), &r, 0, &omegas).into_iter().flatten().collect();
+        assert_eq!(pairs.len(), omegas.len());
+        for e in largest_difference(&pairs) {
+            assert!(e < 1e-10, "{e}");
+        }
+        // With two modes only the difference shows, and shrinks with more.
+        let few = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(2)).unwrap();
+        let more = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(6)).unwrap();
+        let err = |r: &Reduced| {
+            let p: Vec<CompliancePair> =
+                compliance_pairs(&sparse(&m), &sparse(&k), r, 0, &omegas).into_iter().flatten().collect();
+            largest_difference(&p).into_iter().fold(0.0, f64::max)
+        };
+        let (e2, e6) = (err(&few), err(&more));
+        assert!(e2 > 1e-6 && e6 < e2, "{e2} {e6}");
     }
 }

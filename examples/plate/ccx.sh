@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Runs CalculiX (ccx; Debian: apt-get install calculix-ccx) on the plate's decks in OUT
+# (default: a new temporary folder) and prints OUT. Writes there:
+#   plate.sti, plate.mas, plate.dof   the stiffness and mass matrices and their degrees of
+#                                     freedom (*FREQUENCY, SOLVER=MATRIXSTORAGE)
+#   plate_modes.dat                   CalculiX's own lowest ten natural frequencies
+#   plate_free.mas, plate_free.dof    the unsupported plate's mass matrix
+# The files in data/ were written so (CalculiX 2.20); shotdamp's tests read them without ccx.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+out="${1:-$(mktemp -d)}"
+mkdir -p "$out"
+command -v ccx >/dev/null || { echo "ccx (CalculiX) is not installed: apt-get install calculix-ccx" >&2; exit 2; }
+cp "$here"/plate_mesh.inp "$here"/plate.inp "$here"/plate_modes.inp "$here"/plate_free.inp "$out"/
+cd "$out"
+for job in plate plate_modes plate_free; do
+    # ccx prints its progress; keep it in a log, show it only when it fails.
+    if ! OMP_NUM_THREADS=1 ccx -i "$job" > "$job.log" 2>&1; then
+        cat "$job.log" >&2
+        echo "ccx failed on $job.inp" >&2
+        exit 1
+    fi
+done
+for f in plate.sti plate.mas plate.dof plate_modes.dat plate_free.mas plate_free.dof; do
+    [ -s "$f" ] || { echo "ccx did not write $f" >&2; exit 1; }
+done
+echo "$out"

@@ -1,0 +1,56 @@
+"""Writes plate_mesh.inp: a steel plate 300 x 200 x 4 mm of 10 x 6 x 1 twenty-node bricks
+(C3D20R), its nodes, elements, material and the node set CLAMP on the edge x = 0. The decks
+plate.inp (matrices), plate_modes.inp (CalculiX's own natural frequencies) and plate_free.inp
+(the unsupported plate's mass matrix) include it. Run: python3 mesh.py [NX NY] (default 10 6:
+1410 degrees of freedom once clamped; 40 26 gives 22,794, for benchmarks)."""
+
+import sys
+
+LX, LY, T = 0.30, 0.20, 0.004
+NX, NY = (int(sys.argv[1]), int(sys.argv[2])) if len(sys.argv) == 3 else (10, 6)
+
+
+def used(i, j, k):
+    # A twenty-node brick has nodes at its corners and mid-edges, none at face or body centres.
+    return (i % 2) + (j % 2) + (k % 2) <= 1
+
+
+def main():
+    ids = {}
+    with open("plate_mesh.inp", "w") as f:
+        f.write(f"** Steel plate 300 x 200 x 4 mm, {NX} x {NY} x 1 C3D20R; written by mesh.py\n*NODE, NSET=NALL\n")
+        n = 0
+        for k in range(3):
+            for j in range(2 * NY + 1):
+                for i in range(2 * NX + 1):
+                    if used(i, j, k):
+                        n += 1
+                        ids[(i, j, k)] = n
+                        f.write(f"{n}, {LX * i / (2 * NX):.9g}, {LY * j / (2 * NY):.9g}, {T * k / 2:.9g}\n")
+        f.write("*ELEMENT, TYPE=C3D20R, ELSET=EALL\n")
+        e = 0
+        for j in range(NY):
+            for i in range(NX):
+                a, b = 2 * i, 2 * j
+                c = [(a, b, 0), (a + 2, b, 0), (a + 2, b + 2, 0), (a, b + 2, 0),
+                     (a, b, 2), (a + 2, b, 2), (a + 2, b + 2, 2), (a, b + 2, 2),
+                     (a + 1, b, 0), (a + 2, b + 1, 0), (a + 1, b + 2, 0), (a, b + 1, 0),
+                     (a + 1, b, 2), (a + 2, b + 1, 2), (a + 1, b + 2, 2), (a, b + 1, 2),
+                     (a, b, 1), (a + 2, b, 1), (a + 2, b + 2, 1), (a, b + 2, 1)]
+                e += 1
+                nodes = [str(ids[p]) for p in c]
+                f.write(f"{e}, " + ", ".join(nodes[:15]) + ",\n" + ", ".join(nodes[15:]) + "\n")
+        f.write("*NSET, NSET=CLAMP\n")
+        for (i, j, k), n in sorted(ids.items(), key=lambda x: x[1]):
+            if i == 0:
+                f.write(f"{n},\n")
+        f.write("*MATERIAL, NAME=STEEL\n*ELASTIC\n210E9, 0.3\n*DENSITY\n7850.\n")
+        f.write("*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n")
+    # The nodes a user would pick: the free edge's mid-surface corners and middle.
+    for name, (i, j) in [("free corner y = 0", (2 * NX, 0)), ("free edge middle", (2 * NX, NY)),
+                         ("free corner y = 0.2", (2 * NX, 2 * NY)), ("plate middle", (NX, NY))]:
+        print(f"{name}: node {ids[(i, j, 1)] if (i, j, 1) in ids else ids[(i, j, 0)]}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,323 @@
+//! `[structure.finite_element]`: a finite-element program's mass and stiffness matrices
+//! (CalculiX, Matrix Market, Abaqus), read, checked and reduced by Craig-Bampton at the
+//! points the experiment file names (docs/fe-models.md). Files are named relative to the
+//! experiment file.
+
+pub mod calculix;
+pub mod matrix_market;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use nalgebra::DMatrix;
+
+use super::raw::RawFiniteElement;
+use crate::error::{Error, Result};
+use crate::model::fe::{DofLabel, FeStructure, FullModel, Point};
+use crate::model::reduction::{craig_bampton_sparse, Keep};
+use crate::model::sparse::SymSparse;
+
+/// The formats read.
+pub const FORMATS: [&str; 3] = ["calculix", "matrix-market", "abaqus"];
+
+/// A finite-element structure: the reduced matrices and what they came from.
+pub struct FromFiles {
+    /// The reduced mass matrix, kg (points first, then modal coordinates).
+    pub mass: DMatrix<f64>,
+    /// The reduced stiffness matrix, N/m.
+    pub stiffness: DMatrix<f64>,
+    /// The full model, its points and the reduction.
+    pub fe: FeStructure,
+}
+
+/// Entries of one matrix as read, and whether they hold one triangle.
+struct Read {
+    entries: Vec<(usize, usize, f64)>,
+    one_triangle: bool,
+}
+
+/// Whether entries lie on one side of the diagonal only.
+fn one_sided(e: &[(usize, usize, f64)]) -> bool {
+    !(e.iter().any(|t| t.0 < t.1) && e.iter().any(|t| t.0 > t.1))
+}
+
+/// Reads the files of `raw` next to `path`: the labels (if any), stiffness, mass and size.
+fn read(path: &Path, raw: &RawFiniteElement) -> Result<(Option<Vec<DofLabel>>, Read, Read, usize)> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let at = |name: &str| -> PathBuf { dir.join(name) };
+    let (k_path, m_path) = (at(&raw.stiffness), at(&raw.mass));
+    match raw.format.as_str() {
+        "calculix" => {
+            let Some(dofs) = &raw.dofs else {
+                return Err(Error::invalid(
+                    path,
+                    "structure.finite_element.dofs",
+                    "(missing)",
+                    "CalculiX's matrices need their .dof file (job.dof, written beside job.sti and job.mas)",
+                ));
+            };
+            let labels = calculix::read_dofs(&at(dofs))?;
+            let n = labels.len();
+            let k = calculix::read_matrix(&k_path, n)?;
+            let m = calculix::read_matrix(&m_path, n)?;
+            let (ko, mo) = (one_sided(&k), one_sided(&m));
+            Ok((Some(labels), Read { entries: k, one_triangle: ko }, Read { entries: m, one_triangle: mo }, n))
+        }
+        "matrix-market" => {
+            let (k, m) = (matrix_market::read(&k_path)?, matrix_market::read(&m_path)?);
+            for (t, p) in [(&k, &k_path), (&m, &m_path)] {
+                if t.rows != t.cols {
+                    return Err(Error::Parse {
+                        file: p.display().to_string(),
+                        message: format!("the matrix is {} x {}: a mass or stiffness matrix is square", t.rows, t.cols),
+                    });
+                }
+            }
+            if k.rows != m.rows {
+                return Err(Error::Parse {
+                    file: m_path.display().to_string(),
+                    message: format!(
+                        "the mass matrix is {0} x {0} but the stiffness matrix ({1}) is {2} x {2}",
+                        m.rows,
+                        k_path.display(),
+                        k.rows
+                    ),
+                });
+            }
+            let n = k.rows;
+            let labels = match &raw.dofs {
+                Some(d) => {
+                    let l = calculix::read_dofs(&at(d))?;
+                    if l.len() != n {
+                        return Err(Error::Parse {
+                            file: at(d).display().to_string(),
+                            message: format!("the file names {} degrees of freedom, the matrices have {n}", l.len()),
+                        });
+                    }
+                    Some(l)
+                }
+                None => None,
+            };
+            let (ks, ms) = (k.symmetric || one_sided(&k.entries), m.symmetric || one_sided(&m.entries));
+            Ok((
+                labels,
+                Read { entries: k.entries, one_triangle: ks },
+                Read { entries: m.entries, one_triangle: ms },
+                n,
+            ))
+        }
+        "abaqus" => {
+            let (labels, k) = calculix::read_abaqus(&k_path, Vec::new())?;
+            let (labels, m) = calculix::read_abaqus(&m_path, labels)?;
+            let n = labels.len();
+            let (ko, mo) = (one_sided(&k), one_sided(&m));
+            Ok((Some(labels), Read { entries: k, one_triangle: ko }, Read { entries: m, one_triangle: mo }, n))
+        }
+        other => Err(Error::invalid(
+            path,
+            "structure.finite_element.format",
+            format!("\"{other}\""),
+            format!("one of {}", FORMATS.map(|f| format!("\"{f}\"")).join(", ")),
+        )),
+    }
+}
+
+/// How a row is named in messages.
+fn row_name(labels: &Option<Vec<DofLabel>>, r: usize) -> String {
+    match labels {
+        Some(l) => format!("row {} ({})", r + 1, l[r]),
+        None => format!("row {}", r + 1),
+    }
+}
+
+/// A symmetric matrix of the entries, in SI units, with a positive diagonal.
+fn matrix(file: &Path, what: &str, r: Read, n: usize, scale: f64, labels: &Option<Vec<DofLabel>>) -> Result<SymSparse> {
+    let bad = |message: String| Error::Parse { file: file.display().to_string(), message };
+    let scaled = r.entries.into_iter().map(|(i, j, v)| (i, j, v * scale));
+    let a = SymSparse::from_entries(n, scaled, r.one_triangle).map_err(|e| {
+        bad(format!(
+            "the {what} matrix is not symmetric: entry ({}, {}) is {} but ({}, {}) is {} ({})",
+            e.row + 1,
+            e.col + 1,
+            e.lower / scale,
+            e.col + 1,
+            e.row + 1,
+            e.upper / scale,
+            row_name(labels, e.row)
+        ))
+    })?;
+    if let Some((r, v)) = a.diagonal().into_iter().enumerate().find(|(_, v)| *v <= 0.0) {
+        return Err(bad(format!(
+            "the {what} matrix's diagonal at {} is {}: every degree of freedom needs a positive {what} (condense massless or unconnected ones out in the finite-element program)",
+            row_name(labels, r),
+            v / scale
+        )));
+    }
+    Ok(a)
+}
+
+/// Reads, checks and reduces the model of `raw` (keys named `structure.finite_element.*`).
+pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
+    let key = |k: &str| format!("structure.finite_element.{k}");
+    let invalid = |k: &str, v: &dyn std::fmt::Display, m: &str| Error::invalid(path, key(k), v, m);
+    let (k_scale, m_scale) = match raw.units.as_deref() {
+        None | Some("N-m-kg") => (1.0, 1.0),
+        Some("N-mm-t") => (1e3, 1e3),
+        Some(u) => {
+            return Err(invalid("units", &format!("\"{u}\""), "\"N-m-kg\" (default) or \"N-mm-t\" (N/mm and tonnes)"))
+        }
+    };
+    let (up_axis, up_sign) = match raw.up.as_str() {
+        "x" | "+x" => (1, 1.0),
+        "y" | "+y" => (2, 1.0),
+        "z" | "+z" => (3, 1.0),
+        "-x" => (1, -1.0),
+        "-y" => (2, -1.0),
+        "-z" => (3, -1.0),
+        u => {
+            return Err(invalid(
+                "up",
+                &format!("\"{u}\""),
+                "the global direction that points up: x, y, z, -x, -y or -z",
+            ))
+        }
+    };
+    let keep = match (raw.modes, raw.cutoff_hz) {
+        (Some(m), None) if (0..=10_000).contains(&m) => Keep::Count(m as usize),
+        (Some(m), None) => return Err(invalid("modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000")),
+        (None, Some(f)) if f.is_finite() && f > 0.0 => Keep::Below(2.0 * std::f64::consts::PI * f),
+        (None, Some(f)) => return Err(invalid("cutoff_hz", &f, "a positive frequency, Hz")),
+        _ => {
+            return Err(invalid(
+                "modes / cutoff_hz",
+                &"(both or neither)",
+                "give exactly one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F; about twice the highest frequency analysed)",
+            ))
+        }
+    };
+    let tolerance = raw.tolerance.unwrap_or(1e-3);
+    if !(tolerance > 0.0 && tolerance < 1.0) {
+        return Err(invalid("tolerance", &tolerance, "a relative difference between 0 and 1 (default 1e-3)"));
+    }
+    let (labels, k_read, m_read, n) = read(path, &raw)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let stiffness = matrix(&dir.join(&raw.stiffness), "stiffness", k_read, n, k_scale, &labels)?;
+    let mass = matrix(&dir.join(&raw.mass), "mass", m_read, n, m_scale, &labels)?;
+    if raw.points.is_empty() {
+        return Err(invalid(
+            "points",
+            &"[]",
+            "name at least one point: { node = N, dof = D } (container hosts, the force, responses)",
+        ));
+    }
+    let mut points: Vec<Point> = Vec::with_capacity(raw.points.len());
+    for (i, p) in raw.points.iter().enumerate() {
+        let pk = format!("points[{i}]");
+        let (row, label) = match (p.node, p.dof, p.row, &labels) {
+            (Some(node), Some(dof), None, Some(l)) => {
+                if !(1..=3).contains(&dof) {
+                    return Err(invalid(&format!("{pk}.dof"), &dof, "a translation: 1 (x), 2 (y) or 3 (z)"));
+                }
+                let want = DofLabel { node: node.max(0) as u64, dof: dof as u8 };
+                match l.iter().position(|x| *x == want) {
+                    Some(r) => (r, Some(want)),
+                    None => {
+                        let node_known = l.iter().any(|x| x.node == want.node);
+                        return Err(invalid(
+                            &pk,
+                            &format!("{{ node = {node}, dof = {dof} }}"),
+                            if node_known {
+                                "this direction of the node is not a degree of freedom of the model (constrained?)"
+                            } else {
+                                "the node is not in the model's degrees of freedom (its .dof file or labels)"
+                            },
+                        ));
+                    }
+                }
+            }
+            (Some(_), Some(_), None, None) => {
+                return Err(invalid(
+                    &pk,
+                    &"{ node, dof }",
+                    "the model's files do not name nodes: give dofs = \"job.dof\" or a row = R",
+                ))
+            }
+            (None, None, Some(r), _) if r >= 1 && (r as usize) <= n => {
+                (r as usize - 1, labels.as_ref().map(|l| l[r as usize - 1]))
+            }
+            (None, None, Some(r), _) => {
+                return Err(invalid(
+                    &format!("{pk}.row"),
+                    &r,
+                    &format!("rows are numbered 1 to {n} (the model's degrees of freedom)"),
+                ))
+            }
+            _ => return Err(invalid(&pk, &"(incomplete)", "give node and dof, or row")),
+        };
+        if let Some(j) = points.iter().position(|q| q.row == row) {
+            return Err(invalid(&pk, &row_name(&labels, row), &format!("the same degree of freedom as points[{j}]")));
+        }
+        // Without names every point is taken along the vertical (a chain's coordinates).
+        let vertical = label.is_none_or(|l| usize::from(l.dof) == up_axis);
+        let name = p.name.clone().unwrap_or_else(|| match label {
+            Some(l) => format!("node {} {}", l.node, ["x", "y", "z"][usize::from(l.dof) - 1]),
+            None => format!("row {}", row + 1),
+        });
+        points.push(Point { name, row, label, vertical, sign: if vertical { up_sign } else { 1.0 } });
+    }
+    let boundary: Vec<usize> = points.iter().map(|p| p.row).collect();
+    let mut reduced = craig_bampton_sparse(&mass, &stiffness, &boundary, keep).map_err(|e| {
+        Error::invalid(
+            path,
+            "structure.finite_element",
+            format!("{} degrees of freedom", n),
+            format!("cannot be reduced: {e}"),
+        )
+    })?;
+    // A point whose direction points down is measured upward: its coordinate changes sign.
+    for (c, p) in points.iter().enumerate() {
+        if p.sign < 0.0 {
+            reduced.transform.column_mut(c).neg_mut();
+            for a in [&mut reduced.mass, &mut reduced.stiffness] {
+                a.row_mut(c).neg_mut();
+                a.column_mut(c).neg_mut();
+            }
+        }
+    }
+    let files = [Some(&raw.stiffness), Some(&raw.mass), raw.dofs.as_ref()]
+        .into_iter()
+        .flatten()
+        .map(String::as_str)
+        .collect::<Vec<_>>()
+        .join(", ");
+    let full = FullModel { stiffness, mass, labels, files: format!("{} ({})", files, raw.format) };
+    Ok(FromFiles {
+        mass: reduced.mass.clone(),
+        stiffness: reduced.stiffness.clone(),
+        fe: FeStructure { full: Arc::new(full), points, reduced, up: raw.up, tolerance },
+    })
+}
+
+/// Checks that `host` (0-based coordinate, named `key`) is a point along the vertical: a
+/// container sits there.
+pub fn host_fits(path: &Path, fe: &FeStructure, key: &str, host: usize) -> Result<()> {
+    let p = fe.points.len();
+    match fe.points.get(host) {
+        None => Err(Error::invalid(
+            path,
+            key,
+            host + 1,
+            format!("a container sits on one of the finite-element points, numbered 1 to {p} (coordinates above {p} are modal)"),
+        )),
+        Some(pt) if !pt.vertical => Err(Error::invalid(
+            path,
+            key,
+            host + 1,
+            format!(
+                "point \"{}\" does not move along the vertical (structure.finite_element.up = \"{}\"): containers move along gravity here; horizontal containers are not simulated yet",
+                pt.name, fe.up
+            ),
+        )),
+        Some(_) => Ok(()),
+    }
+}

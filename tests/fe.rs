@@ -1,0 +1,258 @@
+//! Finite-element structures from experiment files: the paper's chain written as Matrix
+//! Market files runs as the chain; the plate CalculiX meshed (examples/plate) agrees with
+//! CalculiX's own natural frequencies and its reduction passes its check; bad files and keys
+//! are input errors that say what is wrong. The test marked `#[ignore]` runs CalculiX itself
+//! (CI installs it: `apt-get install calculix-ccx`).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{csv_rows, repo, shotdamp};
+
+const HEAD: &str = "[experiment]\nid = \"fe\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n";
+
+/// A sweep of the paper's third mode with one damper on m2 and with three (Fig. 5's cases),
+/// on `structure` (the `[structure]` keys).
+fn fig05_sweep(structure: &str) -> String {
+    format!(
+        "{HEAD}[structure]\n{structure}\n[structure.damping]\nmodal_ratios = [0.01, 0.01, 0.01]\n[excitation]\nmass = 1\nforce_n = 2.6\n[analysis]\nkind = \"sweep\"\nfreq_hz = {{ start = 44.0, stop = 56.0, step = 0.5 }}\n[[cases]]\nid = \"single\"\nlabel = \"one\"\ndampers = [{{ mass = 2, mass_kg = 0.071, clearance_mm = 0.2 }}]\n[[cases]]\nid = \"triple\"\nlabel = \"three\"\ndampers = [{{ mass = 1, mass_kg = 0.074, clearance_mm = 0.2 }}, {{ mass = 2, mass_kg = 0.071, clearance_mm = 0.2 }}, {{ mass = 3, mass_kg = 0.064, clearance_mm = 0.2 }}]\n"
+    )
+}
+
+/// Runs `shotdamp run` on `text` written to `dir/name.toml`; the exit code, stderr and the
+/// output folder.
+fn run(dir: &Path, name: &str, text: &str) -> (Option<i32>, String, PathBuf) {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let out_dir = dir.join(format!("out_{name}"));
+    let out = shotdamp().arg("run").arg(&path).arg("--out").arg(&out_dir).output().unwrap();
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned(), out_dir)
+}
+
+#[test]
+fn the_paper_s_chain_as_matrix_market_files_reproduces_the_fig5_sweeps() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("m.mtx"),
+        "%%MatrixMarket matrix coordinate real symmetric\n% the paper's masses, kg\n3 3 3\n1 1 0.74\n2 2 0.71\n3 3 0.64\n",
+    )
+    .unwrap();
+    // A general file: both triangles.
+    std::fs::write(
+        d.join("k.mtx"),
+        "%%MatrixMarket matrix coordinate real general\n3 3 7\n1 1 46100\n2 1 -21800\n1 2 -21800\n2 2 41600\n3 2 -19800\n2 3 -19800\n3 3 19800\n",
+    )
+    .unwrap();
+    let chain = "masses_kg = [0.74, 0.71, 0.64]\nchain_stiffness_n_per_m = [24.3e3, 21.8e3, 19.8e3]";
+    // Every degree of freedom a point: nothing to reduce.
+    let fe = "[structure.finite_element]\nformat = \"matrix-market\"\nstiffness = \"k.mtx\"\nmass = \"m.mtx\"\nup = \"x\"\npoints = [{ row = 1 }, { row = 2 }, { row = 3 }]\nmodes = 0";
+    let (code, err, a) = run(d, "chain", &fig05_sweep(chain));
+    assert_eq!(code, Some(0), "{err}");
+    let (code, err, b) = run(d, "files", &fig05_sweep("").replace("[structure]\n\n", &format!("[structure]\n{fe}\n")));
+    assert_eq!(code, Some(0), "{err}");
+    let read = |o: &Path| csv_rows(&std::fs::read_to_string(o.join("fe/data/compliance.csv")).unwrap());
+    let (ta, tb) = (read(&a), read(&b));
+    assert_eq!(ta.len(), 2 * 25 + 1, "a header, 25 frequencies of two cases");
+    assert_eq!(ta[0], tb[0]);
+    let mut compared = 0;
+    for (ra, rb) in ta[1..].iter().zip(&tb[1..]) {
+        for (h, (x, y)) in ta[0].iter().zip(ra.iter().zip(rb)) {
+            match (x.parse::<f64>(), y.parse::<f64>()) {
+                (Ok(x), Ok(y)) if x.is_finite() => {
+                    assert!((x - y).abs() <= 1e-12 * x.abs().max(1e-300), "{h}: {x} vs {y}");
+                    compared += 1;
+                }
+                _ => assert_eq!(x, y, "{h}"),
+            }
+        }
+    }
+    assert!(compared > 500, "{compared} numbers compared");
+    // The reduction is exact here, and checked.
+    let (status, worst) = reduction_check(&b);
+    assert!(status == "pass" && worst <= 1e-12, "{status} {worst}");
+}
+
+/// The reduction check's status and computed value in a report folder.
+fn reduction_check(out: &Path) -> (String, f64) {
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("checks.json")).unwrap()).unwrap();
+    let c = json["checks"].as_array().unwrap().iter().find(|c| c["name"] == "reduction").expect("a reduction check");
+    (c["status"].as_str().unwrap().to_string(), c["computed"].as_f64().unwrap())
+}
+
+/// CalculiX's natural frequencies from its `.dat` file, Hz.
+fn ccx_frequencies(dat: &Path) -> Vec<f64> {
+    let text = std::fs::read_to_string(dat).unwrap();
+    let mut out = Vec::new();
+    let mut inside = false;
+    for line in text.lines() {
+        if line.contains("E I G E N V A L U E   O U T P U T") {
+            inside = true;
+            continue;
+        }
+        if line.contains("P A R T I C I P A T I O N") {
+            break;
+        }
+        let w: Vec<&str> = line.split_whitespace().collect();
+        if inside && w.len() == 5 && w[0].parse::<usize>().is_ok() {
+            out.push(w[3].parse::<f64>().unwrap());
+        }
+    }
+    out
+}
+
+/// A modal analysis of the plate of `data` (a folder of plate.sti, .mas, .dof), reduced at
+/// its free edge, every fixed-interface mode below `cutoff_hz` kept.
+fn plate_modal(data: &Path, cutoff_hz: f64) -> String {
+    let d = data.display();
+    format!(
+        "{HEAD}[structure.finite_element]\nformat = \"calculix\"\nstiffness = \"{d}/plate.sti\"\nmass = \"{d}/plate.mas\"\ndofs = \"{d}/plate.dof\"\nup = \"z\"\npoints = [{{ node = 224, dof = 3 }}, {{ node = 290, dof = 3 }}, {{ node = 257, dof = 3 }}]\ncutoff_hz = {cutoff_hz}\n[structure.damping]\nmodal_ratios = [0.01]\n[excitation]\nmass = 3\nforce_n = 0.2\n[analysis]\nkind = \"modal\"\n"
+    )
+}
+
+fn column(rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let c = rows[0].iter().position(|h| h == name).unwrap_or_else(|| panic!("{name} in {:?}", rows[0]));
+    rows[1..].iter().map(|r| r[c].parse().unwrap()).collect()
+}
+
+/// The full model's and the reduced model's frequencies of the plate in `data`.
+fn plate_frequencies(dir: &Path, data: &Path, cutoff_hz: f64) -> (Vec<f64>, Vec<f64>) {
+    let (code, err, out) = run(dir, &format!("plate{}", cutoff_hz as u64), &plate_modal(data, cutoff_hz));
+    assert_eq!(code, Some(0), "{err}");
+    let rows = csv_rows(&std::fs::read_to_string(out.join("fe/data/reduction_frequencies.csv")).unwrap());
+    (column(&rows, "full_hz"), column(&rows, "reduced_hz"))
+}
+
+#[test]
+fn the_shipped_plate_agrees_with_calculix_and_its_reduction_converges() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = repo().join("examples/plate/data");
+    let ccx = ccx_frequencies(&data.join("plate_modes.dat"));
+    assert_eq!(ccx.len(), 10);
+    // The full model's modes (shift-invert Lanczos on CalculiX's matrices) are CalculiX's
+    // own, to the seven digits its .dat file prints.
+    let (full, _) = plate_frequencies(dir.path(), &data, 20000.0);
+    assert!(full.len() >= 10);
+    for (i, (a, b)) in full.iter().zip(&ccx).enumerate() {
+        assert!((a - b).abs() <= 1e-6 * b, "mode {}: {a} Hz against CalculiX's {b} Hz", i + 1);
+    }
+    // Craig-Bampton bounds each frequency from above and converges as modes are kept.
+    let mut last = f64::INFINITY;
+    for cutoff in [1000.0, 2500.0, 8000.0] {
+        let (full, red) = plate_frequencies(dir.path(), &data, cutoff);
+        let err = (0..3).map(|i| (red[i] - full[i]) / full[i]).fold(0.0, f64::max);
+        for i in 0..3 {
+            assert!(red[i] >= full[i] * (1.0 - 1e-12), "{cutoff} Hz, mode {}", i + 1);
+        }
+        assert!(err < last, "{cutoff} Hz: {err} not below {last}");
+        last = err;
+    }
+    assert!(last < 1e-5, "the lowest three modes within {last} at 8000 Hz");
+}
+
+#[test]
+fn the_plate_example_runs_and_its_reduction_passes_its_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = shotdamp().args(["run", "examples/plate/plate.toml", "--out"]).arg(dir.path()).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let (status, worst_checked) = reduction_check(dir.path());
+    assert_eq!(status, "pass");
+    let rows = csv_rows(
+        &std::fs::read_to_string(dir.path().join("plate_first_bending/data/reduction_compliance.csv")).unwrap(),
+    );
+    let worst = column(&rows, "rel_diff").into_iter().fold(0.0, f64::max);
+    assert!(worst > 0.0 && worst <= 1e-3, "{worst}");
+    assert_eq!(worst, worst_checked);
+}
+
+#[test]
+fn bad_finite_element_files_and_keys_say_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let data = repo().join("examples/plate/data");
+    let good = plate_modal(&data, 1000.0);
+    let cases: Vec<(String, &str)> = vec![
+        (good.replace("format = \"calculix\"", "format = \"nastran\""), "finite_element.format = \"nastran\": one of \"calculix\", \"matrix-market\", \"abaqus\""),
+        (good.replace("node = 224, dof = 3", "node = 99999, dof = 3"), "the node is not in the model's degrees of freedom"),
+        (good.replace("node = 290, dof = 3", "node = 224, dof = 3"), "the same degree of freedom as points[0]"),
+        (good.replace("up = \"z\"", "up = \"down\""), "finite_element.up = \"down\""),
+        (good.replace("cutoff_hz = 1000", "modes = 4\ncutoff_hz = 1000"), "give exactly one: modes = N"),
+        (good.replace("[structure.finite_element]", "[structure]\nmasses_kg = [1.0]\n[structure.finite_element]"), "structure.masses_kg = (with finite_element)"),
+        (good.replace("up = \"z\"", "up = \"x\"").replace("kind = \"modal\"", "kind = \"sweep\"\nfreq_hz = { start = 30.0, stop = 40.0, step = 1.0 }\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{ mass = 1, mass_kg = 0.05, clearance_mm = 1.0 }]"), "cases[0].dampers[0].mass = 1: point \"node 224 z\" does not move along the vertical"),
+        (good.replace("kind = \"modal\"", "kind = \"sweep\"\nfreq_hz = { start = 30.0, stop = 40.0, step = 1.0 }\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{ mass = 5, mass_kg = 0.05, clearance_mm = 1.0 }]"), "a container sits on one of the finite-element points, numbered 1 to 3"),
+        (good.replace("mass = 3\nforce", "mass = 5\nforce"), "excitation.mass = 5"),
+    ];
+    for (i, (text, said)) in cases.iter().enumerate() {
+        let (code, err, _) = run(d, &format!("bad{i}"), text);
+        assert_eq!(code, Some(2), "case {i}: {err}");
+        assert!(err.contains(said), "case {i}: expected \"{said}\" in: {err}");
+    }
+    // Bad files: a truncated line, a non-positive mass, an asymmetric general file.
+    let copy = d.join("copy");
+    std::fs::create_dir_all(&copy).unwrap();
+    for f in ["plate.sti", "plate.mas", "plate.dof"] {
+        std::fs::copy(data.join(f), copy.join(f)).unwrap();
+    }
+    let sti = std::fs::read_to_string(copy.join("plate.sti")).unwrap();
+    std::fs::write(copy.join("plate.sti"), sti.replacen("\n", "\n7 7\n", 1)).unwrap();
+    let (code, err, _) = run(d, "truncated", &plate_modal(&copy, 1000.0));
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("plate.sti") && err.contains("line 2") && err.contains("truncated"), "{err}");
+    std::fs::write(copy.join("plate.sti"), sti).unwrap();
+    let mas = std::fs::read_to_string(copy.join("plate.mas")).unwrap();
+    let first = mas.lines().next().unwrap().to_string();
+    std::fs::write(copy.join("plate.mas"), mas.replacen(&first, "1 1 -1.0", 1)).unwrap();
+    let (code, err, _) = run(d, "massless", &plate_modal(&copy, 1000.0));
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("plate.mas") && err.contains("row 1 (node") && err.contains("positive mass"), "{err}");
+    std::fs::write(d.join("m.mtx"), "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 1.0\n2 2 1.0\n")
+        .unwrap();
+    std::fs::write(
+        d.join("k.mtx"),
+        "%%MatrixMarket matrix coordinate real general\n2 2 4\n1 1 2.0\n2 1 -1.0\n1 2 -1.5\n2 2 2.0\n",
+    )
+    .unwrap();
+    let mm = format!(
+        "{HEAD}[structure.finite_element]\nformat = \"matrix-market\"\nstiffness = \"k.mtx\"\nmass = \"m.mtx\"\nup = \"x\"\npoints = [{{ row = 1 }}]\nmodes = 1\n[structure.damping]\nmodal_ratios = [0.01]\n[excitation]\nmass = 1\nforce_n = 1.0\n[analysis]\nkind = \"modal\"\n"
+    );
+    let (code, err, _) = run(d, "asymmetric", &mm);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("k.mtx") && err.contains("not symmetric: entry (2, 1) is -1 but (1, 2) is -1.5"), "{err}");
+}
+
+/// Runs CalculiX on the plate's decks (examples/plate/ccx.sh) and checks what it writes:
+/// shotdamp's full-model frequencies from the new matrices against CalculiX's own, and the
+/// unsupported plate's mass matrix summing to three times the plate's mass (one per
+/// translational direction). Needs `ccx`: `cargo test --release --test fe -- --ignored`.
+#[test]
+#[ignore]
+fn calculix_meshes_and_solves_the_plate() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ccx");
+    let status = std::process::Command::new("bash")
+        .arg(repo().join("examples/plate/ccx.sh"))
+        .arg(&out)
+        .status()
+        .expect("bash runs examples/plate/ccx.sh");
+    assert!(status.success(), "examples/plate/ccx.sh failed (is calculix-ccx installed?)");
+    let ccx = ccx_frequencies(&out.join("plate_modes.dat"));
+    assert_eq!(ccx.len(), 10);
+    let (full, red) = plate_frequencies(dir.path(), &out, 20000.0);
+    for (i, (a, b)) in full.iter().zip(&ccx).enumerate() {
+        assert!((a - b).abs() <= 1e-6 * b, "mode {}: {a} Hz against CalculiX's {b} Hz", i + 1);
+    }
+    // Where the modes are kept (a cutoff far above them) the reduced model's are CalculiX's.
+    for (i, (a, b)) in red.iter().zip(&ccx).take(3).enumerate() {
+        assert!((a - b).abs() <= 1e-6 * b, "reduced mode {}: {a} Hz against CalculiX's {b} Hz", i + 1);
+    }
+    let mut sum = 0.0;
+    for line in std::fs::read_to_string(out.join("plate_free.mas")).unwrap().lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let v: f64 = w[2].parse().unwrap();
+        sum += if w[0] == w[1] { v } else { 2.0 * v };
+    }
+    let plate = 0.30 * 0.20 * 0.004 * 7850.0;
+    assert!((sum / 3.0 - plate).abs() <= 1e-9 * plate, "{} kg against {plate} kg", sum / 3.0);
+}
