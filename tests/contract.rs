@@ -690,7 +690,7 @@ const END: &str = "<!-- end of the rows written by tests/contract.rs -->";
 #[test]
 fn every_row_of_the_contract_is_what_the_binary_does() {
     let dir = tempfile::tempdir().unwrap();
-    for sub in ["experiments", "reference", "studies", "designs"] {
+    for sub in ["experiments", "reference", "studies", "designs", "examples"] {
         common::copy_tree(&repo().join(sub), &dir.path().join(sub));
     }
     let mut table = String::from("| area | input | exit | message |\n|---|---|---|---|\n");

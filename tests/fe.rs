@@ -189,6 +189,9 @@ fn bad_finite_element_files_and_keys_say_what_is_wrong() {
         assert_eq!(code, Some(2), "case {i}: {err}");
         assert!(err.contains(said), "case {i}: expected \"{said}\" in: {err}");
     }
+    let (code, err, _) = run(d, "missing", &good.replace("/plate.dof", "/none.dof"));
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("structure.finite_element.dofs = ") && err.contains("none.dof\": cannot be read"), "{err}");
     // Bad files: a truncated line, a non-positive mass, an asymmetric general file.
     let copy = d.join("copy");
     std::fs::create_dir_all(&copy).unwrap();

@@ -45,6 +45,21 @@ fn one_sided(e: &[(usize, usize, f64)]) -> bool {
 fn read(path: &Path, raw: &RawFiniteElement) -> Result<(Option<Vec<DofLabel>>, Read, Read, usize)> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let at = |name: &str| -> PathBuf { dir.join(name) };
+    // A file that cannot be opened is named by its key, as given, and where it was looked for.
+    for (key, name) in [("stiffness", Some(&raw.stiffness)), ("mass", Some(&raw.mass)), ("dofs", raw.dofs.as_ref())] {
+        let Some(name) = name else { continue };
+        if let Err(e) = std::fs::File::open(at(name)) {
+            return Err(Error::invalid(
+                path,
+                format!("structure.finite_element.{key}"),
+                format!("\"{name}\""),
+                format!(
+                    "cannot be read ({e}; looked for {}): files are named relative to the experiment file",
+                    at(name).display()
+                ),
+            ));
+        }
+    }
     let (k_path, m_path) = (at(&raw.stiffness), at(&raw.mass));
     match raw.format.as_str() {
         "calculix" => {
