@@ -5,15 +5,17 @@
 #                                     freedom (*FREQUENCY, SOLVER=MATRIXSTORAGE)
 #   plate_modes.dat                   CalculiX's own lowest ten natural frequencies
 #   plate_free.mas, plate_free.dof    the unsupported plate's mass matrix
+#   beam.sti, beam.mas, beam.dof      a cantilevered beam's matrices (against Euler-Bernoulli)
 # The files in data/ were written so (CalculiX 2.20); shotdamp's tests read them without ccx.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 out="${1:-$(mktemp -d)}"
 mkdir -p "$out"
 command -v ccx >/dev/null || { echo "ccx (CalculiX) is not installed: apt-get install calculix-ccx" >&2; exit 2; }
-cp "$here"/plate_mesh.inp "$here"/plate.inp "$here"/plate_modes.inp "$here"/plate_free.inp "$out"/
+cp "$here"/plate_mesh.inp "$here"/plate.inp "$here"/plate_modes.inp "$here"/plate_free.inp \
+    "$here"/beam_mesh.inp "$here"/beam.inp "$out"/
 cd "$out"
-for job in plate plate_modes plate_free; do
+for job in plate plate_modes plate_free beam; do
     # ccx prints its progress; keep it in a log, show it only when it fails.
     if ! OMP_NUM_THREADS=1 ccx -i "$job" > "$job.log" 2>&1; then
         cat "$job.log" >&2
@@ -21,7 +23,7 @@ for job in plate plate_modes plate_free; do
         exit 1
     fi
 done
-for f in plate.sti plate.mas plate.dof plate_modes.dat plate_free.mas plate_free.dof; do
+for f in plate.sti plate.mas plate.dof plate_modes.dat plate_free.mas plate_free.dof beam.sti beam.mas beam.dof; do
     [ -s "$f" ] || { echo "ccx did not write $f" >&2; exit 1; }
 done
 echo "$out"

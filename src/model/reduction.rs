@@ -76,7 +76,7 @@ impl std::fmt::Display for ReductionError {
             }
             ReductionError::Interior => write!(
                 f,
-                "the interior degrees of freedom are not held by the boundary (K_ii or M_ii not positive definite): a rigid-body motion, or a degree of freedom without mass"
+                "the interior degrees of freedom are not held by the boundary (K_ii or M_ii not positive definite): a rigid-body motion, a zero-energy (hourglass) mode of reduced-integration elements, or a degree of freedom without mass"
             ),
             ReductionError::Missed { found, counted } => write!(
                 f,
