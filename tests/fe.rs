@@ -185,6 +185,23 @@ fn the_beam_bends_as_euler_and_bernoulli_say() {
 }
 
 #[test]
+fn without_a_cutoff_the_modes_below_twice_the_highest_frequency_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = repo().join("examples/plate/data");
+    // A linear response up to 300 Hz: the fixed-interface modes below 600 Hz.
+    let text = plate_modal(&data, 1.0)
+        .replace("cutoff_hz = 1\n", "")
+        .replace("kind = \"modal\"", "kind = \"linear_frf\"\nfreq_hz = { start = 20.0, stop = 300.0, step = 10.0 }");
+    let (_, err, out) = run(dir.path(), "default", &text);
+    let rows = csv_rows(
+        &std::fs::read_to_string(out.join("fe/data/reduction_frequencies.csv"))
+            .unwrap_or_else(|e| panic!("{e}: {err}")),
+    );
+    let (_, with_cutoff) = plate_frequencies(dir.path(), &data, 600.0);
+    assert_eq!(rows.len() - 1, with_cutoff.len(), "{err}");
+}
+
+#[test]
 fn the_plate_example_runs_and_its_reduction_passes_its_check() {
     let dir = tempfile::tempdir().unwrap();
     let out = shotdamp().args(["run", "examples/plate/plate.toml", "--out"]).arg(dir.path()).output().unwrap();
@@ -210,7 +227,8 @@ fn bad_finite_element_files_and_keys_say_what_is_wrong() {
         (good.replace("node = 224, dof = 3", "node = 99999, dof = 3"), "the node is not in the model's degrees of freedom"),
         (good.replace("node = 290, dof = 3", "node = 224, dof = 3"), "the same degree of freedom as points[0]"),
         (good.replace("up = \"z\"", "up = \"down\""), "finite_element.up = \"down\""),
-        (good.replace("cutoff_hz = 1000", "modes = 4\ncutoff_hz = 1000"), "give exactly one: modes = N"),
+        (good.replace("cutoff_hz = 1000", "modes = 4\ncutoff_hz = 1000"), "give at most one: modes = N"),
+        (good.replace("cutoff_hz = 1000", ""), "a modal analysis has none: give one"),
         (good.replace("[structure.finite_element]", "[structure]\nmasses_kg = [1.0]\n[structure.finite_element]"), "structure.masses_kg = (with finite_element)"),
         (good.replace("up = \"z\"", "up = \"x\"").replace("kind = \"modal\"", "kind = \"sweep\"\nfreq_hz = { start = 30.0, stop = 40.0, step = 1.0 }\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{ mass = 1, mass_kg = 0.05, clearance_mm = 1.0 }]"), "cases[0].dampers[0].mass = 1: point \"node 224 z\" does not move along the vertical"),
         (good.replace("kind = \"modal\"", "kind = \"sweep\"\nfreq_hz = { start = 30.0, stop = 40.0, step = 1.0 }\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{ mass = 5, mass_kg = 0.05, clearance_mm = 1.0 }]"), "a container sits on one of the finite-element points, numbered 1 to 3"),

@@ -42,7 +42,14 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     };
 
     let model = raw.model.map(|m| ModelInfo { id: m.id, label: m.label, description: m.description });
-    let Built { structure, source, damping_assumption, fit, fe } = structure(path, raw.structure)?;
+    let mut raw_structure = raw.structure;
+    if let Some(fe) = raw_structure.finite_element.as_mut() {
+        // Default: every fixed-interface mode below twice the highest frequency analysed.
+        if fe.modes.is_none() && fe.cutoff_hz.is_none() {
+            fe.cutoff_hz = super::fe::highest_analysed(&raw.analysis, raw.design.as_ref()).map(|f| 2.0 * f);
+        }
+    }
+    let Built { structure, source, damping_assumption, fit, fe } = structure(path, raw_structure)?;
     let n = structure.dof();
     // A finite-element structure reports its points only (its other coordinates are modal).
     let responses = fe.as_ref().map_or(n, |f| f.points.len());

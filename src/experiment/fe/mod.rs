@@ -206,7 +206,7 @@ pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
             return Err(invalid(
                 "modes / cutoff_hz",
                 &"(both or neither)",
-                "give exactly one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F; about twice the highest frequency analysed)",
+                "give at most one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F); without either, every mode below twice the highest frequency the analysis simulates (a modal analysis has none: give one)",
             ))
         }
     };
@@ -311,6 +311,18 @@ pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
         stiffness: reduced.stiffness.clone(),
         fe: FeStructure { full: Arc::new(full), points, reduced, up: raw.up, tolerance },
     })
+}
+
+/// The highest frequency an experiment file's analysis asks for, Hz, as written (its grid,
+/// its listed frequencies, its design bands), if any: the default cutoff's base.
+pub fn highest_analysed(a: &super::raw::RawAnalysis, d: Option<&super::raw::RawDesign>) -> Option<f64> {
+    let grids = a.freq_hz.iter().chain(d.into_iter().flat_map(|d| d.bands.iter().map(|b| &b.freq_hz)));
+    let listed = a.frequencies_hz.iter().flatten().filter_map(toml::Value::as_float);
+    grids
+        .flat_map(|g| [g.start, g.stop])
+        .chain(listed)
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .fold(None, |m: Option<f64>, f| Some(m.map_or(f, |m| m.max(f))))
 }
 
 /// Checks that `host` (0-based coordinate, named `key`) is a point along the vertical: a
