@@ -152,6 +152,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         let out = reduction::run(exp, fe);
         tables.extend(out.tables);
         checks.extend(out.check);
+        figures.extend(out.figure);
     }
     let (id, figure) = (&exp.key(), &exp.meta.figure);
     match (refs.baseline(id), refs.baseline_mode) {
