@@ -52,6 +52,9 @@ const SHARED: &str = "experiments/shared/paper_structure.toml";
 const CURVE: &str = "reference/independent-solver/P_dinf_N3.csv";
 const PAPER: &str = "reference/paper-text.toml";
 const FIVE: &str = "designs/five_storey.toml";
+const PLATE: &str = "examples/plate/plate.toml";
+const PLATE_STI: &str = "examples/plate/data/plate.sti";
+const RUN_PLATE: &[&str] = &["run", PLATE, "--out", "out"];
 
 fn row(area: &'static str, input: &'static str, edit: Edit, args: &'static [&'static str], exit: i32) -> Row {
     Row { area, input, edit, args, env: &[], exit }
@@ -187,6 +190,22 @@ fn rows() -> Vec<Row> {
         ),
         row("experiment", "force on mass 4 of 3", Replace(SHARED, "mass = 1", "mass = 4"), RUN_04, 2),
         row("experiment", "force 1e6 N (1.4e5 g on m1)", Replace(SHARED, "force_n = 2.6", "force_n = 1e6"), RUN_04, 2),
+        row("finite element (plate.toml)", "its .dof file missing", Replace(PLATE, "data/plate.dof", "data/none.dof"), RUN_PLATE, 2),
+        row("finite element (plate.toml)", "a node not in the model", Replace(PLATE, "node = 224", "node = 99999"), RUN_PLATE, 2),
+        row("finite element (plate.toml)", "a point named twice", Replace(PLATE, "node = 290", "node = 224"), RUN_PLATE, 2),
+        row("finite element (plate.toml)", "a rotation as a point", Replace(PLATE, "node = 257, dof = 3", "node = 257, dof = 5"), RUN_PLATE, 2),
+        row(
+            "finite element (plate.toml)",
+            "a container on a point that moves sideways",
+            Replace(PLATE, "node = 224, dof = 3", "node = 224, dof = 1"),
+            RUN_PLATE,
+            2,
+        ),
+        row("finite element (plate.toml)", "a container on a modal coordinate", Replace(PLATE, "{ mass = 1, mass_kg", "{ mass = 7, mass_kg"), RUN_PLATE, 2),
+        row("finite element (plate.toml)", "the force on a modal coordinate", Replace(PLATE, "mass = 3\nforce_n", "mass = 9\nforce_n"), RUN_PLATE, 2),
+        row("finite element (plate.toml)", "an unknown format", Replace(PLATE, "format = \"calculix\"", "format = \"nastran\""), RUN_PLATE, 2),
+        row("finite element (plate.toml)", "a truncated last line of the stiffness file", Append(PLATE_STI, b"7 7\n"), RUN_PLATE, 2),
+        row("finite element (plate.toml)", "a NaN in the stiffness file", Append(PLATE_STI, b"7 7 nan\n"), RUN_PLATE, 2),
         row(
             "experiment",
             "force 1e400 (overflows to inf)",
