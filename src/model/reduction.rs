@@ -101,6 +101,19 @@ fn symmetric(a: &DMatrix<f64>) -> Result<(), ReductionError> {
     Ok(())
 }
 
+/// The degrees of freedom of `0..n` not in `boundary`, ascending; a boundary degree of freedom
+/// outside the model or named twice is an error.
+fn interior(n: usize, boundary: &[usize]) -> Result<Vec<usize>, ReductionError> {
+    let mut is_boundary = vec![false; n];
+    for &b in boundary {
+        if b >= n || is_boundary[b] {
+            return Err(ReductionError::Boundary { dof: b });
+        }
+        is_boundary[b] = true;
+    }
+    Ok((0..n).filter(|&i| !is_boundary[i]).collect())
+}
+
 /// Reduces `(m, k)` to the degrees of freedom of `boundary` (0-based, kept in that order) and
 /// the lowest `modes` fixed-interface modes (fewer when the interior has fewer).
 pub fn craig_bampton(
@@ -115,14 +128,7 @@ pub fn craig_bampton(
     }
     symmetric(m)?;
     symmetric(k)?;
-    let mut is_boundary = vec![false; n];
-    for &b in boundary {
-        if b >= n || is_boundary[b] {
-            return Err(ReductionError::Boundary { dof: b });
-        }
-        is_boundary[b] = true;
-    }
-    let interior: Vec<usize> = (0..n).filter(|&i| !is_boundary[i]).collect();
+    let interior = interior(n, boundary)?;
     let (nb, ni) = (boundary.len(), interior.len());
     let part = |a: &DMatrix<f64>, rows: &[usize], cols: &[usize]| {
         DMatrix::from_fn(rows.len(), cols.len(), |r, c| a[(rows[r], cols[c])])
@@ -187,14 +193,7 @@ pub fn craig_bampton_sparse(
     if k.n() != n || !finite(m) || !finite(k) {
         return Err(ReductionError::Shape);
     }
-    let mut is_boundary = vec![false; n];
-    for &b in boundary {
-        if b >= n || is_boundary[b] {
-            return Err(ReductionError::Boundary { dof: b });
-        }
-        is_boundary[b] = true;
-    }
-    let interior: Vec<usize> = (0..n).filter(|&i| !is_boundary[i]).collect();
+    let interior = interior(n, boundary)?;
     let (nb, ni) = (boundary.len(), interior.len());
     let (k_ii, m_ii) = (k.principal(&interior), m.principal(&interior));
     let mut factor = Skyline::pattern(&k_ii, Some(&m_ii), rcm(&k_ii));
