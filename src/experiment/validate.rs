@@ -54,6 +54,17 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     // A finite-element structure reports its points only (its other coordinates are modal).
     let responses = fe.as_ref().map_or(n, |f| f.points.len());
 
+    if let Some(f) = fe.as_ref().filter(|f| raw.excitation.mass > f.points.len() as i64) {
+        return Err(Error::invalid(
+            path,
+            "excitation.mass",
+            raw.excitation.mass,
+            format!(
+                "the force acts on one of the finite-element points, numbered 1 to {0} (coordinates above {0} are modal)",
+                f.points.len()
+            ),
+        ));
+    }
     let excitation = excitation(path, &raw.excitation, &structure.masses[..responses])?;
 
     let cases = cases(path, raw.cases, &structure)?;
