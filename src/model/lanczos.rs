@@ -152,7 +152,9 @@ fn run(
         let b = dot(&w, &mw).max(0.0).sqrt();
         let steps = j + 1;
         let exhausted = steps >= free || b <= 1e-14 * a.abs();
-        if steps >= needed && (steps % 4 == 0 || exhausted) {
+        // The space exhausted before `needed` steps holds fewer pairs: all of them.
+        if exhausted || (steps >= needed && steps % 4 == 0) {
+            let needed = needed.min(steps);
             let t = DMatrix::from_fn(steps, steps, |r, c| match r.abs_diff(c) {
                 0 => alpha[r],
                 1 => beta[r.min(c)],
@@ -259,6 +261,17 @@ mod tests {
         // M-orthonormal.
         let g = e.vectors.transpose() * m.to_dense() * &e.vectors;
         assert!((g - DMatrix::identity(10, 10)).amax() < 1e-11);
+    }
+
+    #[test]
+    fn asking_for_more_pairs_than_the_problem_has_gives_all_of_them() {
+        let (k, m) = grid(5, 4);
+        let dense = symmetric_modes(&m.to_dense(), &k.to_dense());
+        let e = lowest(&k, &m, &factor(&k), Want::Count(100)).unwrap();
+        assert_eq!(e.values.len(), 20);
+        for (l, w) in e.values.iter().zip(&dense.omegas) {
+            assert!((l - w * w).abs() <= 1e-10 * w * w, "{l} vs {}", w * w);
+        }
     }
 
     #[test]

@@ -62,23 +62,26 @@ impl SymSparse {
             loop {
                 let ca = if p < a.ptr[i + 1] && a.cols[p] < i { Some(a.cols[p]) } else { None };
                 let cu = if q < u.ptr[i + 1] { Some(u.cols[q]) } else { None };
-                let (col, lo, up) = match (ca, cu) {
+                // The next column of either row; an entry on one side only meets zero.
+                let next = match (ca, cu) {
                     (None, None) => break,
-                    (Some(x), Some(y)) if x == y => {
-                        p += 1;
-                        q += 1;
-                        (x, a.vals[p - 1], u.vals[q - 1])
-                    }
-                    (Some(x), y) if y.is_none_or(|y| x < y) => {
-                        p += 1;
-                        (x, a.vals[p - 1], 0.0)
-                    }
-                    (_, Some(y)) => {
-                        q += 1;
-                        (y, 0.0, u.vals[q - 1])
-                    }
-                    (Some(_), None) => unreachable!("covered above"),
+                    (Some(x), None) => x,
+                    (None, Some(y)) => y,
+                    (Some(x), Some(y)) => x.min(y),
                 };
+                let lo = if ca == Some(next) {
+                    p += 1;
+                    a.vals[p - 1]
+                } else {
+                    0.0
+                };
+                let up = if cu == Some(next) {
+                    q += 1;
+                    u.vals[q - 1]
+                } else {
+                    0.0
+                };
+                let col = next;
                 if (lo - up).abs() > 1e-9 * scale {
                     return Err(Asymmetry { row: i, col, lower: lo, upper: up });
                 }
@@ -230,7 +233,7 @@ pub fn rcm(a: &SymSparse) -> Vec<usize> {
         let mut depth = 0;
         let mut last = start;
         while !level.is_empty() {
-            last = *level.iter().min_by_key(|&&v| (degree[v], v)).expect("level not empty");
+            last = level.iter().copied().min_by_key(|&v| (degree[v], v)).unwrap_or(last);
             let mut next = Vec::new();
             for &v in &level {
                 for &w in &adj[v] {
