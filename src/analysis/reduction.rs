@@ -11,7 +11,7 @@ use crate::figure::{Dash, Figure, Panel, Series};
 use crate::model::fe::FeStructure;
 use crate::model::lanczos::{lowest, Want};
 use crate::model::modes::symmetric_modes;
-use crate::model::reduction::{compliance_pairs, largest_difference, CompliancePair};
+use crate::model::reduction::{compliance_pairs, largest_difference, peaks, CompliancePair};
 use crate::model::sparse::{rcm, Skyline};
 use crate::number::Tolerance;
 use crate::table::Table;
@@ -90,9 +90,10 @@ pub fn run(exp: &Experiment, fe: &FeStructure) -> Outcome {
     let diffs = largest_difference(&pairs);
     let (mut f, mut point, mut full_c, mut red_c, mut rel) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let peak = peaks(&pairs);
     for p in &pairs {
         for (i, pt) in fe.points.iter().enumerate() {
-            let peak = pairs.iter().fold(0.0_f64, |a, q| a.max(q.full[i].abs()));
+            let peak = peak[i];
             f.push(p.omega / (2.0 * std::f64::consts::PI));
             point.push(pt.name.clone());
             full_c.push(p.full[i]);
@@ -158,10 +159,11 @@ fn figure(fe: &FeStructure, pairs: &[CompliancePair], freqs: &[f64]) -> Figure {
         range,
     )
     .log_y();
+    let peak = peaks(pairs);
     for (i, pt) in fe.points.iter().enumerate() {
         let full: Vec<f64> = pairs.iter().map(|p| p.full[i].abs()).collect();
         let red: Vec<f64> = pairs.iter().map(|p| p.reduced[i].abs()).collect();
-        let peak = full.iter().fold(0.0_f64, |a, &v| a.max(v));
+        let peak = peak[i];
         magnitude.series.push(Series::line(format!("{} (full)", pt.name), hz.clone(), full.clone(), i));
         magnitude.series.push(Series::line("", hz.clone(), red.clone(), i).dashed(Dash::Dashed));
         let rel = full.iter().zip(&red).map(|(f, r)| if peak > 0.0 { (r - f).abs() / peak } else { 0.0 }).collect();

@@ -317,10 +317,10 @@ pub fn compliance_pairs(
 /// to the full compliance's largest magnitude there, for each boundary coordinate (a relative
 /// error at each frequency would be undefined at the full model's anti-resonances).
 pub fn largest_difference(pairs: &[CompliancePair]) -> Vec<f64> {
-    let nb = pairs.first().map_or(0, |p| p.full.len());
-    (0..nb)
-        .map(|i| {
-            let peak = pairs.iter().fold(0.0_f64, |a, p| a.max(p.full[i].abs()));
+    peaks(pairs)
+        .iter()
+        .enumerate()
+        .map(|(i, &peak)| {
             let diff = pairs.iter().fold(0.0_f64, |a, p| a.max((p.reduced[i] - p.full[i]).abs()));
             if peak > 0.0 {
                 diff / peak
@@ -329,6 +329,12 @@ pub fn largest_difference(pairs: &[CompliancePair]) -> Vec<f64> {
             }
         })
         .collect()
+}
+
+/// The full compliance's largest magnitude over `pairs`, for each boundary coordinate.
+pub fn peaks(pairs: &[CompliancePair]) -> Vec<f64> {
+    let nb = pairs.first().map_or(0, |p| p.full.len());
+    (0..nb).map(|i| pairs.iter().fold(0.0_f64, |a, p| a.max(p.full[i].abs()))).collect()
 }
 
 #[cfg(test)]
