@@ -573,11 +573,63 @@ impl Bars {
     }
 }
 
+/// Seconds between two progress lines in a log.
+const LOG_EVERY_S: f64 = 5.0;
+
+/// Progress as lines in a log (standard error not a terminal): every [`LOG_EVERY_S`] seconds
+/// the points done, the time taken and an estimate of what is left (from the points done so
+/// far; a total of 0 is not known ahead, as a design search's evaluations: then the count
+/// alone). A run shorter than that prints nothing.
+fn log_lines(id: &str, total: u64) -> Box<Tick<'static>> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let id = id.to_string();
+    let start = std::time::Instant::now();
+    let done = AtomicU64::new(0);
+    // The next line is due at this many milliseconds after the start.
+    let due = AtomicU64::new((LOG_EVERY_S * 1e3) as u64);
+    Box::new(move || {
+        let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+        let elapsed = start.elapsed();
+        let ms = elapsed.as_millis() as u64;
+        let next = due.load(Ordering::Relaxed);
+        if ms < next || (total > 0 && n >= total) {
+            return;
+        }
+        // One thread prints a given line.
+        if due.compare_exchange(next, ms + (LOG_EVERY_S * 1e3) as u64, Ordering::Relaxed, Ordering::Relaxed).is_err() {
+            return;
+        }
+        let spent = elapsed.as_secs_f64();
+        if total == 0 {
+            eprintln!("{id}: {n} evaluated, {} so far", study::duration(spent));
+            return;
+        }
+        let left = spent * (total - n) as f64 / n as f64;
+        eprintln!("{id}: {n}/{total} points, {} so far, about {} left", study::duration(spent), study::duration(left));
+    })
+}
+
 impl Progress for Bars {
     fn start(&self, id: &str, total: u64) -> Box<Tick<'static>> {
-        let Some(multi) = &self.multi else { return Box::new(|| {}) };
+        let Some(multi) = &self.multi else { return log_lines(id, total) };
         if total == 0 {
-            return Box::new(|| {});
+            // Not known ahead (a design's evaluations): a counter drawn at its first tick
+            // (most experiments of total 0 never tick).
+            let (multi, id) = (multi.clone(), id.to_string());
+            let bar = std::sync::OnceLock::new();
+            return Box::new(move || {
+                bar.get_or_init(|| {
+                    let bar = multi.add(indicatif::ProgressBar::new_spinner());
+                    if let Ok(style) =
+                        indicatif::ProgressStyle::with_template("{prefix:>28} {pos} evaluated, {elapsed}")
+                    {
+                        bar.set_style(style);
+                    }
+                    bar.set_prefix(id.clone());
+                    bar
+                })
+                .inc(1)
+            });
         }
         let bar = multi.add(indicatif::ProgressBar::new(total));
         if let Ok(style) =

@@ -117,16 +117,61 @@ fn exact_start(w: &Watch, s: &State, ta: &mut Taylor) {
     ta.h[1] = h1;
 }
 
-/// What counts as a zero contact acceleration of host `host` and its rate at point `pt` of
-/// `seg`: [`ACCEL_TOL`] and `ACCEL_TOL omega`, raised to the closed form's rounding above
-/// [`ROUNDED_CONTACTS_ABOVE`] degrees of freedom.
-fn contact_zero(seg: &Segment, d: &Dynamics, pt: &Point, host: usize) -> (f64, f64) {
-    let plain = (ACCEL_TOL, ACCEL_TOL * d.omega);
+/// What counts as a zero contact acceleration of host `host`, its rate and its second
+/// derivative at point `pt` of `seg`: [`ACCEL_TOL`] times 1, `omega` and `omega^2`, raised to
+/// the closed form's rounding above [`ROUNDED_CONTACTS_ABOVE`] degrees of freedom.
+fn contact_zero(seg: &Segment, d: &Dynamics, pt: &Point, host: usize) -> [f64; 3] {
+    let plain = [ACCEL_TOL, ACCEL_TOL * d.omega, ACCEL_TOL * d.omega * d.omega];
     if d.dof <= ROUNDED_CONTACTS_ABOVE {
         return plain;
     }
     let r = rounding(seg, d);
-    (plain.0.max(r * seg.bound(d, pt, host, 2)), plain.1.max(r * seg.bound(d, pt, host, 3)))
+    [
+        plain[0].max(r * seg.bound(d, pt, host, 2)),
+        plain[1].max(r * seg.bound(d, pt, host, 3)),
+        plain[2].max(r * seg.bound(d, pt, host, 4)),
+    ]
+}
+
+/// Which derivative of each bed's contact acceleration decided, at time `t`, whether it stays
+/// on its container or leaves it ([`Engine::settle`] above [`ROUNDED_CONTACTS_ABOVE`] degrees of
+/// freedom): 0 its value, 1 its rate (the value counted as zero), 2 the rate's rate. The
+/// event search after that instant counts the same lower derivatives as zero, so that it
+/// cannot undo the decision on rounding (on a reduced plate two beds at symmetric corners
+/// lifted off and landed again at one instant, 2000 times, each decision reversed by a
+/// residue of 1e-7 m/s^2 in a derivative the other had counted as zero).
+#[derive(Debug, Clone, Copy)]
+struct Decided {
+    t: f64,
+    order: [u8; MAX_GRAINS],
+}
+
+impl Default for Decided {
+    fn default() -> Self {
+        Decided { t: f64::NAN, order: [0; MAX_GRAINS] }
+    }
+}
+
+impl Decided {
+    /// The derivatives of watch `w`'s function at `t` that count as zero after the decision:
+    /// `tol` with those entries raised to infinity.
+    fn raise(&self, w: &Watch, t: f64, mut tol: [f64; 3]) -> [f64; 3] {
+        if self.t != t {
+            return tol;
+        }
+        let k = self.order[w.bed()] as usize;
+        let below = match w {
+            // h = (n, n', n'', ...): the first k count as zero.
+            Watch::Contact { .. } => 0..k,
+            // h = (gap, gap', -n, -n'): gap and gap' are exact zeros; -n counts as zero when k >= 1.
+            Watch::GapBottom { .. } | Watch::GapTop { .. } => 2..(2 + k).min(3),
+            Watch::Pair { .. } => 0..0,
+        };
+        for i in below {
+            tol[i] = f64::INFINITY;
+        }
+        tol
+    }
 }
 
 /// Buffers a run reuses at every event, kept per thread from run to run.
@@ -136,6 +181,7 @@ struct Scratch {
     hits: Vec<Watch>,
     applied: Vec<Event>,
     before: Option<State>,
+    decided: Decided,
 }
 
 thread_local! {
@@ -190,11 +236,12 @@ impl<'a> Engine<'a> {
         let mut events = 0;
         // Reused at every event: the watches, those that fire, the events applied, the state
         // before.
-        let Scratch { watches, hits, applied, before } = scratch;
+        let Scratch { watches, hits, applied, before, decided } = scratch;
+        decided.t = f64::NAN;
         while s.t < t_end {
             let seg = Segment::start(self.d, s.mask(), s.t, &s.x, &s.v);
             self.watches(s, watches);
-            match self.next_event(&seg, watches, s, t_end, hits) {
+            match self.next_event(&seg, watches, s, t_end, hits, decided) {
                 None => {
                     obs.segment(self.d, &seg, &s.beds, s.t, t_end);
                     let pt = seg.point(self.d, t_end);
@@ -204,8 +251,16 @@ impl<'a> Engine<'a> {
                 Some(te) => {
                     obs.segment(self.d, &seg, &s.beds, s.t, te);
                     let pt = seg.point(self.d, te);
-                    seg.state_into(self.d, &pt, &mut s.x, &mut s.v);
-                    s.t = te;
+                    // Above ROUNDED_CONTACTS_ABOVE degrees of freedom an event at the
+                    // segment's start leaves the state as it is: carried to the terms'
+                    // coefficients and back it would change by the closed form's rounding
+                    // (1e-9 m/s on a reduced plate, where a coupled mass matrix passes each
+                    // bed's impact on to the other hosts at once), and a run of impacts at one
+                    // instant would feed on it for ever.
+                    if te != s.t || self.d.dof <= ROUNDED_CONTACTS_ABOVE {
+                        seg.state_into(self.d, &pt, &mut s.x, &mut s.v);
+                        s.t = te;
+                    }
                     let jumps = obs.wants_jumps();
                     if jumps {
                         match before {
@@ -213,7 +268,7 @@ impl<'a> Engine<'a> {
                             None => *before = Some(s.clone()),
                         }
                     }
-                    self.apply(s, hits, applied, &|p| contact_zero(&seg, self.d, &pt, p));
+                    self.apply(s, hits, applied, decided, &|p| contact_zero(&seg, self.d, &pt, p));
                     for ev in applied.iter() {
                         obs.event(ev, s);
                     }
@@ -235,7 +290,15 @@ impl<'a> Engine<'a> {
 
     /// The earliest event in `(t_a, t_b]`, with the watches that fire there in `hits`
     /// (cleared first).
-    fn next_event(&self, seg: &Segment, watches: &[Watch], s: &State, t_b: f64, hits: &mut Vec<Watch>) -> Option<f64> {
+    fn next_event(
+        &self,
+        seg: &Segment,
+        watches: &[Watch],
+        s: &State,
+        t_b: f64,
+        hits: &mut Vec<Watch>,
+        decided: &Decided,
+    ) -> Option<f64> {
         let t_a = s.t;
         hits.clear();
         if watches.is_empty() {
@@ -256,12 +319,16 @@ impl<'a> Engine<'a> {
         let first = seg.point(d, t_a);
         for w in watches {
             let mut ta = w.taylor(seg, d, &first);
-            if d.dof > ROUNDED_CONTACTS_ABOVE {
+            let big = d.dof > ROUNDED_CONTACTS_ABOVE;
+            if big {
                 exact_start(w, s, &mut ta);
             }
             let mut tol = fresh_tol(w, d.omega);
             if let Watch::Contact { host, .. } = *w {
-                tol[0] = contact_zero(seg, d, &first, host).0;
+                tol[0] = contact_zero(seg, d, &first, host)[0];
+            }
+            if big {
+                tol = decided.raise(w, t_a, tol);
             }
             if ta.h[0] <= tol[0] {
                 let tol = rounded_tol(w, tol, seg, d, &first);
@@ -340,9 +407,17 @@ impl<'a> Engine<'a> {
     }
 
     /// Applies impacts and releases at `s.t` and settles the contacts. The events, into
-    /// `events` (cleared first).
-    /// `zero(p)`: the contact acceleration of host `p` and its rate that count as zero.
-    fn apply(&self, s: &mut State, hits: &[Watch], events: &mut Vec<Event>, zero: &dyn Fn(usize) -> (f64, f64)) {
+    /// `events` (cleared first); which derivative decided each bed, into `decided`.
+    /// `zero(p)`: the contact acceleration of host `p` and its two derivatives that count as
+    /// zero.
+    fn apply(
+        &self,
+        s: &mut State,
+        hits: &[Watch],
+        events: &mut Vec<Event>,
+        decided: &mut Decided,
+        zero: &dyn Fn(usize) -> [f64; 3],
+    ) {
         let d = self.d;
         let sys = &d.system;
         events.clear();
@@ -386,9 +461,9 @@ impl<'a> Engine<'a> {
         } else {
             0
         };
-        let attached = self.settle(s, candidates, side, locked, &|p, j| {
-            let (tol, rate_tol) = zero(p);
-            (if at_zero & (1 << j) != 0 { f64::INFINITY } else { tol }, rate_tol)
+        let attached = self.settle(s, candidates, side, locked, decided, &|p, j| {
+            let [tol, rate_tol, curvature_tol] = zero(p);
+            [if at_zero & (1 << j) != 0 { f64::INFINITY } else { tol }, rate_tol, curvature_tol]
         });
         for &j in candidates {
             let top = side[j].unwrap_or(false);
@@ -415,16 +490,25 @@ impl<'a> Engine<'a> {
     /// The attached mask after an event: among subsets of the candidates, largest first (ties
     /// by bed index), the first in which every attached bed is pressed on (contact force >= 0)
     /// and every detached candidate moves away (relative acceleration >= 0); signs near zero
-    /// (`zero(host, bed)`: the force and rate that count as zero) are decided by the next
-    /// derivative. The grains of a column resting on one end are one
+    /// (`zero(host, bed)`: the force and its two derivatives that count as zero) are decided by
+    /// the next derivative. The grains of a column resting on one end are one
     /// candidate (their contact forces share the host's acceleration).
+    ///
+    /// Above [`ROUNDED_CONTACTS_ABOVE`] degrees of freedom which derivative decides a unit is
+    /// fixed once, in the configuration with every candidate attached, and kept in every
+    /// subset: a contact force at zero and the relative acceleration the same bed has when it
+    /// leaves differ by a positive factor (1 + bed mass / the host's effective mass, 14 at the
+    /// corner of a reduced plate), so one absolute tolerance applied to both would call the
+    /// same zero a push in one subset and nothing in the other, and no subset would do. The
+    /// deciding orders of the chosen subset go to `decided`.
     fn settle(
         &self,
         s: &State,
         candidates: &[usize],
         side: &[Option<bool>],
         locked: usize,
-        zero: &dyn Fn(usize, usize) -> (f64, f64),
+        decided: &mut Decided,
+        zero: &dyn Fn(usize, usize) -> [f64; 3],
     ) -> usize {
         let d = self.d;
         let sys = &d.system;
@@ -447,20 +531,46 @@ impl<'a> Engine<'a> {
         let mask_of = |bits: usize| {
             units.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, u)| acc | u.1)
         };
+        let sigma = |j: usize| if side[j] == Some(true) { -1.0 } else { 1.0 };
         let at = d.at_state(s.t, &s.x, &s.v);
+        let big = d.dof > ROUNDED_CONTACTS_ABOVE;
+        decided.t = f64::NAN;
+        // Above ROUNDED_CONTACTS_ABOVE: the derivative that decides each unit.
+        let mut order_buf = [0u8; MAX_GRAINS];
+        let orders = &mut order_buf[..m];
+        if big {
+            let (a, jerk) = d.accelerations_in(mask_of((1 << m) - 1), &at);
+            for (o, &(j, _)) in orders.iter_mut().zip(units) {
+                let p = sys.dampers[j].host;
+                let [tol, rate_tol, _] = zero(p, j);
+                *o = if (sigma(j) * (a[p] + GRAVITY)).abs() > tol {
+                    0
+                } else if (sigma(j) * jerk[p]).abs() > rate_tol {
+                    1
+                } else {
+                    2
+                };
+            }
+        }
+        let orders = &*orders;
         for bits in subsets_largest_first(m) {
             let mask = mask_of(bits);
             let (a, jerk) = d.accelerations_in(mask, &at);
+            let snap = (big && orders.contains(&2)).then(|| d.snaps_in(mask, &at, &a, &jerk));
             let ok = units.iter().enumerate().all(|(i, &(j, _))| {
                 let p = sys.dampers[j].host;
-                let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };
-                let n = sigma * (a[p] + GRAVITY);
-                let dn = sigma * jerk[p];
-                let (tol, rate_tol) =
-                    if d.dof <= ROUNDED_CONTACTS_ABOVE { (ACCEL_TOL, ACCEL_TOL * d.omega) } else { zero(p, j) };
-                let sign = if n.abs() > tol {
+                let n = sigma(j) * (a[p] + GRAVITY);
+                let dn = sigma(j) * jerk[p];
+                let sign = if big {
+                    match (orders[i], &snap) {
+                        (0, _) => n.signum(),
+                        (1, _) => dn.signum(),
+                        (_, Some(snap)) if (sigma(j) * snap[p]).abs() > zero(p, j)[2] => (sigma(j) * snap[p]).signum(),
+                        _ => 0.0,
+                    }
+                } else if n.abs() > ACCEL_TOL {
                     n.signum()
-                } else if dn.abs() > rate_tol {
+                } else if dn.abs() > ACCEL_TOL * d.omega {
                     dn.signum()
                 } else {
                     0.0
@@ -472,6 +582,16 @@ impl<'a> Engine<'a> {
                 }
             });
             if ok {
+                if big {
+                    *decided = Decided { t: s.t, ..Decided::default() };
+                    for (&(_, u), &o) in units.iter().zip(orders) {
+                        for (j, slot) in decided.order.iter_mut().enumerate() {
+                            if u & (1 << j) != 0 {
+                                *slot = o;
+                            }
+                        }
+                    }
+                }
                 return mask;
             }
         }

@@ -627,4 +627,22 @@ impl Dynamics {
         }
         (a, jerk)
     }
+
+    /// The fourth derivatives of the displacements in configuration `mask`, given the state's
+    /// accelerations `a` and jerks `jerk` there ([`Dynamics::accelerations_in`]):
+    /// `M^-1 (-C jerk - K a + f'')`, `f'' = -omega^2 f` (gravity is constant).
+    pub fn snaps_in(&self, mask: usize, st: &AtState, a: &[f64], jerk: &[f64]) -> PerMass {
+        let n = self.system.dof();
+        let cfg = self.config(mask);
+        let mut rhs = PerMass::zeros(n);
+        for (i, r) in rhs.iter_mut().enumerate() {
+            *r = row(&self.c, i, jerk, -1.0) - row(&self.k, i, a, 1.0);
+        }
+        rhs[self.system.driven] -= self.omega * self.omega * st.f;
+        let mut snap = PerMass::zeros(n);
+        for (i, s) in snap.iter_mut().enumerate() {
+            *s = row(&cfg.modes.mass_inv, i, &rhs, 1.0);
+        }
+        snap
+    }
 }
