@@ -11,6 +11,25 @@ pub struct Tolerance {
     pub abs: f64,
 }
 
+/// `v` to `digits` significant digits, trailing zeros dropped (`fmt_sig(6.917275, 2)` is
+/// "6.9"): a value shown to the precision that matters, as a clearance where the objective is
+/// flat.
+pub fn fmt_sig(v: f64, digits: u32) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return fmt_num(v);
+    }
+    let magnitude = v.abs().log10().floor() as i32;
+    let decimals = (digits as i32 - 1 - magnitude).max(0) as usize;
+    let scale = 10f64.powi(digits as i32 - 1 - magnitude);
+    let rounded = (v * scale).round() / scale;
+    let s = format!("{rounded:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// Number formatting shared by tables and checks.
 pub fn fmt_num(v: f64) -> String {
     if v == 0.0 {
@@ -82,6 +101,17 @@ fn tidy(text: &str, controls: bool) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(fmt_sig(6.917275, 2), "6.9");
+        assert_eq!(fmt_sig(0.0123456, 2), "0.012");
+        assert_eq!(fmt_sig(99.6, 2), "100");
+        assert_eq!(fmt_sig(123.4, 2), "120");
+        assert_eq!(fmt_sig(5.016441, 3), "5.02");
+        assert_eq!(fmt_sig(2.0, 2), "2");
+        assert_eq!(fmt_sig(-0.864402, 3), "-0.864");
+    }
 
     #[test]
     fn long_decimals_are_written_short_and_the_rest_is_kept() {

@@ -214,3 +214,25 @@ fn an_objective_over_scenarios_combines_the_scenarios_alone() {
         assert_eq!(e.worst_scenario, if alone[0] >= alone[1] { 0 } else { 1 });
     }
 }
+
+/// The drive level (docs/design.md): driven well below 1 g at the host the beds never leave
+/// their containers, so a layout moves exactly as with its beds locked (d = 0: the stuck
+/// structure, linear), and the evaluation counts no lift-off; driven hard, they lift off and
+/// their flights are recorded.
+#[test]
+fn beds_below_one_g_never_lift_off_and_the_evaluation_says_so() {
+    let band = Band { name: "mode 3".into(), freq_hz: grid_hz(44.0, 56.0, 1.0), masses: vec![0, 1, 2] };
+    let gentle = Problem { force: 0.05, ..problem(vec![band.clone()], vec![Sweep::Rest]) };
+    let layout = Layout { hosts: vec![1], masses_kg: vec![0.071], clearances_mm: vec![0.3] };
+    let locked = Layout { clearances_mm: vec![0.0], ..layout.clone() };
+    let b = bare(&gentle);
+    let e = evaluate(&gentle, &b, &layout);
+    let m = e.motion[0];
+    assert_eq!((m.lifting, m.points, m.flight_m), (0, 13, 0.0), "{m:?}");
+    let stuck = evaluate(&gentle, &b, &locked);
+    assert!((e.bands[0] - stuck.bands[0]).abs() <= 1e-9 * stuck.bands[0], "{} vs {}", e.bands[0], stuck.bands[0]);
+    let hard = problem(vec![band], vec![Sweep::Rest]);
+    let e = evaluate(&hard, &bare(&hard), &layout);
+    let m = e.motion[0];
+    assert!(m.lifting > 0 && m.flight_m > 0.0 && m.flight_m <= 0.3e-3 + 1e-12, "{m:?}");
+}

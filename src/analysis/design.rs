@@ -34,6 +34,10 @@ pub struct DesignOutput {
     pub stored: StoredDesign,
     /// Replayed: the stored answer against the layouts evaluated now.
     pub checks: Vec<CheckOutcome>,
+    /// What the user must know about the answer (beds that hardly move, unsettled points).
+    pub warnings: Vec<String>,
+    /// The answer in one paragraph.
+    pub answer: Option<String>,
 }
 
 /// A replayed objective must equal the stored one to this relative difference, when every
@@ -384,6 +388,8 @@ pub fn run(
         &case_rows,
     ));
     let mut figures = Vec::new();
+    let mut warnings = Vec::new();
+    let mut answer = None;
     if let Some(best) = &best {
         exports.insert("best_objective".into(), best.evaluation.objective);
         if spec.shared_clearance {
@@ -453,7 +459,22 @@ pub fn run(
             caption: "The worst band's measure over the bare structure's against one clearance for every container, with the best layout's hosts and shot split; dashed: 5 % above the best (the robust band).".into(),
             panels: vec![panel],
         });
-        figures.push(compliance_figure(exp, spec, &p, best, &case_rows));
+        // The bare structure's curves (the first scenario's, as the evaluations' curves).
+        let bare_sys = System::plastic(p.cases()[0].structure.clone(), Vec::new(), p.driven, p.cases()[0].force);
+        let bare_curves: Vec<Vec<Vec<f64>>> =
+            spec.bands.iter().map(|band| band_compliance(&bare_sys, band, &p.sweeps, &p.steady).0).collect();
+        let (table, figure) = compliance_figure(exp, spec, &p, best, &case_rows, &bare_curves);
+        tables.push(table);
+        figures.push(figure);
+        let mut rated: Vec<super::design_drive::Rated<'_>> =
+            vec![(format!("best: {}", hosts_words(&best.layout)), &best.layout, &best.evaluation)];
+        rated.extend(case_rows.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.1, &c.2)));
+        let (table, w) = super::design_drive::drive(&p, &bare_curves, &rated);
+        tables.push(table);
+        warnings = w;
+        let robust = exports.get("robust_clearance_min_mm").zip(exports.get("robust_clearance_max_mm"));
+        answer =
+            Some(super::design_drive::answer(&p, &rated[0], total_mass, robust.map(|(a, b)| (*a, *b)), &bare_curves));
         if let Some((table, figure)) =
             super::design_near::near_optimum(spec, &p, &b, &best.layout, &best.evaluation, &exp.meta.figure)
         {
@@ -499,26 +520,43 @@ pub fn run(
             panels: vec![panel],
         });
     }
-    DesignOutput { tables, figures, exports, stored, checks }
+    DesignOutput { tables, figures, exports, stored, checks, warnings, answer }
 }
 
 /// The compliance over each band of the bare structure, the best layout and the cases (the
-/// worst of the sweeps at each frequency), one panel per band.
+/// worst of the sweeps at each frequency): a long table and a figure of one panel per band.
 fn compliance_figure(
     exp: &Experiment,
     spec: &Spec,
     p: &Problem,
     best: &Found,
     cases: &[(String, Layout, Evaluation, u64)],
-) -> Figure {
-    // The curves the evaluations computed (the first scenario's); the bare structure's swept
-    // here.
-    let bare_sys = System::plastic(p.cases()[0].structure.clone(), Vec::new(), p.driven, p.cases()[0].force);
-    let bare: Vec<Vec<Vec<f64>>> =
-        spec.bands.iter().map(|band| band_compliance(&bare_sys, band, &p.sweeps, &p.steady).0).collect();
-    let mut layouts: Vec<(String, &Vec<Vec<Vec<f64>>>)> = vec![("bare".into(), &bare)];
+    bare: &Vec<Vec<Vec<f64>>>,
+) -> (Table, Figure) {
+    // The curves the evaluations computed (the first scenario's) and the bare structure's.
+    let mut layouts: Vec<(String, &Vec<Vec<Vec<f64>>>)> = vec![("bare".into(), bare)];
     layouts.push((format!("best: {}", hosts_words(&best.layout)), &best.evaluation.curves));
     layouts.extend(cases.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.2.curves)));
+    // (layout, band, frequency, mass, compliance)
+    let mut rows: Vec<(String, String, f64, i64, f64)> = Vec::new();
+    for (label, curves) in &layouts {
+        for (band, c) in spec.bands.iter().zip(curves.iter()) {
+            for (&f, r) in band.freq_hz.iter().zip(c) {
+                for &m in &band.masses {
+                    rows.push((label.clone(), band.name.clone(), f, m as i64 + 1, r[m]));
+                }
+            }
+        }
+    }
+    let table = Table::new(
+        "design_compliance",
+        "The compliance over each band (m/N: amplitude per newton of force amplitude, the largest over the sweeps at each frequency) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's",
+    )
+    .str("layout", rows.iter().map(|r| r.0.clone()).collect())
+    .str("band", rows.iter().map(|r| r.1.clone()).collect())
+    .f64("freq_hz", rows.iter().map(|r| r.2).collect())
+    .i64("mass", rows.iter().map(|r| r.3).collect())
+    .f64("compliance_m_per_n", rows.iter().map(|r| r.4).collect());
     let panels = spec
         .bands
         .iter()
@@ -548,12 +586,13 @@ fn compliance_figure(
         })
         .collect();
     let first = p.cases()[0].name.clone();
-    Figure {
+    let figure = Figure {
         id: "design_compliance".into(),
         title: format!("{}: the best layout against the bare structure and the cases", exp.meta.figure),
         caption: format!("Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}."),
         panels,
-    }
+    };
+    (table, figure)
 }
 
 /// The paper's technique as a design method: for each placement's best shot split, the
@@ -599,10 +638,24 @@ fn sdof_method(
             (hosts_words(&f.layout), choice.clearance_mm, e, f.evaluation.objective)
         })
         .collect();
+    // A pick at either end of the candidates may be the list's limit, not the technique's.
+    let (lo, hi) = candidates.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &c| (a.min(c), b.max(c)));
+    let edge = |d: f64| {
+        if candidates.len() < 2 {
+            ""
+        } else if d == lo {
+            "smallest candidate: the list may stop the pick"
+        } else if d == hi {
+            "largest candidate: the list may stop the pick"
+        } else {
+            ""
+        }
+    };
     let mut exports = BTreeMap::new();
     if let Some(best) = rows.iter().min_by(|x, y| x.3.total_cmp(&y.3)) {
         exports.insert("sdof_clearance_mm".into(), best.1);
         exports.insert("sdof_objective".into(), best.2.objective);
+        exports.insert("sdof_at_edge".into(), if edge(best.1).is_empty() { 0.0 } else { 1.0 });
     }
     let table = Table::new(
         "design_sdof",
@@ -614,6 +667,7 @@ fn sdof_method(
     )
     .str("layout", rows.iter().map(|r| r.0.clone()).collect())
     .f64("sdof_clearance_mm", rows.iter().map(|r| r.1).collect())
+    .str("sdof_pick", rows.iter().map(|r| edge(r.1).to_string()).collect())
     .f64("objective_sdof", rows.iter().map(|r| r.2.objective).collect())
     .f64("objective_optimiser", rows.iter().map(|r| r.3).collect())
     .f64("left_on_the_table", rows.iter().map(|r| r.2.objective / r.3 - 1.0).collect())
@@ -638,6 +692,7 @@ mod tests {
             curves: Vec::new(),
             unsettled,
             points: 10,
+            motion: Vec::new(),
         };
         Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1 }
     }

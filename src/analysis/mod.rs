@@ -8,6 +8,7 @@ mod clearance;
 pub mod curves;
 mod decay_checks;
 pub mod design;
+mod design_drive;
 mod design_near;
 mod digitised_checks;
 mod figures;
@@ -77,6 +78,8 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     let mut exports = BTreeMap::new();
     let mut design_checks = Vec::new();
     let mut design_answer = None;
+    let mut warnings = Vec::new();
+    let mut answer = None;
     match &exp.analysis {
         Analysis::Modal => {}
         Analysis::LinearFrf { freq_hz } => {
@@ -126,6 +129,8 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             exports = out.exports;
             design_checks = out.checks;
             design_answer = Some(out.stored);
+            warnings = out.warnings;
+            answer = out.answer;
         }
         Analysis::SdofPeriodic { mode, freq_hz, clearances_mm, steady } => {
             if let Some(r) = orbits::run(exp, &modes, *mode, freq_hz, clearances_mm.as_deref(), steady, tick) {
@@ -172,6 +177,8 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         checks,
         curves,
         design: design_answer,
+        warnings,
+        answer,
     })
 }
 

@@ -37,6 +37,13 @@ pub struct ExperimentResult {
     pub exports: BTreeMap<String, f64>,
     /// A design search's answer, to store (`shotdamp design --store`).
     pub design: Option<crate::design::stored::StoredDesign>,
+    /// What a user must know before reading the answer (a design whose beds hardly move at
+    /// its drive level, unsettled points): at the top of the page and in the command's
+    /// summary.
+    pub warnings: Vec<String>,
+    /// The answer in one paragraph, where the analysis gives one (a design): the first thing
+    /// on the page.
+    pub answer: Option<String>,
 }
 
 /// Counts one finished unit of work (a simulated point). A caller may stop the work at a point

@@ -684,18 +684,40 @@ fn finish(
     // Designs: the answer in one line per model (the tables have the layouts).
     for r in done.results.iter().filter(|r| r.experiment.analysis.kind() == "design") {
         let e = &r.exports;
-        let num = |k: &str| e.get(k).map_or("-".to_string(), |v| crate::checks::fmt_num(*v));
         let cases: Vec<String> = e
             .iter()
-            .filter_map(|(k, v)| k.strip_prefix("objective_").map(|c| format!("{c} {}", crate::checks::fmt_num(*v))))
+            .filter_map(|(k, v)| k.strip_prefix("objective_").map(|c| format!("{c} {}", crate::number::fmt_sig(*v, 3))))
             .collect();
+        // The clearance to the precision that matters: where the objective is flat, the
+        // band within 5 % of the best.
+        let sig = |k: &str| e.get(k).map_or("-".to_string(), |v| crate::number::fmt_sig(*v, 2));
+        let clearance = match (e.get("robust_clearance_min_mm"), e.get("robust_clearance_max_mm")) {
+            (Some(_), Some(_)) => format!(
+                "clearance {} mm, within 5 % of the best from {} to {} mm",
+                sig("best_clearance_mm"),
+                sig("robust_clearance_min_mm"),
+                sig("robust_clearance_max_mm")
+            ),
+            _ => format!("clearance {} mm", sig("best_clearance_mm")),
+        };
         say!(
-            "  {}: best {} of the bare structure's worst band (clearance {} mm); cases: {}",
+            "  {}: best {} of the bare structure's worst band ({clearance}); cases: {}",
             r.experiment.key(),
-            num("best_objective"),
-            num("best_clearance_mm"),
+            e.get("best_objective").map_or("-".to_string(), |v| crate::number::fmt_sig(*v, 3)),
             if cases.is_empty() { "none".to_string() } else { cases.join(", ") }
         );
+        if e.get("sdof_at_edge") == Some(&1.0) {
+            say!(
+                "  {}: the SDOF technique picks {} mm, an end of its candidate list (design_sdof.csv): widen the list before trusting that pick",
+                r.experiment.key(),
+                sig("sdof_clearance_mm")
+            );
+        }
+    }
+    for r in &done.results {
+        for w in &r.warnings {
+            say!("  {}: warning: {w}", r.experiment.key());
+        }
     }
     if done.passed() {
         say!("{} checks: none failed", done.checks);

@@ -306,12 +306,39 @@ pub struct Evaluation {
     pub unsettled: usize,
     /// Steady states computed.
     pub points: usize,
+    /// Per band: how the beds moved (the worst scenario's): the layout's drive level.
+    pub motion: Vec<Motion>,
+}
+
+/// How the beds of a layout moved over a band: whether the drive makes them work. Beds that
+/// never leave their containers only add mass.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Motion {
+    /// Steady states (over the band's frequencies and sweeps) in which some bed left its
+    /// container's bottom.
+    pub lifting: usize,
+    /// Steady states computed.
+    pub points: usize,
+    /// The highest flight of any bed above its container's bottom, m.
+    pub flight_m: f64,
+}
+
+impl Motion {
+    /// The share of the band's steady states in which the beds lift off.
+    pub fn share(&self) -> f64 {
+        if self.points == 0 {
+            0.0
+        } else {
+            self.lifting as f64 / self.points as f64
+        }
+    }
 }
 
 /// Compliance of every mass at each frequency of `band` for `sys`, the largest over `sweeps`,
 /// and the number of unsettled points.
 pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &SteadyOptions) -> (Vec<Vec<f64>>, usize) {
-    band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady)
+    let (c, unsettled, _) = band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady);
+    (c, unsettled)
 }
 
 /// [`band_compliance`] of a system already decomposed (`base`, [`Dynamics::unforced`] of
@@ -322,10 +349,11 @@ fn band_compliance_on(
     band: &Band,
     sweeps: &[Sweep],
     steady: &SteadyOptions,
-) -> (Vec<Vec<f64>>, usize) {
+) -> (Vec<Vec<f64>>, usize, Motion) {
     let n = sys.dof();
     let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
     let mut unsettled = 0;
+    let mut motion = Motion::default();
     // The dynamics at each frequency, shared by the continued sweeps.
     let mut forced = None;
     for s in sweeps {
@@ -340,11 +368,16 @@ fn band_compliance_on(
         };
         for p in points {
             let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
+            motion.points += 1;
             match p.result {
                 Ok(st) => {
                     if !st.converged {
                         unsettled += 1;
                     }
+                    if st.liftoffs.iter().any(|&l| l > 0.0) || st.max_flight.iter().any(|&f| f > 0.0) {
+                        motion.lifting += 1;
+                    }
+                    motion.flight_m = st.max_flight.iter().fold(motion.flight_m, |a, &f| a.max(f));
                     for (w, a) in worst[i].iter_mut().zip(&st.amplitude) {
                         *w = w.max(a / sys.force);
                     }
@@ -356,7 +389,7 @@ fn band_compliance_on(
             }
         }
     }
-    (worst, unsettled)
+    (worst, unsettled, motion)
 }
 
 /// The measure of a band's compliances, and the frequency index and mass of its largest one.
@@ -411,6 +444,8 @@ struct ScenarioRun {
     points: usize,
     /// Per band, frequency and mass: the compliance.
     curves: Vec<Vec<Vec<f64>>>,
+    /// Per band: how the beds moved.
+    motion: Vec<Motion>,
 }
 
 /// One scenario of a layout: its bands' measures, its objective, where the worst is.
@@ -421,10 +456,12 @@ fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> 
     let mut unsettled = 0;
     let mut points = 0;
     let mut curves = Vec::with_capacity(problem.bands.len());
+    let mut motion = Vec::with_capacity(problem.bands.len());
     let base = Dynamics::unforced(&sys);
     for (k, band) in problem.bands.iter().enumerate() {
-        let (c, u) = band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady);
+        let (c, u, m) = band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady);
         unsettled += u;
+        motion.push(m);
         points += band.freq_hz.len() * problem.sweeps.len();
         let (value, i, m) = measure(band, &c, problem.measure);
         bands.push(value);
@@ -434,7 +471,7 @@ fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> 
         }
         curves.push(c);
     }
-    ScenarioRun { bands, relative: worst.0, worst: worst.1, unsettled, points, curves }
+    ScenarioRun { bands, relative: worst.0, worst: worst.1, unsettled, points, curves, motion }
 }
 
 /// Evaluates one layout (`bare`: per scenario, the bands' measures without dampers, from
@@ -458,6 +495,7 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
         worst: w.worst,
         unsettled: runs.iter().map(|r| r.unsettled).sum(),
         points: runs.iter().map(|r| r.points).sum(),
+        motion: runs[worst_scenario].motion.clone(),
         curves: std::mem::take(&mut runs[0].curves),
     }
 }

@@ -52,6 +52,26 @@ pub struct Meta {
     pub deviation: Option<String>,
 }
 
+impl Meta {
+    /// Whether the experiment reproduces something of the paper: its `figure` names one of
+    /// the paper's figures, tables or its conclusion ("Fig. 5", "Table 1", "Conclusion
+    /// (3rd mode)"). Anything else ("Example", "Not in the paper": an engineer's own
+    /// structure) gets pages headed by its own caption and question, not the paper's.
+    pub fn from_paper(&self) -> bool {
+        ["Fig.", "Table", "Conclusion"].iter().any(|p| self.figure.starts_with(p))
+    }
+
+    /// The page headings of the caption and the claim: the paper's, or the experiment's own
+    /// (a design of a structure that is not the paper's asks a design question).
+    pub fn headings(&self, design: bool) -> (&'static str, &'static str) {
+        match (self.from_paper(), design) {
+            (true, _) => ("Paper's caption", "Paper's claim"),
+            (false, true) => ("Caption", "Design question"),
+            (false, false) => ("Caption", "Question"),
+        }
+    }
+}
+
 /// The structural model an experiment runs on, when its file lists several
 /// (`models = [...]`, docs/experiment-format.md).
 #[derive(Debug, Clone, PartialEq, Eq)]

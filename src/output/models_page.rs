@@ -62,10 +62,14 @@ pub struct ModelsView {
     pub title: String,
     /// The paper figure.
     pub figure: String,
-    /// The paper's caption.
+    /// The caption (the paper's, or the experiment's own: [`crate::experiment::Meta::headings`]).
     pub caption: String,
-    /// The paper's claim.
+    /// The claim tested (or the experiment's own question).
     pub claim: String,
+    /// The headings of the caption and the claim.
+    pub caption_heading: String,
+    /// See `caption_heading`.
+    pub claim_heading: String,
     /// The experiment file.
     pub source_file: String,
     /// One column per model.
@@ -156,6 +160,8 @@ pub fn models_view(runs: &[&ExperimentResult], overlays: &[Figure]) -> ModelsVie
         figure: first.meta.figure.clone(),
         caption: first.meta.caption.clone(),
         claim: first.meta.claim.clone(),
+        caption_heading: first.meta.headings(first.analysis.kind() == "design").0.to_string(),
+        claim_heading: first.meta.headings(first.analysis.kind() == "design").1.to_string(),
         source_file: first.path.display().to_string(),
         models,
         overlays: overlays

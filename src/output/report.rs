@@ -158,10 +158,18 @@ pub struct ExperimentView {
     pub title: String,
     /// The paper figure.
     pub figure: String,
-    /// The paper's caption.
+    /// The caption (the paper's, or the experiment's own: [`crate::experiment::Meta::headings`]).
     pub caption: String,
-    /// The paper's claim.
+    /// The claim tested (or the experiment's own question).
     pub claim: String,
+    /// What the reader must know before the answer (ExperimentResult::warnings).
+    pub warnings: Vec<String>,
+    /// The answer in one paragraph ("" when the analysis gives none).
+    pub answer: String,
+    /// The headings of the caption and the claim.
+    pub caption_heading: String,
+    /// See `caption_heading`.
+    pub claim_heading: String,
     /// The experiment file.
     pub source_file: String,
     /// Named parameters of the run.
@@ -195,6 +203,7 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
     let id = &r.experiment.key();
     let current = r.experiment.model.as_ref();
     let (verdict, class, words) = counts(&r.checks);
+    let headings = r.experiment.meta.headings(r.experiment.analysis.kind() == "design");
     let n = r.modes.len();
     let mut mode_header = vec!["mode".to_string(), "omega (rad/s)".into(), "f (Hz)".into()];
     mode_header.extend((0..n).map(|i| format!("phibar m{}", i + 1)));
@@ -228,6 +237,10 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
         figure: r.experiment.meta.figure.clone(),
         caption: r.experiment.meta.caption.clone(),
         claim: r.experiment.meta.claim.clone(),
+        warnings: r.warnings.clone(),
+        answer: r.answer.clone().unwrap_or_default(),
+        caption_heading: headings.0.to_string(),
+        claim_heading: headings.1.to_string(),
         source_file: source_file.to_string(),
         parameters: r.parameters.clone(),
         assumptions: r.assumptions.clone(),
@@ -444,6 +457,15 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
             members.sort_by_key(|r| r.experiment.meta.figure != g);
             let checks: Vec<&CheckOutcome> = members.iter().flat_map(|r| r.checks.iter()).collect();
             let v = verdict(checks.iter().copied());
+            // A row of the experiments' own (an engineer's structure) has no paper to verdict on.
+            let own = !members.iter().any(|r| r.experiment.meta.from_paper());
+            let label = |v: crate::checks::verdict::Verdict| {
+                if own && v == crate::checks::verdict::Verdict::NoReference {
+                    "not in the paper"
+                } else {
+                    v.label()
+                }
+            };
             let count = |paper: bool| {
                 let sel: Vec<&&CheckOutcome> = checks.iter().filter(|c| c.source.is_paper() == paper).collect();
                 if sel.is_empty() {
@@ -479,7 +501,7 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                         .filter(|c| matches!(c.status, Status::Pass | Status::KnownDeviationPasses))
                         .count();
                     ModelCell {
-                        verdict: v.label().to_string(),
+                        verdict: label(v).to_string(),
                         verdict_class: v.class().to_string(),
                         checks: if paper.is_empty() { String::new() } else { format!("{passing}/{}", paper.len()) },
                         unsettled: paper.iter().filter(|c| c.settled == Some(false)).count(),
@@ -487,11 +509,8 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                     }
                 })
                 .collect();
-            let sentence = if models.is_empty() {
-                format!("{}.", capitalise(v.label()))
-            } else {
-                grouped_sentence(&cells, models)
-            };
+            let sentence =
+                if models.is_empty() { format!("{}.", capitalise(label(v))) } else { grouped_sentence(&cells, models) };
             let mut titles: Vec<(String, String)> = Vec::new();
             for r in &members {
                 let link = format!("{}/index.html", r.experiment.meta.id);
@@ -501,7 +520,7 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
             }
             FigureRow {
                 figure: g,
-                verdict: v.label().to_string(),
+                verdict: label(v).to_string(),
                 verdict_class: v.class().to_string(),
                 cells,
                 experiments: titles,

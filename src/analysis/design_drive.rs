@@ -1,0 +1,184 @@
+//! A design's drive level (docs/design.md, "Drive level"): how hard the structure shakes at the
+//! containers' hosts, bare and with the shot, and whether the beds then move at all. Beds that
+//! never leave their containers only add mass, and an optimiser will happily "find" a layout
+//! that merely detunes the structure: the table says so, and the warnings name the force that
+//! would make the beds work.
+
+use crate::design::{Evaluation, Layout, Problem};
+use crate::model::GRAVITY;
+use crate::number::fmt_sig;
+use crate::table::Table;
+
+/// Share of a band's steady states below which the beds count as hardly moving.
+pub const FEW: f64 = 0.1;
+
+/// The largest `(2 pi f)^2 x amplitude / g` of `hosts` over a band (`curves`: per frequency and
+/// mass, compliance in m/N; `force` the force amplitude, N).
+fn peak_g(curves: &[Vec<f64>], freq_hz: &[f64], hosts: &[usize], force: f64) -> f64 {
+    curves
+        .iter()
+        .zip(freq_hz)
+        .flat_map(|(row, f)| {
+            let w = 2.0 * std::f64::consts::PI * f;
+            hosts.iter().map(move |&h| w * w * row[h] * force / GRAVITY)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// A row of the table: layout, band, hosts, bare g, g, lift-off points, points, flight mm.
+type Row = (String, String, String, f64, f64, i64, i64, f64);
+
+/// One layout to report on: its label, the layout and its evaluation.
+pub type Rated<'a> = (String, &'a Layout, &'a Evaluation);
+
+/// The drive-level table of `layouts` (the best first) over each band of `problem`, with
+/// `bare` the bare structure's curves per band (the first scenario's, as the layouts' curves),
+/// and the warnings about the first layout: bands where its beds lift off at few of the
+/// steady states, and its unsettled points.
+pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -> (Table, Vec<String>) {
+    let force = problem.cases()[0].force;
+    let mut rows: Vec<Row> = Vec::new();
+    let mut warnings = Vec::new();
+    for (k, (label, layout, eval)) in layouts.iter().enumerate() {
+        let hosts = &layout.hosts;
+        let words = hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" ");
+        for (b, band) in problem.bands.iter().enumerate() {
+            let bare_g = bare.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, hosts, force));
+            let with_g = eval.curves.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, hosts, force));
+            let m = eval.motion.get(b).copied().unwrap_or_default();
+            rows.push((
+                label.clone(),
+                band.name.clone(),
+                words.clone(),
+                bare_g,
+                with_g,
+                m.lifting as i64,
+                m.points as i64,
+                m.flight_m * 1e3,
+            ));
+            if k == 0 && m.points > 0 && m.share() < FEW {
+                // Below 1 g at the hosts the beds cannot lift off: the motion is the stuck
+                // structure's, linear in the force, so the force scales exactly to 1 g.
+                let need = if with_g > 0.0 && with_g < 1.0 {
+                    format!(
+                        "; about {} N (now {} N) would bring the hosts to 1 g at the peak, where the beds start to move",
+                        fmt_sig(force / with_g, 2),
+                        fmt_sig(force, 3)
+                    )
+                } else {
+                    String::new()
+                };
+                warnings.push(format!(
+                    "{}, {label}: the beds lift off in {} of {} steady states (highest flight {} mm); the hosts reach {} g with the shot, {} g bare: at this drive level the shot mostly adds mass{need}",
+                    band.name,
+                    m.lifting,
+                    m.points,
+                    fmt_sig(m.flight_m * 1e3, 2),
+                    fmt_sig(with_g, 2),
+                    fmt_sig(bare_g, 2),
+                ));
+            }
+        }
+        if k == 0 && eval.unsettled > 0 {
+            warnings.push(format!(
+                "{label}: {} of {} steady states did not settle (their compliance is the motion's amplitude over the recorded periods: design_placements, unsettled_points)",
+                eval.unsettled, eval.points
+            ));
+        }
+    }
+    let table = Table::new(
+        "design_drive",
+        format!(
+            "The drive level of the best layout and the experiment's cases in each band (force {} N): the largest host acceleration, (2 pi f)^2 x amplitude / g at the layout's hosts, bare and with the shot (exact for the bare structure and for beds that never lift off, whose motion is linear; the first harmonic's scale otherwise), the steady states in which some bed lifts off (over the band's frequencies and sweeps; the worst scenario's) and the highest flight, mm; beds that lift off in under {} % of them mostly add mass",
+            fmt_sig(force, 3),
+            FEW * 100.0
+        ),
+    )
+    .str("layout", rows.iter().map(|r| r.0.clone()).collect())
+    .str("band", rows.iter().map(|r| r.1.clone()).collect())
+    .str("hosts", rows.iter().map(|r| r.2.clone()).collect())
+    .f64("host_g_bare", rows.iter().map(|r| r.3).collect())
+    .f64("host_g", rows.iter().map(|r| r.4).collect())
+    .i64("lift_off_points", rows.iter().map(|r| r.5).collect())
+    .i64("points", rows.iter().map(|r| r.6).collect())
+    .f64("max_flight_mm", rows.iter().map(|r| r.7).collect());
+    (table, warnings)
+}
+
+/// The design's answer in one paragraph, for the top of its page: where the shot goes, how
+/// much, the clearance to the precision the objective allows (`robust`: the clearances within
+/// 5 % of the best), the reduction per band, the drive level it holds at, unsettled points.
+pub fn answer(
+    problem: &Problem,
+    best: &Rated<'_>,
+    total_mass: f64,
+    robust: Option<(f64, f64)>,
+    bare: &[Vec<Vec<f64>>],
+) -> String {
+    let (_, layout, eval) = best;
+    let force = problem.cases()[0].force;
+    let beds: Vec<String> = layout
+        .hosts
+        .iter()
+        .zip(&layout.masses_kg)
+        .filter(|(_, m)| **m > 0.0)
+        .map(|(h, m)| format!("{} kg on m{}", fmt_sig(*m, 2), h + 1))
+        .collect();
+    let shot = layout.shot_kg();
+    let clearances: Vec<f64> = layout.clearances_mm.clone();
+    let same = clearances.windows(2).all(|w| w[0] == w[1]);
+    let clearance = match (robust, same, clearances.first()) {
+        (Some((lo, hi)), true, Some(d)) => {
+            format!(
+                "clearance {} mm (any from {} to {} mm is within 5 % of the best)",
+                fmt_sig(*d, 2),
+                fmt_sig(lo, 2),
+                fmt_sig(hi, 2)
+            )
+        }
+        _ => format!("clearances {} mm", clearances.iter().map(|d| fmt_sig(*d, 2)).collect::<Vec<_>>().join(" / ")),
+    };
+    let bands: Vec<String> = problem
+        .bands
+        .iter()
+        .zip(eval.bands.iter().zip(&eval.bare))
+        .map(|(b, (v, bare))| format!("{} {}", b.name, fmt_sig(v / bare, 2)))
+        .collect();
+    let drive: Vec<String> = problem
+        .bands
+        .iter()
+        .enumerate()
+        .map(|(b, band)| {
+            let g = bare.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, &layout.hosts, force));
+            let m = eval.motion.get(b).copied().unwrap_or_default();
+            format!("{} {} g, beds lifting in {} of {}", band.name, fmt_sig(g, 2), m.lifting, m.points)
+        })
+        .collect();
+    format!(
+        "Put {} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a force of {} N (the bare hosts' peak acceleration: {}); the answer depends on the drive level. {} of {} steady states did not settle.",
+        beds.join(", "),
+        fmt_sig(shot, 2),
+        fmt_sig(100.0 * shot / total_mass, 2),
+        fmt_sig(eval.objective, 3),
+        bands.join(", "),
+        fmt_sig(force, 3),
+        drive.join("; "),
+        eval.unsettled,
+        eval.points
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn peak_acceleration_of_a_harmonic_motion() {
+        // 1e-3 m/N at 10 Hz under 2 N: 2 mm amplitude, (20 pi)^2 x 2e-3 = 7.896 m/s^2.
+        let curves = vec![vec![0.0, 1e-3], vec![0.0, 5e-4]];
+        let g = peak_g(&curves, &[10.0, 12.0], &[1], 2.0);
+        let want = (20.0 * std::f64::consts::PI).powi(2) * 2e-3 / GRAVITY;
+        assert!((g - want).abs() < 1e-12 * want, "{g} {want}");
+        assert_eq!(peak_g(&curves, &[10.0, 12.0], &[0], 2.0), 0.0);
+    }
+}
