@@ -194,6 +194,9 @@ fn result<'py>(py: Python<'py>, r: &ExperimentResult) -> PyResult<Bound<'py, PyD
     }
     d.set_item("checks", checks)?;
     d.set_item("exports", r.exports.clone())?;
+    // What to read first: the answer in one paragraph (a design) and the warnings.
+    d.set_item("summary", r.answer.clone())?;
+    d.set_item("warnings", r.warnings.clone())?;
     // A design's answer (docs/design.md): the best layout and the reference layouts, as the
     // stored JSON has them.
     let answer = match &r.design {

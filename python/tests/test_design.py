@@ -34,16 +34,21 @@ def test_design_equals_the_command_line_and_stores_the_same_answer(cli, tmp_path
     for side in ("cli", "py"):
         refs[side] = tmp_path / f"reference-{side}"
         shutil.copytree("reference", refs[side], ignore=shutil.ignore_patterns("baseline", "scans"))
-    subprocess.run(
+    printed = subprocess.run(
         [str(cli), "--reference", str(refs["cli"]), "design", str(design), "--out", str(tmp_path / "cli"), "--store", "--jobs", "2"],
         check=True,
         capture_output=True,
-    )
+        text=True,
+    ).stdout
     got = sd.design(design, out=tmp_path / "py", reference=refs["py"], jobs=1, store=True)
     assert got["passed"] in (True, False)
     [exp] = got["experiments"]
     answer = exp["design"]
     assert answer["experiment"] == exp["key"] and answer["placements"], answer
+    # The answer in one paragraph and the warnings, as the command line prints and pages them.
+    assert exp["summary"].startswith("Put ") and "N (the bare hosts' peak acceleration" in exp["summary"], exp["summary"]
+    for w in exp["warnings"]:
+        assert f"warning: {w}" in printed, (w, printed)
     [stored] = got["stored"]
     stored_py = json.loads(Path(stored).read_text())
     stored_cli = json.loads((refs["cli"] / Path(stored).relative_to(refs["py"])).read_text())

@@ -15,7 +15,7 @@ use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem
 use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::{Damping, Structure};
-use crate::number::fmt_num;
+use crate::number::{fmt_num, fmt_sig};
 use crate::sim::{SteadyOptions, System};
 use crate::table::Table;
 
@@ -449,7 +449,9 @@ pub fn run(
             .series
             .push(Series::line(format!("best x {ROBUST}"), vec![lo, hi], vec![target, target], 1).dashed(Dash::Dashed));
         if rlo.is_finite() {
-            panel.vlines.push(VLine { x: rlo, label: format!(" robust band {}-{} mm", fmt_num(rlo), fmt_num(rhi)) });
+            panel
+                .vlines
+                .push(VLine { x: rlo, label: format!(" robust band {}-{} mm", fmt_sig(rlo, 2), fmt_sig(rhi, 2)) });
             panel.vlines.push(VLine { x: rhi, label: String::new() });
         }
         panel.legend = Corner::UpperRight;

@@ -128,9 +128,14 @@ pub fn answer(
     let clearances: Vec<f64> = layout.clearances_mm.clone();
     let same = clearances.windows(2).all(|w| w[0] == w[1]);
     let clearance = match (robust, same, clearances.first()) {
+        (Some((lo, hi)), true, Some(d)) if fmt_sig(lo, 2) == fmt_sig(hi, 2) => format!(
+            "clearance {} mm (of the clearances sampled, only {} mm is within 5 % of the best: a narrow optimum)",
+            fmt_sig(*d, 2),
+            fmt_sig(lo, 2)
+        ),
         (Some((lo, hi)), true, Some(d)) => {
             format!(
-                "clearance {} mm (any from {} to {} mm is within 5 % of the best)",
+                "clearance {} mm (of the clearances sampled, those from {} to {} mm are within 5 % of the best)",
                 fmt_sig(*d, 2),
                 fmt_sig(lo, 2),
                 fmt_sig(hi, 2)

@@ -692,8 +692,15 @@ fn finish(
         // band within 5 % of the best.
         let sig = |k: &str| e.get(k).map_or("-".to_string(), |v| crate::number::fmt_sig(*v, 2));
         let clearance = match (e.get("robust_clearance_min_mm"), e.get("robust_clearance_max_mm")) {
+            (Some(lo), Some(hi)) if sig("robust_clearance_min_mm") == sig("robust_clearance_max_mm") || lo == hi => {
+                format!(
+                    "clearance {} mm; of the clearances sampled only {} mm is within 5 % of the best",
+                    sig("best_clearance_mm"),
+                    sig("robust_clearance_min_mm")
+                )
+            }
             (Some(_), Some(_)) => format!(
-                "clearance {} mm, within 5 % of the best from {} to {} mm",
+                "clearance {} mm; the clearances sampled from {} to {} mm are within 5 % of the best",
                 sig("best_clearance_mm"),
                 sig("robust_clearance_min_mm"),
                 sig("robust_clearance_max_mm")
