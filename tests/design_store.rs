@@ -132,3 +132,45 @@ fn models_become_scenarios_of_one_search() {
     let err = shotdamp::experiment::load(&bad, &root.join("reference")).unwrap_err().to_string();
     assert!(err.contains("design.scenarios.models") && err.contains("bad.toml"), "{err}");
 }
+
+/// `shotdamp design --time-limit`: at its limit the search keeps each placement's best layout
+/// so far (here 0 s: the coarse clearance scans only), writes them with a warning on the page
+/// and in the summary, and stores nothing even with `--store`; a negative limit is refused.
+#[test]
+fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::create_dir_all(root.join("reference")).unwrap();
+    let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap());
+    let design = root.join("frame.toml");
+    std::fs::write(&design, &text).unwrap();
+    let run = |limit: &str, out: &str| {
+        common::shotdamp()
+            .arg("design")
+            .arg(&design)
+            .arg("--store")
+            .arg(format!("--time-limit={limit}"))
+            .arg("--reference")
+            .arg(root.join("reference"))
+            .arg("--out")
+            .arg(root.join(out))
+            .output()
+            .unwrap()
+    };
+    let o = run("0", "d");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("warning: the search stopped at its time limit"), "{stdout}");
+    assert!(!stdout.contains("stored:"), "{stdout}");
+    assert!(!root.join("reference/designs/design_five_storey.json").exists());
+    let rows = std::fs::read_to_string(root.join("d/design_five_storey/data/design_placements.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 1 + 3, "{rows}");
+    let page = std::fs::read_to_string(root.join("d/design_five_storey/index.html")).unwrap();
+    assert!(page.contains("stopped at its time limit"));
+
+    let o = run("-1", "e");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--time-limit = -1") && err.contains("0 or more"), "{err}");
+    assert!(!root.join("e").exists());
+}

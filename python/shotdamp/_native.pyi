@@ -217,6 +217,7 @@ def design(
     reference: _Path = "reference",
     jobs: Optional[int] = None,
     store: bool = False,
+    time_limit: Optional[float] = None,
     progress: Optional[_Progress] = None,
 ) -> Dict[str, Any]: ...
 def report(

@@ -245,8 +245,10 @@ pub fn run_experiment<'py>(
 /// [--store]` does: each must be a design file; returns what `run_experiment` does (each
 /// experiment's `design` the answer: best layout, reference layouts, search settings) and,
 /// with `store`, the answers' files written under `reference/designs/` (`stored`).
+/// `time_limit` (seconds) stops the searches and keeps their best layouts so far, as
+/// `--time-limit` does.
 #[pyfunction]
-#[pyo3(signature = (files, *, out=PathBuf::from("design-runs"), reference=PathBuf::from("reference"), jobs=None, store=false, progress=None))]
+#[pyo3(signature = (files, *, out=PathBuf::from("design-runs"), reference=PathBuf::from("reference"), jobs=None, store=false, time_limit=None, progress=None))]
 pub fn design<'py>(
     py: Python<'py>,
     files: &Bound<'py, PyAny>,
@@ -254,11 +256,17 @@ pub fn design<'py>(
     reference: PathBuf,
     jobs: Option<&Bound<'py, PyAny>>,
     store: bool,
+    time_limit: Option<f64>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let jobs = compute::jobs(jobs)?;
     let files = paths(files)?;
-    let settings = DesignSettings { reference, out, jobs, store };
+    if let Some(t) = time_limit.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "time_limit = {t}: a number of seconds, 0 or more"
+        )));
+    }
+    let settings = DesignSettings { reference, out, jobs, store, time_limit };
     let run = compute::run(py, jobs, progress, |t| runner::designs::run(&files, &settings, t, &|_| {}, &|_| {}))?;
     let d = finished(py, &run.finished)?;
     d.set_item("stored", PyList::new(py, &run.stored)?)?;

@@ -94,3 +94,15 @@ def test_ctrl_c_stops_a_design_search_at_its_next_evaluation(tmp_path):
     timer.cancel()
     assert elapsed < 6.0, elapsed
     assert [p.name for p in tmp_path.iterdir()] == []
+
+
+def test_a_time_limit_keeps_the_best_so_far_and_stores_nothing(tmp_path):
+    design = tiny_frame(tmp_path)
+    refs = tmp_path / "reference"
+    shutil.copytree("reference", refs, ignore=shutil.ignore_patterns("baseline", "scans"))
+    got = sd.design(design, out=tmp_path / "py", reference=refs, jobs=1, store=True, time_limit=0)
+    [exp] = got["experiments"]
+    assert "stopped at its time limit" in exp["warnings"][0], exp["warnings"]
+    assert exp["design"] is None and got["stored"] == []
+    with pytest.raises(ValueError, match="time_limit"):
+        sd.design(design, out=tmp_path / "py2", reference=refs, time_limit=-1.0)

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::checks::reference::ReferenceStore;
 use crate::checks::{CheckOutcome, Source, Status};
-use crate::design::search::{optimise_checked, placements, Found, Space};
+use crate::design::search::{optimise_until, placements, Found, Space};
 use crate::design::stored::{fingerprint, StoredDesign, StoredLayout, StoredPareto};
 use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec, PROFILE_POINTS};
 use crate::experiment::Experiment;
@@ -38,6 +38,9 @@ pub struct DesignOutput {
     pub warnings: Vec<String>,
     /// The answer in one paragraph.
     pub answer: Option<String>,
+    /// The time limit stopped the search: the layouts are the best found so far (not to be
+    /// stored as the design's answer).
+    pub stopped: bool,
 }
 
 /// A replayed objective must equal the stored one to this relative difference, when every
@@ -311,17 +314,21 @@ pub fn run(
         clearance_mm: spec.clearance_mm,
         shared_clearance: spec.shared_clearance,
     };
+    let mut stopped = false;
     let (found, front, checks) = if spec.replay {
         replay(exp, spec, &p, &b, refs)
     } else {
-        let found = optimise_checked(&p, &b, &space, &spec.search, tick);
+        let (found, stopped_best) = optimise_until(&p, &b, &space, &spec.search, tick, spec.deadline);
+        stopped |= stopped_best;
         // The Pareto front: every placement searched again for each shot budget.
         let front: Vec<(f64, Found)> = spec
             .pareto_mass_ratios
             .iter()
             .filter_map(|&r| {
                 let s = Space { shot_kg: r * total_mass, ..space.clone() };
-                lowest(optimise_checked(&p, &b, &s, &spec.search, tick)).map(|f| (r, f))
+                let (found, stopped_here) = optimise_until(&p, &b, &s, &spec.search, tick, spec.deadline);
+                stopped |= stopped_here;
+                lowest(found).map(|f| (r, f))
             })
             .collect();
         (found, front, Vec::new())
@@ -522,7 +529,13 @@ pub fn run(
             panels: vec![panel],
         });
     }
-    DesignOutput { tables, figures, exports, stored, checks, warnings, answer }
+    if stopped {
+        warnings.insert(
+            0,
+            "the search stopped at its time limit (--time-limit): every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer".to_string(),
+        );
+    }
+    DesignOutput { tables, figures, exports, stored, checks, warnings, answer, stopped }
 }
 
 /// The compliance over each band of the bare structure, the best layout and the cases (the

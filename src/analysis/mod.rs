@@ -128,7 +128,8 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             figures.extend(out.figures);
             exports = out.exports;
             design_checks = out.checks;
-            design_answer = Some(out.stored);
+            // A search its time limit stopped has no answer to store.
+            design_answer = (!out.stopped).then_some(out.stored);
             warnings = out.warnings;
             answer = out.answer;
         }

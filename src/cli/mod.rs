@@ -159,6 +159,10 @@ pub enum Command {
         /// states, time); search nothing.
         #[arg(long)]
         dry_run: bool,
+        /// Stop the searches after this many seconds (of the whole run) and write the best
+        /// layouts found so far, marked as such (not stored).
+        #[arg(long, value_name = "SECONDS")]
+        time_limit: Option<f64>,
     },
     /// Run every experiment and regenerate the whole report.
     Report {
@@ -317,8 +321,17 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             )?
             .0)
         }
-        Command::Design { files, out, jobs, store, dry_run } => {
+        Command::Design { files, out, jobs, store, dry_run, time_limit } => {
             cli.project().refuse_overlap(out)?;
+            if let Some(t) = time_limit.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+                return Err(crate::Error::invalid(
+                    "(command line)",
+                    "--time-limit",
+                    t.to_string(),
+                    "a number of seconds, 0 or more",
+                )
+                .into());
+            }
             let threads = runner::threads(*jobs)?;
             for (key, n, b) in runner::designs::budgets(files, &cli.reference)? {
                 let point = crate::design::Budget::seconds_per_point(n) * b.fast;
@@ -349,6 +362,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 out: out.clone(),
                 jobs: *jobs,
                 store: *store,
+                time_limit: *time_limit,
             };
             let mut stored = Vec::new();
             let (ok, _) = finish(|progress, log, staging| {

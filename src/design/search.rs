@@ -4,6 +4,10 @@
 //! grid for checking it. Every run is sequential and independent, and results are gathered in
 //! a fixed order: the same bytes for any number of threads.
 
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
@@ -109,20 +113,57 @@ struct Cost<'a> {
     hosts: &'a [usize],
     space: &'a Space,
     /// Evaluations made (argmin's own count depends on how it wraps the problem).
-    count: std::sync::atomic::AtomicU64,
+    count: &'a AtomicU64,
     /// Called before every evaluation (a caller may stop the search there by unwinding).
     check: &'a (dyn Fn() + Sync),
+    /// The search ends at its next evaluation after this instant, keeping its best so far.
+    deadline: Option<Instant>,
+    /// The best point evaluated and its objective (what a run stopped by the deadline keeps).
+    best: &'a Mutex<Option<(Vec<f64>, f64)>>,
+    /// Set when the deadline stopped a run.
+    stopped: &'a AtomicBool,
+    /// Calls of [`CostFunction::cost`] in this run (the first `d + 1` build the initial
+    /// simplex, where the solver cannot take an error).
+    calls: AtomicU64,
 }
+
+/// A Nelder-Mead run ended by the deadline.
+#[derive(Debug)]
+struct TimeLimit;
+
+impl std::fmt::Display for TimeLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("the search's time limit was reached")
+    }
+}
+
+impl std::error::Error for TimeLimit {}
 
 impl CostFunction for Cost<'_> {
     type Param = Vec<f64>;
     type Output = f64;
 
     fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
-        self.count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let call = self.calls.fetch_add(1, Ordering::Relaxed);
+        if self.deadline.is_some_and(|d| Instant::now() >= d) {
+            self.stopped.store(true, Ordering::Relaxed);
+            // The initial simplex's vertices are not evaluated (the solver unwraps their
+            // costs): the worst value keeps them out of the best so far.
+            if call <= dimension(self.hosts.len(), self.space) as u64 {
+                return Ok(f64::INFINITY);
+            }
+            return Err(TimeLimit.into());
+        }
+        self.count.fetch_add(1, Ordering::Relaxed);
         (self.check)();
         let e = evaluate(self.problem, self.bare, &layout(self.hosts, x, self.space));
-        Ok(if e.objective.is_finite() { e.objective } else { 1e300 })
+        let objective = if e.objective.is_finite() { e.objective } else { 1e300 };
+        if let Ok(mut best) = self.best.lock() {
+            if best.as_ref().is_none_or(|b| objective < b.1) {
+                *best = Some((x.clone(), objective));
+            }
+        }
+        Ok(objective)
     }
 }
 
@@ -162,8 +203,27 @@ fn starts(hosts: &[usize], space: &Space, opts: &Options) -> Vec<Vec<f64>> {
 /// The end of one Nelder-Mead run: its best point, objective and evaluations.
 type Descent = (Vec<f64>, f64, u64);
 
-/// One Nelder-Mead run from `x0` (initial simplex: steps of 1 along each coordinate).
+/// One Nelder-Mead run from `x0` (initial simplex: steps of 1 along each coordinate). A run
+/// the deadline ends keeps the best point it evaluated (`x0` when none, its objective then
+/// unknown: infinite).
 fn descend(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
+    let (best, stopped, count) = (cost.best, cost.stopped, cost.count);
+    if cost.deadline.is_some_and(|d| Instant::now() >= d) {
+        stopped.store(true, Ordering::Relaxed);
+        return Some((x0, f64::INFINITY, 0));
+    }
+    match descend_to_end(cost, x0.clone(), opts) {
+        Some(d) => Some(d),
+        None if stopped.load(Ordering::Relaxed) => {
+            let kept = best.lock().ok().and_then(|b| b.clone());
+            let n = count.load(Ordering::Relaxed);
+            Some(kept.map_or((x0, f64::INFINITY, n), |(x, o)| (x, o, n)))
+        }
+        None => None,
+    }
+}
+
+fn descend_to_end(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
     let d = x0.len();
     let mut simplex = vec![x0.clone()];
     for i in 0..d {
@@ -173,7 +233,7 @@ fn descend(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
     }
     let solver = NelderMead::new(simplex).with_sd_tolerance(opts.tolerance).ok()?;
     let res = Executor::new(cost, solver).configure(|s| s.max_iters(opts.max_iters)).run().ok()?;
-    let evaluations = res.problem.problem.as_ref().map_or(0, |c| c.count.load(std::sync::atomic::Ordering::Relaxed));
+    let evaluations = res.problem.problem.as_ref().map_or(0, |c| c.count.load(Ordering::Relaxed));
     let state = res.state();
     Some((state.get_best_param()?.clone(), state.get_best_cost(), evaluations))
 }
@@ -228,6 +288,22 @@ pub fn optimise_checked(
     opts: &Options,
     check: &(dyn Fn() + Sync),
 ) -> Vec<Found> {
+    optimise_until(problem, bare, space, opts, check, None).0
+}
+
+/// [`optimise_checked`] that stops at its first evaluation after `deadline`: the coarse scans
+/// (7 evaluations a placement) always finish, every Nelder-Mead run keeps the best point it
+/// evaluated. Returns the layouts and whether the deadline stopped the search (then they are
+/// the best found so far, not converged optima).
+pub fn optimise_until(
+    problem: &Problem,
+    bare: &[Vec<f64>],
+    space: &Space,
+    opts: &Options,
+    check: &(dyn Fn() + Sync),
+    deadline: Option<Instant>,
+) -> (Vec<Found>, bool) {
+    let stopped = AtomicBool::new(false);
     let firsts: Vec<Vec<f64>> =
         space.placements.par_iter().map(|hosts| coarse_start(problem, bare, hosts, space, check)).collect();
     let runs: Vec<(usize, Vec<f64>)> = space
@@ -244,10 +320,24 @@ pub fn optimise_checked(
         .into_par_iter()
         .map(|(p, x0)| {
             let hosts = &space.placements[p];
-            (p, descend(Cost { problem, bare, hosts, space, count: Default::default(), check }, x0, opts))
+            let (best, count) = (Mutex::new(None), AtomicU64::new(0));
+            let cost = Cost {
+                problem,
+                bare,
+                hosts,
+                space,
+                count: &count,
+                check,
+                deadline,
+                best: &best,
+                stopped: &stopped,
+                calls: AtomicU64::new(0),
+            };
+            (p, descend(cost, x0, opts))
         })
         .collect();
-    space
+    let stopped = stopped.load(Ordering::Relaxed);
+    let found = space
         .placements
         .iter()
         .enumerate()
@@ -264,7 +354,8 @@ pub fn optimise_checked(
             let evaluation = evaluate(problem, bare, &layout);
             Found { layout, evaluation, x, starts: mine.len(), evaluations }
         })
-        .collect()
+        .collect();
+    (found, stopped)
 }
 
 /// Every layout of a grid: for each placement, each clearance of `clearances_mm` (shared) and

@@ -277,6 +277,7 @@ pub fn design(
         combine,
         sdof,
         replay: false,
+        deadline: None,
         report: raw.report.unwrap_or(false),
         scenario_models,
         model_structures: Vec::new(),

@@ -20,6 +20,9 @@ pub struct DesignSettings {
     pub jobs: Option<usize>,
     /// Store each model's answer in `REFERENCE/designs/` ([`store_designs`]).
     pub store: bool,
+    /// Seconds after which the searches stop and keep their best layouts so far
+    /// ([`crate::design::Spec::deadline`]); `None`: no limit.
+    pub time_limit: Option<f64>,
 }
 
 /// What `shotdamp design` did.
@@ -42,7 +45,7 @@ pub fn run(
     log: &(dyn Fn(String) + Sync),
     staging: &dyn Fn(PathBuf),
 ) -> crate::Result<DesignRun> {
-    let exps = experiment::load_all(files, &settings.reference)?;
+    let mut exps = experiment::load_all(files, &settings.reference)?;
     if let Some(e) = exps.iter().find(|e| !matches!(e.analysis, experiment::Analysis::Design { .. })) {
         return Err(crate::Error::invalid(
             &e.path,
@@ -52,6 +55,14 @@ pub fn run(
         ));
     }
     let started = std::time::Instant::now();
+    if let Some(limit) = settings.time_limit {
+        let deadline = started + std::time::Duration::from_secs_f64(limit);
+        for e in &mut exps {
+            if let experiment::Analysis::Design { spec, .. } = &mut e.analysis {
+                spec.deadline = Some(deadline);
+            }
+        }
+    }
     let run = Settings {
         reference: settings.reference.clone(),
         out: settings.out.clone(),
