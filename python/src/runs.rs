@@ -249,6 +249,7 @@ pub fn run_experiment<'py>(
 /// `--time-limit` does.
 #[pyfunction]
 #[pyo3(signature = (files, *, out=PathBuf::from("design-runs"), reference=PathBuf::from("reference"), jobs=None, store=false, time_limit=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn design<'py>(
     py: Python<'py>,
     files: &Bound<'py, PyAny>,
