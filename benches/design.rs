@@ -27,6 +27,7 @@ fn problem(steady: SteadyOptions) -> Problem {
         steady,
         scenarios: Vec::new(),
         combine: Combine::Worst,
+        direction: shotdamp::model::Direction::Vertical,
     }
 }
 

@@ -16,8 +16,7 @@ use shotdamp::sim::{steady_state, sweep, Dynamics, State, SteadyOptions, System}
 fn beds(hosts: &[usize], clearance: f64, zeta: f64) -> System {
     let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![zeta; 3]));
     let m = [0.74, 0.71, 0.64];
-    let dampers =
-        hosts.iter().map(|&j| Damper { host: j, mass: 0.1 * m[j], clearance: Clearance::from_m(clearance) }).collect();
+    let dampers = hosts.iter().map(|&j| Damper::new(j, 0.1 * m[j], Clearance::from_m(clearance))).collect();
     System::plastic(s, dampers, 0, 2.6)
 }
 
@@ -93,8 +92,7 @@ fn fig09_branch(c: &mut Criterion) {
     use shotdamp::sim::continuation::{continue_branch, ContinuationOptions, Parameter};
     use shotdamp::sim::periodic::{seed, NewtonOptions};
     let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
-    let e =
-        EquivalentSdof::new(&s, &[Damper { host: 1, mass: 0.071, clearance: Clearance::from_m(0.5e-3) }], 2, 0, 2.6);
+    let e = EquivalentSdof::new(&s, &[Damper::new(1, 0.071, Clearance::from_m(0.5e-3))], 2, 0, 2.6);
     let sys = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
     let family = |f: f64| Dynamics::new(&sys, 2.0 * PI * f);
     let d = family(49.66).expect("dynamics");

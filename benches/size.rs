@@ -21,7 +21,7 @@ fn refined(n: usize) -> System {
     let (w1, w3) = (2.0 * PI * 14.6, 2.0 * PI * 73.0);
     let damping = Damping::Rayleigh { alpha: 0.02 * w1 * w3 / (w1 + w3), beta: 0.02 / (w1 + w3) };
     let s = Structure::chain(&vec![m; n], &vec![k; n], damping);
-    let dampers = (n - 3..n).map(|h| Damper { host: h, mass: 0.1 * m, clearance: Clearance::from_m(0.5e-3) }).collect();
+    let dampers = (n - 3..n).map(|h| Damper::new(h, 0.1 * m, Clearance::from_m(0.5e-3))).collect();
     let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
     System::plastic(s, dampers, 0, force)
 }

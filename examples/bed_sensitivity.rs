@@ -24,10 +24,8 @@ fn main() {
             );
             println!("  d (mm)   e = 0       e = 0.1   e = 0.3   e = 0.5");
             for d in clearances {
-                let dampers: Vec<Damper> = hosts
-                    .iter()
-                    .map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(d * 1e-3) })
-                    .collect();
+                let dampers: Vec<Damper> =
+                    hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_m(d * 1e-3))).collect();
                 let peaks: Vec<(f64, bool)> = restitutions
                     .iter()
                     .map(|&e| {

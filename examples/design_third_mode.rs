@@ -25,6 +25,7 @@ fn main() {
         steady: SteadyOptions { follow: true, max_periods: 500, ..SteadyOptions::default() },
         scenarios: Vec::new(),
         combine: Combine::Worst,
+        direction: shotdamp::model::Direction::Vertical,
     };
     let shot: f64 = masses.iter().map(|m| 0.1 * m).sum();
     let started = std::time::Instant::now();

@@ -34,7 +34,7 @@
 //! use shotdamp::sim::{steady_state, Dynamics, State, SteadyOptions, System};
 //!
 //! let paper = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
-//! let bed = Damper { host: 1, mass: 0.071, clearance: Clearance::from_mm(0.3) };
+//! let bed = Damper::new(1, 0.071, Clearance::from_mm(0.3));
 //! let system = System::plastic(paper, vec![bed], 0, 2.6);
 //! let d = Dynamics::new(&system, 2.0 * PI * 48.0).unwrap();
 //! let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
@@ -54,7 +54,7 @@
 //! use shotdamp::sim::{sweep, SteadyOptions, System};
 //!
 //! let paper = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
-//! let beds = vec![Damper { host: 0, mass: 0.074, clearance: Clearance::NO_TOP }];
+//! let beds = vec![Damper::new(0, 0.074, Clearance::NO_TOP)];
 //! let system = System::plastic(paper, beds, 0, 2.6);
 //! let points = sweep::from_rest(&system, &[30.0, 40.0, 50.0], &SteadyOptions::default(), &|| {});
 //! assert!(points.iter().all(|p| p.result.as_ref().is_ok_and(|s| s.amplitude.len() == 3)));

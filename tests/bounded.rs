@@ -205,7 +205,7 @@ fn random_system() -> impl Strategy<Value = (shotdamp::sim::System, f64)> {
             if u() < 0.7 {
                 let mass = 0.02 + 0.2 * u();
                 let clearance = if u() < 0.3 { f64::INFINITY } else { 1e-4 + 2e-3 * u() };
-                beds.push(shotdamp::model::Damper { host, mass, clearance: Clearance::from_m(clearance) });
+                beds.push(shotdamp::model::Damper::new(host, mass, Clearance::from_m(clearance)));
             }
         }
         let omega_max = (k.iter().sum::<f64>() / masses.iter().copied().fold(f64::INFINITY, f64::min)).sqrt() * 2.0;
@@ -248,12 +248,7 @@ fn forcing_frequencies_below_the_floor_are_input_errors_and_those_above_end() {
     assert!(check_frequencies("f", "k", &[floor * 0.999], &paper).is_err());
     assert!(check_frequencies("f", "k", &[f64::NAN], &paper).is_err());
     assert!(check_frequencies("f", "k", &[floor * 1.001, 48.0, 1e9], &paper).is_ok());
-    let system = shotdamp::sim::System::plastic(
-        paper,
-        vec![Damper { host: 1, mass: 0.071, clearance: Clearance::from_m(0.3e-3) }],
-        0,
-        2.6,
-    );
+    let system = shotdamp::sim::System::plastic(paper, vec![Damper::new(1, 0.071, Clearance::from_m(0.3e-3))], 0, 2.6);
     let f = floor * 1.001;
     let points = within(Duration::from_secs(60), move || {
         shotdamp::sim::sweep::from_rest(&system, &[f], &shotdamp::sim::SteadyOptions::default(), &|| {})

@@ -19,7 +19,7 @@ fn paper() -> Structure {
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];
-    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) }).collect()
+    hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_m(clearance))).collect()
 }
 
 /// Over `periods` forcing periods from rest, between one call and pieces: the largest

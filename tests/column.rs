@@ -19,8 +19,7 @@ fn paper() -> Structure {
 /// Fig. 5's containers: mu = 0.1 on the masses given, clearance `d` m.
 fn fig5(hosts: &[usize], d: f64) -> System {
     let m = [0.74, 0.71, 0.64];
-    let dampers =
-        hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(d) }).collect();
+    let dampers = hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_m(d))).collect();
     System::plastic(paper(), dampers, 0, 2.6)
 }
 
@@ -158,8 +157,7 @@ fn a_column_dropped_into_a_resting_container_comes_to_rest_after_a_bounded_numbe
     // above the bottom of the container on m3 (clearance 1 mm).
     for &(n, e) in &[(1, 0.9), (3, 0.9), (20, 0.1), (20, 0.5), (20, 0.9)] {
         let law = ImpactLaw { restitution: e, stick_speed: 1e-3 };
-        let base =
-            System::plastic(paper(), vec![Damper { host: 2, mass: 0.064, clearance: Clearance::from_m(1e-3) }], 0, 0.0);
+        let base = System::plastic(paper(), vec![Damper::new(2, 0.064, Clearance::from_m(1e-3))], 0, 0.0);
         let sys = base.with_law(law).with_grains(&[n]);
         let d = Dynamics::new(&sys, 2.0 * PI * 10.0).unwrap();
         let x = d.config(0).modes.offset.clone();

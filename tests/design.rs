@@ -25,6 +25,7 @@ fn problem(bands: Vec<Band>, sweeps: Vec<Sweep>) -> Problem {
         steady: SteadyOptions::default(),
         scenarios: Vec::new(),
         combine: Combine::Worst,
+        direction: shotdamp::model::Direction::Vertical,
     }
 }
 

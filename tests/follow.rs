@@ -61,10 +61,8 @@ fn followed_sweeps_equal_the_transient_search_on_fig05s_band() {
         [(0.01, 0.3, vec![0, 1, 2]), (0.005, 0.3, vec![0, 1, 2]), (0.01, 1.0, vec![0, 1, 2]), (0.01, 0.2, vec![1])]
     {
         let masses = [0.74, 0.71, 0.64];
-        let dampers: Vec<Damper> = hosts
-            .iter()
-            .map(|&h| Damper { host: h, mass: 0.1 * masses[h], clearance: Clearance::from_m(clearance_mm * 1e-3) })
-            .collect();
+        let dampers: Vec<Damper> =
+            hosts.iter().map(|&h| Damper::new(h, 0.1 * masses[h], Clearance::from_m(clearance_mm * 1e-3))).collect();
         let sys = System::plastic(paper(zeta), dampers, 0, 2.6);
         for dir in [Direction::Up, Direction::Down] {
             let (f, g) = same_sweeps(&sys, dir);
@@ -99,6 +97,7 @@ fn followed_design_evaluations_equal_the_transient_search_over_three_modes() {
         steady: SteadyOptions { follow, max_periods: 500, ..SteadyOptions::default() },
         scenarios: Vec::new(),
         combine: Combine::Worst,
+        direction: shotdamp::model::Direction::Vertical,
     };
     let (followed, plain) = (problem(true), problem(false));
     let b = bare(&plain);

@@ -69,10 +69,7 @@ fn bare_free_decay_is_the_modal_solution_and_the_log_decrement_finds_zeta() {
 fn energy_given_equals_remaining_plus_losses() {
     let masses = [0.74, 0.71, 0.64];
     for (hosts, clearance) in [(vec![0, 1, 2], f64::INFINITY), (vec![1], 0.3e-3), (vec![0], f64::INFINITY)] {
-        let dampers = hosts
-            .iter()
-            .map(|&h| Damper { host: h, mass: 0.1 * masses[h], clearance: Clearance::from_m(clearance) })
-            .collect();
+        let dampers = hosts.iter().map(|&h| Damper::new(h, 0.1 * masses[h], Clearance::from_m(clearance))).collect();
         let sys = System::plastic(paper(), dampers, 0, 0.0);
         let run = free_response(&sys, &opts(0.5, 1.0)).unwrap();
         assert!(run.impact_loss > 0.05 * run.initial_energy, "{hosts:?}: the beds must dissipate");
@@ -92,7 +89,7 @@ fn energy_given_equals_remaining_plus_losses() {
 fn a_bed_that_never_lifts_off_gives_the_stuck_structure() {
     // A small kick: m1's acceleration stays far above -g, so the bed on it rests throughout.
     let s = paper();
-    let sys = System::plastic(s.clone(), vec![Damper { host: 0, mass: 0.074, clearance: Clearance::NO_TOP }], 0, 0.0);
+    let sys = System::plastic(s.clone(), vec![Damper::new(0, 0.074, Clearance::NO_TOP)], 0, 0.0);
     let v0 = 0.02;
     let run = free_response(&sys, &opts(v0, 0.5)).unwrap();
     assert!(run.samples.events.is_empty(), "{:?}", run.samples.events.first());

@@ -38,7 +38,7 @@ fn orbit_against_simulation(sys: &System, f: f64) {
 
 #[test]
 fn sdof_orbits_equal_long_sdof_simulations() {
-    let d = [Damper { host: 1, mass: 0.071, clearance: Clearance::from_m(0.4e-3) }];
+    let d = [Damper::new(1, 0.071, Clearance::from_m(0.4e-3))];
     let e = EquivalentSdof::new(&paper(), &d, 2, 0, 2.6);
     let sys = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
     for f in [48.0, 49.0, 51.0] {
@@ -48,8 +48,7 @@ fn sdof_orbits_equal_long_sdof_simulations() {
 
 #[test]
 fn mdof_orbits_equal_long_mdof_simulations() {
-    let sys =
-        System::plastic(paper(), vec![Damper { host: 1, mass: 0.071, clearance: Clearance::from_m(0.4e-3) }], 0, 2.6);
+    let sys = System::plastic(paper(), vec![Damper::new(1, 0.071, Clearance::from_m(0.4e-3))], 0, 2.6);
     for f in [48.0, 49.0] {
         orbit_against_simulation(&sys, f);
     }
@@ -57,8 +56,7 @@ fn mdof_orbits_equal_long_mdof_simulations() {
 
 #[test]
 fn newton_converges_quadratically() {
-    let sys =
-        System::plastic(paper(), vec![Damper { host: 1, mass: 0.071, clearance: Clearance::from_m(0.4e-3) }], 0, 2.6);
+    let sys = System::plastic(paper(), vec![Damper::new(1, 0.071, Clearance::from_m(0.4e-3))], 0, 2.6);
     let d = Dynamics::new(&sys, 2.0 * PI * 49.0).unwrap();
     let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
     let (problem, u0) = seed(&d, &st.final_state, 1, 1e-4, d.omega, false).unwrap();

@@ -33,8 +33,7 @@ fn each_containers_law_reaches_the_simulator() {
 
     // The experiment's system is the structure with those laws, bed by bed.
     let m = [0.74, 0.71, 0.64];
-    let dampers: Vec<Damper> =
-        (0..3).map(|h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(0.35e-3) }).collect();
+    let dampers: Vec<Damper> = (0..3).map(|h| Damper::new(h, 0.1 * m[h], Clearance::from_m(0.35e-3))).collect();
     let mut by_hand = System::plastic(paper(), dampers, 0, 2.6);
     by_hand.laws = vec![ImpactLaw::PLASTIC, bounce, ImpactLaw::PLASTIC];
     let freqs = [46.0, 48.0, 50.0];
@@ -55,8 +54,7 @@ fn each_containers_law_reaches_the_simulator() {
 #[test]
 fn the_energy_balance_closes_with_mixed_laws() {
     let m = [0.74, 0.71, 0.64];
-    let dampers: Vec<Damper> =
-        (0..3).map(|h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(0.35e-3) }).collect();
+    let dampers: Vec<Damper> = (0..3).map(|h| Damper::new(h, 0.1 * m[h], Clearance::from_m(0.35e-3))).collect();
     let mut sys = System::plastic(paper(), dampers, 0, 2.6);
     sys.laws = vec![
         ImpactLaw { restitution: 0.3, stick_speed: 1e-3 },

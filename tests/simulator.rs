@@ -18,7 +18,7 @@ fn paper() -> Structure {
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];
-    hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) }).collect()
+    hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_m(clearance))).collect()
 }
 
 fn steady(sys: &System, f_hz: f64, opts: &SteadyOptions) -> shotdamp::sim::Steady {
@@ -92,7 +92,7 @@ fn bouncing_ball(gamma: f64) -> (Dynamics, State, f64) {
     let h = shotdamp::model::frf::receptance(&host, &host.mass_matrix(), 0, omega).unwrap()[0];
     let amplitude = gamma * GRAVITY / (omega * omega);
     let force = amplitude / h.norm();
-    let sys = System::plastic(host, vec![Damper { host: 0, mass: 1e-9, clearance: Clearance::NO_TOP }], 0, force);
+    let sys = System::plastic(host, vec![Damper::new(0, 1e-9, Clearance::NO_TOP)], 0, force);
     let d = Dynamics::new(&sys, omega).unwrap();
     // Start on the forced motion, bed resting: no transient.
     let (x, v) = d.particular(1, 0.0);

@@ -61,10 +61,7 @@ fn renumbered(s: &Structure, perm: &[usize]) -> Structure {
 /// `place(host)`.
 fn beds(hosts: &[usize], clearance: f64, place: impl Fn(usize) -> usize) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];
-    hosts
-        .iter()
-        .map(|&h| Damper { host: place(h), mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) })
-        .collect()
+    hosts.iter().map(|&h| Damper::new(place(h), 0.1 * m[h], Clearance::from_m(clearance))).collect()
 }
 
 fn points(sys: &System, freqs: &[f64]) -> Vec<Steady> {
@@ -147,7 +144,7 @@ fn refined(n: usize) -> System {
     let m = 2.09 / n as f64;
     let k = 7.27e3 * n as f64;
     let s = Structure::chain(&vec![m; n], &vec![k; n], damping());
-    let dampers = (n - 3..n).map(|h| Damper { host: h, mass: 0.1 * m, clearance: Clearance::from_m(0.5e-3) }).collect();
+    let dampers = (n - 3..n).map(|h| Damper::new(h, 0.1 * m, Clearance::from_m(0.5e-3))).collect();
     let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
     System::plastic(s, dampers, 0, force)
 }

@@ -22,8 +22,7 @@ fn paper(zeta: f64) -> Structure {
 
 fn system(hosts: &[usize], clearance: f64, zeta: f64) -> System {
     let m = [0.74, 0.71, 0.64];
-    let dampers =
-        hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::from_m(clearance) }).collect();
+    let dampers = hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_m(clearance))).collect();
     System::plastic(paper(zeta), dampers, 0, 2.6)
 }
 
@@ -200,13 +199,7 @@ fn orbits_equal_long_transients_over_the_fig8_and_fig5_sweeps() {
 #[test]
 fn impact_section_jacobian_equals_central_differences() {
     use shotdamp::model::sdof::EquivalentSdof;
-    let e = EquivalentSdof::new(
-        &paper(0.01),
-        &[Damper { host: 1, mass: 0.071, clearance: Clearance::from_m(0.5e-3) }],
-        2,
-        0,
-        2.6,
-    );
+    let e = EquivalentSdof::new(&paper(0.01), &[Damper::new(1, 0.071, Clearance::from_m(0.5e-3))], 2, 0, 2.6);
     let sdof = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
     let bouncy = bouncing_ball(1.3, 0.5).unwrap();
     for (name, d, bounce) in [
@@ -239,13 +232,7 @@ fn impact_section_jacobian_equals_central_differences() {
 #[test]
 fn impact_section_frequency_derivative_equals_central_differences() {
     use shotdamp::model::sdof::EquivalentSdof;
-    let e = EquivalentSdof::new(
-        &paper(0.01),
-        &[Damper { host: 1, mass: 0.071, clearance: Clearance::from_m(0.5e-3) }],
-        2,
-        0,
-        2.6,
-    );
+    let e = EquivalentSdof::new(&paper(0.01), &[Damper::new(1, 0.071, Clearance::from_m(0.5e-3))], 2, 0, 2.6);
     let sdof = System::plastic(e.structure(), vec![e.damper()], 0, e.force);
     for (name, d, bounce) in [
         ("3-mass, d = 0.4 mm", Dynamics::new(&system(&[1], 0.4e-3, 0.01), 2.0 * PI * 49.0).unwrap(), false),

@@ -18,7 +18,7 @@ fn paper() -> Structure {
 
 fn system(hosts: &[usize]) -> System {
     let m = [0.74, 0.71, 0.64];
-    let dampers = hosts.iter().map(|&h| Damper { host: h, mass: 0.1 * m[h], clearance: Clearance::NO_TOP }).collect();
+    let dampers = hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::NO_TOP)).collect();
     System::plastic(paper(), dampers, 0, 2.6)
 }
 

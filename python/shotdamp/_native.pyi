@@ -71,6 +71,7 @@ class Damper:
         grains: Optional[int] = None,
         restitution: Optional[float] = None,
         stick_speed_m_s: Optional[float] = None,
+        direction: Optional[Literal["vertical", "horizontal"]] = None,
     ) -> None: ...
     @staticmethod
     def from_dict(keys: Mapping[str, Any]) -> "Damper": ...

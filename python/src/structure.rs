@@ -136,9 +136,7 @@ impl Structure {
         let f = crate::convert::frequencies("shotdamp.Structure.frf", &floats("freq_hz", freq_hz)?)?;
         let driven = parts::excitation("shotdamp.Structure.frf", force_mass, 1.0, &self.bare).map_err(error)?.mass;
         let added = match dampers {
-            Some(d) => {
-                shotdamp::model::structure::added_masses(&case(&self.bare, d, "shotdamp.Structure.frf")?.dampers)
-            }
+            Some(d) => shotdamp::model::damper::added_masses(&case(&self.bare, d, "shotdamp.Structure.frf")?.dampers),
             None => Vec::new(),
         };
         let mass = self.bare.mass_matrix_with(&added);
@@ -164,9 +162,10 @@ impl Damper {
     /// `mass` is the host mass, 1-based as in the paper; the shot's mass by `mass_ratio`
     /// (m_d / m_host) or `mass_kg`; `clearance_mm` a number or "inf" (no top); the bed
     /// `"plastic"` (the paper's), `"restitution"` (one mass bouncing with `restitution`) or
-    /// `"column"` (`grains` equal grains), `stick_speed_m_s` ending chatter.
+    /// `"column"` (`grains` equal grains), `stick_speed_m_s` ending chatter; `direction`
+    /// `"vertical"` (the paper's) or `"horizontal"` (the bed flies between two walls).
     #[new]
-    #[pyo3(signature = (*, mass, clearance_mm, mass_ratio=None, mass_kg=None, bed=None, grains=None, restitution=None, stick_speed_m_s=None))]
+    #[pyo3(signature = (*, mass, clearance_mm, mass_ratio=None, mass_kg=None, bed=None, grains=None, restitution=None, stick_speed_m_s=None, direction=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         mass: &Bound<'_, PyAny>,
@@ -177,6 +176,7 @@ impl Damper {
         grains: Option<&Bound<'_, PyAny>>,
         restitution: Option<&Bound<'_, PyAny>>,
         stick_speed_m_s: Option<&Bound<'_, PyAny>>,
+        direction: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Damper> {
         let keys = named(&[
             ("mass", Some(mass)),
@@ -187,6 +187,7 @@ impl Damper {
             ("grains", grains),
             ("restitution", restitution),
             ("stick_speed_m_s", stick_speed_m_s),
+            ("direction", direction),
         ])?;
         parts::damper("shotdamp.Damper", keys.clone()).map_err(error)?;
         Ok(Damper { keys })

@@ -103,6 +103,7 @@ def test_impulse_energy_balance_for_every_bed_model():
         sd.Damper(mass=1, mass_ratio=0.1, clearance_mm=0.5),
         sd.Damper(mass=1, mass_ratio=0.1, clearance_mm=0.5, bed="restitution", restitution=0.4),
         sd.Damper(mass=1, mass_ratio=0.1, clearance_mm=0.5, bed="column", grains=5, restitution=0.3),
+        sd.Damper(mass=1, mass_ratio=0.1, clearance_mm=0.5, bed="restitution", restitution=0.4, direction="horizontal"),
     ):
         system = sd.System(paper_structure(), [d], force_n=1.0)
         r = system.impulse(struck_mass=1, initial_velocity_m_s=0.3, duration_s=0.3, sample_rate_hz=2000)

@@ -142,6 +142,8 @@ DAMPER_ALONE = [
     (dict(GOOD_DAMPER, bed="foam"), r"damper\.bed"),
     (dict(GOOD_DAMPER, bed="restitution", restitution=1.5), r"damper\.restitution = 1\.5"),
     (dict(GOOD_DAMPER, bed="column", grains=0), r"damper\.grains"),
+    (dict(GOOD_DAMPER, direction="sideways"), r"damper\.direction = \"sideways\""),
+    (dict(GOOD_DAMPER, clearance_mm="inf", direction="horizontal"), r"damper\.clearance_mm = \"inf\": a horizontal"),
 ]
 
 

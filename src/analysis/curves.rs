@@ -1,8 +1,8 @@
 //! Steady-state compliance curves: what sweeps produce, what checks and plots consume.
 
 use crate::experiment::{Case, CurveId, Experiment};
+use crate::model::damper::added_masses;
 use crate::model::frf::compliance_curve;
-use crate::model::structure::added_masses;
 use crate::sim::sweep::SweepPoint;
 use crate::sim::{Stop, System};
 use crate::table::Table;

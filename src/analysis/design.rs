@@ -229,6 +229,7 @@ pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem
         steady: *steady,
         scenarios,
         combine: spec.combine,
+        direction: spec.direction,
     }
 }
 
@@ -484,6 +485,10 @@ pub fn run(
         let robust = exports.get("robust_clearance_min_mm").zip(exports.get("robust_clearance_max_mm"));
         answer =
             Some(super::design_drive::answer(&p, &rated[0], total_mass, robust.map(|(a, b)| (*a, *b)), &bare_curves));
+        if let Some((table, figure)) = super::design_levels::drive_levels(&p, &rated, &exp.meta.figure) {
+            tables.push(table);
+            figures.push(figure);
+        }
         if let Some((table, figure)) =
             super::design_near::near_optimum(spec, &p, &b, &best.layout, &best.evaluation, &exp.meta.figure)
         {
@@ -646,8 +651,16 @@ fn sdof_method(
                 || (f.layout.hosts.len() == 1 && f.evaluation.objective == best_single)
         })
         .map(|f| {
-            let choice =
-                super::orbits::sdof_choice(exp, &f.layout.dampers(), mode, reference, band, candidates, steady, &|| {});
+            let choice = super::orbits::sdof_choice(
+                exp,
+                &f.layout.dampers(p.direction),
+                mode,
+                reference,
+                band,
+                candidates,
+                steady,
+                &|| {},
+            );
             let l = Layout { clearances_mm: vec![choice.clearance_mm; f.layout.hosts.len()], ..f.layout.clone() };
             let e = evaluate(p, b, &l);
             (hosts_words(&f.layout), choice.clearance_mm, e, f.evaluation.objective)

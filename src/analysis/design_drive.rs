@@ -57,9 +57,12 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
                 m.flight_m * 1e3,
             ));
             if k == 0 && m.points > 0 && m.share() < FEW {
-                // Below 1 g at the hosts the beds cannot lift off: the motion is the stuck
-                // structure's, linear in the force, so the force scales exactly to 1 g.
-                let need = if with_g > 0.0 && with_g < 1.0 {
+                // Below 1 g at the hosts vertical beds cannot lift off: the motion is the
+                // stuck structure's, linear in the force, so the force scales exactly to 1 g.
+                // (A horizontal bed has no such threshold: it leaves a wall whenever its host
+                // decelerates.)
+                let vertical = problem.direction == crate::model::Direction::Vertical;
+                let need = if vertical && with_g > 0.0 && with_g < 1.0 {
                     format!(
                         "; about {} N (now {} N) would bring the hosts to 1 g at the peak, where the beds start to move",
                         fmt_sig(force / with_g, 2),
@@ -69,8 +72,9 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
                     String::new()
                 };
                 warnings.push(format!(
-                    "{}, {label}: the beds lift off in {} of {} steady states (highest flight {} mm); the hosts reach {} g with the shot, {} g bare: at this drive level the shot mostly adds mass{need}",
+                    "{}, {label}: the beds {} in {} of {} steady states (highest flight {} mm); the hosts reach {} g with the shot, {} g bare: at this drive level the shot mostly adds mass{need}",
                     band.name,
+                    if vertical { "lift off" } else { "leave their walls" },
                     m.lifting,
                     m.points,
                     fmt_sig(m.flight_m * 1e3, 2),
@@ -156,11 +160,19 @@ pub fn answer(
         .map(|(b, band)| {
             let g = bare.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, &layout.hosts, force));
             let m = eval.motion.get(b).copied().unwrap_or_default();
-            format!("{} {} g, beds lifting in {} of {}", band.name, fmt_sig(g, 2), m.lifting, m.points)
+            let moving = match problem.direction {
+                crate::model::Direction::Vertical => "lifting",
+                crate::model::Direction::Horizontal => "flying",
+            };
+            format!("{} {} g, beds {moving} in {} of {}", band.name, fmt_sig(g, 2), m.lifting, m.points)
         })
         .collect();
+    let along = match problem.direction {
+        crate::model::Direction::Vertical => "",
+        crate::model::Direction::Horizontal => " in horizontal containers",
+    };
     format!(
-        "Put {} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a force of {} N (the bare hosts' peak acceleration: {}); the answer depends on the drive level. {} of {} steady states did not settle.",
+        "Put {}{along} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a force of {} N (the bare hosts' peak acceleration: {}); the answer depends on the drive level. {} of {} steady states did not settle.",
         beds.join(", "),
         fmt_sig(shot, 2),
         fmt_sig(100.0 * shot / total_mass, 2),

@@ -9,6 +9,7 @@ pub mod curves;
 mod decay_checks;
 pub mod design;
 mod design_drive;
+mod design_levels;
 mod design_near;
 mod digitised_checks;
 mod figures;
@@ -287,8 +288,12 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
                     } else {
                         String::new()
                     };
+                    let along = match d.direction {
+                        crate::model::Direction::Vertical => "",
+                        crate::model::Direction::Horizontal => ", horizontal",
+                    };
                     format!(
-                        "m_{}: m_d = {} kg (mu = {}), d = {clr}{bed}",
+                        "m_{}: m_d = {} kg (mu = {}), d = {clr}{bed}{along}",
                         d.host + 1,
                         fmt_num(d.mass),
                         fmt_num(d.mass / s.masses[d.host])
@@ -337,6 +342,16 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
                 d.host + 1,
                 fmt_num(law.restitution),
                 fmt_num(law.stick_speed)
+            ));
+        }
+    }
+    for c in &exp.cases {
+        for d in c.dampers.iter().filter(|d| d.direction == crate::model::Direction::Horizontal) {
+            a.push(format!(
+                "Case {}: the container on m_{} is horizontal: no gravity along its bed's motion, which flies at constant velocity between two walls {} apart and hits either; friction with the container's floor is neglected (docs/model.md section 5; the paper's containers are vertical).",
+                c.id,
+                d.host + 1,
+                d.clearance
             ));
         }
     }

@@ -28,6 +28,8 @@ pub struct Spec {
     pub clearance_mm: (f64, f64),
     /// One clearance for every container (else one each).
     pub shared_clearance: bool,
+    /// The direction every container's bed moves in (vertical: the paper's).
+    pub direction: crate::model::Direction,
     /// The bands whose response is lowered.
     pub bands: Vec<Band>,
     /// What is measured over a band (peak or RMS compliance).
@@ -243,6 +245,8 @@ pub struct Problem {
     pub scenarios: Vec<Scenario>,
     /// How the scenarios' objectives combine.
     pub combine: Combine,
+    /// The direction every container's bed moves in.
+    pub direction: crate::model::Direction,
 }
 
 impl Problem {
@@ -268,14 +272,15 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// The dampers of this layout (a bed of zero mass is no damper).
-    pub fn dampers(&self) -> Vec<Damper> {
+    /// The dampers of this layout (a bed of zero mass is no damper), moving along
+    /// `direction`.
+    pub fn dampers(&self, direction: crate::model::Direction) -> Vec<Damper> {
         self.hosts
             .iter()
             .zip(&self.masses_kg)
             .zip(&self.clearances_mm)
             .filter(|((_, m), _)| **m > 0.0)
-            .map(|((&host, &mass), &d)| Damper { host, mass, clearance: Clearance::from_mm(d) })
+            .map(|((&host, &mass), &d)| Damper::new(host, mass, Clearance::from_mm(d)).along(direction))
             .collect()
     }
 
@@ -454,7 +459,7 @@ struct ScenarioRun {
 
 /// One scenario of a layout: its bands' measures, its objective, where the worst is.
 fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> ScenarioRun {
-    let sys = System::plastic(sc.structure.clone(), layout.dampers(), problem.driven, sc.force);
+    let sys = System::plastic(sc.structure.clone(), layout.dampers(problem.direction), problem.driven, sc.force);
     let mut bands = Vec::with_capacity(problem.bands.len());
     let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
     let mut unsettled = 0;

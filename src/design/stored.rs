@@ -87,6 +87,12 @@ impl StoredDesign {
 /// the scenarios), the bands, measure, sweeps and steady-state settings, and the search space
 /// and settings (64-bit FNV-1a of their exact values, in hex).
 pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
+    // A horizontal design adds its direction; a vertical one's text is as it always was (the
+    // answers stored before containers had a direction stay valid).
+    let direction = match problem.direction {
+        crate::model::Direction::Vertical => String::new(),
+        other => format!("|{}", other.name()),
+    };
     let text = format!(
         "{:?}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
         problem.structure,
@@ -105,7 +111,7 @@ pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
         spec.shared_clearance,
         spec.search,
         spec.pareto_mass_ratios,
-    );
+    ) + &direction;
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for b in text.bytes() {
         h ^= u64::from(b);

@@ -6,6 +6,7 @@ use std::path::Path;
 use crate::design::search::Options;
 use crate::design::{limits, Band, Combine, Measure, Spec, Sweep};
 use crate::error::{Error, Result};
+use crate::model::Direction;
 use crate::number::{fmt_list as fmt_num_list, fmt_num};
 
 use super::analysis::grid;
@@ -261,12 +262,27 @@ pub fn design(
             Some(s) => return Err(bad("seed", &s, "a whole number >= 0")),
         },
     };
+    let direction = match raw.direction.as_deref() {
+        None => Direction::Vertical,
+        Some(name) => match Direction::from_name(name) {
+            Some(d) => d,
+            None => return Err(bad("direction", &format!("\"{name}\""), Direction::NAMES)),
+        },
+    };
+    if direction == Direction::Horizontal && sdof.is_some() {
+        return Err(bad(
+            "sdof",
+            &"(given)",
+            "the paper's SDOF technique (Fig. 9, motion types I-III) models a vertical container: leave [design.sdof] out of a horizontal design",
+        ));
+    }
     let spec = Spec {
         candidates,
         max_beds,
         shot_kg,
         clearance_mm,
         shared_clearance: raw.shared_clearance.unwrap_or(true),
+        direction,
         bands,
         measure,
         sweeps,

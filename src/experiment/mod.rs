@@ -4,6 +4,7 @@
 mod analysis;
 mod checks;
 pub mod curve_id;
+mod dampers;
 mod design;
 pub mod fe;
 mod fields;

@@ -54,7 +54,7 @@ pub fn case(origin: &str, id: &str, dampers: Vec<toml::Table>, structure: &Struc
     for (i, d) in dampers.into_iter().enumerate() {
         raw.push(read::<RawDamper>(origin, &format!("dampers[{i}]."), toml::Value::Table(d))?);
     }
-    let (dampers, clearances, laws, grains) = super::validate::dampers(origin.as_ref(), "", raw, structure)?;
+    let (dampers, clearances, laws, grains) = super::dampers::dampers(origin.as_ref(), "", raw, structure)?;
     if let Some(i) = clearances.iter().position(|c| *c != ClearanceSource::Fixed) {
         return Err(fixed_only(origin, &format!("dampers[{i}].")));
     }
@@ -66,7 +66,7 @@ pub fn case(origin: &str, id: &str, dampers: Vec<toml::Table>, structure: &Struc
 /// experiment file gets. Keys are named `damper.KEY`.
 pub fn damper(origin: &str, table: toml::Table) -> Result<()> {
     let raw: RawDamper = read(origin, "damper.", toml::Value::Table(table))?;
-    let f = super::validate::damper_alone(origin.as_ref(), &|k: &str| format!("damper.{k}"), &raw)?;
+    let f = super::dampers::damper_alone(origin.as_ref(), &|k: &str| format!("damper.{k}"), &raw)?;
     if f.spec != ClearanceSource::Fixed {
         return Err(fixed_only(origin, "damper."));
     }

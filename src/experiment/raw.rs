@@ -325,6 +325,10 @@ pub struct RawDesign {
     pub shot_kg: Option<f64>,
     /// Bounds of the clearance, mm: `[min, max]`.
     pub clearance_mm: Vec<f64>,
+    /// The direction every container's bed moves in: "vertical" (default, the paper's) or
+    /// "horizontal".
+    #[serde(default)]
+    pub direction: Option<String>,
     /// One clearance for every container (default) or one each.
     #[serde(default)]
     pub shared_clearance: Option<bool>,
@@ -459,6 +463,10 @@ pub struct RawDamper {
     /// Relative impact speed below which a bed with restitution sticks, m/s (default 1e-3).
     #[serde(default)]
     pub stick_speed_m_s: Option<f64>,
+    /// The direction the bed moves in relative to gravity: "vertical" (the paper's, default)
+    /// or "horizontal" (no gravity along the motion: the bed flies between two walls).
+    #[serde(default)]
+    pub direction: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

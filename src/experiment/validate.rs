@@ -7,15 +7,16 @@ use nalgebra::DMatrix;
 
 use crate::error::{Error, Result};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
-use crate::model::{Damper, Damping, Structure};
+use crate::model::{Damping, Structure};
 use crate::sim::impulse::ImpulseOptions;
-use crate::sim::system::{config_limit, MAX_BEDS, MAX_CONFIGS, MAX_DOF};
+use crate::sim::system::{config_limit, MAX_DOF};
 
-use super::analysis::{analysis, export_ref};
+use super::analysis::analysis;
 use super::checks::check;
+use super::dampers::dampers;
 use super::fields::{is_identifier, mass_index};
 use super::outputs::plot;
-use super::raw::{RawCase, RawDamper, RawExcitation, RawExperiment, RawFit, RawStructure};
+use super::raw::{RawCase, RawExcitation, RawExperiment, RawFit, RawStructure};
 use super::{Analysis, Case, ClearanceSource, Excitation, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
@@ -71,7 +72,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     if let Some(f) = &fe {
         for (ci, case) in cases.iter().enumerate() {
             for (di, d) in case.dampers.iter().enumerate() {
-                super::fe::host_fits(path, f, &format!("cases[{ci}].dampers[{di}].mass"), d.host)?;
+                super::fe::host_fits(path, f, &format!("cases[{ci}].dampers[{di}].mass"), d.host, d.direction)?;
             }
         }
     }
@@ -82,7 +83,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     let analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
     if let (Analysis::Design { spec, .. }, Some(f)) = (&analysis, &fe) {
         for (i, &c) in spec.candidates.iter().enumerate() {
-            super::fe::host_fits(path, f, &format!("design.candidates[{i}]"), c)?;
+            super::fe::host_fits(path, f, &format!("design.candidates[{i}]"), c, spec.direction)?;
         }
     }
     if let Analysis::Design { spec, .. } = &analysis {
@@ -130,6 +131,18 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
                     format!("cases[{ci}].dampers[{di}].restitution"),
                     case.laws[di].restitution,
                     "the equivalent SDOF analysis and the design search model the paper's plastic bed only: leave restitution out (0)",
+                ));
+            }
+        }
+    }
+    if let Analysis::SdofPeriodic { .. } = analysis {
+        for (ci, case) in cases.iter().enumerate() {
+            if let Some(di) = case.dampers.iter().position(|d| d.direction != crate::model::Direction::Vertical) {
+                return Err(Error::invalid(
+                    path,
+                    format!("cases[{ci}].dampers[{di}].direction"),
+                    "\"horizontal\"",
+                    "the paper's equivalent SDOF analysis (motion types I-III, Fig. 9) models a vertical container: leave direction out",
                 ));
             }
         }
@@ -544,245 +557,4 @@ pub(super) fn configurations_fit(path: &Path, key: &str, grains: &[usize], n: us
             "{who} the exact simulator, which decomposes every configuration up front: at most {limit} configurations on {n} degrees of freedom (the product over the dampers of grains + 1; a single bed counts 2; docs/simulator.md, \"Cost per degree of freedom\")"
         ),
     ))
-}
-
-/// The dampers of a case, one per container: their masses and clearances, clearance specs,
-/// impact laws and grains. Keys are named `{prefix}dampers[i].KEY` (`prefix` "cases[0]." in an
-/// experiment file).
-pub(super) type CaseDampers = (Vec<Damper>, Vec<ClearanceSource>, Vec<crate::sim::bed::ImpactLaw>, Vec<usize>);
-
-pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Structure) -> Result<CaseDampers> {
-    let n = s.dof();
-    if raw.len() > MAX_BEDS {
-        return Err(Error::invalid(
-            path,
-            format!("{prefix}dampers"),
-            format!("{} dampers", raw.len()),
-            format!("at most {MAX_BEDS} dampers per case (every one of the 2^N configurations is decomposed)"),
-        ));
-    }
-    let mut dampers = Vec::with_capacity(raw.len());
-    let mut clearances = Vec::with_capacity(raw.len());
-    let mut laws = Vec::with_capacity(raw.len());
-    let mut grains = Vec::with_capacity(raw.len());
-    for (di, d) in raw.into_iter().enumerate() {
-        let key = |k: &str| format!("{prefix}dampers[{di}].{k}");
-        let host = mass_index(path, &key("mass"), d.mass, n)?;
-        let f = damper_alone(path, &key, &d)?;
-        let mass = match f.mass {
-            DamperMass::Ratio(r) => r * s.masses[host],
-            DamperMass::Kg(m) => m,
-        };
-        dampers.push(Damper { host, mass, clearance: f.clearance });
-        clearances.push(f.spec);
-        laws.push(f.law);
-        grains.push(f.grains);
-    }
-    let configs = grains.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS));
-    if configs.is_none() {
-        return Err(Error::invalid(
-            path,
-            format!("{prefix}dampers"),
-            format!("{} dampers with grains {grains:?}", dampers.len()),
-            format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
-        ));
-    }
-    Ok((dampers, clearances, laws, grains))
-}
-
-/// A damper's mass as given: a ratio to its host's mass, or kilograms.
-pub(super) enum DamperMass {
-    /// `mass_ratio`.
-    Ratio(f64),
-    /// `mass_kg`.
-    Kg(f64),
-}
-
-/// What a damper entry says, validated without its structure.
-pub(super) struct DamperAlone {
-    /// Its mass.
-    pub mass: DamperMass,
-    /// Its clearance and where it comes from.
-    pub clearance: crate::model::Clearance,
-    /// How the clearance is given.
-    pub spec: ClearanceSource,
-    /// Its bed's impact law.
-    pub law: crate::sim::bed::ImpactLaw,
-    /// Grains of its column (1: one mass).
-    pub grains: usize,
-}
-
-/// Validates every key of a damper entry that does not depend on the structure (all but the
-/// host's upper bound): the host is a mass number >= 1, exactly one of `mass_ratio` and
-/// `mass_kg`, positive and finite, the clearance, the bed model. What the Python package's
-/// `Damper(...)` checks when it is built; an experiment file's dampers pass here first.
-pub(super) fn damper_alone(path: &Path, key: &dyn Fn(&str) -> String, d: &RawDamper) -> Result<DamperAlone> {
-    if d.mass < 1 {
-        return Err(Error::invalid(path, key("mass"), d.mass, "masses are numbered from 1"));
-    }
-    let mass = match (d.mass_ratio, d.mass_kg) {
-        (Some(r), None) => {
-            if !(r.is_finite() && r > 0.0) {
-                return Err(Error::invalid(path, key("mass_ratio"), r, "a mass ratio must be positive"));
-            }
-            DamperMass::Ratio(r)
-        }
-        (None, Some(m)) => {
-            if !(m.is_finite() && m > 0.0) {
-                return Err(Error::invalid(path, key("mass_kg"), m, "a damper mass must be positive"));
-            }
-            DamperMass::Kg(m)
-        }
-        (None, None) => {
-            return Err(Error::invalid(
-                path,
-                key("mass_ratio"),
-                "(missing)",
-                "give exactly one of mass_ratio and mass_kg",
-            ))
-        }
-        (Some(_), Some(_)) => {
-            return Err(Error::invalid(
-                path,
-                key("mass_ratio"),
-                "(both mass_ratio and mass_kg)",
-                "give exactly one of mass_ratio and mass_kg",
-            ))
-        }
-    };
-    let (clearance, spec) = clearance(path, &key("clearance_mm"), &d.clearance_mm)?;
-    let (law, grains) = bed_model(path, key, d)?;
-    Ok(DamperAlone { mass, clearance, spec, law, grains })
-}
-
-/// Default sticking speed of a bed with restitution, m/s: slower impacts are plastic (what
-/// ends a sequence of ever smaller bounces; docs/model.md section 2).
-pub const DEFAULT_STICK_SPEED: f64 = 1e-3;
-
-/// A damper's bed model (its `bed`, `grains`, `restitution`, `stick_speed_m_s`): its impact
-/// law and its number of grains (1: one mass).
-fn bed_model(
-    path: &Path,
-    key: &dyn Fn(&str) -> String,
-    d: &super::raw::RawDamper,
-) -> Result<(crate::sim::bed::ImpactLaw, usize)> {
-    let bounces = d.restitution.is_some_and(|e| e != 0.0);
-    let model = match d.bed.as_deref() {
-        Some(m) => m,
-        None if d.grains.is_some() => "column",
-        None if bounces => "restitution",
-        None => "plastic",
-    };
-    let law = impact_law(path, key, d.restitution, d.stick_speed_m_s)?;
-    let no_grains = |model: &str| match d.grains {
-        Some(g) => Err(Error::invalid(
-            path,
-            key("grains"),
-            g,
-            format!("only a column bed has grains (this bed is \"{model}\"): leave grains out or set bed = \"column\""),
-        )),
-        None => Ok(()),
-    };
-    match model {
-        "plastic" => {
-            if bounces {
-                return Err(Error::invalid(
-                    path,
-                    key("restitution"),
-                    law.restitution,
-                    "a plastic bed has e = 0: leave restitution out, or set bed = \"restitution\" or \"column\"",
-                ));
-            }
-            no_grains(model)?;
-            Ok((law, 1))
-        }
-        "restitution" => {
-            if d.restitution.is_none() {
-                return Err(Error::invalid(
-                    path,
-                    key("restitution"),
-                    "(missing)",
-                    "a bed = \"restitution\" needs its coefficient of restitution in [0, 1)",
-                ));
-            }
-            no_grains(model)?;
-            Ok((law, 1))
-        }
-        "column" => match d.grains {
-            Some(g) if g.fract() == 0.0 && (1.0..=MAX_COLUMN_GRAINS as f64).contains(&g) => Ok((law, g as usize)),
-            Some(g) => Err(Error::invalid(
-                path,
-                key("grains"),
-                g,
-                format!("a whole number of grains from 1 to {MAX_COLUMN_GRAINS}"),
-            )),
-            None => Err(Error::invalid(
-                path,
-                key("grains"),
-                "(missing)",
-                "a column bed needs its number of grains (1 to 60)",
-            )),
-        },
-        other => Err(Error::invalid(
-            path,
-            key("bed"),
-            format!("\"{other}\""),
-            "one of \"plastic\", \"restitution\", \"column\"",
-        )),
-    }
-}
-
-/// Most grains in one column (every grain is a bit of a configuration mask).
-pub const MAX_COLUMN_GRAINS: usize = 60;
-
-/// A damper's impact law from its `restitution` and `stick_speed_m_s`.
-fn impact_law(
-    path: &Path,
-    key: &dyn Fn(&str) -> String,
-    restitution: Option<f64>,
-    stick: Option<f64>,
-) -> Result<crate::sim::bed::ImpactLaw> {
-    let e = restitution.unwrap_or(0.0);
-    if !(e.is_finite() && (0.0..1.0).contains(&e)) {
-        return Err(Error::invalid(path, key("restitution"), e, "a coefficient of restitution in [0, 1) (0: plastic)"));
-    }
-    let stick_speed = stick.unwrap_or(DEFAULT_STICK_SPEED);
-    if !(stick_speed.is_finite() && stick_speed > 0.0) {
-        return Err(Error::invalid(
-            path,
-            key("stick_speed_m_s"),
-            stick_speed,
-            "a positive relative speed in m/s below which the bed sticks (it ends chatter)",
-        ));
-    }
-    if e == 0.0 && stick.is_some() {
-        return Err(Error::invalid(
-            path,
-            key("stick_speed_m_s"),
-            stick_speed,
-            "only with a restitution > 0 (a plastic bed always sticks)",
-        ));
-    }
-    Ok(crate::sim::bed::ImpactLaw { restitution: e, stick_speed: if e == 0.0 { 0.0 } else { stick_speed } })
-}
-
-/// A clearance in mm (a number, "inf", "scan" or "@EXPERIMENT.KEY"); scanned and exported
-/// clearances have no top until resolved.
-fn clearance(path: &Path, key: &str, v: &toml::Value) -> Result<(crate::model::Clearance, ClearanceSource)> {
-    let allowed = "a clearance is a number of millimetres >= 0, \"inf\" for no top, \"scan\" in a clearance study, or \"@EXPERIMENT.KEY\"";
-    let mm = match v {
-        toml::Value::Float(f) => *f,
-        toml::Value::Integer(i) => *i as f64,
-        toml::Value::String(s) if s == "inf" => f64::INFINITY,
-        toml::Value::String(s) if s == "scan" => return Ok((crate::model::Clearance::NO_TOP, ClearanceSource::Scan)),
-        toml::Value::String(s) => match export_ref(s) {
-            Some(r) => return Ok((crate::model::Clearance::NO_TOP, ClearanceSource::Export(r))),
-            None => return Err(Error::invalid(path, key, v, allowed)),
-        },
-        other => return Err(Error::invalid(path, key, other, allowed)),
-    };
-    if mm.is_nan() || mm < 0.0 {
-        return Err(Error::invalid(path, key, mm, "a clearance must be >= 0 mm (or \"inf\")"));
-    }
-    Ok((crate::model::Clearance::from_mm(mm), ClearanceSource::Fixed))
 }

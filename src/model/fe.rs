@@ -56,6 +56,9 @@ pub struct Point {
     /// Along the upward vertical (a container there is the paper's); otherwise at a right
     /// angle to it, or a rotation.
     pub vertical: bool,
+    /// A translation at a right angle to the vertical (a horizontal container may sit
+    /// there); without names in the files, every point may carry either.
+    pub horizontal: bool,
     /// `-1` when the full model's direction points down (the reduced coordinate is measured
     /// upward), else `1`.
     pub sign: f64,

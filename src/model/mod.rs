@@ -1,6 +1,7 @@
 //! The physical model: structure, dampers, modes and the linear response.
 
 pub mod clearance;
+pub mod damper;
 pub mod damping_fit;
 pub mod fe;
 pub mod fit;
@@ -15,4 +16,5 @@ pub mod sparse;
 pub mod structure;
 
 pub use clearance::Clearance;
-pub use structure::{Damper, Damping, Structure, GRAVITY};
+pub use damper::{Damper, Direction};
+pub use structure::{Damping, Structure, GRAVITY};

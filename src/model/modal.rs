@@ -2,8 +2,9 @@
 
 use nalgebra::DVector;
 
+use super::damper::Damper;
 pub use super::modes::{symmetric_modes, Modes};
-use super::structure::{Damper, Structure};
+use super::structure::Structure;
 
 /// One mode with the numbers the paper's equivalent SDOF analysis needs.
 #[derive(Debug, Clone)]
@@ -118,7 +119,7 @@ mod tests {
     #[test]
     fn mass_ratio_follows_eq13() {
         let s = paper();
-        let dampers = [Damper { host: 1, mass: 0.071, clearance: crate::model::Clearance::NO_TOP }];
+        let dampers = [Damper::new(1, 0.071, crate::model::Clearance::NO_TOP)];
         let modes = modal_summary(&s, &dampers);
         for m in &modes {
             let expected = m.shape[1].abs() * 0.071 / m.modal_mass;

@@ -4,8 +4,9 @@
 
 use nalgebra::DMatrix;
 
+use super::damper::{Damper, Direction};
 use super::modal::{modal_summary, ModeSummary};
-use super::structure::{Damper, Damping, Structure};
+use super::structure::{Damping, Structure};
 use super::Clearance;
 
 /// One mode as a single mass with one damper on it.
@@ -19,6 +20,8 @@ pub struct EquivalentSdof {
     pub damper_mass: f64,
     /// The clearance of the damper, m (that of the dampers mapped onto the mode).
     pub clearance: Clearance,
+    /// The direction its bed moves in (that of the dampers mapped onto the mode).
+    pub direction: Direction,
 }
 
 impl EquivalentSdof {
@@ -27,7 +30,14 @@ impl EquivalentSdof {
     pub fn new(structure: &Structure, dampers: &[Damper], mode: usize, driven: usize, force: f64) -> EquivalentSdof {
         let m = modal_summary(structure, dampers).swap_remove(mode);
         let clearance = dampers.first().map_or(Clearance::NO_TOP, |d| d.clearance);
-        EquivalentSdof { force: m.shape[driven] * force, damper_mass: m.mass_ratio * m.modal_mass, clearance, mode: m }
+        let direction = dampers.first().map_or(Direction::Vertical, |d| d.direction);
+        EquivalentSdof {
+            force: m.shape[driven] * force,
+            damper_mass: m.mass_ratio * m.modal_mass,
+            clearance,
+            direction,
+            mode: m,
+        }
     }
 
     /// The SDOF as a structure: one mass `M_i`, stiffness `K_i`, damping `C_i` (as the
@@ -44,7 +54,7 @@ impl EquivalentSdof {
 
     /// The damper of the SDOF.
     pub fn damper(&self) -> Damper {
-        Damper { host: 0, mass: self.damper_mass, clearance: self.clearance }
+        Damper::new(0, self.damper_mass, self.clearance).along(self.direction)
     }
 
     /// The response of mass `r` per unit SDOF coordinate (`phibar_ir`).
@@ -60,7 +70,7 @@ mod tests {
     #[test]
     fn third_mode_with_a_damper_on_m2() {
         let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
-        let d = [Damper { host: 1, mass: 0.071, clearance: Clearance::from_mm(0.4) }];
+        let d = [Damper::new(1, 0.071, Clearance::from_mm(0.4))];
         let e = EquivalentSdof::new(&s, &d, 2, 0, 2.6);
         // Mode 3 peaks at m2: the SDOF coordinate is m2's displacement, the damper keeps its mass.
         assert_eq!(e.mode.reference_mass, 1);

@@ -5,7 +5,6 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::modes::symmetric_modes;
-use super::Clearance;
 
 /// Standard gravity, m/s^2 (docs/model.md section 1).
 pub const GRAVITY: f64 = 9.806_65;
@@ -166,23 +165,6 @@ pub fn chain_stiffness(k: &[f64]) -> DMatrix<f64> {
         }
     }
     m
-}
-
-/// One shot damper: a particle bed of mass `mass` in a container on primary mass `host`
-/// (0-based) with free travel `clearance` ([`Clearance::NO_TOP`] for no top).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Damper {
-    /// Host mass index, 0-based.
-    pub host: usize,
-    /// Bed mass, kg.
-    pub mass: f64,
-    /// Clearance between bottom and top.
-    pub clearance: Clearance,
-}
-
-/// `(host, mass)` pairs of a damper set, for [`Structure::mass_matrix_with`].
-pub fn added_masses(dampers: &[Damper]) -> Vec<(usize, f64)> {
-    dampers.iter().map(|d| (d.host, d.mass)).collect()
 }
 
 #[cfg(test)]

@@ -6,10 +6,11 @@
 //! than the sticking speed, the bed keeps its host's velocity and rests on that end.
 
 /// Position and velocity at `t` of a bed (or grain) in free flight since `t0` from position
-/// `y0` with velocity `u0`: a parabola under gravity alone.
-pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
+/// `y0` with velocity `u0` under gravity `g` along its motion alone (docs/model.md section 5:
+/// `g` for a vertical container, a parabola; 0 for a horizontal one, a straight line).
+pub fn flight(g: f64, t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
     let tau = t - t0;
-    (y0 + u0 * tau - 0.5 * crate::model::GRAVITY * tau * tau, u0 - crate::model::GRAVITY * tau)
+    (y0 + u0 * tau - 0.5 * g * tau * tau, u0 - g * tau)
 }
 
 /// How a bed's impact exchanges momentum with its host.

@@ -1,8 +1,6 @@
 //! The event-driven simulator: closed-form segments, certified event location, plastic (or
 //! restitution) impacts, and contact resolution after every event (docs/model.md section 2).
 
-use crate::model::GRAVITY;
-
 pub use super::state::{Bed, Event, EventKind, State};
 
 use super::roots::{first_root_from, fresh_window, lower_root, TIME_TOL};
@@ -543,7 +541,7 @@ impl<'a> Engine<'a> {
             for (o, &(j, _)) in orders.iter_mut().zip(units) {
                 let p = sys.dampers[j].host;
                 let [tol, rate_tol, _] = zero(p, j);
-                *o = if (sigma(j) * (a[p] + GRAVITY)).abs() > tol {
+                *o = if (sigma(j) * (a[p] + sys.dampers[j].gravity())).abs() > tol {
                     0
                 } else if (sigma(j) * jerk[p]).abs() > rate_tol {
                     1
@@ -559,7 +557,7 @@ impl<'a> Engine<'a> {
             let snap = (big && orders.contains(&2)).then(|| d.snaps_in(mask, &at, &a, &jerk));
             let ok = units.iter().enumerate().all(|(i, &(j, _))| {
                 let p = sys.dampers[j].host;
-                let n = sigma(j) * (a[p] + GRAVITY);
+                let n = sigma(j) * (a[p] + sys.dampers[j].gravity());
                 let dn = sigma(j) * jerk[p];
                 let sign = if big {
                     match (orders[i], &snap) {
@@ -601,7 +599,7 @@ impl<'a> Engine<'a> {
         units.iter().fold(locked, |acc, &(j, u)| {
             let p = sys.dampers[j].host;
             let sigma = if side[j] == Some(true) { -1.0 } else { 1.0 };
-            if sigma * (a[p] + GRAVITY) >= 0.0 {
+            if sigma * (a[p] + sys.dampers[j].gravity()) >= 0.0 {
                 acc | u
             } else {
                 acc

@@ -3,8 +3,6 @@
 
 use nalgebra::DVector;
 
-use crate::model::GRAVITY;
-
 use super::engine::{Bed, Event, EventKind, Observer, State};
 use super::segment::{Point, Segment, Watch};
 use super::system::Dynamics;
@@ -163,20 +161,20 @@ impl Observer for Extrema {
         // dt^3 / 6`, `J` the bound on the host's jerk from `t_k` on (the bed's is zero).
         for (j, bed) in beds.iter().enumerate() {
             if let Bed::Free { t0, y0, u0 } = *bed {
-                let p = d.system.dampers[j].host;
-                let gap = |t: f64, pt: &Point| Bed::flight(t0, y0, u0, t).0 - seg.deriv(d, pt, p, 0);
+                let (p, g) = (d.system.dampers[j].host, d.system.dampers[j].gravity());
+                let gap = |t: f64, pt: &Point| Bed::flight(g, t0, y0, u0, t).0 - seg.deriv(d, pt, p, 0);
                 let rel = |t: f64| {
                     let pt = seg.point(d, t);
-                    let (_, u) = Bed::flight(t0, y0, u0, t);
-                    (u - seg.deriv(d, &pt, p, 1), -GRAVITY - seg.deriv(d, &pt, p, 2), gap(t, &pt))
+                    let (_, u) = Bed::flight(g, t0, y0, u0, t);
+                    (u - seg.deriv(d, &pt, p, 1), -g - seg.deriv(d, &pt, p, 2), gap(t, &pt))
                 };
                 at.iter_mut()
                     .zip(&points)
-                    .for_each(|(a, pt)| *a = Bed::flight(t0, y0, u0, pt.t).1 - seg.deriv(d, pt, p, 1));
+                    .for_each(|(a, pt)| *a = Bed::flight(g, t0, y0, u0, pt.t).1 - seg.deriv(d, pt, p, 1));
                 let best = std::cell::Cell::new(gap(t_a, &points[0]).max(gap(t_b, &points[m])));
                 let ceiling = |k: usize| {
                     let (pt, dt) = (&points[k], times[k + 1] - times[k]);
-                    let acc = -GRAVITY - seg.deriv(d, pt, p, 2);
+                    let acc = -g - seg.deriv(d, pt, p, 2);
                     let jerk = seg.bound(d, pt, p, 3);
                     gap(pt.t, pt) + dt * (at[k].max(0.0) + dt * (acc.max(0.0) / 2.0 + dt * jerk / 6.0))
                 };
@@ -285,7 +283,7 @@ pub fn energy_of(d: &Dynamics, x: &[f64], v: &[f64], y: &[f64], u: &[f64]) -> f6
         .dampers
         .iter()
         .zip(y.iter().zip(u))
-        .map(|(dm, (y, u))| 0.5 * dm.mass * u * u + dm.mass * GRAVITY * y)
+        .map(|(dm, (y, u))| 0.5 * dm.mass * u * u + dm.mass * dm.gravity() * y)
         .sum();
     kinetic + elastic + beds
 }
@@ -390,7 +388,7 @@ impl Observer for Sampler {
                     let dm = &d.system.dampers[j];
                     let (pos, vel, c) = match *b {
                         Bed::Free { t0, y0, u0 } => {
-                            let (pos, vel) = Bed::flight(t0, y0, u0, t);
+                            let (pos, vel) = Bed::flight(dm.gravity(), t0, y0, u0, t);
                             (pos, vel, 'F')
                         }
                         resting => {

@@ -4,8 +4,6 @@
 use nalgebra::DVector;
 use num_complex::Complex64;
 
-use crate::model::GRAVITY;
-
 use super::buf::Terms;
 use super::system::{Dynamics, Step};
 
@@ -255,7 +253,8 @@ impl Segment {
 /// What an event function measures. Each is >= 0 while nothing happens.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Watch {
-    /// Contact force per unit bed mass, `sigma (xddot_p + g)` (sigma +1 bottom, -1 top).
+    /// Contact force per unit bed mass, `sigma (xddot_p + g_a)` (sigma +1 bottom, -1 top;
+    /// `g_a` gravity along the bed's motion).
     Contact {
         /// The bed.
         bed: usize,
@@ -347,27 +346,27 @@ impl Watch {
     /// Value, derivatives and bound at a point of a segment.
     pub fn taylor(&self, seg: &Segment, d: &Dynamics, pt: &Point) -> Taylor {
         match *self {
-            Watch::Contact { host, sigma, .. } => {
+            Watch::Contact { bed, host, sigma } => {
+                let g = d.system.dampers[bed].gravity();
                 let (x, bound4) = seg.derivs4_bound(d, pt, host, 2, 6);
-                Taylor { h: [sigma * (x[0] + GRAVITY), sigma * x[1], sigma * x[2], sigma * x[3]], bound4 }
+                Taylor { h: [sigma * (x[0] + g), sigma * x[1], sigma * x[2], sigma * x[3]], bound4 }
             }
-            Watch::GapBottom { host, y0, u0, tf, .. } => {
+            Watch::GapBottom { bed, host, y0, u0, tf } => {
+                let g = d.system.dampers[bed].gravity();
                 let (x, bound4) = seg.derivs4_bound(d, pt, host, 0, 4);
-                let tau = pt.t - tf;
-                let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
-                let u = u0 - GRAVITY * tau;
-                Taylor { h: [y - x[0], u - x[1], -GRAVITY - x[2], -x[3]], bound4 }
+                let (y, u) = super::bed::flight(g, tf, y0, u0, pt.t);
+                Taylor { h: [y - x[0], u - x[1], -g - x[2], -x[3]], bound4 }
             }
-            Watch::GapTop { host, d: clearance, y0, u0, tf, .. } => {
+            Watch::GapTop { bed, host, d: clearance, y0, u0, tf } => {
+                let g = d.system.dampers[bed].gravity();
                 let (x, bound4) = seg.derivs4_bound(d, pt, host, 0, 4);
-                let tau = pt.t - tf;
-                let y = y0 + u0 * tau - 0.5 * GRAVITY * tau * tau;
-                let u = u0 - GRAVITY * tau;
-                Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + GRAVITY, x[3]], bound4 }
+                let (y, u) = super::bed::flight(g, tf, y0, u0, pt.t);
+                Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + g, x[3]], bound4 }
             }
-            Watch::Pair { lower_flight: [tl, yl, ul], upper_flight: [tu, yu, uu], .. } => {
-                let (a, va) = super::bed::flight(tl, yl, ul, pt.t);
-                let (b, vb) = super::bed::flight(tu, yu, uu, pt.t);
+            Watch::Pair { upper, lower_flight: [tl, yl, ul], upper_flight: [tu, yu, uu], .. } => {
+                let g = d.system.dampers[upper].gravity();
+                let (a, va) = super::bed::flight(g, tl, yl, ul, pt.t);
+                let (b, vb) = super::bed::flight(g, tu, yu, uu, pt.t);
                 Taylor { h: [b - a, vb - va, 0.0, 0.0], bound4: 0.0 }
             }
         }

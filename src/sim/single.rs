@@ -99,7 +99,7 @@ pub(super) fn impacts(d: &Dynamics, s: &mut State, hits: &[Watch], side: &mut [O
         };
         let dm = sys.dampers[j];
         let p = dm.host;
-        let (_, u) = Bed::flight(t0, y0, u0, s.t);
+        let (_, u) = Bed::flight(dm.gravity(), t0, y0, u0, s.t);
         // The host's effective mass includes beds already resting on it.
         let host = host_side(d, p, |k| k != j && side[k].is_some());
         let vp = s.v[p];

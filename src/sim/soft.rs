@@ -16,8 +16,6 @@
 
 use std::f64::consts::PI;
 
-use crate::model::GRAVITY;
-
 use super::system::{Dynamics, System};
 
 /// How the soft contacts are made.
@@ -131,7 +129,7 @@ pub fn amplitude(
             }
         }
         for (j, f) in fy.iter_mut().enumerate() {
-            *f = -sys.dampers[j].mass * GRAVITY;
+            *f = -sys.dampers[j].mass * sys.dampers[j].gravity();
         }
         for (g, &(c_wall, c_pair)) in groups.iter().zip(&dashpots) {
             let dm = sys.dampers[g.start];

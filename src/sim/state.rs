@@ -65,9 +65,9 @@ impl Bed {
         }
     }
 
-    /// Position and velocity of a free bed at `t`.
-    pub fn flight(t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
-        super::bed::flight(t0, y0, u0, t)
+    /// Position and velocity at `t` of a free bed under gravity `g` along its motion.
+    pub fn flight(g: f64, t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
+        super::bed::flight(g, t0, y0, u0, t)
     }
 }
 
@@ -122,7 +122,7 @@ impl State {
     pub fn bed_motion(&self, d: &Dynamics, j: usize) -> (f64, f64) {
         let dm = &d.system.dampers[j];
         match self.beds[j] {
-            Bed::Free { t0, y0, u0 } => Bed::flight(t0, y0, u0, self.t),
+            Bed::Free { t0, y0, u0 } => Bed::flight(dm.gravity(), t0, y0, u0, self.t),
             resting => Bed::end_motion(resting == Bed::Top, self.x[dm.host], self.v[dm.host], dm.clearance),
         }
     }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
-use crate::model::{Damper, Structure, GRAVITY};
+use crate::model::{Damper, Structure};
 
 use super::buf::{PerMass, Terms};
 use super::eigen;
@@ -148,7 +148,7 @@ impl System {
         let mut w = DVector::zeros(self.dof());
         for (j, d) in self.dampers.iter().enumerate() {
             if mask & (1 << j) != 0 {
-                w[d.host] -= d.mass * GRAVITY;
+                w[d.host] -= d.mass * d.gravity();
             }
         }
         w
@@ -604,7 +604,7 @@ impl Dynamics {
         let rhs = &mut rhs_buf[..];
         for (j, d) in self.system.dampers.iter().enumerate() {
             if mask & (1 << j) != 0 {
-                rhs[d.host] -= d.mass * GRAVITY;
+                rhs[d.host] -= d.mass * d.gravity();
             }
         }
         for (r, (cv, kx)) in rhs.iter_mut().zip(st.cv.iter().zip(&st.kx[..])) {

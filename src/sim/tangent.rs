@@ -22,8 +22,6 @@
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
-use crate::model::GRAVITY;
-
 use super::engine::{Bed, Observer, State};
 use super::segment::{Segment, Watch};
 use super::system::Dynamics;
@@ -120,7 +118,7 @@ impl Tangent {
             let p = d.system.dampers[j].host;
             let Some(top) = s.beds[j].end() else { continue };
             let sigma = Bed::contact_sign(top);
-            if !d.system.dampers[j].clearance.is_zero() && sigma * (a[p] + GRAVITY) < 0.0 {
+            if !d.system.dampers[j].clearance.is_zero() && sigma * (a[p] + d.system.dampers[j].gravity()) < 0.0 {
                 let (y0, u0) = s.bed_motion(d, j);
                 s.beds[j] = Bed::Free { t0: s.t, y0, u0 };
             }
@@ -166,7 +164,7 @@ impl Tangent {
             let p = d.system.dampers[j].host;
             let (_, u) = s.bed_motion(d, j);
             f[bed_row(n, j)] = u;
-            f[bed_row(n, j) + 1] = if s.beds[j].attached() { a[p] } else { -GRAVITY };
+            f[bed_row(n, j) + 1] = if s.beds[j].attached() { a[p] } else { -d.system.dampers[j].gravity() };
         }
     }
 }
@@ -367,7 +365,7 @@ mod tests {
     fn the_blocked_transition_is_the_plain_one() {
         let n = 12;
         let s = Structure::chain(&vec![0.2; n], &vec![8e4; n], Damping::ModalRatios(vec![0.02; n]));
-        let dampers = (n - 3..n).map(|h| Damper { host: h, mass: 0.02, clearance: Clearance::from_m(5e-4) }).collect();
+        let dampers = (n - 3..n).map(|h| Damper::new(h, 0.02, Clearance::from_m(5e-4))).collect();
         let d = Dynamics::new(&System::plastic(s, dampers, 0, 2.0), 2.0 * std::f64::consts::PI * 30.0).unwrap();
         let (mut plain, mut blocked) = (DMatrix::zeros(2 * n, 2 * n), DMatrix::zeros(2 * n, 2 * n));
         let mut planes = Planes::default();

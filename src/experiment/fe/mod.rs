@@ -16,6 +16,7 @@ use crate::error::{Error, Result};
 use crate::model::fe::{DofLabel, FeStructure, FullModel, Point};
 use crate::model::reduction::{craig_bampton_sparse, Keep};
 use crate::model::sparse::SymSparse;
+use crate::model::Direction;
 
 /// The formats read.
 pub const FORMATS: [&str; 3] = ["calculix", "matrix-market", "abaqus"];
@@ -274,11 +275,12 @@ pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
         }
         // Without names every point is taken along the vertical (a chain's coordinates).
         let vertical = label.is_none_or(|l| usize::from(l.dof) == up_axis);
+        let horizontal = label.is_none_or(|l| (1..=3).contains(&usize::from(l.dof)) && usize::from(l.dof) != up_axis);
         let name = p.name.clone().unwrap_or_else(|| match label {
             Some(l) => format!("node {} {}", l.node, ["x", "y", "z"][usize::from(l.dof) - 1]),
             None => format!("row {}", row + 1),
         });
-        points.push(Point { name, row, label, vertical, sign: if vertical { up_sign } else { 1.0 } });
+        points.push(Point { name, row, label, vertical, horizontal, sign: if vertical { up_sign } else { 1.0 } });
     }
     let boundary: Vec<usize> = points.iter().map(|p| p.row).collect();
     let mut reduced = craig_bampton_sparse(&mass, &stiffness, &boundary, keep).map_err(|e| {
@@ -325,9 +327,10 @@ pub fn highest_analysed(a: &super::raw::RawAnalysis, d: Option<&super::raw::RawD
         .fold(None, |m: Option<f64>, f| Some(m.map_or(f, |m| m.max(f))))
 }
 
-/// Checks that `host` (0-based coordinate, named `key`) is a point along the vertical: a
-/// container sits there.
-pub fn host_fits(path: &Path, fe: &FeStructure, key: &str, host: usize) -> Result<()> {
+/// Checks that `host` (0-based coordinate, named `key`) is a point a container moving along
+/// `direction` may sit on: a translation along the vertical for a vertical container, at a
+/// right angle to it for a horizontal one.
+pub fn host_fits(path: &Path, fe: &FeStructure, key: &str, host: usize, direction: Direction) -> Result<()> {
     let p = fe.points.len();
     match fe.points.get(host) {
         None => Err(Error::invalid(
@@ -336,12 +339,21 @@ pub fn host_fits(path: &Path, fe: &FeStructure, key: &str, host: usize) -> Resul
             host + 1,
             format!("a container sits on one of the finite-element points, numbered 1 to {p} (coordinates above {p} are modal)"),
         )),
-        Some(pt) if !pt.vertical => Err(Error::invalid(
+        Some(pt) if direction == Direction::Vertical && !pt.vertical => Err(Error::invalid(
             path,
             key,
             host + 1,
             format!(
-                "point \"{}\" does not move along the vertical (structure.finite_element.up = \"{}\"): containers move along gravity here; horizontal containers are not simulated yet",
+                "point \"{}\" does not move along the vertical (structure.finite_element.up = \"{}\"): a vertical container moves along gravity; give the container direction = \"horizontal\" if this point is a horizontal translation",
+                pt.name, fe.up
+            ),
+        )),
+        Some(pt) if direction == Direction::Horizontal && !pt.horizontal => Err(Error::invalid(
+            path,
+            key,
+            host + 1,
+            format!(
+                "point \"{}\" is not a horizontal translation (structure.finite_element.up = \"{}\"): a horizontal container moves at a right angle to gravity; give it direction = \"vertical\" on a vertical point",
                 pt.name, fe.up
             ),
         )),
