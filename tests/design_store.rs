@@ -174,3 +174,108 @@ fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
     assert!(err.contains("--time-limit = -1") && err.contains("0 or more"), "{err}");
     assert!(!root.join("e").exists());
 }
+
+/// Ctrl-C during `shotdamp design`: the first interrupt stops the searches at their next
+/// evaluation and the report of the best layouts so far is written, marked, with nothing
+/// stored, and the exit status says the run was interrupted (130); a second interrupt
+/// abandons the run and removes its staging folder.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_interrupted_design_writes_its_best_so_far_and_a_second_interrupt_abandons_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::create_dir_all(root.join("reference")).unwrap();
+    let design = root.join("frame.toml");
+    std::fs::copy(common::repo().join("designs/five_storey.toml"), &design).unwrap();
+    let start = |out: &str| {
+        let child = std::process::Command::new(assert_cmd::cargo::cargo_bin("shotdamp"))
+            .current_dir(root)
+            .arg("design")
+            .arg(&design)
+            .arg("--store")
+            .arg("--reference")
+            .arg(root.join("reference"))
+            .arg("--out")
+            .arg(root.join(out))
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let staging = root.join(format!(".{out}.tmp-{}", child.id()));
+        let started = std::time::Instant::now();
+        while !staging.exists() && started.elapsed().as_secs() < 20 {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        assert!(staging.exists(), "the run writes into a staging folder");
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        (child, staging)
+    };
+    let interrupt = |child: &std::process::Child| {
+        std::process::Command::new("kill").arg("-INT").arg(child.id().to_string()).status().unwrap();
+    };
+
+    let (child, _) = start("d");
+    interrupt(&child);
+    let o = child.wait_with_output().unwrap();
+    let (stdout, stderr) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert_eq!(o.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted: the searches stop"), "{stderr}");
+    assert!(stdout.contains("warning: the search was interrupted"), "{stdout}");
+    assert!(!stdout.contains("stored:") && !root.join("reference/designs/design_five_storey.json").exists());
+    let page = std::fs::read_to_string(root.join("d/design_five_storey/index.html")).unwrap();
+    assert!(page.contains("the search was interrupted"));
+    let rows = std::fs::read_to_string(root.join("d/design_five_storey/data/design_placements.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 1 + 15, "every placement's best so far: {rows}");
+
+    let (child, staging) = start("e");
+    interrupt(&child);
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    interrupt(&child);
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!staging.exists() && !root.join("e").exists(), "the second interrupt abandons the run");
+}
+
+/// Forces as scenarios: the page draws the reduction against the drive level, for the best
+/// layout and the file's case, one row per layout and force, the objective each the worst
+/// band's measure relative to the bare structure's at that force.
+#[test]
+fn force_scenarios_give_the_reduction_against_the_drive_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::create_dir_all(root.join("reference")).unwrap();
+    let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap())
+        .replace("max_beds = 2", "max_beds = 2\nscenarios = { force_n = [1.0, 2.0, 4.0] }");
+    let design = root.join("frame.toml");
+    std::fs::write(&design, &text).unwrap();
+    let o = common::shotdamp()
+        .arg("design")
+        .arg(&design)
+        .arg("--time-limit=0")
+        .arg("--reference")
+        .arg(root.join("reference"))
+        .arg("--out")
+        .arg(root.join("d"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let page = root.join("d/design_five_storey");
+    let table = std::fs::read_to_string(page.join("data/design_drive_levels.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = table.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(table.lines().next(), Some("layout,scenario,force_n,objective"), "{table}");
+    assert_eq!(rows.len(), 2 * 3, "best and the case, three forces each: {table}");
+    let forces: Vec<f64> = rows.iter().take(3).map(|r| r[2].parse().unwrap()).collect();
+    assert_eq!(forces, [1.0, 2.0, 4.0]);
+    // The best layout's objective at each force is the placements table's worst over them.
+    let worst = rows.iter().take(3).map(|r| r[3].parse::<f64>().unwrap()).fold(0.0, f64::max);
+    let placements = std::fs::read_to_string(page.join("data/design_placements.csv")).unwrap();
+    let header: Vec<&str> = placements.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "objective").unwrap();
+    let best = placements
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!((worst - best).abs() <= 1e-12 * best, "{worst} vs {best}");
+    assert!(page.join("design_drive_levels.png").exists() && page.join("design_drive_levels.svg").exists());
+}

@@ -319,7 +319,7 @@ pub fn run(
     let (found, front, checks) = if spec.replay {
         replay(exp, spec, &p, &b, refs)
     } else {
-        let (found, stopped_best) = optimise_until(&p, &b, &space, &spec.search, tick, spec.deadline);
+        let (found, stopped_best) = optimise_until(&p, &b, &space, &spec.search, tick, &spec.halt);
         stopped |= stopped_best;
         // The Pareto front: every placement searched again for each shot budget.
         let front: Vec<(f64, Found)> = spec
@@ -327,7 +327,7 @@ pub fn run(
             .iter()
             .filter_map(|&r| {
                 let s = Space { shot_kg: r * total_mass, ..space.clone() };
-                let (found, stopped_here) = optimise_until(&p, &b, &s, &spec.search, tick, spec.deadline);
+                let (found, stopped_here) = optimise_until(&p, &b, &s, &spec.search, tick, &spec.halt);
                 stopped |= stopped_here;
                 lowest(found).map(|f| (r, f))
             })
@@ -535,9 +535,14 @@ pub fn run(
         });
     }
     if stopped {
+        let why = if spec.halt.interrupted() {
+            "the search was interrupted (Ctrl-C or SIGTERM)"
+        } else {
+            "the search stopped at its time limit (--time-limit)"
+        };
         warnings.insert(
             0,
-            "the search stopped at its time limit (--time-limit): every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer".to_string(),
+            format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer"),
         );
     }
     DesignOutput { tables, figures, exports, stored, checks, warnings, answer, stopped }

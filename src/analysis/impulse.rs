@@ -53,6 +53,9 @@ pub struct ImpulseOutput {
     pub figures: Vec<Figure>,
     /// Each case's decay, by case id.
     pub decays: BTreeMap<String, Decay>,
+    /// Cases that could not be simulated, and why (they are missing from the tables and
+    /// figures).
+    pub skipped: Vec<String>,
 }
 
 /// Decay times of a sampled acceleration at each level (the estimator used for computed
@@ -71,13 +74,20 @@ pub fn run(
     levels: &[f64],
     tick: &Tick,
 ) -> ImpulseOutput {
+    let mut skipped = Vec::new();
     let n = exp.structure.dof();
     let bare = symmetric_modes(&exp.structure.mass_matrix(), &exp.structure.stiffness);
     let mut decays = BTreeMap::new();
     let mut order = Vec::new();
     for case in &exp.cases {
         let sys = curves::system(exp, case);
-        let Ok(run) = free_response(&sys, options) else { continue };
+        let run = match free_response(&sys, options) {
+            Ok(run) => run,
+            Err(e) => {
+                skipped.push(format!("case {} cannot be simulated: {e}", case.id));
+                continue;
+            }
+        };
         tick();
         let s = &run.samples;
         let t = &s.times[..s.a.len()];
@@ -130,7 +140,7 @@ pub fn run(
     let list: Vec<&Decay> = order.iter().filter_map(|id| decays.get(id)).collect();
     let tables = tables(exp, modes, &list, options, spectrum_hz, levels);
     let figures = figures(exp, modes, &list, options, spectrum_hz, levels);
-    ImpulseOutput { tables, figures, decays }
+    ImpulseOutput { tables, figures, decays, skipped }
 }
 
 fn kick_words(o: &ImpulseOptions) -> String {

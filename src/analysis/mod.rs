@@ -112,16 +112,18 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
             exports = out.exports;
         }
         Analysis::Waveform { frequencies, labels, periods, steady } => {
-            let (t, f, m) = waveform::run(exp, frequencies, labels, *periods, steady, tick);
+            let (t, f, m, skipped) = waveform::run(exp, frequencies, labels, *periods, steady, tick);
             tables.extend(t);
             figures.extend(f);
             motion_types = m;
+            warnings.extend(skipped);
         }
         Analysis::Impulse { options, spectrum_hz, levels } => {
             let out = impulse::run(exp, &modes, options, spectrum_hz, levels, tick);
             tables.extend(out.tables);
             figures.extend(out.figures);
             decays = out.decays;
+            warnings.extend(out.skipped);
         }
         Analysis::Design { spec, steady } => {
             let out = design::run(exp, spec, steady, refs, tick);
@@ -155,6 +157,18 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         refs,
     );
     checks.extend(design_checks);
+    // A case that cannot be simulated is missing from a figure: a failed check says so.
+    if matches!(exp.analysis, Analysis::Waveform { .. } | Analysis::Impulse { .. }) {
+        checks.extend(warnings.iter().map(|w| {
+            crate::checks::CheckOutcome::unavailable(
+                "simulation".into(),
+                format!("{} ({}): {w}", exp.meta.figure, exp.key()),
+                "the experiment file".into(),
+                crate::checks::Source::Internal,
+                Some("the case is missing from this page's tables and figures".into()),
+            )
+        }));
+    }
     if let Some(fe) = &exp.finite_element {
         let out = reduction::run(exp, fe);
         tables.extend(out.tables);

@@ -423,15 +423,22 @@ pub fn run(
 /// At every simulated point that settled on a period-1 motion: the exact orbit through its
 /// final state by Newton's method, and the largest relative difference of the compliances.
 fn check_points(sys: &System, points: &[SweepPoint], force: f64) -> Vec<OrbitCheckPoint> {
-    let base = Dynamics::unforced(sys).ok();
+    let base = Dynamics::unforced(sys);
     points
         .par_iter()
         .filter_map(|p| {
+            // A point that could not be set up has no motion to check (its sweep says why).
             let st = p.result.as_ref().ok()?;
             if !(st.converged && st.period == 1) || st.bottom_impacts[0] == 0.0 {
                 return None;
             }
-            let d = base.as_ref()?.at_omega(2.0 * PI * p.freq_hz).ok()?;
+            let d = match base.as_ref().map_err(Clone::clone).and_then(|b| b.at_omega(2.0 * PI * p.freq_hz)) {
+                Ok(d) => d,
+                Err(e) => {
+                    let note = format!("cannot be set up: {e}");
+                    return Some(OrbitCheckPoint { freq_hz: p.freq_hz, rel_diff: f64::NAN, stable: false, note });
+                }
+            };
             let length = st.amplitude.iter().copied().fold(0.0, f64::max);
             let Some((problem, u)) = seed(&d, &st.final_state, 1, length, d.omega, false) else {
                 return Some(OrbitCheckPoint {

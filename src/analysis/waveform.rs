@@ -125,14 +125,25 @@ pub fn run(
     periods: usize,
     steady: &SteadyOptions,
     tick: &Tick,
-) -> (Vec<Table>, Vec<Figure>, MotionTypes) {
+) -> (Vec<Table>, Vec<Figure>, MotionTypes, Vec<String>) {
+    let mut skipped = Vec::new();
     let freqs: Vec<f64> = frequencies.iter().map(|f| if let Number::Value(v) = f { *v } else { f64::NAN }).collect();
     let mut records = Vec::new();
     for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
         let sys = curves::system(exp, case);
         for (f, label) in freqs.iter().zip(labels) {
             let omega = 2.0 * PI * f;
-            let Ok(d) = Dynamics::new(&sys, omega) else { continue };
+            let d = match Dynamics::new(&sys, omega) {
+                Ok(d) => d,
+                Err(e) => {
+                    skipped.push(format!(
+                        "case {} at {} Hz cannot be simulated: {e}",
+                        case.id,
+                        crate::number::fmt_num(*f)
+                    ));
+                    continue;
+                }
+            };
             let st = steady_state(&d, State::at_rest(&d), steady);
             let mut s = st.final_state.clone();
             let t0 = s.t;
@@ -165,7 +176,7 @@ pub fn run(
             list.push(short_type(t));
         }
     }
-    (tables(exp, &records), figures(exp, &records, periods), types)
+    (tables(exp, &records), figures(exp, &records, periods), types, skipped)
 }
 
 /// Per case: the motion type of each bed at each frequency, short ("I", "II", "III", or

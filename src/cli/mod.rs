@@ -258,12 +258,24 @@ pub fn main() -> ExitCode {
 }
 
 /// On Ctrl-C (SIGINT) or SIGTERM: removes the staging folder of the report being written
-/// and exits with 128 + the signal number (the previous report stays as it was).
-fn remove_on_interrupt(staging: PathBuf) {
+/// and exits with 128 + the signal number (the previous report stays as it was). With
+/// `interrupt` (a design run), the first signal only raises that flag: the searches stop and
+/// the report of their best layouts so far is written; a second signal abandons the run.
+fn remove_on_interrupt(staging: PathBuf, interrupt: Option<Interrupt>) {
     use signal_hook::consts::{SIGINT, SIGTERM};
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else { return };
     std::thread::spawn(move || {
-        if let Some(sig) = signals.forever().next() {
+        for sig in signals.forever() {
+            if let Some(i) = &interrupt {
+                if i.signal.load(std::sync::atomic::Ordering::Relaxed) == 0 {
+                    i.signal.store(sig, std::sync::atomic::Ordering::Relaxed);
+                    i.flag.store(true, std::sync::atomic::Ordering::Relaxed);
+                    eprintln!(
+                        "interrupted: the searches stop at their next evaluation and the report of their best layouts so far is written (marked incomplete); interrupt again to abandon it"
+                    );
+                    continue;
+                }
+            }
             let committed = crate::output::destination::commit_lock();
             if *committed {
                 // The new report is in place: the run ends by itself in a moment.
@@ -281,6 +293,14 @@ fn remove_on_interrupt(staging: PathBuf) {
             std::process::exit(128 + sig);
         }
     });
+}
+
+/// A design run's interrupt: the flag its searches watch and the signal that raised it (0:
+/// none yet).
+#[derive(Clone, Default)]
+struct Interrupt {
+    flag: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    signal: std::sync::Arc<std::sync::atomic::AtomicI32>,
 }
 
 /// Runs a command; `Ok(false)` when a check failed.
@@ -355,23 +375,48 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 );
             }
             if *dry_run {
+                // The nominal cost is a rule of thumb; one layout evaluated measures this
+                // structure and its beds.
+                let budgets = runner::designs::budgets(files, &cli.reference)?;
+                for ((key, hosts, d, point), (_, _, b)) in
+                    runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets)
+                {
+                    let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
+                    say!(
+                        "design {key}: measured {} a steady state (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
+                        if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.1} ms", point * 1e3) },
+                        on.join(" "),
+                        crate::number::fmt_sig(d, 2),
+                        study::duration(b.evaluations as f64 * b.points as f64 * point / threads.max(1) as f64),
+                        if threads == 1 { "" } else { "s" },
+                    );
+                }
                 return Ok(true);
             }
+            let interrupt = Interrupt::default();
             let settings = runner::designs::DesignSettings {
                 reference: cli.reference.clone(),
                 out: out.clone(),
                 jobs: *jobs,
                 store: *store,
                 time_limit: *time_limit,
+                interrupt: Some(interrupt.flag.clone()),
             };
             let mut stored = Vec::new();
-            let (ok, _) = finish(|progress, log, staging| {
+            let (ok, _) = finish_with(Some(interrupt.clone()), |progress, log, staging| {
                 let run = runner::designs::run(files, &settings, progress, log, staging)?;
                 stored = run.stored;
                 Ok(run.finished)
             })?;
             for path in stored {
                 say!("stored: {}", path.display());
+            }
+            let sig = interrupt.signal.load(std::sync::atomic::Ordering::Relaxed);
+            if sig != 0 {
+                // The report of the best so far is in place; the exit status says the run
+                // was interrupted, as a shell expects.
+                say!("interrupted: the report holds the best layouts found before the interrupt");
+                std::process::exit(128 + sig);
             }
             Ok(ok)
         }
@@ -685,12 +730,21 @@ fn run_and_write(
 fn finish(
     run: impl FnOnce(&dyn Progress, &(dyn Fn(String) + Sync), &dyn Fn(PathBuf)) -> crate::Result<runner::Finished>,
 ) -> anyhow::Result<(bool, Vec<crate::analysis::ExperimentResult>)> {
+    finish_with(None, run)
+}
+
+/// [`finish`] whose first interrupt raises `interrupt` instead of abandoning the run
+/// ([`remove_on_interrupt`]).
+fn finish_with(
+    interrupt: Option<Interrupt>,
+    run: impl FnOnce(&dyn Progress, &(dyn Fn(String) + Sync), &dyn Fn(PathBuf)) -> crate::Result<runner::Finished>,
+) -> anyhow::Result<(bool, Vec<crate::analysis::ExperimentResult>)> {
     let tty = std::io::stderr().is_terminal();
     let bars = Bars { multi: tty.then(indicatif::MultiProgress::new) };
     let log = tty || std::env::var_os("CI").is_some();
     // The handler is in place before the staging folder exists: an interrupt at any moment
     // removes it.
-    let done = run(&bars, &|msg| bars.log(log, msg), &|staging| remove_on_interrupt(staging))?;
+    let done = run(&bars, &|msg| bars.log(log, msg), &|staging| remove_on_interrupt(staging, interrupt.clone()))?;
     if let Some(dir) = &done.blessed {
         say!("blessed: {} experiments sampled into {} (review the diff, commit it)", done.results.len(), dir.display());
     }

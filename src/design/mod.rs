@@ -60,10 +60,10 @@ pub struct Spec {
     /// Evaluate the layouts a search stored ([`stored`]) instead of searching (what
     /// `shotdamp report` does; never from the file).
     pub replay: bool,
-    /// The searches end at their first evaluation after this instant, each placement keeping
-    /// its best layout so far (`shotdamp design --time-limit`; never from the file, not part
-    /// of the fingerprint).
-    pub deadline: Option<std::time::Instant>,
+    /// When the searches end early, each placement keeping its best layout so far
+    /// (`shotdamp design --time-limit`, Ctrl-C; never from the file, not part of the
+    /// fingerprint).
+    pub halt: search::Halt,
 }
 
 /// Stated limits of a design file, so that every search it can ask for ends in a time its

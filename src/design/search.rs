@@ -5,7 +5,7 @@
 //! a fixed order: the same bytes for any number of threads.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use argmin::core::{CostFunction, Executor, State};
@@ -25,6 +25,36 @@ pub struct Space {
     pub clearance_mm: (f64, f64),
     /// One clearance for every container (else one each).
     pub shared_clearance: bool,
+}
+
+/// When the searches end early, each keeping its best layout so far: at a deadline
+/// (`shotdamp design --time-limit`), when a flag is raised (Ctrl-C), or never (the default).
+/// A setting of the run, not of the design: every halt compares equal, and none enters a
+/// stored answer's fingerprint.
+#[derive(Debug, Clone, Default)]
+pub struct Halt {
+    /// The searches end at their first evaluation after this instant.
+    pub deadline: Option<Instant>,
+    /// The searches end at their first evaluation after this flag is set.
+    pub interrupt: Option<Arc<AtomicBool>>,
+}
+
+impl PartialEq for Halt {
+    fn eq(&self, _: &Halt) -> bool {
+        true
+    }
+}
+
+impl Halt {
+    /// Whether the searches should end now.
+    pub fn reached(&self) -> bool {
+        self.deadline.is_some_and(|d| Instant::now() >= d) || self.interrupted()
+    }
+
+    /// Whether the flag was raised.
+    pub fn interrupted(&self) -> bool {
+        self.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))
+    }
 }
 
 /// Search settings.
@@ -116,8 +146,8 @@ struct Cost<'a> {
     count: &'a AtomicU64,
     /// Called before every evaluation (a caller may stop the search there by unwinding).
     check: &'a (dyn Fn() + Sync),
-    /// The search ends at its next evaluation after this instant, keeping its best so far.
-    deadline: Option<Instant>,
+    /// The search ends at its next evaluation after this halt, keeping its best so far.
+    halt: &'a Halt,
     /// The best point evaluated and its objective (what a run stopped by the deadline keeps).
     best: &'a Mutex<Option<(Vec<f64>, f64)>>,
     /// Set when the deadline stopped a run.
@@ -145,7 +175,7 @@ impl CostFunction for Cost<'_> {
 
     fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
         let call = self.calls.fetch_add(1, Ordering::Relaxed);
-        if self.deadline.is_some_and(|d| Instant::now() >= d) {
+        if self.halt.reached() {
             self.stopped.store(true, Ordering::Relaxed);
             // The initial simplex's vertices are not evaluated (the solver unwraps their
             // costs): the worst value keeps them out of the best so far.
@@ -208,7 +238,7 @@ type Descent = (Vec<f64>, f64, u64);
 /// unknown: infinite).
 fn descend(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
     let (best, stopped, count) = (cost.best, cost.stopped, cost.count);
-    if cost.deadline.is_some_and(|d| Instant::now() >= d) {
+    if cost.halt.reached() {
         stopped.store(true, Ordering::Relaxed);
         return Some((x0, f64::INFINITY, 0));
     }
@@ -288,20 +318,20 @@ pub fn optimise_checked(
     opts: &Options,
     check: &(dyn Fn() + Sync),
 ) -> Vec<Found> {
-    optimise_until(problem, bare, space, opts, check, None).0
+    optimise_until(problem, bare, space, opts, check, &Halt::default()).0
 }
 
-/// [`optimise_checked`] that stops at its first evaluation after `deadline`: the coarse scans
-/// (7 evaluations a placement) always finish, every Nelder-Mead run keeps the best point it
-/// evaluated. Returns the layouts and whether the deadline stopped the search (then they are
-/// the best found so far, not converged optima).
+/// [`optimise_checked`] that stops at its first evaluation after `halt` is reached: the
+/// coarse scans (7 evaluations a placement) always finish, every Nelder-Mead run keeps the best
+/// point it evaluated. Returns the layouts and whether the halt stopped the search (then they
+/// are the best found so far, not converged optima).
 pub fn optimise_until(
     problem: &Problem,
     bare: &[Vec<f64>],
     space: &Space,
     opts: &Options,
     check: &(dyn Fn() + Sync),
-    deadline: Option<Instant>,
+    halt: &Halt,
 ) -> (Vec<Found>, bool) {
     let stopped = AtomicBool::new(false);
     let firsts: Vec<Vec<f64>> =
@@ -328,7 +358,7 @@ pub fn optimise_until(
                 space,
                 count: &count,
                 check,
-                deadline,
+                halt,
                 best: &best,
                 stopped: &stopped,
                 calls: AtomicU64::new(0),

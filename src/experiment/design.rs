@@ -293,7 +293,7 @@ pub fn design(
         combine,
         sdof,
         replay: false,
-        deadline: None,
+        halt: Default::default(),
         report: raw.report.unwrap_or(false),
         scenario_models,
         model_structures: Vec::new(),

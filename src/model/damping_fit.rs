@@ -64,6 +64,8 @@ impl std::fmt::Display for DampingFitError {
     }
 }
 
+impl std::error::Error for DampingFitError {}
+
 /// Half width of the band around each natural frequency whose points are fitted, relative.
 pub const BAND: f64 = 0.1;
 

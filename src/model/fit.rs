@@ -84,6 +84,8 @@ impl std::fmt::Display for FitError {
     }
 }
 
+impl std::error::Error for FitError {}
+
 /// The fitted stiffness and how well it reproduces the data.
 #[derive(Debug, Clone)]
 pub struct StiffnessFit {

@@ -240,7 +240,14 @@ pub(crate) fn axis_range(lo: f64, hi: f64, log: bool) -> (f64, f64) {
 /// Tick labels of a value axis: scientific notation for small or large values.
 fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> String> {
     let big = lo.abs().max(hi.abs());
-    if log {
+    let plain = |v: f64| {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    };
+    if log && lo >= 1e-2 && hi < 1e5 {
+        // A log axis over everyday values (mm, N, Hz): 0.5, 2, 40 read better than 5e-1.
+        Box::new(move |v: &f64| plain(*v))
+    } else if log {
         Box::new(|v: &f64| format!("{v:.0e}"))
     } else if !(1e-2..1e5).contains(&big) {
         // Enough mantissa digits to tell ticks about a tenth of the range apart.
@@ -248,11 +255,7 @@ fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> String> {
         let digits = ((big / step).log10().ceil() as i32).clamp(1, 4) as usize;
         Box::new(move |v: &f64| if v.abs() < 1e-9 * big { "0".into() } else { format!("{v:.digits$e}") })
     } else {
-        Box::new(move |v: &f64| {
-            let v = if v.abs() < 1e-12 * big { 0.0 } else { *v };
-            let s = format!("{v:.4}");
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        })
+        Box::new(move |v: &f64| plain(if v.abs() < 1e-12 * big { 0.0 } else { *v }))
     }
 }
 

@@ -21,8 +21,11 @@ pub struct DesignSettings {
     /// Store each model's answer in `REFERENCE/designs/` ([`store_designs`]).
     pub store: bool,
     /// Seconds after which the searches stop and keep their best layouts so far
-    /// ([`crate::design::Spec::deadline`]); `None`: no limit.
+    /// ([`crate::design::Spec::halt`]); `None`: no limit.
     pub time_limit: Option<f64>,
+    /// A flag that, once raised (the command line raises it on Ctrl-C), stops the searches
+    /// likewise.
+    pub interrupt: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 /// What `shotdamp design` did.
@@ -55,12 +58,13 @@ pub fn run(
         ));
     }
     let started = std::time::Instant::now();
-    if let Some(limit) = settings.time_limit {
-        let deadline = started + std::time::Duration::from_secs_f64(limit);
-        for e in &mut exps {
-            if let experiment::Analysis::Design { spec, .. } = &mut e.analysis {
-                spec.deadline = Some(deadline);
-            }
+    let halt = crate::design::search::Halt {
+        deadline: settings.time_limit.map(|limit| started + std::time::Duration::from_secs_f64(limit)),
+        interrupt: settings.interrupt.clone(),
+    };
+    for e in &mut exps {
+        if let experiment::Analysis::Design { spec, .. } = &mut e.analysis {
+            spec.halt = halt.clone();
         }
     }
     let run = Settings {
@@ -156,4 +160,35 @@ pub fn store_designs(
         stored.push(path);
     }
     Ok(stored)
+}
+
+/// What one steady state of a design costs, measured: one layout evaluated on one thread (the
+/// shot split evenly over the last `max_beds` candidates, at the geometric mean of the
+/// clearance bounds), its time over its steady states. Per design of `files`: the experiment's
+/// key, the layout's hosts (0-based) and clearance (mm), and the seconds a steady state took.
+pub fn probe(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String, Vec<usize>, f64, f64)>> {
+    let exps = experiment::load_all(files, reference)?;
+    let one = super::pool(Some(1))?;
+    let mut out = Vec::new();
+    for e in &exps {
+        let experiment::Analysis::Design { spec, steady } = &e.analysis else { continue };
+        let problem = crate::analysis::design::problem(e, spec, steady);
+        let k = spec.max_beds.clamp(1, spec.candidates.len().max(1));
+        let hosts: Vec<usize> = spec.candidates[spec.candidates.len().saturating_sub(k)..].to_vec();
+        let (lo, hi) = spec.clearance_mm;
+        let d = (lo * hi).sqrt();
+        let layout = crate::design::Layout {
+            masses_kg: vec![spec.shot_kg / hosts.len().max(1) as f64; hosts.len()],
+            clearances_mm: vec![d; hosts.len()],
+            hosts: hosts.clone(),
+        };
+        let (seconds, points) = one.install(|| {
+            let bare = crate::design::bare(&problem);
+            let start = std::time::Instant::now();
+            let ev = crate::design::evaluate(&problem, &bare, &layout);
+            (start.elapsed().as_secs_f64(), ev.points)
+        });
+        out.push((e.key(), hosts, d, seconds / points.max(1) as f64));
+    }
+    Ok(out)
 }

@@ -143,7 +143,7 @@ fn join(u: &DVector<f64>, q: f64) -> DVector<f64> {
 
 impl<S: Section> Solver<'_, S> {
     fn dynamics(&self, q: f64) -> Result<Dynamics, OrbitError> {
-        let d = (self.family)(q * self.opts.p_scale).map_err(OrbitError::Setup)?;
+        let d = (self.family)(q * self.opts.p_scale)?;
         debug_assert!(
             self.opts.parameter != Parameter::FrequencyHz
                 || (d.omega - 2.0 * std::f64::consts::PI * q * self.opts.p_scale).abs() <= 1e-12 * d.omega,

@@ -47,6 +47,8 @@ impl std::fmt::Display for EigenError {
     }
 }
 
+impl std::error::Error for EigenError {}
+
 /// The eigenvalues of a square real matrix, in the order the Schur form gives them; bounded
 /// (see the module documentation). On a matrix where the first attempt converges (every one
 /// met so far but one), the values are those of nalgebra's `complex_eigenvalues` bit for bit.

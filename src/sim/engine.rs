@@ -19,6 +19,18 @@ pub enum Stop {
     },
 }
 
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stop::Chatter { t, events } => {
+                write!(f, "chatter: {events} events in one call, stopped at t = {t:.6} s")
+            }
+        }
+    }
+}
+
+impl std::error::Error for Stop {}
+
 /// Receives the motion as it is computed.
 pub trait Observer {
     /// A smooth segment of the motion, valid on `[t_a, t_b]`.

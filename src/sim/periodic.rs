@@ -69,6 +69,35 @@ impl std::fmt::Display for OrbitError {
     }
 }
 
+impl std::error::Error for OrbitError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            OrbitError::Setup(e) => Some(e),
+            OrbitError::Stopped(s) => Some(s),
+            OrbitError::Multipliers(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<SetupError> for OrbitError {
+    fn from(e: SetupError) -> OrbitError {
+        OrbitError::Setup(e)
+    }
+}
+
+impl From<Stop> for OrbitError {
+    fn from(s: Stop) -> OrbitError {
+        OrbitError::Stopped(s)
+    }
+}
+
+impl From<EigenError> for OrbitError {
+    fn from(e: EigenError) -> OrbitError {
+        OrbitError::Multipliers(e)
+    }
+}
+
 /// The kind of orbit sought and the scales of the section's coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Problem {
@@ -303,7 +332,7 @@ impl Problem {
         let limit = s.t + (self.periods as f64 + 1.0) * period;
         let mut rec = Returns { wanted: self.returns, seen: 0, events: Vec::new(), at: None };
         // Stops at the return impact.
-        Engine::new(d).advance(&mut s, limit, &mut Both(&mut rec, extra)).map_err(OrbitError::Stopped)?;
+        Engine::new(d).advance(&mut s, limit, &mut Both(&mut rec, extra))?;
         let at = rec.at.ok_or(OrbitError::NoReturn)?;
         Ok((at, rec.events))
     }
@@ -420,7 +449,7 @@ pub fn quadratic_constant(residuals: &[f64]) -> f64 {
 /// The orbit's multipliers from a Jacobian, largest modulus first (bounded: see
 /// [`eigen::eigenvalues`]).
 pub fn multipliers(j: &DMatrix<f64>) -> Result<Vec<Complex64>, OrbitError> {
-    let mut l = eigen::eigenvalues(j).map_err(OrbitError::Multipliers)?;
+    let mut l = eigen::eigenvalues(j)?;
     l.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
     Ok(l)
 }
@@ -602,6 +631,27 @@ pub fn summarize(d: &Dynamics, problem: &Problem, orbit: &Orbit) -> OrbitSummary
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn orbit_errors_compose_with_their_causes() {
+        use std::error::Error;
+        let setup: OrbitError = SetupError::Singular { mask: 0b101 }.into();
+        let cause = setup.source().map(|c| c.to_string());
+        assert_eq!(
+            cause.as_deref(),
+            Some("configuration 0b101: dynamic stiffness is singular at the forcing frequency")
+        );
+        let stopped: OrbitError = Stop::Chatter { t: 1.5, events: 2001 }.into();
+        assert!(stopped.source().is_some_and(|c| c.to_string().starts_with("chatter: 2001 events")));
+        let eigen: OrbitError = EigenError::NotFinite.into();
+        assert!(eigen.to_string().contains("NaN") && eigen.source().is_some());
+        assert!(OrbitError::Singular.source().is_none());
+        // Every solver error is a std error, so `?` carries it into a boxed error.
+        fn boxed() -> Result<(), Box<dyn Error + Send + Sync>> {
+            Err(SetupError::TooLarge { masses: 300 })?
+        }
+        assert!(boxed().is_err());
+    }
 
     #[test]
     fn the_quadratic_constant_is_measured_above_rounding_and_bounded_below_it() {

@@ -257,6 +257,8 @@ impl std::fmt::Display for NoSteady {
     }
 }
 
+impl std::error::Error for NoSteady {}
+
 /// The steady state of one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct Steady {

@@ -129,13 +129,13 @@ impl Strobe {
         if !d.system.columns.is_empty() {
             // The linearised flow has no saltation for grain-grain collisions: the Jacobian
             // comes from central differences of the map ([`Section::jacobian`]).
-            Engine::new(d).advance(&mut s, t_end, &mut Both(&mut log, extra)).map_err(OrbitError::Stopped)?;
+            Engine::new(d).advance(&mut s, t_end, &mut Both(&mut log, extra))?;
             let image = self.coordinates(d, &s)?;
             return Ok((Return { image, events: log.0, jacobian: None, d_omega: None }, s));
         }
         let mut tangent = Tangent::new(d, self.embedding(d));
         let mut both = Both(&mut tangent, &mut log);
-        Engine::new(d).advance(&mut s, t_end, &mut Both(&mut both, extra)).map_err(OrbitError::Stopped)?;
+        Engine::new(d).advance(&mut s, t_end, &mut Both(&mut both, extra))?;
         let image = self.coordinates(d, &s)?;
         let jacobian = self.restrict(d, &tangent.m);
         let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
@@ -279,7 +279,7 @@ impl Section for Strobe {
     fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
         let mut s = self.state(d, u);
         let t_end = self.end_time(d, s.t);
-        Engine::new(d).advance(&mut s, t_end, &mut crate::sim::engine::Quiet).map_err(OrbitError::Stopped)?;
+        Engine::new(d).advance(&mut s, t_end, &mut crate::sim::engine::Quiet)?;
         self.coordinates(d, &s)
     }
 }

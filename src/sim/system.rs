@@ -253,6 +253,8 @@ impl std::fmt::Display for SetupError {
     }
 }
 
+impl std::error::Error for SetupError {}
+
 /// The frequency-independent part of one configuration: its decomposition, shared by every
 /// forcing frequency of a sweep (cloning [`Dynamics`] at another frequency copies a pointer).
 #[derive(Debug)]
