@@ -162,11 +162,23 @@ pub fn store_designs(
     Ok(stored)
 }
 
+/// One design's measured cost of a steady state ([`probe`]).
+#[derive(Debug, Clone)]
+pub struct Probe {
+    /// The experiment's key.
+    pub key: String,
+    /// The layout evaluated: its hosts (0-based) ...
+    pub hosts: Vec<usize>,
+    /// ... and its clearance, mm.
+    pub clearance_mm: f64,
+    /// Seconds one steady state took on one thread.
+    pub seconds_per_point: f64,
+}
+
 /// What one steady state of a design costs, measured: one layout evaluated on one thread (the
 /// shot split evenly over the last `max_beds` candidates, at the geometric mean of the
-/// clearance bounds), its time over its steady states. Per design of `files`: the experiment's
-/// key, the layout's hosts (0-based) and clearance (mm), and the seconds a steady state took.
-pub fn probe(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String, Vec<usize>, f64, f64)>> {
+/// clearance bounds), its time over its steady states; one per design of `files`.
+pub fn probe(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<Probe>> {
     let exps = experiment::load_all(files, reference)?;
     let one = super::pool(Some(1))?;
     let mut out = Vec::new();
@@ -188,7 +200,7 @@ pub fn probe(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String, 
             let ev = crate::design::evaluate(&problem, &bare, &layout);
             (start.elapsed().as_secs_f64(), ev.points)
         });
-        out.push((e.key(), hosts, d, seconds / points.max(1) as f64));
+        out.push(Probe { key: e.key(), hosts, clearance_mm: d, seconds_per_point: seconds / points.max(1) as f64 });
     }
     Ok(out)
 }
