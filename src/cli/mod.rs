@@ -378,9 +378,8 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
                 // The nominal cost is a rule of thumb; one layout evaluated measures this
                 // structure and its beds.
                 let budgets = runner::designs::budgets(files, &cli.reference)?;
-                for ((key, hosts, d, point), (_, _, b)) in
-                    runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets)
-                {
+                for (probe, (_, _, b)) in runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets) {
+                    let runner::designs::Probe { key, hosts, clearance_mm: d, seconds_per_point: point } = probe;
                     let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
                     say!(
                         "design {key}: measured {} a steady state (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
