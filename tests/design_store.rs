@@ -279,3 +279,45 @@ fn force_scenarios_give_the_reduction_against_the_drive_level() {
     assert!((worst - best).abs() <= 1e-12 * best, "{worst} vs {best}");
     assert!(page.join("design_drive_levels.png").exists() && page.join("design_drive_levels.svg").exists());
 }
+
+/// `drive_levels_n`: the best layout and the cases evaluated again at each force after the
+/// search (not part of its objective): the nominal force's row is the search's objective.
+#[test]
+fn drive_levels_evaluate_the_best_layout_at_each_force_after_the_search() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::create_dir_all(root.join("reference")).unwrap();
+    let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap())
+        .replace("max_beds = 2", "max_beds = 2\ndrive_levels_n = [4.0, 1.0, 2.0]");
+    let design = root.join("frame.toml");
+    std::fs::write(&design, &text).unwrap();
+    let o = common::shotdamp()
+        .arg("design")
+        .arg(&design)
+        .arg("--time-limit=0")
+        .arg("--reference")
+        .arg(root.join("reference"))
+        .arg("--out")
+        .arg(root.join("d"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let page = root.join("d/design_five_storey");
+    let table = std::fs::read_to_string(page.join("data/design_drive_levels.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = table.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let forces: Vec<f64> = rows.iter().take(3).map(|r| r[2].parse().unwrap()).collect();
+    assert_eq!(forces, [1.0, 2.0, 4.0], "in increasing force: {table}");
+    // The file's force is 2 N: that row is the best layout's objective.
+    let at_two: f64 = rows[1][3].parse().unwrap();
+    let placements = std::fs::read_to_string(page.join("data/design_placements.csv")).unwrap();
+    let header: Vec<&str> = placements.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "objective").unwrap();
+    let best = placements.lines().skip(1).map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap()).fold(f64::INFINITY, f64::min);
+    assert_eq!(at_two, best, "{table}");
+    // A bad drive level is an input error naming the key.
+    std::fs::write(&design, text.replace("[4.0, 1.0, 2.0]", "[4.0, -1.0]")).unwrap();
+    let o = common::shotdamp().arg("design").arg(&design).arg("--dry-run").output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("design.drive_levels_n[1] = -1"), "{err}");
+}

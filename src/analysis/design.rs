@@ -485,7 +485,18 @@ pub fn run(
         let robust = exports.get("robust_clearance_min_mm").zip(exports.get("robust_clearance_max_mm"));
         answer =
             Some(super::design_drive::answer(&p, &rated[0], total_mass, robust.map(|(a, b)| (*a, *b)), &bare_curves));
-        if let Some((table, figure)) = super::design_levels::drive_levels(&p, &rated, &exp.meta.figure) {
+        // The reduction against the drive level: at the file's drive levels when it gives
+        // them, else over the forces of its scenarios.
+        let levels = if spec.drive_levels_n.is_empty() {
+            super::design_levels::drive_levels(&p, &rated, &exp.meta.figure)
+        } else {
+            let layouts: Vec<&Layout> = rated.iter().map(|r| r.1).collect();
+            let (at, evals) = super::design_levels::at_forces(&p, &spec.drive_levels_n, &layouts);
+            let rated_at: Vec<super::design_drive::Rated<'_>> =
+                rated.iter().zip(&evals).map(|(r, e)| (r.0.clone(), r.1, e)).collect();
+            super::design_levels::drive_levels(&at, &rated_at, &exp.meta.figure)
+        };
+        if let Some((table, figure)) = levels {
             tables.push(table);
             figures.push(figure);
         }

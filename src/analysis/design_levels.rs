@@ -4,7 +4,9 @@
 //! on the amplitude: too weak a drive and the beds ride on their hosts (only mass added), too
 //! strong and they fly too far to land in step with the structure.
 
-use crate::design::{Evaluation, Problem};
+use rayon::prelude::*;
+
+use crate::design::{bare, evaluate, Combine, Evaluation, Layout, Problem, Scenario};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series};
 use crate::number::fmt_sig;
 use crate::table::Table;
@@ -101,6 +103,26 @@ pub fn drive_levels(problem: &Problem, layouts: &[Rated<'_>], figure_name: &str)
         panels: vec![panel],
     };
     Some((table, figure))
+}
+
+/// The problem at each of `forces` (the nominal structure, one scenario per force) and the
+/// evaluations of `layouts` there, in order: what [`drive_levels`] draws for a design file's
+/// `drive_levels_n` (evaluated after the search, not part of its objective).
+pub fn at_forces(problem: &Problem, forces: &[f64], layouts: &[&Layout]) -> (Problem, Vec<Evaluation>) {
+    let mut sorted = forces.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let scenarios = sorted
+        .iter()
+        .map(|&f| Scenario {
+            name: format!("F {} N", crate::number::fmt_num(f)),
+            structure: problem.structure.clone(),
+            force: f,
+        })
+        .collect();
+    let at = Problem { scenarios, combine: Combine::Worst, ..problem.clone() };
+    let b = bare(&at);
+    let evaluations = layouts.par_iter().map(|l| evaluate(&at, &b, l)).collect();
+    (at, evaluations)
 }
 
 /// Scenario `i`'s objective in an evaluation.

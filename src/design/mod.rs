@@ -30,6 +30,9 @@ pub struct Spec {
     pub shared_clearance: bool,
     /// The direction every container's bed moves in (vertical: the paper's).
     pub direction: crate::model::Direction,
+    /// Forces (N) at which the best layout and the cases are evaluated after the search, for
+    /// the reduction against the drive level (empty: none; not part of the objective).
+    pub drive_levels_n: Vec<f64>,
     /// The bands whose response is lowered.
     pub bands: Vec<Band>,
     /// What is measured over a band (peak or RMS compliance).
@@ -156,7 +159,9 @@ impl Spec {
         };
         let search = if self.replay { placements.len() as u64 } else { search::most_evaluations(&space, &self.search) };
         let sdof = if self.sdof.is_some() { placements.len() as u64 } else { 0 };
-        let after = cases as u64 + PROFILE_POINTS as u64 + sdof;
+        // The drive levels evaluate the best layout and the cases once at each force.
+        let levels = (self.drive_levels_n.len() * (1 + cases)) as u64;
+        let after = cases as u64 + PROFILE_POINTS as u64 + sdof + levels;
         Budget {
             placements: placements.len(),
             searches,

@@ -276,6 +276,11 @@ pub fn design(
             "the paper's SDOF technique (Fig. 9, motion types I-III) models a vertical container: leave [design.sdof] out of a horizontal design",
         ));
     }
+    let drive_levels_n = raw.drive_levels_n.clone().unwrap_or_default();
+    if let Some((i, f)) = drive_levels_n.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
+        return Err(bad(&format!("drive_levels_n[{i}]"), f, "a force amplitude in N, positive and finite"));
+    }
+    distinct(path, "design.drive_levels_n", &drive_levels_n, limits::SCENARIO_VALUES, "drive levels")?;
     let spec = Spec {
         candidates,
         max_beds,
@@ -283,6 +288,7 @@ pub fn design(
         clearance_mm,
         shared_clearance: raw.shared_clearance.unwrap_or(true),
         direction,
+        drive_levels_n,
         bands,
         measure,
         sweeps,

@@ -325,6 +325,10 @@ pub struct RawDesign {
     pub shot_kg: Option<f64>,
     /// Bounds of the clearance, mm: `[min, max]`.
     pub clearance_mm: Vec<f64>,
+    /// Forces (N) at which the best layout and the cases are evaluated after the search, to
+    /// draw the reduction against the drive level (not part of the objective).
+    #[serde(default)]
+    pub drive_levels_n: Option<Vec<f64>>,
     /// The direction every container's bed moves in: "vertical" (default, the paper's) or
     /// "horizontal".
     #[serde(default)]

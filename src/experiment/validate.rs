@@ -90,6 +90,9 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         for (i, &f) in spec.scenario_force_n.iter().enumerate() {
             force_fits(path, &format!("design.scenarios.force_n[{i}]"), f, structure.masses[excitation.mass])?;
         }
+        for (i, &f) in spec.drive_levels_n.iter().enumerate() {
+            force_fits(path, &format!("design.drive_levels_n[{i}]"), f, structure.masses[excitation.mass])?;
+        }
     }
     let (scanning, may_scan) = (analysis.scans_clearances(), analysis.may_scan_clearances());
     for (ci, case) in cases.iter().enumerate() {
