@@ -312,7 +312,11 @@ fn drive_levels_evaluate_the_best_layout_at_each_force_after_the_search() {
     let placements = std::fs::read_to_string(page.join("data/design_placements.csv")).unwrap();
     let header: Vec<&str> = placements.lines().next().unwrap().split(',').collect();
     let col = header.iter().position(|h| *h == "objective").unwrap();
-    let best = placements.lines().skip(1).map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap()).fold(f64::INFINITY, f64::min);
+    let best = placements
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap())
+        .fold(f64::INFINITY, f64::min);
     assert_eq!(at_two, best, "{table}");
     // A bad drive level is an input error naming the key.
     std::fs::write(&design, text.replace("[4.0, 1.0, 2.0]", "[4.0, -1.0]")).unwrap();
