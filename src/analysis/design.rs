@@ -482,9 +482,6 @@ pub fn run(
         let (table, w) = super::design_drive::drive(&p, &bare_curves, &rated);
         tables.push(table);
         warnings = w;
-        let robust = exports.get("robust_clearance_min_mm").zip(exports.get("robust_clearance_max_mm"));
-        answer =
-            Some(super::design_drive::answer(&p, &rated[0], total_mass, robust.map(|(a, b)| (*a, *b)), &bare_curves));
         // The reduction against the drive level: at the file's drive levels when it gives
         // them, else over the forces of its scenarios.
         let levels = if spec.drive_levels_n.is_empty() {
@@ -496,10 +493,20 @@ pub fn run(
                 rated.iter().zip(&evals).map(|(r, e)| (r.0.clone(), r.1, e)).collect();
             super::design_levels::drive_levels(&at, &rated_at, &exp.meta.figure)
         };
-        if let Some((table, figure)) = levels {
+        let mut at_levels = Vec::new();
+        if let Some((table, figure, best_at)) = levels {
             tables.push(table);
             figures.push(figure);
+            at_levels = best_at;
         }
+        let robust = exports.get("robust_clearance_min_mm").zip(exports.get("robust_clearance_max_mm"));
+        let answer_in = super::design_drive::AnswerIn {
+            total_mass,
+            robust: robust.map(|(a, b)| (*a, *b)),
+            sampled: spec.clearance_mm,
+            levels: &at_levels,
+        };
+        answer = Some(super::design_drive::answer(&p, &rated[0], &answer_in, &bare_curves));
         if let Some((table, figure)) =
             super::design_near::near_optimum(spec, &p, &b, &best.layout, &best.evaluation, &exp.meta.figure)
         {

@@ -109,16 +109,25 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
     (table, warnings)
 }
 
+/// What the answer paragraph reads besides the problem and the best layout.
+pub struct AnswerIn<'a> {
+    /// The structure's total mass, kg.
+    pub total_mass: f64,
+    /// The clearances within 5 % of the best, mm (the sampled profile's), if any.
+    pub robust: Option<(f64, f64)>,
+    /// The clearance bounds the profile sampled, mm.
+    pub sampled: (f64, f64),
+    /// The best layout's objective at other forces, `(force N, objective)` in increasing
+    /// force (empty: none evaluated).
+    pub levels: &'a [(f64, f64)],
+}
+
 /// The design's answer in one paragraph, for the top of its page: where the shot goes, how
-/// much, the clearance to the precision the objective allows (`robust`: the clearances within
-/// 5 % of the best), the reduction per band, the drive level it holds at, unsettled points.
-pub fn answer(
-    problem: &Problem,
-    best: &Rated<'_>,
-    total_mass: f64,
-    robust: Option<(f64, f64)>,
-    bare: &[Vec<Vec<f64>>],
-) -> String {
+/// much, the clearance to the precision the objective allows (the clearances within 5 % of
+/// the best), the reduction per band, the drive level it holds at (and at other forces when
+/// they were evaluated), unsettled points.
+pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: &[Vec<Vec<f64>>]) -> String {
+    let (total_mass, robust) = (inputs.total_mass, inputs.robust);
     let (_, layout, eval) = best;
     let force = problem.cases()[0].force;
     let beds: Vec<String> = layout
@@ -145,7 +154,26 @@ pub fn answer(
                 fmt_sig(hi, 2)
             )
         }
+        (None, true, Some(d)) => format!(
+            "clearance {} mm (none of the other clearances sampled from {} to {} mm comes within 5 % of it: a narrow optimum)",
+            fmt_sig(*d, 2),
+            fmt_sig(inputs.sampled.0, 2),
+            fmt_sig(inputs.sampled.1, 2)
+        ),
         _ => format!("clearances {} mm", clearances.iter().map(|d| fmt_sig(*d, 2)).collect::<Vec<_>>().join(" / ")),
+    };
+    let levels = if inputs.levels.len() > 1 {
+        let at: Vec<String> =
+            inputs.levels.iter().map(|(f, o)| format!("{} at {} N", fmt_sig(*o, 2), fmt_sig(*f, 3))).collect();
+        let worse = inputs.levels.iter().filter(|(_, o)| *o > 1.0).count();
+        let warn = if worse > 0 {
+            format!("; at {worse} of these forces the shot makes the response worse than the bare structure's")
+        } else {
+            String::new()
+        };
+        format!(" At other forces the same layout gives {}{warn} (design_drive_levels).", at.join(", "))
+    } else {
+        String::new()
     };
     let bands: Vec<String> = problem
         .bands
@@ -172,7 +200,7 @@ pub fn answer(
         crate::model::Direction::Horizontal => " in horizontal containers",
     };
     format!(
-        "Put {}{along} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a force of {} N (the bare hosts' peak acceleration: {}); the answer depends on the drive level. {} of {} steady states did not settle.",
+        "Put {}{along} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a force of {} N (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
         beds.join(", "),
         fmt_sig(shot, 2),
         fmt_sig(100.0 * shot / total_mass, 2),

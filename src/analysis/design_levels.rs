@@ -34,9 +34,13 @@ fn groups(problem: &Problem) -> Vec<(String, Vec<usize>)> {
     out
 }
 
+/// The drive levels of a design: the table `design_drive_levels`, its figure, and the first
+/// layout's (the best's) objective at each force of the first group, in increasing force.
+pub type Levels = (Table, Figure, Vec<(f64, f64)>);
+
 /// The table `design_drive_levels` and its figure, when the scenarios hold two forces or more
 /// of one structure; `None` otherwise.
-pub fn drive_levels(problem: &Problem, layouts: &[Rated<'_>], figure_name: &str) -> Option<(Table, Figure)> {
+pub fn drive_levels(problem: &Problem, layouts: &[Rated<'_>], figure_name: &str) -> Option<Levels> {
     let cases = problem.cases();
     let groups: Vec<(String, Vec<usize>)> = groups(problem).into_iter().filter(|(_, g)| g.len() > 1).collect();
     if groups.is_empty() {
@@ -81,14 +85,17 @@ pub fn drive_levels(problem: &Problem, layouts: &[Rated<'_>], figure_name: &str)
     .str("scenario", rows.iter().map(|r| r.1.clone()).collect())
     .f64("force_n", rows.iter().map(|r| r.2).collect())
     .f64("objective", rows.iter().map(|r| r.3).collect());
-    let best = layouts.first().map(|(_, _, e)| e);
-    let span = best.map(|e| {
-        let v: Vec<f64> = groups[0].1.iter().map(|&i| objective_of(e, i)).collect();
-        (v.iter().copied().fold(f64::INFINITY, f64::min), v.iter().copied().fold(0.0, f64::max))
+    let best: Vec<(f64, f64)> = layouts
+        .first()
+        .map(|(_, _, e)| groups[0].1.iter().map(|&i| (cases[i].force, objective_of(e, i))).collect())
+        .unwrap_or_default();
+    let span = (!best.is_empty()).then(|| {
+        let v = best.iter().map(|b| b.1);
+        (v.clone().fold(f64::INFINITY, f64::min), v.fold(0.0, f64::max))
     });
     let caption = match span {
         Some((a, b)) => format!(
-            "The worst band's measure over the bare structure's at each force of the scenarios (log axis), for the best layout and the experiment's cases; the best layout's ranges from {} to {} over {}-{} N. Below the force at which the beds start to move they only add mass; the damper works in a window of drive levels.",
+            "The worst band's measure over the bare structure's at each force (log axis), for the best layout and the experiment's cases; the best layout's ranges from {} to {} over {}-{} N. An impact damper works in a window of drive levels: away from the force it was designed for its beds no longer land in step with the structure (and vertical beds below 1 g at their hosts only add mass).",
             fmt_sig(a, 2),
             fmt_sig(b, 2),
             fmt_sig(lo, 2),
@@ -102,7 +109,7 @@ pub fn drive_levels(problem: &Problem, layouts: &[Rated<'_>], figure_name: &str)
         caption,
         panels: vec![panel],
     };
-    Some((table, figure))
+    Some((table, figure, best))
 }
 
 /// The problem at each of `forces` (the nominal structure, one scenario per force) and the
