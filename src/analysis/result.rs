@@ -54,6 +54,12 @@ pub type Tick<'a> = dyn Fn() + Sync + 'a;
 pub trait Progress: Sync {
     /// A counter for an experiment that will run `total` simulated points.
     fn start(&self, id: &str, total: u64) -> Box<Tick<'static>>;
+
+    /// A counter of unknown total that is at most `ceiling` (a design search's layout
+    /// evaluations); by default one of unknown total.
+    fn start_bounded(&self, id: &str, _ceiling: u64) -> Box<Tick<'static>> {
+        self.start(id, 0)
+    }
 }
 
 /// No progress display.

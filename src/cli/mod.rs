@@ -639,6 +639,12 @@ const LOG_EVERY_S: f64 = 5.0;
 /// far; a total of 0 is not known ahead, as a design search's evaluations: then the count
 /// alone). A run shorter than that prints nothing.
 fn log_lines(id: &str, total: u64) -> Box<Tick<'static>> {
+    log_lines_bounded(id, total, 0)
+}
+
+/// [`log_lines`] of a count of unknown total at most `ceiling` (0: no bound known): the
+/// lines add the bound and the time it would take at the pace so far.
+fn log_lines_bounded(id: &str, total: u64, ceiling: u64) -> Box<Tick<'static>> {
     use std::sync::atomic::{AtomicU64, Ordering};
     let id = id.to_string();
     let start = std::time::Instant::now();
@@ -658,6 +664,15 @@ fn log_lines(id: &str, total: u64) -> Box<Tick<'static>> {
             return;
         }
         let spent = elapsed.as_secs_f64();
+        if total == 0 && ceiling > n {
+            let most = spent * (ceiling - n) as f64 / n as f64;
+            eprintln!(
+                "{id}: {n} evaluated (at most {ceiling}), {} so far, at most about {} left (a search usually stops far sooner)",
+                study::duration(spent),
+                study::duration(most)
+            );
+            return;
+        }
         if total == 0 {
             eprintln!("{id}: {n} evaluated, {} so far", study::duration(spent));
             return;
@@ -668,6 +683,13 @@ fn log_lines(id: &str, total: u64) -> Box<Tick<'static>> {
 }
 
 impl Progress for Bars {
+    fn start_bounded(&self, id: &str, ceiling: u64) -> Box<Tick<'static>> {
+        match &self.multi {
+            None => log_lines_bounded(id, 0, ceiling),
+            Some(_) => self.start(id, 0),
+        }
+    }
+
     fn start(&self, id: &str, total: u64) -> Box<Tick<'static>> {
         let Some(multi) = &self.multi else { return log_lines(id, total) };
         if total == 0 {
