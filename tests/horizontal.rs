@@ -499,3 +499,25 @@ fn without_gravity_the_motion_scales_with_the_force_and_the_clearance_together()
     }
     assert!(compared >= 4 && moved >= 3, "{compared} settled, the beds hit their walls at {moved}");
 }
+
+#[test]
+fn a_waveform_names_the_walls_a_horizontal_bed_hits() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let analysis = "kind = \"waveform\"\nfrequencies_hz = [13.0]\nlabels = [\"a\"]\nperiods = 2";
+    let keys = ", direction = \"horizontal\", bed = \"restitution\", restitution = 0.5";
+    let file = common::three_containers(dir.path(), "hw", analysis, "c", ["", keys, ""]);
+    let text = std::fs::read_to_string(&file)
+        .expect("read")
+        .replace("clearance_mm = 0.35, direction", "clearance_mm = 1.0, direction");
+    std::fs::write(&file, text + "[[plots]]\nid = \"waveforms\"\nkind = \"waveform\"\ntitle = \"w\"\n").expect("write");
+    let out = dir.path().join("o");
+    let o = common::shotdamp().args(["run", file.to_str().expect("utf-8"), "--out"]).arg(&out).output().expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(out.join("hw/stated/index.html")).expect("the stated model's page");
+    assert!(html.contains("bed on m2: hits both walls; per period"), "the horizontal bed is told by its walls");
+    let m1 = html.split("bed on m1: ").nth(1).expect("the bed on m1");
+    assert!(
+        m1.starts_with("Type") || m1.starts_with("rests on the bottom"),
+        "the vertical beds keep the paper's words"
+    );
+}

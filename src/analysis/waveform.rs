@@ -29,7 +29,7 @@ struct Record {
 
 /// The motion type of the bed in container `beds` (one bed, or a column's grains) from the
 /// events of the record (paper section 2.2).
-fn motion_type(s: &Sampler, beds: std::ops::Range<usize>, periods: usize, finite: bool) -> String {
+fn motion_type(s: &Sampler, beds: std::ops::Range<usize>, periods: usize, finite: bool, horizontal: bool) -> String {
     let (mut lift, mut bottom, mut top_stick, mut top_bounce) = (0, 0, 0, 0);
     let grains = beds.len();
     for e in s.events.iter().filter(|e| beds.contains(&e.bed)) {
@@ -42,6 +42,22 @@ fn motion_type(s: &Sampler, beds: std::ops::Range<usize>, periods: usize, finite
         }
     }
     let per = |k: usize| fmt_num(k as f64 / periods as f64);
+    if horizontal {
+        // The paper's types are those of a vertical bed; a horizontal one is told by the
+        // walls it hits (docs/model.md section 2.2).
+        let second = top_stick + top_bounce;
+        return match (bottom > 0, second > 0) {
+            (false, false) if lift == 0 => "rides on a wall (no flight)".into(),
+            (false, false) => "flies without hitting a wall".into(),
+            (true, true) => format!(
+                "hits both walls; per period {} impacts on the first and {} on the second",
+                per(bottom),
+                per(second)
+            ),
+            (true, false) => format!("hits the first wall only; per period {} impacts", per(bottom)),
+            (false, true) => format!("hits the second wall only; per period {} impacts", per(second)),
+        };
+    }
     if lift == 0 && bottom == 0 && top_stick + top_bounce == 0 {
         return "rests on the bottom (no flight)".into();
     }
@@ -155,7 +171,11 @@ pub fn run(
             let types = curves::bed_ranges(case)
                 .into_iter()
                 .enumerate()
-                .map(|(k, beds)| motion_type(&sampler, beds, periods, case.dampers[k].clearance.is_bounded()))
+                .map(|(k, beds)| {
+                    let d = &case.dampers[k];
+                    let horizontal = d.direction == crate::model::Direction::Horizontal;
+                    motion_type(&sampler, beds, periods, d.clearance.is_bounded(), horizontal)
+                })
                 .collect();
             records.push(Record {
                 case: case.id.clone(),
@@ -187,6 +207,8 @@ pub type MotionTypes = std::collections::BTreeMap<String, Vec<String>>;
 fn short_type(t: &str) -> String {
     match t.strip_prefix("Type ") {
         Some(rest) => rest.split([' ', ';']).next().unwrap_or(rest).to_string(),
+        None if t.starts_with("hits both walls") => "both walls".into(),
+        None if t.starts_with("hits the") => "one wall".into(),
         None => "rests".into(),
     }
 }
@@ -262,8 +284,17 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
                     if dm.clearance.is_bounded() {
                         let top = host.iter().map(|h| h + dm.clearance.mm()).collect();
                         series.push(
-                            Series::line(format!("top of container on m{}", dm.host + 1), r.phase_deg.clone(), top, j)
-                                .dashed(Dash::Dotted),
+                            Series::line(
+                                if dm.direction == crate::model::Direction::Horizontal {
+                                    format!("second wall of container on m{}", dm.host + 1)
+                                } else {
+                                    format!("top of container on m{}", dm.host + 1)
+                                },
+                                r.phase_deg.clone(),
+                                top,
+                                j,
+                            )
+                            .dashed(Dash::Dotted),
                         );
                     }
                     type_lines.push(format!(
@@ -311,7 +342,7 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
                 id: format!("{}_{}", p.id, case.id),
                 title: format!("{title}, {}", case.label),
                 caption: format!(
-                    "Steady motion over {periods} forcing periods (phase 0 at a multiple of the period, force F sin(omega t) on m{}). Solid: host mass; dashed: bed (on the host line while in contact); dotted: container top. Motion types: {}.",
+                    "Steady motion over {periods} forcing periods (phase 0 at a multiple of the period, force F sin(omega t) on m{}). Solid: host mass; dashed: bed (on the host line while in contact); dotted: container top (the second wall of a horizontal container). Motion types: {}.",
                     exp.excitation.mass + 1,
                     type_lines.join("; ")
                 ),
