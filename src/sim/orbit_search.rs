@@ -17,6 +17,7 @@ use nalgebra::DVector;
 use num_complex::Complex64;
 
 use super::engine::{Engine, Event, Quiet, State};
+use super::state::{Mark, Pattern};
 use super::observe::{EventLog, Extrema};
 use super::periodic::{quadratic_constant, signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
 use super::steady::{
@@ -30,7 +31,7 @@ use super::system::Dynamics;
 struct Period {
     events: Vec<Event>,
     /// Its events counted per bed and kind.
-    sig: Vec<(usize, u8, usize)>,
+    sig: Pattern,
     /// The amplitude scale at its end.
     scale: f64,
 }
@@ -42,10 +43,10 @@ fn pattern(history: &VecDeque<Period>, max_p: usize, reps: usize) -> Option<usiz
 }
 
 /// Counts of each event kind per bed: what "the same events per cycle" compares.
-fn counts(events: &[Event]) -> Vec<(usize, u8, usize)> {
+fn counts(events: &[Event]) -> Pattern {
     let mut sig = signature(events);
     sig.sort_unstable();
-    let mut out: Vec<(usize, u8, usize)> = Vec::new();
+    let mut out: Pattern = Vec::new();
     for (bed, kind) in sig {
         match out.last_mut() {
             Some((b, k, c)) if *b == bed && *k == kind => *c += 1,
@@ -80,7 +81,7 @@ fn attempt(
     at: &State,
     p: usize,
     length: f64,
-    wanted: &[(usize, u8, usize)],
+    wanted: &[(usize, Mark, usize)],
     opts: &SteadyOptions,
 ) -> Result<(Strobe, Orbit, Option<Recorded>), Miss> {
     let (strobe, u0) = Strobe::through(d, at, p, length);
@@ -242,7 +243,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         // (after a period doubling the events per period can stay the same).
         if let Err(Miss::Unstable { .. }) = &result {
             if 2 * p <= opts.max_subharmonic {
-                let doubled: Vec<(usize, u8, usize)> = wanted.iter().map(|&(b, k, c)| (b, k, 2 * c)).collect();
+                let doubled: Pattern = wanted.iter().map(|&(b, k, c)| (b, k, 2 * c)).collect();
                 if let Ok(found) = attempt(d, &at, 2 * p, length, &doubled, opts) {
                     result = Ok(found);
                 }
@@ -474,7 +475,7 @@ fn accept(
     orbit: Orbit,
     recorded: Option<Recorded>,
     u0: &DVector<f64>,
-    pattern: &[(usize, u8, usize)],
+    pattern: &[(usize, Mark, usize)],
     opts: &SteadyOptions,
 ) -> Option<Steady> {
     if !orbit.stable || counts(&orbit.events) != pattern && (&orbit.u - u0).amax() > FOLLOW_NEAR {
@@ -531,7 +532,7 @@ fn moved_section(d: &Dynamics, strobe: &Strobe, states: &[(f64, &State)]) -> Opt
 /// The section coordinates of the forced response with every bed on its container floor,
 /// when the previous orbit had no event (its beds rode their hosts throughout): that response
 /// is the orbit as long as no contact force reaches zero on it.
-fn resting_guess(d: &Dynamics, strobe: &Strobe, at: &State, pattern: &[(usize, u8, usize)]) -> Option<DVector<f64>> {
+fn resting_guess(d: &Dynamics, strobe: &Strobe, at: &State, pattern: &[(usize, Mark, usize)]) -> Option<DVector<f64>> {
     if !pattern.is_empty() || strobe.beds.iter().any(|b| *b != Rest::Bottom) {
         return None;
     }

@@ -22,6 +22,7 @@ use num_complex::Complex64;
 
 use super::eigen::{self, EigenError};
 use super::engine::{Bed, Engine, Event, EventKind, Observer, State, Stop};
+use super::state::Mark;
 use super::observe::Both;
 use super::system::{Dynamics, SetupError};
 use super::tangent::Tangent;
@@ -217,20 +218,8 @@ impl Observer for Returns {
 }
 
 /// The kinds of the events in order: what makes two runs "the same motion".
-pub fn signature(events: &[Event]) -> Vec<(usize, u8)> {
-    events
-        .iter()
-        .map(|e| {
-            let k = match e.kind {
-                EventKind::LiftOff { top: false } => 0,
-                EventKind::LiftOff { top: true } => 1,
-                EventKind::Impact { top: false, attached, .. } => 2 + attached as u8,
-                EventKind::Impact { top: true, attached, .. } => 4 + attached as u8,
-                EventKind::Collision { lower, stuck, .. } => 6 + stuck as u8 + 2 * lower.min(100) as u8,
-            };
-            (e.bed, k)
-        })
-        .collect()
+pub fn signature(events: &[Event]) -> Vec<(usize, Mark)> {
+    events.iter().map(|e| (e.bed, e.kind.mark())).collect()
 }
 
 impl Problem {

@@ -158,6 +158,46 @@ pub enum EventKind {
     },
 }
 
+/// What kind of event an event is, without its numbers (speeds, times): what a motion's
+/// pattern of events counts. Ordered lift-offs, impacts, collisions; bottom before top.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Mark {
+    /// A lift-off from the bottom (`top = false`) or the top.
+    LiftOff {
+        /// From the top.
+        top: bool,
+    },
+    /// An impact on the bottom or the top, the bed staying on (`attached`) or not.
+    Impact {
+        /// On the top.
+        top: bool,
+        /// The bed stays on the container.
+        attached: bool,
+    },
+    /// A grain-grain collision with the grain `lower`, bouncing or sticking.
+    Collision {
+        /// The lower grain.
+        lower: usize,
+        /// The two move on together.
+        stuck: bool,
+    },
+}
+
+impl EventKind {
+    /// The event's [`Mark`].
+    pub fn mark(&self) -> Mark {
+        match *self {
+            EventKind::LiftOff { top } => Mark::LiftOff { top },
+            EventKind::Impact { top, attached, .. } => Mark::Impact { top, attached },
+            EventKind::Collision { lower, stuck, .. } => Mark::Collision { lower, stuck },
+        }
+    }
+}
+
+/// How many events of each kind each bed has in a cycle: `(bed, mark, count)`, ordered by
+/// bed and mark. What "the same events per cycle" compares.
+pub type Pattern = Vec<(usize, Mark, usize)>;
+
 /// One event of one bed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Event {

@@ -178,7 +178,7 @@ pub struct Certificate {
     pub phase: f64,
     /// The orbit's events per cycle, counted per bed and kind (what a followed point must
     /// keep, [`SteadyOptions::follow`]).
-    pub pattern: Vec<(usize, u8, usize)>,
+    pub pattern: super::state::Pattern,
     /// The state on the orbit at the section (where a followed point starts from).
     pub section: State,
 }
