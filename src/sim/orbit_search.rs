@@ -17,9 +17,9 @@ use nalgebra::DVector;
 use num_complex::Complex64;
 
 use super::engine::{Engine, Event, Quiet, State};
-use super::state::{Mark, Pattern};
 use super::observe::{EventLog, Extrema};
 use super::periodic::{quadratic_constant, signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
+use super::state::{Mark, Pattern};
 use super::steady::{
     amplitude_scale, finish, run_to_whole_period, torus_window, Certificate, NoSteady, Outcome, Recorder, Steady,
     SteadyMethod, SteadyOptions, TORUS_MARGIN, TORUS_TOL,

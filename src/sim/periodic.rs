@@ -22,8 +22,8 @@ use num_complex::Complex64;
 
 use super::eigen::{self, EigenError};
 use super::engine::{Bed, Engine, Event, EventKind, Observer, State, Stop};
-use super::state::Mark;
 use super::observe::Both;
+use super::state::Mark;
 use super::system::{Dynamics, SetupError};
 use super::tangent::Tangent;
 

@@ -1,0 +1,165 @@
+//! What a run shows while it runs and how it ends early: progress bars on a terminal, lines
+//! in a log, and the interrupt handler (Ctrl-C or SIGTERM) that removes an unfinished report
+//! or, for a design, first stops its searches so that their best so far is written.
+
+use std::path::PathBuf;
+
+use super::study;
+use crate::analysis::{Progress, Tick};
+
+/// On Ctrl-C (SIGINT) or SIGTERM: removes the staging folder of the report being written
+/// and exits with 128 + the signal number (the previous report stays as it was). With
+/// `interrupt` (a design run), the first signal only raises that flag: the searches stop and
+/// the report of their best layouts so far is written; a second signal abandons the run.
+pub(super) fn remove_on_interrupt(staging: PathBuf, interrupt: Option<Interrupt>) {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else { return };
+    std::thread::spawn(move || {
+        for sig in signals.forever() {
+            if let Some(i) = &interrupt {
+                if i.signal.load(std::sync::atomic::Ordering::Relaxed) == 0 {
+                    i.signal.store(sig, std::sync::atomic::Ordering::Relaxed);
+                    i.flag.store(true, std::sync::atomic::Ordering::Relaxed);
+                    eprintln!(
+                        "interrupted: the searches stop at their next evaluation and the report of their best layouts so far is written (marked incomplete); interrupt again to abandon it"
+                    );
+                    continue;
+                }
+            }
+            let committed = crate::output::destination::commit_lock();
+            if *committed {
+                // The new report is in place: the run ends by itself in a moment.
+                return;
+            }
+            eprintln!("interrupted: removing {}", staging.display());
+            // Workers may still be writing into it (they cannot recreate it once it is gone):
+            // retry while a removal races with a file being created.
+            for _ in 0..100 {
+                if std::fs::remove_dir_all(&staging).is_ok() || !staging.exists() {
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(2));
+            }
+            std::process::exit(128 + sig);
+        }
+    });
+}
+
+/// A design run's interrupt: the flag its searches watch and the signal that raised it (0:
+/// none yet).
+#[derive(Clone, Default)]
+pub(super) struct Interrupt {
+    pub(super) flag: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    pub(super) signal: std::sync::Arc<std::sync::atomic::AtomicI32>,
+}
+
+/// Progress bars on a terminal (one per experiment), nothing otherwise.
+pub(super) struct Bars {
+    pub(super) multi: Option<indicatif::MultiProgress>,
+}
+
+impl Bars {
+    /// Prints a line of the run's log (when `log`) above the bars, or to stderr without them.
+    pub(super) fn log(&self, log: bool, msg: String) {
+        if !log {
+            return;
+        }
+        match &self.multi {
+            Some(m) => {
+                let _ = m.println(msg);
+            }
+            None => eprintln!("{msg}"),
+        }
+    }
+}
+
+/// Seconds between two progress lines in a log.
+const LOG_EVERY_S: f64 = 5.0;
+
+/// Progress as lines in a log (standard error not a terminal): every [`LOG_EVERY_S`] seconds
+/// the points done, the time taken and an estimate of what is left (from the points done so
+/// far; a total of 0 is not known ahead, as a design search's evaluations: then the count
+/// alone). A run shorter than that prints nothing.
+fn log_lines(id: &str, total: u64) -> Box<Tick<'static>> {
+    log_lines_bounded(id, total, 0)
+}
+
+/// [`log_lines`] of a count of unknown total at most `ceiling` (0: no bound known): the
+/// lines add the bound and the time it would take at the pace so far.
+fn log_lines_bounded(id: &str, total: u64, ceiling: u64) -> Box<Tick<'static>> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let id = id.to_string();
+    let start = std::time::Instant::now();
+    let done = AtomicU64::new(0);
+    // The next line is due at this many milliseconds after the start.
+    let due = AtomicU64::new((LOG_EVERY_S * 1e3) as u64);
+    Box::new(move || {
+        let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+        let elapsed = start.elapsed();
+        let ms = elapsed.as_millis() as u64;
+        let next = due.load(Ordering::Relaxed);
+        if ms < next || (total > 0 && n >= total) {
+            return;
+        }
+        // One thread prints a given line.
+        if due.compare_exchange(next, ms + (LOG_EVERY_S * 1e3) as u64, Ordering::Relaxed, Ordering::Relaxed).is_err() {
+            return;
+        }
+        let spent = elapsed.as_secs_f64();
+        if total == 0 && ceiling > n {
+            let most = spent * (ceiling - n) as f64 / n as f64;
+            eprintln!(
+                "{id}: {n} evaluated (at most {ceiling}), {} so far, at most about {} left (a search usually stops far sooner)",
+                study::duration(spent),
+                study::duration(most)
+            );
+            return;
+        }
+        if total == 0 {
+            eprintln!("{id}: {n} evaluated, {} so far", study::duration(spent));
+            return;
+        }
+        let left = spent * (total - n) as f64 / n as f64;
+        eprintln!("{id}: {n}/{total} points, {} so far, about {} left", study::duration(spent), study::duration(left));
+    })
+}
+
+impl Progress for Bars {
+    fn start_bounded(&self, id: &str, ceiling: u64) -> Box<Tick<'static>> {
+        match &self.multi {
+            None => log_lines_bounded(id, 0, ceiling),
+            Some(_) => self.start(id, 0),
+        }
+    }
+
+    fn start(&self, id: &str, total: u64) -> Box<Tick<'static>> {
+        let Some(multi) = &self.multi else { return log_lines(id, total) };
+        if total == 0 {
+            // Not known ahead (a design's evaluations): a counter drawn at its first tick
+            // (most experiments of total 0 never tick).
+            let (multi, id) = (multi.clone(), id.to_string());
+            let bar = std::sync::OnceLock::new();
+            return Box::new(move || {
+                bar.get_or_init(|| {
+                    let bar = multi.add(indicatif::ProgressBar::new_spinner());
+                    if let Ok(style) =
+                        indicatif::ProgressStyle::with_template("{prefix:>28} {pos} evaluated, {elapsed}")
+                    {
+                        bar.set_style(style);
+                    }
+                    bar.set_prefix(id.clone());
+                    bar
+                })
+                .inc(1)
+            });
+        }
+        let bar = multi.add(indicatif::ProgressBar::new(total));
+        if let Ok(style) =
+            indicatif::ProgressStyle::with_template("{prefix:>28} [{bar:30}] {pos}/{len} points, {elapsed}")
+        {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_prefix(id.to_string());
+        Box::new(move || bar.inc(1))
+    }
+}
