@@ -242,24 +242,7 @@ fn an_interrupted_design_writes_its_best_so_far_and_a_second_interrupt_abandons_
 #[test]
 fn force_scenarios_give_the_reduction_against_the_drive_level() {
     let dir = tempfile::tempdir().unwrap();
-    let root = dir.path();
-    std::fs::create_dir_all(root.join("reference")).unwrap();
-    let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap())
-        .replace("max_beds = 2", "max_beds = 2\nscenarios = { force_n = [1.0, 2.0, 4.0] }");
-    let design = root.join("frame.toml");
-    std::fs::write(&design, &text).unwrap();
-    let o = common::shotdamp()
-        .arg("design")
-        .arg(&design)
-        .arg("--time-limit=0")
-        .arg("--reference")
-        .arg(root.join("reference"))
-        .arg("--out")
-        .arg(root.join("d"))
-        .output()
-        .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
-    let page = root.join("d/design_five_storey");
+    let (page, _) = coarse_design(dir.path(), "scenarios = { force_n = [1.0, 2.0, 4.0] }");
     let table = std::fs::read_to_string(page.join("data/design_drive_levels.csv")).unwrap();
     let rows: Vec<Vec<&str>> = table.lines().skip(1).map(|l| l.split(',').collect()).collect();
     assert_eq!(table.lines().next(), Some("layout,scenario,force_n,objective"), "{table}");
@@ -268,14 +251,7 @@ fn force_scenarios_give_the_reduction_against_the_drive_level() {
     assert_eq!(forces, [1.0, 2.0, 4.0]);
     // The best layout's objective at each force is the placements table's worst over them.
     let worst = rows.iter().take(3).map(|r| r[3].parse::<f64>().unwrap()).fold(0.0, f64::max);
-    let placements = std::fs::read_to_string(page.join("data/design_placements.csv")).unwrap();
-    let header: Vec<&str> = placements.lines().next().unwrap().split(',').collect();
-    let col = header.iter().position(|h| *h == "objective").unwrap();
-    let best = placements
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap())
-        .fold(f64::INFINITY, f64::min);
+    let best = best_objective(&page);
     assert!((worst - best).abs() <= 1e-12 * best, "{worst} vs {best}");
     assert!(page.join("design_drive_levels.png").exists() && page.join("design_drive_levels.svg").exists());
 }
@@ -285,10 +261,30 @@ fn force_scenarios_give_the_reduction_against_the_drive_level() {
 #[test]
 fn drive_levels_evaluate_the_best_layout_at_each_force_after_the_search() {
     let dir = tempfile::tempdir().unwrap();
-    let root = dir.path();
+    let (page, design) = coarse_design(dir.path(), "drive_levels_n = [4.0, 1.0, 2.0]");
+    let text = std::fs::read_to_string(&design).unwrap();
+    let table = std::fs::read_to_string(page.join("data/design_drive_levels.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = table.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let forces: Vec<f64> = rows.iter().take(3).map(|r| r[2].parse().unwrap()).collect();
+    assert_eq!(forces, [1.0, 2.0, 4.0], "in increasing force: {table}");
+    // The file's force is 2 N: that row is the best layout's objective.
+    let at_two: f64 = rows[1][3].parse().unwrap();
+    let best = best_objective(&page);
+    assert_eq!(at_two, best, "{table}");
+    // A bad drive level is an input error naming the key.
+    std::fs::write(&design, text.replace("[4.0, 1.0, 2.0]", "[4.0, -1.0]")).unwrap();
+    let o = common::shotdamp().arg("design").arg(&design).arg("--dry-run").output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("design.drive_levels_n[1] = -1"), "{err}");
+}
+
+/// The tiny five-storey design with `extra` added to `[design]`, run with its searches stopped
+/// at once (the coarse scans only) into `root/d`: its page folder and the design file.
+fn coarse_design(root: &Path, extra: &str) -> (std::path::PathBuf, std::path::PathBuf) {
     std::fs::create_dir_all(root.join("reference")).unwrap();
     let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap())
-        .replace("max_beds = 2", "max_beds = 2\ndrive_levels_n = [4.0, 1.0, 2.0]");
+        .replace("max_beds = 2", &format!("max_beds = 2\n{extra}"));
     let design = root.join("frame.toml");
     std::fs::write(&design, &text).unwrap();
     let o = common::shotdamp()
@@ -302,26 +298,17 @@ fn drive_levels_evaluate_the_best_layout_at_each_force_after_the_search() {
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
-    let page = root.join("d/design_five_storey");
-    let table = std::fs::read_to_string(page.join("data/design_drive_levels.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = table.lines().skip(1).map(|l| l.split(',').collect()).collect();
-    let forces: Vec<f64> = rows.iter().take(3).map(|r| r[2].parse().unwrap()).collect();
-    assert_eq!(forces, [1.0, 2.0, 4.0], "in increasing force: {table}");
-    // The file's force is 2 N: that row is the best layout's objective.
-    let at_two: f64 = rows[1][3].parse().unwrap();
+    (root.join("d/design_five_storey"), design)
+}
+
+/// The lowest objective of a design page's placements table.
+fn best_objective(page: &Path) -> f64 {
     let placements = std::fs::read_to_string(page.join("data/design_placements.csv")).unwrap();
     let header: Vec<&str> = placements.lines().next().unwrap().split(',').collect();
     let col = header.iter().position(|h| *h == "objective").unwrap();
-    let best = placements
+    placements
         .lines()
         .skip(1)
         .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap())
-        .fold(f64::INFINITY, f64::min);
-    assert_eq!(at_two, best, "{table}");
-    // A bad drive level is an input error naming the key.
-    std::fs::write(&design, text.replace("[4.0, 1.0, 2.0]", "[4.0, -1.0]")).unwrap();
-    let o = common::shotdamp().arg("design").arg(&design).arg("--dry-run").output().unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("design.drive_levels_n[1] = -1"), "{err}");
+        .fold(f64::INFINITY, f64::min)
 }

@@ -419,13 +419,7 @@ fn bad_directions_are_input_errors_naming_the_key() {
         (", direction = \"horizontal\", bed = \"column\", grains = 5", "cases[0].dampers[1].bed"),
     ] {
         let file = common::three_containers(dir.path(), "h", analysis, "c", ["", keys, ""]);
-        let out = common::shotdamp()
-            .args(["run", file.to_str().expect("utf-8"), "--out"])
-            .arg(dir.path().join("o"))
-            .output()
-            .expect("runs");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{keys}: {err}");
+        let err = refused(&file, dir.path());
         assert!(err.contains(key), "{keys}: {err}");
     }
     // No top: nothing brings a horizontal bed back.
@@ -435,14 +429,20 @@ fn bad_directions_are_input_errors_naming_the_key() {
         "mass = 2, mass_ratio = 0.1, clearance_mm = \"inf\"",
     );
     std::fs::write(&file, text).expect("write");
+    let err = refused(&file, dir.path());
+    assert!(err.contains("cases[0].dampers[1].clearance_mm") && err.contains("horizontal"), "{err}");
+}
+
+/// `shotdamp run FILE` refused as bad input (exit 2): its message.
+fn refused(file: &std::path::Path, dir: &std::path::Path) -> String {
     let out = common::shotdamp()
         .args(["run", file.to_str().expect("utf-8"), "--out"])
-        .arg(dir.path().join("o"))
+        .arg(dir.join("o"))
         .output()
         .expect("runs");
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("cases[0].dampers[1].clearance_mm") && err.contains("horizontal"), "{err}");
+    err
 }
 
 #[test]
