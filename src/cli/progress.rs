@@ -128,30 +128,14 @@ impl Progress for Bars {
     fn start_bounded(&self, id: &str, ceiling: u64) -> Box<Tick<'static>> {
         match &self.multi {
             None => log_lines_bounded(id, 0, ceiling),
-            Some(_) => self.start(id, 0),
+            Some(multi) => counter(multi, id, &format!(" (at most {ceiling})")),
         }
     }
 
     fn start(&self, id: &str, total: u64) -> Box<Tick<'static>> {
         let Some(multi) = &self.multi else { return log_lines(id, total) };
         if total == 0 {
-            // Not known ahead (a design's evaluations): a counter drawn at its first tick
-            // (most experiments of total 0 never tick).
-            let (multi, id) = (multi.clone(), id.to_string());
-            let bar = std::sync::OnceLock::new();
-            return Box::new(move || {
-                bar.get_or_init(|| {
-                    let bar = multi.add(indicatif::ProgressBar::new_spinner());
-                    if let Ok(style) =
-                        indicatif::ProgressStyle::with_template("{prefix:>28} {pos} evaluated, {elapsed}")
-                    {
-                        bar.set_style(style);
-                    }
-                    bar.set_prefix(id.clone());
-                    bar
-                })
-                .inc(1)
-            });
+            return counter(multi, id, "");
         }
         let bar = multi.add(indicatif::ProgressBar::new(total));
         if let Ok(style) =
@@ -162,4 +146,23 @@ impl Progress for Bars {
         bar.set_prefix(id.to_string());
         Box::new(move || bar.inc(1))
     }
+}
+
+/// A counter of unknown total on a terminal (a design's evaluations, `bound` its bound in
+/// words), drawn at its first tick (most experiments of total 0 never tick).
+fn counter(multi: &indicatif::MultiProgress, id: &str, bound: &str) -> Box<Tick<'static>> {
+    let (multi, id) = (multi.clone(), id.to_string());
+    let template = format!("{{prefix:>28}} {{pos}} evaluated{bound}, {{elapsed}}");
+    let bar = std::sync::OnceLock::new();
+    Box::new(move || {
+        bar.get_or_init(|| {
+            let bar = multi.add(indicatif::ProgressBar::new_spinner());
+            if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
+                bar.set_style(style);
+            }
+            bar.set_prefix(id.clone());
+            bar
+        })
+        .inc(1)
+    })
 }
