@@ -63,16 +63,7 @@ fn stored_answers_are_evaluated_again_and_tied_to_the_problem() {
     assert!(log.contains("stored_design") && log.contains("--store"), "{log}");
 
     // Search and store.
-    let o = common::shotdamp()
-        .arg("design")
-        .arg(&design)
-        .arg("--store")
-        .arg("--reference")
-        .arg(root.join("reference"))
-        .arg("--out")
-        .arg(root.join("d"))
-        .output()
-        .unwrap();
+    let o = design_cmd(&design, root, "d").arg("--store").output().unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let stored = root.join("reference/designs/design_five_storey.json");
     let json = std::fs::read_to_string(&stored).unwrap();
@@ -145,17 +136,7 @@ fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
     let design = root.join("frame.toml");
     std::fs::write(&design, &text).unwrap();
     let run = |limit: &str, out: &str| {
-        common::shotdamp()
-            .arg("design")
-            .arg(&design)
-            .arg("--store")
-            .arg(format!("--time-limit={limit}"))
-            .arg("--reference")
-            .arg(root.join("reference"))
-            .arg("--out")
-            .arg(root.join(out))
-            .output()
-            .unwrap()
+        design_cmd(&design, root, out).arg("--store").arg(format!("--time-limit={limit}")).output().unwrap()
     };
     let o = run("0", "d");
     let stdout = String::from_utf8_lossy(&o.stdout);
@@ -287,16 +268,7 @@ fn coarse_design(root: &Path, extra: &str) -> (std::path::PathBuf, std::path::Pa
         .replace("max_beds = 2", &format!("max_beds = 2\n{extra}"));
     let design = root.join("frame.toml");
     std::fs::write(&design, &text).unwrap();
-    let o = common::shotdamp()
-        .arg("design")
-        .arg(&design)
-        .arg("--time-limit=0")
-        .arg("--reference")
-        .arg(root.join("reference"))
-        .arg("--out")
-        .arg(root.join("d"))
-        .output()
-        .unwrap();
+    let o = design_cmd(&design, root, "d").arg("--time-limit=0").output().unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     (root.join("d/design_five_storey"), design)
 }
@@ -311,4 +283,11 @@ fn best_objective(page: &Path) -> f64 {
         .skip(1)
         .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap())
         .fold(f64::INFINITY, f64::min)
+}
+
+/// `shotdamp design DESIGN --reference ROOT/reference --out ROOT/OUT`, to add to and run.
+fn design_cmd(design: &Path, root: &Path, out: &str) -> assert_cmd::Command {
+    let mut c = common::shotdamp();
+    c.arg("design").arg(design).arg("--reference").arg(root.join("reference")).arg("--out").arg(root.join(out));
+    c
 }
