@@ -28,6 +28,7 @@ fn problem(steady: SteadyOptions) -> Problem {
         scenarios: Vec::new(),
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
+        supports: false,
     }
 }
 

@@ -26,6 +26,7 @@ fn main() {
         scenarios: Vec::new(),
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
+        supports: false,
     };
     let shot: f64 = masses.iter().map(|m| 0.1 * m).sum();
     let started = std::time::Instant::now();

@@ -26,6 +26,7 @@ fn problem(bands: Vec<Band>, sweeps: Vec<Sweep>) -> Problem {
         scenarios: Vec::new(),
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
+        supports: false,
     }
 }
 

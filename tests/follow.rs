@@ -98,6 +98,7 @@ fn followed_design_evaluations_equal_the_transient_search_over_three_modes() {
         scenarios: Vec::new(),
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
+        supports: false,
     };
     let (followed, plain) = (problem(true), problem(false));
     let b = bare(&plain);

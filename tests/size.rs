@@ -38,6 +38,7 @@ fn with_uncoupled(extra: usize) -> Structure {
         stiffness: block_diagonal(&p.stiffness, &other.stiffness),
         damping: block_diagonal(&p.damping, &other.damping),
         damping_spec: p.damping_spec.clone(),
+        supports: None,
     }
 }
 
@@ -54,7 +55,14 @@ fn renumbered(s: &Structure, perm: &[usize]) -> Structure {
             c[(perm[i], perm[j])] = s.damping[(i, j)];
         }
     }
-    Structure { masses, coupled_mass: None, stiffness: k, damping: c, damping_spec: s.damping_spec.clone() }
+    Structure {
+        masses,
+        coupled_mass: None,
+        stiffness: k,
+        damping: c,
+        damping_spec: s.damping_spec.clone(),
+        supports: None,
+    }
 }
 
 /// Beds of 10 % of their host's paper mass on `hosts` (paper numbering), placed at

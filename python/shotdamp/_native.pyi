@@ -139,15 +139,18 @@ class Steady:
     def max_flight_m(self) -> npt.NDArray[np.float64]: ...
 
 class System:
-    """A structure with dampers driven by ``force_n`` sin(omega t) on ``force_mass``."""
+    """A structure with dampers driven by ``force_n`` sin(omega t) on ``force_mass``, or by its
+    supports accelerating as ``base_acceleration_m_s2`` sin(omega t) (amplitudes then relative
+    to the supports, per m/s^2)."""
 
     def __init__(
         self,
         structure: Structure,
         dampers: Optional[Sequence[Damper]] = None,
         *,
-        force_mass: int = 1,
-        force_n: float,
+        force_mass: Optional[int] = None,
+        force_n: Optional[float] = None,
+        base_acceleration_m_s2: Optional[float] = None,
     ) -> None: ...
     @property
     def dof(self) -> int: ...
@@ -192,9 +195,11 @@ class Experiment:
     @property
     def cases(self) -> List[str]: ...
     @property
-    def force_mass(self) -> int: ...
+    def force_mass(self) -> Optional[int]: ...
     @property
-    def force_n(self) -> float: ...
+    def force_n(self) -> Optional[float]: ...
+    @property
+    def base_acceleration_m_s2(self) -> Optional[float]: ...
     @property
     def structure(self) -> Structure: ...
     @property

@@ -42,11 +42,14 @@ pub struct Experiment {
     /// Case ids.
     #[pyo3(get)]
     cases: Vec<String>,
-    /// Driven mass (1-based) and force amplitude, N.
+    /// Driven mass (1-based) and force amplitude, N (None when the supports move).
     #[pyo3(get)]
-    force_mass: usize,
+    force_mass: Option<usize>,
     #[pyo3(get)]
-    force_n: f64,
+    force_n: Option<f64>,
+    /// The supports' acceleration amplitude, m/s^2 (None under a force).
+    #[pyo3(get)]
+    base_acceleration_m_s2: Option<f64>,
     exp: experiment::Experiment,
 }
 
@@ -146,8 +149,9 @@ pub fn load(path: PathBuf, reference: PathBuf) -> PyResult<Vec<Experiment>> {
             figure: e.meta.figure.clone(),
             kind: e.analysis.kind().to_string(),
             cases: e.cases.iter().map(|c| c.id.clone()).collect(),
-            force_mass: e.excitation.mass + 1,
-            force_n: e.excitation.force,
+            force_mass: (!e.excitation.supports).then_some(e.excitation.mass + 1),
+            force_n: (!e.excitation.supports).then_some(e.excitation.force),
+            base_acceleration_m_s2: e.excitation.supports.then_some(e.excitation.force),
             exp: e,
         })
         .collect())

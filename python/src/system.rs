@@ -33,7 +33,8 @@ fn steady_options(origin: &str, steady: Option<&Bound<'_, PyDict>>) -> PyResult<
     parts::steady(origin, t).map_err(error)
 }
 
-/// A structure with dampers, driven by `force_n` sin(omega t) on `force_mass`.
+/// A structure with dampers, driven by `force_n` sin(omega t) on `force_mass`, or by its
+/// supports accelerating as `base_acceleration_m_s2` sin(omega t).
 #[pyclass(module = "shotdamp._native", frozen)]
 pub struct System {
     sim: Sim,
@@ -50,26 +51,29 @@ impl System {
 
 #[pymethods]
 impl System {
-    /// `dampers`: a sequence of `Damper` (none: the bare structure); `force_mass` 1-based.
+    /// `dampers`: a sequence of `Damper` (none: the bare structure); `force_mass` 1-based (1
+    /// when not given); `base_acceleration_m_s2` instead of a force moves the supports.
     #[new]
-    #[pyo3(signature = (structure, dampers=None, *, force_mass=1, force_n))]
+    #[pyo3(signature = (structure, dampers=None, *, force_mass=None, force_n=None, base_acceleration_m_s2=None))]
     fn new(
         structure: &Bound<'_, Structure>,
         dampers: Option<&Bound<'_, PyAny>>,
-        force_mass: i64,
-        force_n: f64,
+        force_mass: Option<i64>,
+        force_n: Option<f64>,
+        base_acceleration_m_s2: Option<f64>,
     ) -> PyResult<System> {
         let origin = "shotdamp.System";
         let bare = &structure.get().bare;
         parts::simulated_structure(origin, bare).map_err(error)?;
-        let excitation = parts::excitation(origin, force_mass, force_n, bare).map_err(error)?;
+        let force_mass = force_mass.or(force_n.map(|_| 1));
+        let excitation = parts::drive(origin, force_mass, force_n, base_acceleration_m_s2, bare).map_err(error)?;
         let case = match dampers {
             Some(d) => case(bare, d, origin)?,
             None => parts::case(origin, "python", Vec::new(), bare).map_err(error)?,
         };
         parts::simulated_case(origin, &case, bare).map_err(error)?;
         let sim = parts::system(bare, &excitation, &case);
-        Ok(System { sim, case, force: force_n })
+        Ok(System { sim, case, force: excitation.force })
     }
 
     /// Number of masses of the structure.
@@ -209,7 +213,8 @@ impl System {
     }
 
     fn __repr__(&self) -> String {
-        format!("System(dof={}, containers={}, force_n={})", self.sim.dof(), self.case.dampers.len(), self.force)
+        let drive = if self.sim.base.is_some() { "base_acceleration_m_s2" } else { "force_n" };
+        format!("System(dof={}, containers={}, {drive}={})", self.sim.dof(), self.case.dampers.len(), self.force)
     }
 }
 

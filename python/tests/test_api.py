@@ -39,6 +39,24 @@ def test_modes_of_the_paper_structure():
     assert np.allclose(mu, expected, rtol=1e-12)
 
 
+def test_a_bare_oscillator_on_shaken_supports_is_the_closed_form():
+    # m u'' + c u' + k u = -m A sin(w t): |u / A| = 1 / |wn^2 - w^2 + 2 i zeta wn w|.
+    m, k, zeta = 2.0, 8.0e4, 0.02
+    wn = math.sqrt(k / m)
+    s = sd.Structure(masses_kg=[m], chain_stiffness_n_per_m=[k], modal_ratios=[zeta])
+    system = sd.System(s, base_acceleration_m_s2=3.0)
+    assert "base_acceleration_m_s2=3" in repr(system)
+    for f in (10.0, 30.0, 45.0):
+        w = 2 * math.pi * f
+        exact = 1.0 / abs(complex(wn**2 - w**2, 2 * zeta * wn * w))
+        got = system.steady_state(f).compliance[0]
+        assert abs(got / exact - 1) < 1e-9
+    with pytest.raises(ValueError, match="give no force"):
+        sd.System(s, force_n=1.0, base_acceleration_m_s2=3.0)
+    with pytest.raises(ValueError, match="base_acceleration_m_s2"):
+        sd.System(s)
+
+
 def test_a_full_mass_matrix_in_coordinates_that_keep_the_host_gives_the_chain_s_motion():
     # q3 = x3 - 0.4 x1 - 0.3 x2: M_q = T^T M T is full; the driven mass and the host stay
     # physical, so their steady motion is the lumped chain's (docs/model.md section 5).

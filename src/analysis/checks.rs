@@ -188,7 +188,11 @@ fn parameters(exp: &Experiment, file: &ValueFile, spec: &CheckSpec) -> Vec<Check
     for (i, k) in chain_springs(&s.stiffness).into_iter().enumerate() {
         pairs.push((format!("k_{}", i + 1), format!("chain stiffness k_{} (N/m)", i + 1), k));
     }
-    pairs.push(("F".into(), "force amplitude (N)".into(), exp.excitation.force));
+    if exp.excitation.supports {
+        pairs.push(("A".into(), "support acceleration amplitude (m/s^2)".into(), exp.excitation.force));
+    } else {
+        pairs.push(("F".into(), "force amplitude (N)".into(), exp.excitation.force));
+    }
     pairs
         .into_iter()
         .filter_map(|(id, what, computed)| {

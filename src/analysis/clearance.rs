@@ -136,7 +136,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
     }
     let table = Table::new(
         "clearance_scan",
-        "Peak compliance (m/N) of the objective mass over the band per case and clearance (mm), its frequency (Hz), and the top impacts per period of all beds there",
+        format!("Peak compliance ({}) of the objective mass over the band per case and clearance (mm), its frequency (Hz), and the top impacts per period of all beds there", exp.excitation.per_unit()),
     )
     .str("case", rows.iter().map(|r| r.0.clone()).collect())
     .f64("clearance_mm", rows.iter().map(|r| r.1).collect())
@@ -150,7 +150,10 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
     let beds = cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
     let curves_table = curves::table(
         "compliance",
-        "Steady-state compliance (m/N) of every scanned curve (CASE@d), as in sweeps",
+        &format!(
+            "Steady-state compliance ({}) of every scanned curve (CASE@d), as in sweeps",
+            exp.excitation.per_unit()
+        ),
         &all,
         n,
         beds,
@@ -193,7 +196,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                 panels: vec![Panel {
                     title,
                     x_label: "clearance d (mm)".into(),
-                    y_label: format!("peak compliance of m{} (m/N)", m + 1),
+                    y_label: format!("peak compliance of m{} ({})", m + 1, exp.excitation.per_unit()),
                     x_range: (0.0, x_hi),
                     x_log: false,
                     y_log: false,

@@ -2,7 +2,7 @@
 
 use crate::experiment::{Case, CurveId, Experiment};
 use crate::model::damper::added_masses;
-use crate::model::frf::compliance_curve;
+use crate::model::frf::{compliance_curve, support_compliance_curve};
 use crate::sim::sweep::SweepPoint;
 use crate::sim::{Stop, System};
 use crate::table::Table;
@@ -226,7 +226,11 @@ pub fn linear(exp: &Experiment, case: &Case, id: CurveId, label: &str, freq_hz: 
     let added = if stuck { added_masses(&case.dampers) } else { Vec::new() };
     let mass = exp.structure.mass_matrix_with(&added);
     let omegas: Vec<f64> = freq_hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
-    let rows = compliance_curve(&exp.structure, &mass, exp.excitation.mass, &omegas);
+    let rows = if exp.excitation.supports {
+        support_compliance_curve(&exp.structure, &mass, &omegas)
+    } else {
+        compliance_curve(&exp.structure, &mass, exp.excitation.mass, &omegas)
+    };
     let m = freq_hz.len();
     Curve {
         id,

@@ -16,7 +16,7 @@ use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::{Damping, Structure};
 use crate::number::{fmt_num, fmt_sig};
-use crate::sim::{SteadyOptions, System};
+use crate::sim::SteadyOptions;
 use crate::table::Table;
 
 /// A clearance is in the robust band when its objective is within this factor of the best.
@@ -211,7 +211,11 @@ pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem
                     };
                     let prefix = if model.is_empty() { String::new() } else { format!("{model}, ") };
                     scenarios.push(Scenario {
-                        name: format!("{prefix}{zname}, F {} N", fmt_num(f)),
+                        name: if exp.excitation.supports {
+                            format!("{prefix}{zname}, A {} m/s^2", fmt_num(f))
+                        } else {
+                            format!("{prefix}{zname}, F {} N", fmt_num(f))
+                        },
                         structure,
                         force: f,
                     });
@@ -223,6 +227,7 @@ pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem
         structure: s.clone(),
         driven: exp.excitation.mass,
         force: exp.excitation.force,
+        supports: exp.excitation.supports,
         bands: spec.bands.clone(),
         measure: spec.measure,
         sweeps: spec.sweeps.clone(),
@@ -243,7 +248,7 @@ fn joined(v: &[f64]) -> String {
 
 /// A table of layouts with their evaluations.
 fn layouts_table(
-    name: &str,
+    (name, unit): (&str, &str),
     description: &str,
     spec: &Spec,
     scenarios: &[String],
@@ -269,7 +274,7 @@ fn layouts_table(
         .str("clearance_mm", rows.iter().map(|r| joined(&r.1.clearances_mm)).collect())
         .f64("objective", rows.iter().map(|r| r.2.objective).collect());
     for (k, b) in spec.bands.iter().enumerate() {
-        t = t.f64(format!("{} (m/N)", b.name), rows.iter().map(|r| r.2.bands[k]).collect());
+        t = t.f64(format!("{} ({unit})", b.name), rows.iter().map(|r| r.2.bands[k]).collect());
     }
     t.str(
         "worst",
@@ -362,7 +367,7 @@ pub fn run(
     let rows: Vec<(String, Layout, Evaluation, u64)> =
         found.iter().map(|f| (hosts_words(&f.layout), f.layout.clone(), f.evaluation.clone(), f.evaluations)).collect();
     tables.push(layouts_table(
-        "design_placements",
+        ("design_placements", exp.excitation.per_unit()),
         &format!(
             "The best layout found for each placement of containers: {} kg of shot ({} of the structure's mass) split among them, clearances in {}-{} mm; objective: the worst band's measure over the bare structure's (1 = no gain)",
             fmt_num(spec.shot_kg),
@@ -389,7 +394,7 @@ pub fn run(
         exports.insert(format!("objective_{id}"), e.objective);
     }
     tables.push(layouts_table(
-        "design_cases",
+        ("design_cases", exp.excitation.per_unit()),
         "The experiment's cases as reference layouts, with the same objective",
         spec,
         &names,
@@ -470,7 +475,7 @@ pub fn run(
             panels: vec![panel],
         });
         // The bare structure's curves (the first scenario's, as the evaluations' curves).
-        let bare_sys = System::plastic(p.cases()[0].structure.clone(), Vec::new(), p.driven, p.cases()[0].force);
+        let bare_sys = p.system(&p.cases()[0], Vec::new());
         let bare_curves: Vec<Vec<Vec<f64>>> =
             spec.bands.iter().map(|band| band_compliance(&bare_sys, band, &p.sweeps, &p.steady).0).collect();
         let (table, figure) = compliance_figure(exp, spec, &p, best, &case_rows, &bare_curves);
@@ -528,7 +533,7 @@ pub fn run(
             })
             .collect();
         tables.push(layouts_table(
-            "design_pareto",
+            ("design_pareto", exp.excitation.per_unit()),
             "The best layout for each total shot mass ratio (the Pareto front of shot mass against the objective)",
             spec,
             &names,
@@ -593,7 +598,11 @@ fn compliance_figure(
     }
     let table = Table::new(
         "design_compliance",
-        "The compliance over each band (m/N: amplitude per newton of force amplitude, the largest over the sweeps at each frequency) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's",
+        if exp.excitation.supports {
+            "The compliance over each band (m/(m/s^2): amplitude relative to the supports per m/s^2 of their acceleration, the largest over the sweeps at each frequency; the column keeps its name) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's"
+        } else {
+            "The compliance over each band (m/N: amplitude per newton of force amplitude, the largest over the sweeps at each frequency) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's"
+        },
     )
     .str("layout", rows.iter().map(|r| r.0.clone()).collect())
     .str("band", rows.iter().map(|r| r.1.clone()).collect())
@@ -612,7 +621,7 @@ fn compliance_figure(
                     band.masses.iter().map(|m| (m + 1).to_string()).collect::<Vec<_>>().join(", m")
                 ),
                 "frequency (Hz)",
-                "compliance (m/N)",
+                format!("compliance ({})", exp.excitation.per_unit()),
                 (band.freq_hz[0], band.freq_hz[band.freq_hz.len() - 1]),
             )
             .log_y();

@@ -37,14 +37,16 @@ pub type Rated<'a> = (String, &'a Layout, &'a Evaluation);
 /// steady states, and its unsettled points.
 pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -> (Table, Vec<String>) {
     let force = problem.cases()[0].force;
+    // Moving supports: the hosts' acceleration relative to them, plus their own (a bound).
+    let lift = if problem.supports { force / GRAVITY } else { 0.0 };
     let mut rows: Vec<Row> = Vec::new();
     let mut warnings = Vec::new();
     for (k, (label, layout, eval)) in layouts.iter().enumerate() {
         let hosts = &layout.hosts;
         let words = hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" ");
         for (b, band) in problem.bands.iter().enumerate() {
-            let bare_g = bare.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, hosts, force));
-            let with_g = eval.curves.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, hosts, force));
+            let bare_g = bare.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, hosts, force) + lift);
+            let with_g = eval.curves.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, hosts, force) + lift);
             let m = eval.motion.get(b).copied().unwrap_or_default();
             rows.push((
                 label.clone(),
@@ -64,9 +66,9 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
                 let vertical = problem.direction == crate::model::Direction::Vertical;
                 let need = if vertical && with_g > 0.0 && with_g < 1.0 {
                     format!(
-                        "; about {} N (now {} N) would bring the hosts to 1 g at the peak, where the beds start to move",
-                        fmt_sig(force / with_g, 2),
-                        fmt_sig(force, 3)
+                        "; about {} (now {}) would bring the hosts to 1 g at the peak, where the beds start to move",
+                        problem.amount(&fmt_sig(force / with_g, 2)),
+                        problem.amount(&fmt_sig(force, 3))
                     )
                 } else {
                     String::new()
@@ -93,8 +95,14 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
     let table = Table::new(
         "design_drive",
         format!(
-            "The drive level of the best layout and the experiment's cases in each band (force {} N): the largest host acceleration, (2 pi f)^2 x amplitude / g at the layout's hosts, bare and with the shot (exact for the bare structure and for beds that never lift off, whose motion is linear; the first harmonic's scale otherwise), the steady states in which some bed lifts off (over the band's frequencies and sweeps; the worst scenario's) and the highest flight, mm; beds that lift off in under {} % of them mostly add mass",
-            fmt_sig(force, 3),
+            "The drive level of the best layout and the experiment's cases in each band ({} {}): the largest host acceleration, (2 pi f)^2 x amplitude / g at the layout's hosts{}, bare and with the shot (exact for the bare structure and for beds that never lift off, whose motion is linear; the first harmonic's scale otherwise), the steady states in which some bed lifts off (over the band's frequencies and sweeps; the worst scenario's) and the highest flight, mm; beds that lift off in under {} % of them mostly add mass",
+            problem.drive_name(),
+            problem.amount(&fmt_sig(force, 3)),
+            if problem.supports {
+                " (the amplitude relative to the supports, plus the supports' own acceleration: a bound on the absolute one)"
+            } else {
+                ""
+            },
             FEW * 100.0
         ),
     )
@@ -163,15 +171,18 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         _ => format!("clearances {} mm", clearances.iter().map(|d| fmt_sig(*d, 2)).collect::<Vec<_>>().join(" / ")),
     };
     let levels = if inputs.levels.len() > 1 {
-        let at: Vec<String> =
-            inputs.levels.iter().map(|(f, o)| format!("{} at {} N", fmt_sig(*o, 2), fmt_sig(*f, 3))).collect();
+        let at: Vec<String> = inputs
+            .levels
+            .iter()
+            .map(|(f, o)| format!("{} at {}", fmt_sig(*o, 2), problem.amount(&fmt_sig(*f, 3))))
+            .collect();
         let worse = inputs.levels.iter().filter(|(_, o)| *o > 1.0).count();
         let warn = if worse > 0 {
-            format!("; at {worse} of these forces the shot makes the response worse than the bare structure's")
+            format!("; at {worse} of these levels the shot makes the response worse than the bare structure's")
         } else {
             String::new()
         };
-        format!(" At other forces the same layout gives {}{warn} (design_drive_levels).", at.join(", "))
+        format!(" At other drive levels the same layout gives {}{warn} (design_drive_levels).", at.join(", "))
     } else {
         String::new()
     };
@@ -186,7 +197,8 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         .iter()
         .enumerate()
         .map(|(b, band)| {
-            let g = bare.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, &layout.hosts, force));
+            let lift = if problem.supports { force / GRAVITY } else { 0.0 };
+            let g = bare.get(b).map_or(f64::NAN, |c| peak_g(c, &band.freq_hz, &layout.hosts, force) + lift);
             let m = eval.motion.get(b).copied().unwrap_or_default();
             let moving = match problem.direction {
                 crate::model::Direction::Vertical => "lifting",
@@ -200,13 +212,14 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         crate::model::Direction::Horizontal => " in horizontal containers",
     };
     format!(
-        "Put {}{along} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a force of {} N (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
+        "Put {}{along} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
         beds.join(", "),
         fmt_sig(shot, 2),
         fmt_sig(100.0 * shot / total_mass, 2),
         fmt_sig(eval.objective, 3),
         bands.join(", "),
-        fmt_sig(force, 3),
+        problem.drive_name(),
+        problem.amount(&fmt_sig(force, 3)),
         drive.join("; "),
         eval.unsettled,
         eval.points

@@ -95,11 +95,10 @@ pub fn drive_levels(problem: &Problem, layouts: &[Rated<'_>], figure_name: &str)
     });
     let caption = match span {
         Some((a, b)) => format!(
-            "The worst band's measure over the bare structure's at each force (log axis), for the best layout and the experiment's cases; the best layout's ranges from {} to {} over {}-{} N. An impact damper works in a window of drive levels: away from the force it was designed for its beds no longer land in step with the structure (and vertical beds below 1 g at their hosts only add mass).",
+            "The worst band's measure over the bare structure's at each force (log axis), for the best layout and the experiment's cases; the best layout's ranges from {} to {} over {}. An impact damper works in a window of drive levels: away from the force it was designed for its beds no longer land in step with the structure (and vertical beds below 1 g at their hosts only add mass).",
             fmt_sig(a, 2),
             fmt_sig(b, 2),
-            fmt_sig(lo, 2),
-            fmt_sig(hi, 2)
+            problem.amount(&format!("{}-{}", fmt_sig(lo, 2), fmt_sig(hi, 2)))
         ),
         None => "The worst band's measure over the bare structure's at each force of the scenarios.".to_string(),
     };
@@ -121,7 +120,11 @@ pub fn at_forces(problem: &Problem, forces: &[f64], layouts: &[&Layout]) -> (Pro
     let scenarios = sorted
         .iter()
         .map(|&f| Scenario {
-            name: format!("F {} N", crate::number::fmt_num(f)),
+            name: if problem.supports {
+                format!("A {} m/s^2", crate::number::fmt_num(f))
+            } else {
+                format!("F {} N", crate::number::fmt_num(f))
+            },
             structure: problem.structure.clone(),
             force: f,
         })

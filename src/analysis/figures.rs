@@ -106,7 +106,7 @@ pub fn compliance(
                 Panel {
                     title: panel_title,
                     x_label: "frequency (Hz)".into(),
-                    y_label: "compliance |x / F| (m/N)".into(),
+                    y_label: format!("compliance {} ({})", exp.excitation.ratio(), exp.excitation.per_unit()),
                     x_range: (lo, hi),
                     x_log: false,
                     y_log: p.y_scale == Scale::Log,
@@ -127,9 +127,10 @@ pub fn compliance(
                 id: p.id.clone(),
                 title: title.clone(),
                 caption: format!(
-                    "Compliance amplitude (max - min)/2 / F with F = {} N on m{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).{}{}",
-                    exp.excitation.force,
-                    exp.excitation.mass + 1,
+                    "Compliance amplitude (max - min)/2 / {} with {}{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).{}{}",
+                    exp.excitation.symbol(),
+                    exp.excitation.at(),
+                    if exp.excitation.supports { ", displacements relative to the supports" } else { "" },
                     if extras.branches.is_empty() {
                         ""
                     } else {

@@ -55,7 +55,7 @@ pub fn frf(
     let shown: Vec<&Curve> = curves.iter().collect();
     let table = curves::table(
         "compliance",
-        "Linear compliance |x_r / F| (m/N) of each mass r (columns c1..cn): the bare structure for cases without dampers, damper masses rigidly added (stuck) otherwise",
+        &format!("Linear compliance {} ({}) of each mass r (columns c1..cn): the bare structure for cases without dampers, damper masses rigidly added (stuck) otherwise", exp.excitation.ratio().replace(" /", "_r /"), exp.excitation.per_unit()),
         &shown,
         n,
         0,

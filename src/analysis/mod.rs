@@ -233,10 +233,7 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
                 }
             },
         ),
-        (
-            "excitation".to_string(),
-            format!("F = {} N sin(omega t) on m_{}", fmt_num(exp.excitation.force), exp.excitation.mass + 1),
-        ),
+        ("excitation".to_string(), exp.excitation.describe()),
         ("analysis".to_string(), exp.analysis.kind().to_string()),
     ];
     if let Some(m) = &exp.model {

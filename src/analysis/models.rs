@@ -61,7 +61,7 @@ pub fn overlay(runs: &[&ExperimentResult]) -> Vec<Figure> {
                 let mut panel = Panel::new(
                     format!("{}: m{} on each model", exp.meta.figure, mass + 1),
                     "frequency (Hz)",
-                    "compliance |x / F| (m/N)",
+                    format!("compliance {} ({})", exp.excitation.ratio(), exp.excitation.per_unit()),
                     (0.0, 1.0),
                 );
                 panel.y_log = p.y_scale == Scale::Log;
@@ -80,10 +80,9 @@ pub fn overlay(runs: &[&ExperimentResult]) -> Vec<Figure> {
                 id: format!("models_{}", p.id),
                 title: format!("{}: the models overlaid", p.title.clone().unwrap_or_else(|| exp.meta.title.clone())),
                 caption: format!(
-                    "The same experiment on each model of the structure, one colour per model{}; F = {} N on m{}. Points that did not settle are drawn like the others here: see each model's page for them.",
+                    "The same experiment on each model of the structure, one colour per model{}; {}. Points that did not settle are drawn like the others here: see each model's page for them.",
                     if p.cases.len() > 1 { ", one dash pattern per case" } else { "" },
-                    exp.excitation.force,
-                    exp.excitation.mass + 1
+                    exp.excitation.at(),
                 ),
                 panels,
             })

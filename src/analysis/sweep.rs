@@ -133,7 +133,7 @@ pub fn run(
     );
     let mut tables = vec![curves::table(
         "compliance",
-        "Steady-state compliance (max - min)/2 / F (m/N) of each mass (c1..cn) per curve and frequency, whether it settled, its period, impacts per forcing period on the bottom and top of each bed, the highest flight of each bed (mm), the transient periods simulated",
+        &format!("Steady-state compliance (max - min)/2 / {} ({}{}) of each mass (c1..cn) per curve and frequency, whether it settled, its period, impacts per forcing period on the bottom and top of each bed, the highest flight of each bed (mm), the transient periods simulated", exp.excitation.symbol(), exp.excitation.per_unit(), if exp.excitation.supports { ": displacements relative to the supports" } else { "" }),
         &refs_c,
         n,
         beds,
@@ -145,7 +145,10 @@ pub fn run(
         let l: Vec<&Curve> = linear.iter().collect();
         tables.push(curves::table(
             "linear",
-            "Exact linear compliance (m/N) of the references drawn beside: bare structure, damper masses stuck",
+            &format!(
+                "Exact linear compliance ({}) of the references drawn beside: bare structure, damper masses stuck",
+                exp.excitation.per_unit()
+            ),
             &l,
             n,
             0,

@@ -342,8 +342,12 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
                 id: format!("{}_{}", p.id, case.id),
                 title: format!("{title}, {}", case.label),
                 caption: format!(
-                    "Steady motion over {periods} forcing periods (phase 0 at a multiple of the period, force F sin(omega t) on m{}). Solid: host mass; dashed: bed (on the host line while in contact); dotted: container top (the second wall of a horizontal container). Motion types: {}.",
-                    exp.excitation.mass + 1,
+                    "Steady motion over {periods} forcing periods (phase 0 at a multiple of the period, {}). Solid: host mass; dashed: bed (on the host line while in contact); dotted: container top (the second wall of a horizontal container). Motion types: {}.",
+                    if exp.excitation.supports {
+                        "the supports accelerating as A sin(omega t); absolute displacements".to_string()
+                    } else {
+                        format!("force F sin(omega t) on m{}", exp.excitation.mass + 1)
+                    },
                     type_lines.join("; ")
                 ),
                 panels,

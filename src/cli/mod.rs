@@ -464,7 +464,11 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
         }
         say!(" {:>10.5} {:>12.2} {:>11.5} {:>8.5}", m.modal_mass, m.modal_stiffness, m.modal_damping, m.damping_ratio);
     }
-    for c in cases {
+    if exp.excitation.supports && !cases.is_empty() {
+        say!();
+        say!("no equivalent SDOF models: they take a force on one mass (paper Eq. 12-13), and the supports move");
+    }
+    for c in cases.iter().filter(|_| !exp.excitation.supports) {
         say!();
         say!("case {} ({}): equivalent SDOF model of each mode (paper section 2.2, Eq. 12-13)", c.id, c.label);
         say!(

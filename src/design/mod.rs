@@ -252,9 +252,51 @@ pub struct Problem {
     pub combine: Combine,
     /// The direction every container's bed moves in.
     pub direction: crate::model::Direction,
+    /// The supports move (each scenario's `force` is their acceleration, m/s^2, and
+    /// `driven` is unused) instead of a force on `driven`.
+    pub supports: bool,
 }
 
 impl Problem {
+    /// The system of scenario `sc` with `dampers`: driven by its force, or on its moving
+    /// supports.
+    pub fn system(&self, sc: &Scenario, dampers: Vec<crate::model::Damper>) -> System {
+        let sys = System::plastic(sc.structure.clone(), dampers, self.driven, sc.force);
+        if self.supports {
+            sys.on_supports(sc.force)
+        } else {
+            sys
+        }
+    }
+
+    /// An amplitude of the drive in words: "2.6 N" of force, or "3 m/s^2" of the supports'
+    /// acceleration (`value` already formatted).
+    pub fn amount(&self, value: &str) -> String {
+        if self.supports {
+            format!("{value} m/s^2")
+        } else {
+            format!("{value} N")
+        }
+    }
+
+    /// What drives the structure, in words: "force" or "support acceleration".
+    pub fn drive_name(&self) -> &'static str {
+        if self.supports {
+            "support acceleration"
+        } else {
+            "force"
+        }
+    }
+
+    /// The unit of a compliance: "m/N", or "m/(m/s^2)" relative to moving supports.
+    pub fn per_unit(&self) -> &'static str {
+        if self.supports {
+            "m/(m/s^2)"
+        } else {
+            "m/N"
+        }
+    }
+
     /// The scenarios evaluated: the given ones, or the nominal structure and force.
     pub fn cases(&self) -> Vec<Scenario> {
         if self.scenarios.is_empty() {
@@ -436,7 +478,7 @@ pub fn bare(problem: &Problem) -> Vec<Vec<f64>> {
         .cases()
         .iter()
         .map(|sc| {
-            let sys = System::plastic(sc.structure.clone(), Vec::new(), problem.driven, sc.force);
+            let sys = problem.system(sc, Vec::new());
             problem
                 .bands
                 .iter()
@@ -464,7 +506,7 @@ struct ScenarioRun {
 
 /// One scenario of a layout: its bands' measures, its objective, where the worst is.
 fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> ScenarioRun {
-    let sys = System::plastic(sc.structure.clone(), layout.dampers(problem.direction), problem.driven, sc.force);
+    let sys = problem.system(sc, layout.dampers(problem.direction));
     let mut bands = Vec::with_capacity(problem.bands.len());
     let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
     let mut unsettled = 0;

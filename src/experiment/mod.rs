@@ -6,6 +6,7 @@ mod checks;
 pub mod curve_id;
 mod dampers;
 mod design;
+mod excitation;
 pub mod fe;
 mod fields;
 mod kind;
@@ -28,6 +29,7 @@ use crate::reference::values::{Quantity, ValueFile};
 
 pub use analysis::round_hz;
 pub use curve_id::CurveId;
+pub use excitation::{Excitation, MAX_FORCE_G};
 pub use kind::Analysis;
 pub use load::{parse_table, read_merged};
 pub use validate::validate;
@@ -83,15 +85,6 @@ pub struct ModelInfo {
     pub label: String,
     /// What it is, in words.
     pub description: String,
-}
-
-/// The force `F sin(omega t)` on one mass.
-#[derive(Debug, Clone, Copy)]
-pub struct Excitation {
-    /// 0-based driven mass.
-    pub mass: usize,
-    /// Amplitude, N.
-    pub force: f64,
 }
 
 /// A value another experiment exports: `"@EXPERIMENT.KEY"` in a file.

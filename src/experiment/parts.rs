@@ -86,7 +86,26 @@ fn fixed_only(origin: &str, prefix: &str) -> Error {
 /// The excitation: `mass` (1-based) driven by `force_n` sin(omega t), as an experiment file's
 /// `[excitation]`.
 pub fn excitation(origin: &str, mass: i64, force_n: f64, structure: &Structure) -> Result<Excitation> {
-    super::validate::excitation(origin.as_ref(), &RawExcitation { mass, force_n }, &structure.masses)
+    let raw = RawExcitation {
+        mass: Some(mass),
+        force_n: Some(force_n),
+        base_acceleration_m_s2: None,
+        base_acceleration_g: None,
+    };
+    super::excitation::excitation(origin.as_ref(), &raw, &structure.masses)
+}
+
+/// The excitation from the keys of an experiment file's `[excitation]` (a force: `mass` and
+/// `force_n`; or moving supports: `base_acceleration_m_s2`), validated as there.
+pub fn drive(
+    origin: &str,
+    mass: Option<i64>,
+    force_n: Option<f64>,
+    base_acceleration_m_s2: Option<f64>,
+    structure: &Structure,
+) -> Result<Excitation> {
+    let raw = RawExcitation { mass, force_n, base_acceleration_m_s2, base_acceleration_g: None };
+    super::excitation::excitation(origin.as_ref(), &raw, &structure.masses)
 }
 
 /// Steady-state settings from the keys of an experiment file's `[analysis.steady]` (the
@@ -135,10 +154,8 @@ pub fn kick(origin: &str, options: &ImpulseOptions, structure: &Structure, case:
 /// The simulated system of a case: the structure, the case's dampers with their impact laws
 /// (a column's grains as beds of their own), driven by the excitation.
 pub fn system(structure: &Structure, excitation: &Excitation, case: &Case) -> System {
-    let sys = System {
-        laws: case.laws.clone(),
-        ..System::plastic(structure.clone(), case.dampers.clone(), excitation.mass, excitation.force)
-    };
+    let sys =
+        System { laws: case.laws.clone(), ..excitation.system(structure, case.dampers.clone(), excitation.force) };
     if case.grains.iter().any(|&g| g > 1) {
         sys.with_grains(&case.grains)
     } else {

@@ -127,6 +127,10 @@ pub struct RawFiniteElement {
     pub units: Option<String>,
     /// The global direction that points up: `"x"`, `"y"`, `"z"`, `"-x"`, `"-y"` or `"-z"`.
     pub up: String,
+    /// The global direction moving supports accelerate along (`[excitation]
+    /// base_acceleration_m_s2`), as `up`; default: `up` (the ground heaves).
+    #[serde(default)]
+    pub base_direction: Option<String>,
     /// The points kept as physical coordinates, in order: the structure's coordinates 1 to P
     /// (container hosts, the force, reported responses).
     pub points: Vec<RawPoint>,
@@ -200,12 +204,21 @@ pub struct RawDamping {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-/// `[excitation]`: `F sin(omega t)` on one mass.
+/// `[excitation]`: `F sin(omega t)` on one mass, or the supports accelerating as `A sin(omega
+/// t)`.
 pub struct RawExcitation {
     /// 1-based index of the driven mass.
-    pub mass: i64,
+    #[serde(default)]
+    pub mass: Option<i64>,
     /// Force amplitude, N.
-    pub force_n: f64,
+    #[serde(default)]
+    pub force_n: Option<f64>,
+    /// The supports' acceleration amplitude, m/s^2.
+    #[serde(default)]
+    pub base_acceleration_m_s2: Option<f64>,
+    /// The supports' acceleration amplitude, g.
+    #[serde(default)]
+    pub base_acceleration_g: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -14,10 +14,11 @@ use crate::sim::system::{config_limit, MAX_DOF};
 use super::analysis::analysis;
 use super::checks::check;
 use super::dampers::dampers;
-use super::fields::{is_identifier, mass_index};
+use super::excitation::{accel_fits, excitation, force_fits};
+use super::fields::is_identifier;
 use super::outputs::plot;
-use super::raw::{RawCase, RawExcitation, RawExperiment, RawFit, RawStructure};
-use super::{Analysis, Case, ClearanceSource, Excitation, Experiment, Meta, ModelInfo};
+use super::raw::{RawCase, RawExperiment, RawFit, RawStructure};
+use super::{Analysis, Case, ClearanceSource, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
 pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result<Experiment> {
@@ -55,11 +56,11 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     // A finite-element structure reports its points only (its other coordinates are modal).
     let responses = fe.as_ref().map_or(n, |f| f.points.len());
 
-    if let Some(f) = fe.as_ref().filter(|f| raw.excitation.mass > f.points.len() as i64) {
+    if let Some(f) = fe.as_ref().filter(|f| raw.excitation.mass.is_some_and(|m| m > f.points.len() as i64)) {
         return Err(Error::invalid(
             path,
             "excitation.mass",
-            raw.excitation.mass,
+            raw.excitation.mass.unwrap_or_default(),
             format!(
                 "the force acts on one of the finite-element points, numbered 1 to {0} (coordinates above {0} are modal)",
                 f.points.len()
@@ -87,12 +88,21 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         }
     }
     if let Analysis::Design { spec, .. } = &analysis {
-        for (i, &f) in spec.scenario_force_n.iter().enumerate() {
-            force_fits(path, &format!("design.scenarios.force_n[{i}]"), f, structure.masses[excitation.mass])?;
+        let levels = spec.scenario_force_n.iter().map(|f| ("design.scenarios.force_n", f));
+        for (i, (key, &f)) in levels.chain(spec.drive_levels_n.iter().map(|f| ("design.drive_levels_n", f))).enumerate()
+        {
+            let key =
+                format!("{key}[{}]", if i < spec.scenario_force_n.len() { i } else { i - spec.scenario_force_n.len() });
+            if excitation.supports {
+                // The levels are the supports' accelerations, m/s^2.
+                accel_fits(path, &key, f, f)?;
+            } else {
+                force_fits(path, &key, f, structure.masses[excitation.mass])?;
+            }
         }
-        for (i, &f) in spec.drive_levels_n.iter().enumerate() {
-            force_fits(path, &format!("design.drive_levels_n[{i}]"), f, structure.masses[excitation.mass])?;
-        }
+    }
+    if excitation.supports {
+        super::excitation::supports_fit(path, &analysis)?;
     }
     let (scanning, may_scan) = (analysis.scans_clearances(), analysis.may_scan_clearances());
     for (ci, case) in cases.iter().enumerate() {
@@ -210,43 +220,6 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         checks,
     })
 }
-
-/// The excitation: a 1-based driven mass of `n` and a positive force amplitude.
-pub(super) fn excitation(path: &Path, e: &RawExcitation, masses: &[f64]) -> Result<Excitation> {
-    let mass = mass_index(path, "excitation.mass", e.mass, masses.len())?;
-    if !(e.force_n.is_finite() && e.force_n > 0.0) {
-        return Err(Error::invalid(
-            path,
-            "excitation.force_n",
-            e.force_n,
-            "the force amplitude must be positive and finite (N)",
-        ));
-    }
-    force_fits(path, "excitation.force_n", e.force_n, masses[mass])?;
-    Ok(Excitation { mass, force: e.force_n })
-}
-
-/// Refuses a force amplitude (N) that accelerates the driven mass (kg) by more than
-/// [`MAX_FORCE_G`].
-fn force_fits(path: &Path, key: &str, force: f64, driven: f64) -> Result<()> {
-    let most = MAX_FORCE_G * crate::model::GRAVITY * driven;
-    if force <= most {
-        return Ok(());
-    }
-    Err(Error::invalid(
-        path,
-        key,
-        force,
-        format!(
-            "the force amplitude may accelerate the driven mass ({} kg) by at most {MAX_FORCE_G} g, {} N: beyond it no bench structure holds together and the beds' flights leave every axis",
-            crate::number::fmt_num(driven),
-            crate::number::fmt_num(most)
-        ),
-    ))
-}
-
-/// The largest force amplitude over the driven mass, in g.
-pub const MAX_FORCE_G: f64 = 1e4;
 
 fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<()> {
     if values.is_empty() {
@@ -431,11 +404,13 @@ pub(super) fn structure(path: &Path, mut s: RawStructure) -> Result<Built> {
             ))
         }
     };
+    let supports = fe.as_ref().map(|f| std::sync::Arc::new(f.supports.clone()));
+    let structure = match full_mass {
+        Some(m) => Structure::from_mass_matrix(m, k, damping),
+        None => Structure::from_matrices(&masses, k, damping),
+    };
     Ok(Built {
-        structure: match full_mass {
-            Some(m) => Structure::from_mass_matrix(m, k, damping),
-            None => Structure::from_matrices(&masses, k, damping),
-        },
+        structure: Structure { supports, ..structure },
         source: s.source,
         damping_assumption: d.assumption,
         fit,

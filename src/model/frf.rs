@@ -17,6 +17,19 @@ pub const UNBOUNDED: f64 = 1e-13;
 /// singular to within rounding (its smallest eigenvalue below `UNBOUNDED` times its largest);
 /// a solve there would return a number set by rounding alone.
 pub fn receptance(structure: &Structure, mass: &DMatrix<f64>, driven: usize, omega: f64) -> Option<DVector<Complex64>> {
+    let mut load = DVector::zeros(structure.dof());
+    load[driven] = 1.0;
+    response(structure, mass, &load, omega)
+}
+
+/// The complex response `(K - omega^2 M + i omega C)^-1 l` to a real load vector `l`;
+/// `None` where it is unbounded (as [`receptance`]).
+pub fn response(
+    structure: &Structure,
+    mass: &DMatrix<f64>,
+    load: &DVector<f64>,
+    omega: f64,
+) -> Option<DVector<Complex64>> {
     let n = structure.dof();
     if structure.damping.iter().all(|c| *c == 0.0) {
         let d = &structure.stiffness - mass * (omega * omega);
@@ -29,9 +42,30 @@ pub fn receptance(structure: &Structure, mass: &DMatrix<f64>, driven: usize, ome
     let z = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
         Complex64::new(structure.stiffness[(i, j)] - omega * omega * mass[(i, j)], omega * structure.damping[(i, j)])
     });
-    let mut rhs = DVector::<Complex64>::zeros(n);
-    rhs[driven] = Complex64::new(1.0, 0.0);
+    let rhs = DVector::<Complex64>::from_fn(n, |i, _| Complex64::new(load[i], 0.0));
     z.lu().solve(&rhs)
+}
+
+/// Magnitudes `|u_r / A|` (m/(m/s^2)) of the displacements relative to supports that
+/// accelerate as `A sin(omega t)`, `M` the mass matrix to use (bare, or with masses stuck),
+/// at each frequency (rad/s); infinities where unbounded. The load is `M r` when every
+/// coordinate translates with the supports (`r = 1`), else the structure's own `L` plus the
+/// stuck masses' `(M - M_0) r` ([`crate::model::base::Supports`]).
+pub fn support_compliance_curve(structure: &Structure, mass: &DMatrix<f64>, omegas: &[f64]) -> Vec<Vec<f64>> {
+    let load = match &structure.supports {
+        None => mass * DVector::from_element(structure.dof(), 1.0),
+        Some(s) => {
+            let r = DVector::from_column_slice(&s.follow);
+            DVector::from_column_slice(&s.load) + (mass - structure.mass_matrix()) * r
+        }
+    };
+    omegas
+        .iter()
+        .map(|&w| match response(structure, mass, &load, w) {
+            Some(h) => h.iter().map(|c| c.norm()).collect(),
+            None => vec![f64::INFINITY; structure.dof()],
+        })
+        .collect()
 }
 
 /// Compliance magnitudes `|x_r / F|` (m/N) of every mass at each frequency (rad/s).

@@ -1,5 +1,6 @@
 //! The physical model: structure, dampers, modes and the linear response.
 
+pub mod base;
 pub mod clearance;
 pub mod damper;
 pub mod damping_fit;
@@ -15,6 +16,7 @@ pub mod sdof;
 pub mod sparse;
 pub mod structure;
 
+pub use base::BaseMotion;
 pub use clearance::Clearance;
 pub use damper::{Damper, Direction};
 pub use structure::{Damping, Structure, GRAVITY};

@@ -40,6 +40,9 @@ pub struct Structure {
     pub damping: DMatrix<f64>,
     /// How `damping` was specified (for reports).
     pub damping_spec: Damping,
+    /// How the coordinates follow moving supports when that is not every coordinate
+    /// translating with them (a reduced finite-element model); `None`: they do (a chain).
+    pub supports: Option<std::sync::Arc<super::base::Supports>>,
 }
 
 /// Lists the fields; `coupled_mass` only when there is one, so that a lumped structure reads
@@ -52,6 +55,9 @@ impl std::fmt::Debug for Structure {
             d.field("coupled_mass", m);
         }
         d.field("stiffness", &self.stiffness).field("damping", &self.damping).field("damping_spec", &self.damping_spec);
+        if let Some(s) = &self.supports {
+            d.field("supports", s);
+        }
         d.finish()
     }
 }
@@ -113,15 +119,16 @@ impl Structure {
             }
         };
         let masses = m0.diagonal().iter().copied().collect();
-        Structure { masses, coupled_mass: coupled, stiffness, damping: c, damping_spec: damping }
+        Structure { masses, coupled_mass: coupled, stiffness, damping: c, damping_spec: damping, supports: None }
     }
 
     /// The same mass and stiffness with another damping.
     pub fn with_damping(&self, damping: Damping) -> Structure {
-        match &self.coupled_mass {
+        let s = match &self.coupled_mass {
             Some(m) => Structure::assemble(m.clone(), Some(m.clone()), self.stiffness.clone(), damping),
             None => Structure::from_matrices(&self.masses, self.stiffness.clone(), damping),
-        }
+        };
+        Structure { supports: self.supports.clone(), ..s }
     }
 
     /// Whether `M0` is diagonal (lumped masses, the paper's structure).

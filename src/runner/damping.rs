@@ -57,6 +57,14 @@ pub fn calibrate(file: &Path, curve: &Path, model: Option<&str>, reference: &Pat
     }
     let mut models = Vec::new();
     for exp in chosen {
+        if exp.excitation.supports {
+            return Err(Error::invalid(
+                file,
+                "excitation.base_acceleration_m_s2",
+                "(moving supports)",
+                "measured compliances are fitted under a force on one mass: use an experiment file driven by a force",
+            ));
+        }
         let fit = fit_modal_damping(&exp.structure, exp.excitation.mass, &data)
             .map_err(|e| Error::invalid(curve, "curve", exp.meta.id.clone(), e.to_string()))?;
         let label = exp.model.as_ref().map(|m| m.label.clone()).unwrap_or_else(|| exp.meta.id.clone());

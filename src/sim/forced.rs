@@ -1,6 +1,6 @@
-//! The forced (particular) response of a configuration to `F sin(omega t)` at one mass, and its
-//! derivative in the forcing frequency: on the stack up to
-//! [`INLINE_MASSES`] masses, by nalgebra's LU above.
+//! The forced (particular) response of a configuration to `F sin(omega t)` at one mass, or to a
+//! harmonic load vector (moving supports), and its derivative in the forcing frequency: on the
+//! stack up to [`INLINE_MASSES`] masses, by nalgebra's LU above.
 
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
@@ -23,8 +23,18 @@ pub struct Forced {
     pub amp: f64,
 }
 
-/// The forced response `X` of one configuration (`Z X = F e_driven`, `Z = K - omega^2 M + i
-/// omega C`) and its frequency derivative (`Z dX/domega = -(dZ/domega) X`, `dZ/domega = -2
+/// What drives a configuration at one frequency.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Drive<'a> {
+    /// `F sin(omega t)` on one mass: the mass (0-based) and `F`, N.
+    Point(usize, f64),
+    /// A load `f(t) = Im(F e^{i omega t})` on every coordinate: the phasors `F` and their
+    /// derivatives in `omega`.
+    Load(&'a [Complex64], &'a [Complex64]),
+}
+
+/// The forced response `X` of one configuration (`Z X = F`, `Z = K - omega^2 M + i omega C`)
+/// and its frequency derivative (`Z dX/domega = dF/domega - (dZ/domega) X`, `dZ/domega = -2
 /// omega M + i C`), written into `out`: on the stack up to [`INLINE_MASSES`] masses, by
 /// nalgebra's LU above; `None` when `Z` is singular.
 pub(super) fn forced_into(
@@ -32,17 +42,17 @@ pub(super) fn forced_into(
     c: &DMatrix<f64>,
     mass: &DMatrix<f64>,
     omega: f64,
-    (driven, force): (usize, f64),
+    drive: Drive,
     out: &mut [Forced],
 ) -> Option<()> {
     let mut put = |i: usize, x: Complex64, dx: Complex64| {
         out[i] = Forced { p: x.im, q: x.re, dp: dx.im, dq: dx.re, amp: x.im.hypot(x.re) };
     };
     if k.nrows() <= INLINE_MASSES {
-        let (x, dx) = forced_small(k, c, mass, omega, driven, force)?;
+        let (x, dx) = forced_small(k, c, mass, omega, drive)?;
         (0..k.nrows()).for_each(|i| put(i, x[i], dx[i]));
     } else {
-        let (x, dx) = forced_large(k, c, mass, omega, driven, force)?;
+        let (x, dx) = forced_large(k, c, mass, omega, drive)?;
         (0..k.nrows()).for_each(|i| put(i, x[i], dx[i]));
     }
     Some(())
@@ -54,8 +64,7 @@ fn forced_large(
     c: &DMatrix<f64>,
     mass: &DMatrix<f64>,
     omega: f64,
-    driven: usize,
-    force: f64,
+    drive: Drive,
 ) -> Option<(DVector<Complex64>, DVector<Complex64>)> {
     let n = k.nrows();
     let z = DMatrix::from_fn(n, n, |i, j| Complex64::new(k[(i, j)] - omega * omega * mass[(i, j)], omega * c[(i, j)]));
@@ -64,10 +73,21 @@ fn forced_large(
         return None;
     }
     let mut f = DVector::zeros(n);
-    f[driven] = Complex64::new(force, 0.0);
-    let x = lu.solve(&f)?;
     let dz = DMatrix::from_fn(n, n, |i, j| Complex64::new(-2.0 * omega * mass[(i, j)], c[(i, j)]));
-    let dx = lu.solve(&(-(dz * &x)))?;
+    let (x, dx) = match drive {
+        Drive::Point(driven, force) => {
+            f[driven] = Complex64::new(force, 0.0);
+            let x = lu.solve(&f)?;
+            let dx = lu.solve(&(-(dz * &x)))?;
+            (x, dx)
+        }
+        Drive::Load(load, d_load) => {
+            f.iter_mut().zip(load).for_each(|(f, l)| *f = *l);
+            let x = lu.solve(&f)?;
+            let dx = lu.solve(&(DVector::from_column_slice(d_load) - dz * &x))?;
+            (x, dx)
+        }
+    };
     Some((x, dx))
 }
 
@@ -78,8 +98,7 @@ fn forced_small(
     c: &DMatrix<f64>,
     mass: &DMatrix<f64>,
     omega: f64,
-    driven: usize,
-    force: f64,
+    drive: Drive,
 ) -> Option<([Complex64; INLINE_MASSES], [Complex64; INLINE_MASSES])> {
     let n = k.nrows();
     let zero = Complex64::new(0.0, 0.0);
@@ -127,7 +146,10 @@ fn forced_small(
         }
     };
     let mut x = [zero; INLINE_MASSES];
-    x[driven] = Complex64::new(force, 0.0);
+    match drive {
+        Drive::Point(driven, force) => x[driven] = Complex64::new(force, 0.0),
+        Drive::Load(load, _) => x[..n].copy_from_slice(&load[..n]),
+    }
     solve(&mut x);
     let mut dx = [zero; INLINE_MASSES];
     for (i, d) in dx.iter_mut().enumerate().take(n) {
@@ -135,7 +157,10 @@ fn forced_small(
         for (j, xj) in x.iter().enumerate().take(n) {
             acc += Complex64::new(-2.0 * omega * mass[(i, j)], c[(i, j)]) * xj;
         }
-        *d = -acc;
+        *d = match drive {
+            Drive::Point(..) => -acc,
+            Drive::Load(_, d_load) => d_load[i] - acc,
+        };
     }
     solve(&mut dx);
     Some((x, dx))
@@ -155,8 +180,8 @@ mod tests {
         driven: usize,
         force: f64,
     ) -> Option<(Vec<Complex64>, Vec<Complex64>)> {
-        let small = forced_small(k, c, m, omega, driven, force);
-        let large = forced_large(k, c, m, omega, driven, force);
+        let small = forced_small(k, c, m, omega, Drive::Point(driven, force));
+        let large = forced_large(k, c, m, omega, Drive::Point(driven, force));
         let ((xs, dxs), (xl, dxl)) = match (small, large) {
             (Some(s), Some(l)) => (s, l),
             (None, None) => return None,

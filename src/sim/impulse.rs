@@ -66,6 +66,7 @@ impl ImpulseRun {
 pub fn free_response(sys: &System, opts: &ImpulseOptions) -> Result<ImpulseRun, SetupError> {
     let mut free = sys.clone();
     free.force = 0.0;
+    free.base = None;
     // Without forcing, omega only sets the scale of the event tolerances: the highest natural
     // frequency of the bare structure.
     let scale = crate::model::modal::symmetric_modes(&sys.structure.mass_matrix(), &sys.structure.stiffness)

@@ -7,8 +7,8 @@ use super::engine::{Bed, Event, EventKind, Observer, State};
 use super::segment::{Point, Segment, Watch};
 use super::system::Dynamics;
 
-/// Extrema of every displacement (and bed states) over the observed time, found from the
-/// roots of the velocities in closed form, plus event counts.
+/// Extrema of every displacement relative to the supports (and bed states) over the observed
+/// time, found from the roots of the velocities in closed form, plus event counts.
 #[derive(Debug, Clone)]
 pub struct Extrema {
     /// Lowest displacement of each mass, m.
@@ -145,15 +145,21 @@ impl Observer for Extrema {
         points.push(seg.point(d, t_b));
         at.clear();
         at.resize(m + 1, 0.0);
+        // Displacements relative to the supports: the simulator's own under a force; less the
+        // supports' motion when they move.
+        let shown = |pt: &Point, i: usize, order: usize| match d.system.base {
+            None => seg.deriv(d, pt, i, order),
+            Some(_) => seg.deriv(d, pt, i, order) - d.support_motion(i, order, pt.sin, pt.cos),
+        };
         for i in 0..n {
-            self.take(i, seg.deriv(d, &points[0], i, 0));
-            self.take(i, seg.deriv(d, &points[m], i, 0));
+            self.take(i, shown(&points[0], i, 0));
+            self.take(i, shown(&points[m], i, 0));
             let v = |t: f64| {
                 let pt = seg.point(d, t);
-                (seg.deriv(d, &pt, i, 1), seg.deriv(d, &pt, i, 2), seg.deriv(d, &pt, i, 0))
+                (shown(&pt, i, 1), shown(&pt, i, 2), shown(&pt, i, 0))
             };
-            at.iter_mut().zip(&points).for_each(|(a, pt)| *a = seg.deriv(d, pt, i, 1));
-            each_root(&v, &times, &at, |k| seg.deriv(d, &points[k], i, 0), |_| true, |x| self.take(i, x));
+            at.iter_mut().zip(&points).for_each(|(a, pt)| *a = shown(pt, i, 1));
+            each_root(&v, &times, &at, |k| shown(&points[k], i, 0), |_| true, |x| self.take(i, x));
         }
         // Highest flight: the apex of y - x_p, at a root of the relative velocity. A window
         // whose gap cannot exceed the highest one so far is not refined: from its start
@@ -250,8 +256,12 @@ impl Observer for Energy {
                 let t = a + 0.5 * h * (node + 1.0);
                 let pt = seg.point(d, t);
                 let (_, v) = seg.state(d, &pt);
-                let (f, _) = d.force(t);
-                self.work += 0.5 * h * w * f * v[k];
+                if d.system.base.is_some() {
+                    self.work += 0.5 * h * w * d.power(t, &v);
+                } else {
+                    let (f, _) = d.force(t);
+                    self.work += 0.5 * h * w * f * v[k];
+                }
                 self.viscous += 0.5 * h * w * (v.transpose() * &*d.c * &v)[(0, 0)];
             }
         }

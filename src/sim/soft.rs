@@ -116,6 +116,12 @@ pub fn amplitude(
     let mut hi = vec![f64::NEG_INFINITY; n];
     let mut fx = vec![0.0; n];
     let mut fy = vec![0.0; nb];
+    // Moving supports: their load in the coordinates that follow them at the hosts, and the
+    // displacement that turns those into displacements relative to the supports.
+    let base = sys.base.as_ref().map(|b| {
+        let (load, _) = b.load_phasor(k, c, &sys.structure.mass_matrix(), omega);
+        (load, b.displacement(omega), b.follow.clone())
+    });
     // A contact between a lower body (position a, velocity va) and an upper one: the force
     // pushing them apart (>= 0).
     let push = |overlap: f64, rate: f64, c: f64| if overlap > 0.0 { (kc * overlap + c * rate).max(0.0) } else { 0.0 };
@@ -123,6 +129,10 @@ pub fn amplitude(
         let t = step as f64 * dt;
         fx.iter_mut().for_each(|f| *f = 0.0);
         fx[sys.driven] += sys.force * (omega * t).sin();
+        if let Some((load, _, _)) = &base {
+            let (s, co) = (omega * t).sin_cos();
+            fx.iter_mut().zip(load).for_each(|(f, l)| *f += l.re * s + l.im * co);
+        }
         for i in 0..n {
             for j in 0..n {
                 fx[i] -= k[(i, j)] * x[j] + c[(i, j)] * v[j];
@@ -173,9 +183,15 @@ pub fn amplitude(
             y[j] += dt * u[j];
         }
         if step >= record_from {
+            // After the step: at `t + dt`.
+            let support = base.as_ref().map_or(0.0, |(_, xg, _)| xg * (omega * (t + dt)).sin());
             for i in 0..n {
-                lo[i] = lo[i].min(x[i]);
-                hi[i] = hi[i].max(x[i]);
+                let rel = match &base {
+                    None => x[i],
+                    Some((_, _, follow)) => x[i] - follow[i] * support,
+                };
+                lo[i] = lo[i].min(rel);
+                hi[i] = hi[i].max(rel);
             }
         }
     }

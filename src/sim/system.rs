@@ -6,11 +6,11 @@ use std::sync::Arc;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
-use crate::model::{Damper, Structure};
+use crate::model::{BaseMotion, Damper, Structure};
 
 use super::buf::{PerMass, Terms};
 use super::eigen;
-use super::forced::{forced_into, Forced};
+use super::forced::{forced_into, Drive, Forced};
 
 /// Most degrees of freedom (masses, or generalised coordinates) the closed form takes.
 pub const MAX_DOF: usize = 256;
@@ -46,7 +46,8 @@ pub const MAX_BEDS: usize = 14;
 /// Most beds counting every grain of every column (bits of a configuration mask).
 pub const MAX_GRAINS: usize = 63;
 
-/// What the simulator integrates: the structure, its dampers, the force.
+/// What the simulator integrates: the structure, its dampers, the force or the supports'
+/// motion.
 #[derive(Debug, Clone)]
 pub struct System {
     /// The bare structure.
@@ -55,8 +56,12 @@ pub struct System {
     pub dampers: Vec<Damper>,
     /// 0-based driven mass.
     pub driven: usize,
-    /// Force amplitude `F` of `F sin(omega t)`, N (0 for free motion).
+    /// Force amplitude `F` of `F sin(omega t)`, N (0 for free motion or moving supports).
     pub force: f64,
+    /// Harmonic motion of the supports, instead of the force (docs/model.md section 2.3): the
+    /// simulator's coordinates then follow the supports at the hosts
+    /// ([`crate::model::base`]).
+    pub base: Option<BaseMotion>,
     /// Each bed's impact law, in the order of `dampers`; a bed without one is plastic (the
     /// paper's assumption), so an empty list is the paper's system.
     pub laws: Vec<super::bed::ImpactLaw>,
@@ -70,7 +75,16 @@ pub struct System {
 impl System {
     /// A system with plastic impacts.
     pub fn plastic(structure: Structure, dampers: Vec<Damper>, driven: usize, force: f64) -> System {
-        System { structure, dampers, driven, force, laws: Vec::new(), columns: Vec::new() }
+        System { structure, dampers, driven, force, base: None, laws: Vec::new(), columns: Vec::new() }
+    }
+
+    /// The same system driven by its supports accelerating as `accel sin(omega t)` (m/s^2)
+    /// instead of its force ([`BaseMotion::of`]: every coordinate translating with them, or as
+    /// the structure's [`crate::model::base::Supports`] say).
+    pub fn on_supports(mut self, accel: f64) -> System {
+        self.force = 0.0;
+        self.base = Some(BaseMotion::of(&self.structure, accel));
+        self
     }
 
     /// The same system with bed `j` split into a column of `grains[j]` equal grains (total
@@ -323,6 +337,8 @@ pub struct Step {
 pub struct AtState {
     f: f64,
     fdot: f64,
+    sin: f64,
+    cos: f64,
     cv: PerMass,
     kx: PerMass,
     kv: PerMass,
@@ -348,6 +364,12 @@ pub struct Dynamics {
     /// configuration ([`Dynamics::forced`]): one buffer for all, so that the dynamics at
     /// another frequency costs one allocation.
     forced: Vec<Forced>,
+    /// Moving supports: the load's phasor on every coordinate (`f(t) = Im(F e^{i omega t})`,
+    /// [`BaseMotion::load_phasor`]); empty under a force.
+    load: Vec<Complex64>,
+    /// Moving supports: the amplitude `X_g` of their displacement `X_g sin(omega t)`, m (0
+    /// under a force).
+    pub support: f64,
     /// Stiffness and damping (shared by all configurations).
     pub k: Arc<DMatrix<f64>>,
     /// Damping matrix, N s/m.
@@ -377,13 +399,21 @@ impl Dynamics {
         let n = self.dof;
         let configs = self.configs.clone();
         let mut forced = vec![Forced::default(); n * configs.len()];
-        if self.system.force != 0.0 {
+        let (load, d_load) = match &self.system.base {
+            Some(b) => b.load_phasor(&self.k, &self.c, &self.system.structure.mass_matrix(), omega),
+            None => (Vec::new(), Vec::new()),
+        };
+        let drive = match self.system.base {
+            Some(_) => Some(Drive::Load(&load, &d_load)),
+            None => (self.system.force != 0.0).then_some(Drive::Point(self.system.driven, self.system.force)),
+        };
+        if let Some(drive) = drive {
             for (cfg, out) in configs.iter().zip(forced.chunks_exact_mut(n.max(1))) {
-                let drive = (self.system.driven, self.system.force);
                 forced_into(&self.k, &self.c, &cfg.modes.mass, omega, drive, out)
                     .ok_or(SetupError::Singular { mask: cfg.mask })?;
             }
         }
+        let support = self.system.base.as_ref().map_or(0.0, |b| b.displacement(omega));
         let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
         let window = vec![std::sync::OnceLock::new(); configs.len()];
         Ok(Dynamics {
@@ -392,6 +422,8 @@ impl Dynamics {
             configs,
             dof: n,
             forced,
+            load,
+            support,
             k: Arc::clone(&self.k),
             c: Arc::clone(&self.c),
             min_period: 2.0 * std::f64::consts::PI / max_rate,
@@ -483,6 +515,8 @@ impl Dynamics {
             system: Arc::new(system.clone()),
             omega,
             forced: vec![Forced::default(); n * configs.len()],
+            load: Vec::new(),
+            support: 0.0,
             configs,
             dof: n,
             k: Arc::new(k),
@@ -570,10 +604,48 @@ impl Dynamics {
         (x, v)
     }
 
-    /// The force vector at `t` and its time derivative.
+    /// The force on the driven mass at `t` and its time derivative (0 under moving supports:
+    /// [`Dynamics::load_at`]).
     pub fn force(&self, t: f64) -> (f64, f64) {
         let (s, c) = (self.omega * t).sin_cos();
         (self.system.force * s, self.system.force * self.omega * c)
+    }
+
+    /// The moving supports' load on coordinate `i` and its time derivative, given `sin(omega
+    /// t)` and `cos(omega t)`; 0 under a force.
+    #[inline]
+    pub fn load_at(&self, i: usize, sin: f64, cos: f64) -> (f64, f64) {
+        match self.load.get(i) {
+            Some(l) => (l.re * sin + l.im * cos, self.omega * (l.re * cos - l.im * sin)),
+            None => (0.0, 0.0),
+        }
+    }
+
+    /// The power the drive puts into the structure at `t` with velocities `v`: the force times
+    /// the driven mass's velocity, or the supports' load on every coordinate.
+    pub fn power(&self, t: f64, v: &DVector<f64>) -> f64 {
+        if self.load.is_empty() {
+            return self.force(t).0 * v[self.system.driven];
+        }
+        let (s, c) = (self.omega * t).sin_cos();
+        (0..v.len()).map(|i| self.load_at(i, s, c).0 * v[i]).sum()
+    }
+
+    /// Derivative `order` of the supports' displacement along coordinate `i`, `r_i x_g(t)`,
+    /// at a forcing phase (`sin(omega t)`, `cos(omega t)`): what turns the simulator's
+    /// coordinates into displacements relative to the supports (0 under a force).
+    #[inline]
+    pub fn support_motion(&self, i: usize, order: usize, sin: f64, cos: f64) -> f64 {
+        let Some(b) = &self.system.base else {
+            return 0.0;
+        };
+        let phase = match order % 4 {
+            0 => sin,
+            1 => cos,
+            2 => -sin,
+            _ => -cos,
+        };
+        b.follow[i] * self.support * self.omega_pow[order] * phase
     }
 
     /// Accelerations and jerks of all masses in configuration `mask` at state `(x, v)`, time
@@ -587,14 +659,15 @@ impl Dynamics {
     /// and its rate, `C v`, `K x` and `K v`.
     pub fn at_state(&self, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> AtState {
         let n = self.system.dof();
-        let (f, fdot) = self.force(t);
+        let (sin, cos) = (self.omega * t).sin_cos();
+        let (f, fdot) = (self.system.force * sin, self.system.force * self.omega * cos);
         let (mut cv, mut kx, mut kv) = (PerMass::zeros(n), PerMass::zeros(n), PerMass::zeros(n));
         for (i, ((cv, kx), kv)) in cv.iter_mut().zip(kx.iter_mut()).zip(kv.iter_mut()).enumerate() {
             *cv = row(&self.c, i, v.as_slice(), 1.0);
             *kx = row(&self.k, i, x.as_slice(), 1.0);
             *kv = row(&self.k, i, v.as_slice(), 1.0);
         }
-        AtState { f, fdot, cv, kx, kv }
+        AtState { f, fdot, sin, cos, cv, kx, kv }
     }
 
     /// [`Dynamics::accelerations`] in configuration `mask` at a state prepared by
@@ -613,6 +686,9 @@ impl Dynamics {
             *r = *r - cv - kx;
         }
         rhs[self.system.driven] += st.f;
+        for (i, r) in rhs.iter_mut().enumerate().take(self.load.len()) {
+            *r += self.load_at(i, st.sin, st.cos).0;
+        }
         let mut a = PerMass::zeros(n);
         for (i, ai) in a.iter_mut().enumerate() {
             *ai = row(&cfg.modes.mass_inv, i, rhs, 1.0);
@@ -623,6 +699,9 @@ impl Dynamics {
             *r = row(&self.c, i, &a, -1.0) - kv;
         }
         rhs_dot[self.system.driven] += st.fdot;
+        for (i, r) in rhs_dot.iter_mut().enumerate().take(self.load.len()) {
+            *r += self.load_at(i, st.sin, st.cos).1;
+        }
         let mut jerk = PerMass::zeros(n);
         for (i, ji) in jerk.iter_mut().enumerate() {
             *ji = row(&cfg.modes.mass_inv, i, rhs_dot, 1.0);
@@ -641,6 +720,9 @@ impl Dynamics {
             *r = row(&self.c, i, jerk, -1.0) - row(&self.k, i, a, 1.0);
         }
         rhs[self.system.driven] -= self.omega * self.omega * st.f;
+        for (i, r) in rhs.iter_mut().enumerate().take(self.load.len()) {
+            *r -= self.omega * self.omega * self.load_at(i, st.sin, st.cos).0;
+        }
         let mut snap = PerMass::zeros(n);
         for (i, s) in snap.iter_mut().enumerate() {
             *s = row(&cfg.modes.mass_inv, i, &rhs, 1.0);

@@ -14,7 +14,7 @@ use nalgebra::DMatrix;
 use super::raw::RawFiniteElement;
 use crate::error::{Error, Result};
 use crate::model::fe::{DofLabel, FeStructure, FullModel, Point};
-use crate::model::reduction::{craig_bampton_sparse, Keep};
+use crate::model::reduction::{craig_bampton_sparse, Keep, Reduced};
 use crate::model::sparse::SymSparse;
 use crate::model::Direction;
 
@@ -23,6 +23,8 @@ pub const FORMATS: [&str; 3] = ["calculix", "matrix-market", "abaqus"];
 
 /// A finite-element structure: the reduced matrices and what they came from.
 pub struct FromFiles {
+    /// How its coordinates follow moving supports.
+    pub supports: crate::model::base::Supports,
     /// The reduced mass matrix, kg (points first, then modal coordinates).
     pub mass: DMatrix<f64>,
     /// The reduced stiffness matrix, N/m.
@@ -183,21 +185,24 @@ pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
             return Err(invalid("units", &format!("\"{u}\""), "\"N-m-kg\" (default) or \"N-mm-t\" (N/mm and tonnes)"))
         }
     };
-    let (up_axis, up_sign) = match raw.up.as_str() {
-        "x" | "+x" => (1, 1.0),
-        "y" | "+y" => (2, 1.0),
-        "z" | "+z" => (3, 1.0),
-        "-x" => (1, -1.0),
-        "-y" => (2, -1.0),
-        "-z" => (3, -1.0),
-        u => {
-            return Err(invalid(
-                "up",
-                &format!("\"{u}\""),
-                "the global direction that points up: x, y, z, -x, -y or -z",
-            ))
-        }
+    let axis = |k: &str, v: &str| match v {
+        "x" | "+x" => Ok((1, 1.0)),
+        "y" | "+y" => Ok((2, 1.0)),
+        "z" | "+z" => Ok((3, 1.0)),
+        "-x" => Ok((1, -1.0)),
+        "-y" => Ok((2, -1.0)),
+        "-z" => Ok((3, -1.0)),
+        u => Err(invalid(
+            k,
+            &format!("\"{u}\""),
+            &format!(
+                "the global direction that {}: x, y, z, -x, -y or -z",
+                if k == "up" { "points up" } else { "moving supports accelerate along" }
+            ),
+        )),
     };
+    let (up_axis, up_sign) = axis("up", &raw.up)?;
+    let base = axis("base_direction", raw.base_direction.as_deref().unwrap_or(&raw.up))?;
     let keep = match (raw.modes, raw.cutoff_hz) {
         (Some(m), None) if (0..=10_000).contains(&m) => Keep::Count(m as usize),
         (Some(m), None) => return Err(invalid("modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000")),
@@ -307,12 +312,39 @@ pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
         .map(String::as_str)
         .collect::<Vec<_>>()
         .join(", ");
+    let supports = supports(&mass, &labels, &points, &reduced, base, raw.base_direction.as_deref().unwrap_or(&raw.up));
     let full = FullModel { stiffness, mass, labels, files: format!("{} ({})", files, raw.format) };
     Ok(FromFiles {
+        supports,
         mass: reduced.mass.clone(),
         stiffness: reduced.stiffness.clone(),
         fe: FeStructure { full: Arc::new(full), points, reduced, up: raw.up, tolerance },
     })
+}
+
+/// How a reduced model's coordinates follow its supports moving along global `axis` (1-3)
+/// with `sign`: `r_full` is `sign` on every translation along the axis (every row when the
+/// files name none), the load `L = T^T M r_full`, and `r` the points' share of it (0 on the
+/// modal coordinates; a point measured the other way round changes sign).
+fn supports(
+    mass: &SymSparse,
+    labels: &Option<Vec<DofLabel>>,
+    points: &[Point],
+    reduced: &Reduced,
+    (axis, sign): (usize, f64),
+    direction: &str,
+) -> crate::model::base::Supports {
+    let n = mass.n();
+    let r: Vec<f64> = match labels {
+        Some(l) => l.iter().map(|d| if usize::from(d.dof) == axis { sign } else { 0.0 }).collect(),
+        None => vec![1.0; n],
+    };
+    let mut mr = vec![0.0; n];
+    mass.mul(&r, &mut mr);
+    let t = &reduced.transform;
+    let load = (0..t.ncols()).map(|c| t.column(c).iter().zip(&mr).map(|(a, b)| a * b).sum()).collect();
+    let follow = (0..t.ncols()).map(|c| points.get(c).map_or(0.0, |p| r[p.row] * p.sign)).collect();
+    crate::model::base::Supports { follow, load, direction: direction.to_string() }
 }
 
 /// The highest frequency an experiment file's analysis asks for, Hz, as written (its grid,

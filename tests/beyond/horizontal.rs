@@ -8,7 +8,7 @@
 //! independent return map (impact to impact, closed-form flow, Jacobian by central
 //! differences), against the simulator's certified orbit and Floquet multipliers.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 
