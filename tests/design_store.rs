@@ -291,3 +291,78 @@ fn design_cmd(design: &Path, root: &Path, out: &str) -> assert_cmd::Command {
     c.arg("design").arg(design).arg("--reference").arg(root.join("reference")).arg("--out").arg(root.join(out));
     c
 }
+
+#[test]
+fn a_sharded_search_merges_into_the_whole_search_s_report() {
+    // The tiny design with two starts and a Pareto budget: 6 placement searches, split 4 ways
+    // (one shard gets one); the merged report is the whole search's, file for file.
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::create_dir_all(root.join("reference")).unwrap();
+    let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap())
+        .replace("starts = 1", "starts = 2\npareto_mass_ratios = [0.05]")
+        .replace("report = true", "");
+    let design = root.join("frame.toml");
+    std::fs::write(&design, &text).unwrap();
+    let o = design_cmd(&design, root, "whole").output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let parts = root.join("parts");
+    for i in 0..4 {
+        let o = common::shotdamp()
+            .arg("design")
+            .arg(&design)
+            .arg("--reference")
+            .arg(root.join("reference"))
+            .arg(format!("--shard={i}/4"))
+            .arg("--parts")
+            .arg(&parts)
+            .arg("--jobs=1")
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    // A folder that misses a shard is refused, naming it.
+    let some = root.join("some");
+    std::fs::create_dir_all(&some).unwrap();
+    for i in [0, 1, 3] {
+        let name = format!("design-part-{i}-of-4.json");
+        std::fs::copy(parts.join(&name), some.join(&name)).unwrap();
+    }
+    let o = design_cmd(&design, root, "m1").arg("--merge").arg(&some).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("shard = 2/4") && err.contains("--shard 2/4"), "{err}");
+    // So is a part of another version of the design.
+    let changed = root.join("changed.toml");
+    std::fs::write(&changed, text.replace("max_iters = 8", "max_iters = 9")).unwrap();
+    let o = design_cmd(&changed, root, "m2").arg("--merge").arg(&parts).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("fingerprint") && err.contains("another version of the design"), "{err}");
+    let o = design_cmd(&design, root, "merged").arg("--merge").arg(&parts).output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let (whole, merged) = (root.join("whole"), root.join("merged"));
+    let mut compared = 0;
+    for entry in walk(&whole) {
+        let rel = entry.strip_prefix(&whole).unwrap();
+        let other = merged.join(rel);
+        assert_eq!(std::fs::read(&entry).unwrap(), std::fs::read(&other).unwrap(), "{}", rel.display());
+        compared += 1;
+    }
+    assert_eq!(walk(&merged).len(), compared);
+    assert!(compared > 10, "{compared} files");
+}
+
+/// Every file below `dir`.
+fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}

@@ -13,6 +13,6 @@ python3 -m venv "$venv" 2>/dev/null || {
 }
 "$venv/bin/pip" install --quiet --disable-pip-version-check "kubernetes-validate==1.37.0"
 for v in 1.29.0 1.30.0 1.31.0 1.32.0 1.33.0 1.34.0 1.35.0 1.36.0 1.37.0; do
-    "$venv/bin/kubernetes-validate" --strict --kubernetes-version "$v" --quiet study-job.yaml merge-job.yaml fetch-pod.yaml
-    echo "Kubernetes $v: study-job.yaml, merge-job.yaml, fetch-pod.yaml valid (strict)"
+    "$venv/bin/kubernetes-validate" --strict --kubernetes-version "$v" --quiet study-job.yaml merge-job.yaml fetch-pod.yaml design-job.yaml design-merge-job.yaml
+    echo "Kubernetes $v: study-job.yaml, merge-job.yaml, fetch-pod.yaml, design-job.yaml, design-merge-job.yaml valid (strict)"
 done

@@ -6,7 +6,9 @@
 #   3. an array with task 1 cancelled mid-run: the merge names shard 1; `sbatch --array=1` (the
 #      natural rerun) resumes it as shard 1 of the folder's 3;
 #   4. an array with task 1 cancelled mid-run and requeued by Slurm;
-# every merge equal to the unsharded table byte for byte. Tears down on success, on failure and
+# every merge equal to the unsharded table byte for byte; and deploy/slurm/design.sbatch: a
+# small design searched as an array of 3 shards, the chained merge's report equal to the whole
+# search's file for file. Tears down on success, on failure and
 # on SIGTERM/SIGINT. Usage, from a checkout with target/release/shotdamp built (or under
 # $CARGO_TARGET_DIR when that is set):
 #   bash deploy/slurm/ci.sh [WORK_DIR]        (STUDY=studies/... to choose another study)
@@ -94,6 +96,17 @@ grep -q "^resuming: " "$R/requeue/logs/${j}_1.out"   # the requeued task appende
 [ "$(grep -c '^== ' "$R/requeue/logs/${j}_1.out")" -ge 2 ]
 "$BIN" study merge "$R/requeue" > "$W/logs/merge-requeue.log"
 cmp "$R/whole/$ID.csv" "$R/requeue/$ID.csv"
+say "design: an array of 3 shards + chained merge, equal to the whole search's report"
+D=$W/design.toml   # a small design: the 5-storey frame, two candidates, coarse bands
+sed -e 's/candidates = \[1, 2, 3, 4, 5\]/candidates = [4, 5]/' \
+    -e 's/^max_beds = 2/max_beds = 2\nstarts = 2\nmax_iters = 8\npareto_mass_ratios = [0.05]/' \
+    -e 's/step = 0.1 }/step = 0.5 }/; s/step = 0.2 }/step = 1.0 }/' designs/five_storey.toml > "$D"
+"$BIN" design "$D" --out "$R/design-whole" --jobs 2 > "$W/logs/design-whole.log" 2>&1
+j=$(sbatch --parsable "${ONE[@]}" --array=0-2 deploy/slurm/design.sbatch "$D" "$R/design-parts")   # count: the array's
+m=$(sbatch --parsable --dependency=afterok:"$j" --output="$W/logs/design-merge-%j.out" --wrap "$BIN design $D --merge $R/design-parts --out $R/design-merged")
+waitfor "gone $j && gone $m"; all_ok "$j"; all_ok "$m"
+grep -q "shard 1/3" "$R/design-parts/logs/${j}_1.out"
+diff -r "$R/design-whole" "$R/design-merged"
 # Job logs and study folders of a run from the checkout are ignored by git.
 [ -z "$(git -C "$REPO" status --porcelain)" ] || { git -C "$REPO" status --porcelain; say "the checkout changed"; exit 1; }
-say "PASS: arrays run together, rerun with --array=1 and requeued equal the unsharded $ID.csv"
+say "PASS: arrays run together, rerun with --array=1 and requeued equal the unsharded $ID.csv; the sharded design's report equals the whole search's"

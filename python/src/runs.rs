@@ -271,7 +271,7 @@ pub fn design<'py>(
             "time_limit = {t}: a number of seconds, 0 or more"
         )));
     }
-    let settings = DesignSettings { reference, out, jobs, store, time_limit, interrupt: None };
+    let settings = DesignSettings { reference, out, jobs, store, time_limit, interrupt: None, merge: None };
     let run = compute::run(py, jobs, progress, |t| runner::designs::run(&files, &settings, t, &|_| {}, &|_| {}))?;
     let d = finished(py, &run.finished)?;
     d.set_item("stored", PyList::new(py, &run.stored)?)?;

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::checks::reference::ReferenceStore;
 use crate::checks::{CheckOutcome, Source, Status};
-use crate::design::search::{optimise_until, placements, Found, Space};
+use crate::design::search::{self, optimise_until, Found};
 use crate::design::stored::{fingerprint, StoredDesign, StoredLayout, StoredPareto};
 use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Scenario, Spec, PROFILE_POINTS};
 use crate::experiment::Experiment;
@@ -314,28 +314,27 @@ pub fn run(
     let b = bare(&p);
     let total_mass = exp.structure.mass_matrix().trace();
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
-    let space = Space {
-        placements: placements(&spec.candidates, spec.max_beds),
-        shot_kg: spec.shot_kg,
-        clearance_mm: spec.clearance_mm,
-        shared_clearance: spec.shared_clearance,
-    };
+    // The main search, then one per Pareto budget (every placement searched again for each).
+    let spaces = super::design_shards::spaces(exp, spec);
     let mut stopped = false;
     let (found, front, checks) = if spec.replay {
         replay(exp, spec, &p, &b, refs)
     } else {
-        let (found, stopped_best) = optimise_until(&p, &b, &space, &spec.search, tick, &spec.halt);
-        stopped |= stopped_best;
-        // The Pareto front: every placement searched again for each shot budget.
+        let mut search = |k: usize| match &spec.merged {
+            // Gathered from a sharded search's parts.
+            Some(merged) => search::found(&p, &b, &spaces[k], &merged[k]),
+            None => {
+                let (found, stopped_here) = optimise_until(&p, &b, &spaces[k], &spec.search, tick, &spec.halt);
+                stopped |= stopped_here;
+                found
+            }
+        };
+        let found = search(0);
         let front: Vec<(f64, Found)> = spec
             .pareto_mass_ratios
             .iter()
-            .filter_map(|&r| {
-                let s = Space { shot_kg: r * total_mass, ..space.clone() };
-                let (found, stopped_here) = optimise_until(&p, &b, &s, &spec.search, tick, &spec.halt);
-                stopped |= stopped_here;
-                lowest(found).map(|f| (r, f))
-            })
+            .enumerate()
+            .filter_map(|(k, &r)| lowest(search(k + 1)).map(|f| (r, f)))
             .collect();
         (found, front, Vec::new())
     };

@@ -11,6 +11,7 @@ pub mod design;
 mod design_drive;
 mod design_levels;
 mod design_near;
+pub mod design_shards;
 mod digitised_checks;
 mod figures;
 pub mod impulse;

@@ -23,6 +23,7 @@ macro_rules! say_part {
     }};
 }
 
+mod design;
 mod progress;
 mod study;
 
@@ -144,29 +145,7 @@ pub enum Command {
     /// Run a design file (analysis kind "design", docs/design.md): the best placements, shot
     /// split and clearances, the reference layouts, the clearance profile and the Pareto front,
     /// written as a report.
-    Design {
-        /// Design files.
-        #[arg(required = true)]
-        files: Vec<PathBuf>,
-        /// Report folder.
-        #[arg(long, default_value = "design-runs")]
-        out: PathBuf,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        jobs: Option<usize>,
-        /// Also store each model's answer (the best layouts) under the reference folder's
-        /// designs/, where `shotdamp report` evaluates them again instead of searching.
-        #[arg(long)]
-        store: bool,
-        /// Print what each search costs at most (placements, layout evaluations, steady
-        /// states, time); search nothing.
-        #[arg(long)]
-        dry_run: bool,
-        /// Stop the searches after this many seconds (of the whole run) and write the best
-        /// layouts found so far, marked as such (not stored).
-        #[arg(long, value_name = "SECONDS")]
-        time_limit: Option<f64>,
-    },
+    Design(design::DesignArgs),
     /// Run every experiment and regenerate the whole report.
     Report {
         /// Report folder.
@@ -298,84 +277,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             )?
             .0)
         }
-        Command::Design { files, out, jobs, store, dry_run, time_limit } => {
-            cli.project().refuse_overlap(out)?;
-            if let Some(t) = time_limit.filter(|t| !(t.is_finite() && *t >= 0.0)) {
-                return Err(crate::Error::invalid(
-                    "(command line)",
-                    "--time-limit",
-                    t.to_string(),
-                    "a number of seconds, 0 or more",
-                )
-                .into());
-            }
-            let threads = runner::threads(*jobs)?;
-            for (key, n, b) in runner::designs::budgets(files, &cli.reference)? {
-                let point = crate::design::Budget::seconds_per_point(n) * b.fast;
-                let fast = if b.fast > 1.0 {
-                    format!(
-                        ", the structure's fastest mode oscillating {:.0} times a period of the lowest forcing frequency",
-                        b.fast * crate::design::Budget::FAST_RATIO
-                    )
-                } else {
-                    String::new()
-                };
-                say!(
-                    "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {} a steady state{fast} (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
-                    b.placements,
-                    b.searches,
-                    b.evaluations,
-                    b.points,
-                    study::duration(b.nominal_seconds(n, threads)),
-                    if threads == 1 { "" } else { "s" },
-                    if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.0} ms", point * 1e3) },
-                );
-            }
-            if *dry_run {
-                // The nominal cost is a rule of thumb; one layout evaluated measures this
-                // structure and its beds.
-                let budgets = runner::designs::budgets(files, &cli.reference)?;
-                for (probe, (_, _, b)) in runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets) {
-                    let runner::designs::Probe { key, hosts, clearance_mm: d, seconds_per_point: point } = probe;
-                    let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
-                    say!(
-                        "design {key}: measured {} a steady state (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
-                        if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.1} ms", point * 1e3) },
-                        on.join(" "),
-                        crate::number::fmt_sig(d, 2),
-                        study::duration(b.evaluations as f64 * b.points as f64 * point / threads.max(1) as f64),
-                        if threads == 1 { "" } else { "s" },
-                    );
-                }
-                return Ok(true);
-            }
-            let interrupt = Interrupt::default();
-            let settings = runner::designs::DesignSettings {
-                reference: cli.reference.clone(),
-                out: out.clone(),
-                jobs: *jobs,
-                store: *store,
-                time_limit: *time_limit,
-                interrupt: Some(interrupt.flag.clone()),
-            };
-            let mut stored = Vec::new();
-            let (ok, _) = finish_with(Some(interrupt.clone()), |progress, log, staging| {
-                let run = runner::designs::run(files, &settings, progress, log, staging)?;
-                stored = run.stored;
-                Ok(run.finished)
-            })?;
-            for path in stored {
-                say!("stored: {}", path.display());
-            }
-            let sig = interrupt.signal.load(std::sync::atomic::Ordering::Relaxed);
-            if sig != 0 {
-                // The report of the best so far is in place; the exit status says the run
-                // was interrupted, as a shell expects.
-                say!("interrupted: the report holds the best layouts found before the interrupt");
-                std::process::exit(128 + sig);
-            }
-            Ok(ok)
-        }
+        Command::Design(args) => design::dispatch(args, cli),
         Command::Reference { command: ReferenceCommand::Import { .. } } => {
             import(&cli.command, &cli.reference)?;
             Ok(true)

@@ -67,6 +67,11 @@ pub struct Spec {
     /// (`shotdamp design --time-limit`, Ctrl-C; never from the file, not part of the
     /// fingerprint).
     pub halt: search::Halt,
+    /// What every search ended with, gathered from a sharded search's parts (`shotdamp
+    /// design --merge`): per search (the main one, then one per Pareto budget) and
+    /// placement. The design then searches nothing and reports the unsharded answer.
+    /// `None`: search.
+    pub merged: Option<std::sync::Arc<Vec<Vec<search::Searched>>>>,
 }
 
 /// Stated limits of a design file, so that every search it can ask for ends in a time its

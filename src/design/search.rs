@@ -333,16 +333,47 @@ pub fn optimise_until(
     check: &(dyn Fn() + Sync),
     halt: &Halt,
 ) -> (Vec<Found>, bool) {
+    let (searched, stopped) = search_placements(problem, bare, space, opts, check, halt, &|_| true);
+    let searched: Vec<Searched> = searched.into_iter().flatten().collect();
+    (found(problem, bare, space, &searched), stopped)
+}
+
+/// What the search of one placement ended with: its best point, the starts run and the
+/// evaluations made. [`found`] makes it a [`Found`] (its layout evaluated again), so a shard of
+/// a design hands these to the merge and the merged answer is the unsharded one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Searched {
+    /// Free coordinates of the best point.
+    pub x: Vec<f64>,
+    /// Starts run.
+    pub starts: usize,
+    /// Objective evaluations made (the coarse scan's included).
+    pub evaluations: u64,
+}
+
+/// The search of the placements of `space` that `owned` accepts (by index), as
+/// [`optimise_until`] searches them: `None` for the others. Each placement's search depends on
+/// nothing but the placement, so any split of them gives the same numbers.
+pub fn search_placements(
+    problem: &Problem,
+    bare: &[Vec<f64>],
+    space: &Space,
+    opts: &Options,
+    check: &(dyn Fn() + Sync),
+    halt: &Halt,
+    owned: &(dyn Fn(usize) -> bool + Sync),
+) -> (Vec<Option<Searched>>, bool) {
     let stopped = AtomicBool::new(false);
+    let mine: Vec<usize> = (0..space.placements.len()).filter(|&p| owned(p)).collect();
     let firsts: Vec<Vec<f64>> =
-        space.placements.par_iter().map(|hosts| coarse_start(problem, bare, hosts, space, check)).collect();
-    let runs: Vec<(usize, Vec<f64>)> = space
-        .placements
+        mine.par_iter().map(|&p| coarse_start(problem, bare, &space.placements[p], space, check)).collect();
+    let runs: Vec<(usize, Vec<f64>)> = mine
         .iter()
-        .enumerate()
-        .flat_map(|(p, hosts)| {
+        .zip(&firsts)
+        .flat_map(|(&p, first)| {
+            let hosts = &space.placements[p];
             let mut xs = starts(hosts, space, opts);
-            xs[0] = firsts[p].clone();
+            xs[0] = first.clone();
             xs.into_iter().map(move |x| (p, x))
         })
         .collect();
@@ -367,11 +398,14 @@ pub fn optimise_until(
         })
         .collect();
     let stopped = stopped.load(Ordering::Relaxed);
-    let found = space
+    let searched = space
         .placements
         .iter()
         .enumerate()
         .map(|(p, hosts)| {
+            if !owned(p) {
+                return None;
+            }
             let mine: Vec<&Descent> = results.iter().filter(|(q, _)| *q == p).filter_map(|(_, r)| r.as_ref()).collect();
             let evaluations = mine.iter().map(|r| r.2).sum::<u64>() + COARSE.len() as u64;
             // The lowest objective; of equal ones the first start's.
@@ -380,12 +414,25 @@ pub fn optimise_until(
                 _ => Some(r),
             });
             let x = best.map(|b| b.0.clone()).unwrap_or_else(|| vec![0.0; dimension(hosts.len(), space)]);
-            let layout = layout(hosts, &x, space);
-            let evaluation = evaluate(problem, bare, &layout);
-            Found { layout, evaluation, x, starts: mine.len(), evaluations }
+            Some(Searched { x, starts: mine.len(), evaluations })
         })
         .collect();
-    (found, stopped)
+    (searched, stopped)
+}
+
+/// The best layout of each placement of `space` from what its search ended with (`searched`,
+/// one per placement in order): the layout at its best point, evaluated again.
+pub fn found(problem: &Problem, bare: &[Vec<f64>], space: &Space, searched: &[Searched]) -> Vec<Found> {
+    space
+        .placements
+        .iter()
+        .zip(searched)
+        .map(|(hosts, s)| {
+            let layout = layout(hosts, &s.x, space);
+            let evaluation = evaluate(problem, bare, &layout);
+            Found { layout, evaluation, x: s.x.clone(), starts: s.starts, evaluations: s.evaluations }
+        })
+        .collect()
 }
 
 /// Every layout of a grid: for each placement, each clearance of `clearances_mm` (shared) and

@@ -92,7 +92,7 @@ pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
     let direction = match problem.direction {
         crate::model::Direction::Vertical => String::new(),
         other => format!("|{}", other.name()),
-    };
+    } + if problem.supports { "|supports" } else { "" };
     let text = format!(
         "{:?}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
         problem.structure,

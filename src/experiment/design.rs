@@ -300,6 +300,7 @@ pub fn design(
         sdof,
         replay: false,
         halt: Default::default(),
+        merged: None,
         report: raw.report.unwrap_or(false),
         scenario_models,
         model_structures: Vec::new(),

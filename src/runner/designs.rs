@@ -26,6 +26,9 @@ pub struct DesignSettings {
     /// A flag that, once raised (the command line raises it on Ctrl-C), stops the searches
     /// likewise.
     pub interrupt: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    /// A folder of a sharded search's parts ([`super::design_parts`]): the designs take what
+    /// their searches ended with from there and search nothing.
+    pub merge: Option<PathBuf>,
 }
 
 /// What `shotdamp design` did.
@@ -66,6 +69,9 @@ pub fn run(
         if let experiment::Analysis::Design { spec, .. } = &mut e.analysis {
             spec.halt = halt.clone();
         }
+    }
+    if let Some(dir) = &settings.merge {
+        super::design_parts::merge_into(&mut exps, dir)?;
     }
     let run = Settings {
         reference: settings.reference.clone(),

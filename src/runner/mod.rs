@@ -6,6 +6,7 @@
 //! failed checks. Printing, progress bars and the interrupt handler are the caller's.
 
 pub mod damping;
+pub mod design_parts;
 pub mod designs;
 pub mod schedule;
 pub mod study;

@@ -1,0 +1,209 @@
+//! `shotdamp design`: searches design files and writes their report, whole or as one shard of
+//! a cluster job (`--shard I/N --parts DIR`), whose parts `--merge DIR` gathers into the
+//! report the whole search writes.
+
+use std::path::PathBuf;
+
+use super::progress::Interrupt;
+use super::Cli;
+use crate::runner;
+use crate::runner::design_parts::DesignShard;
+
+/// Arguments of `shotdamp design`.
+#[derive(Debug, clap::Args)]
+pub struct DesignArgs {
+    /// Design files.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Report folder.
+    #[arg(long, default_value = "design-runs")]
+    pub out: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Also store each model's answer (the best layouts) under the reference folder's
+    /// designs/, where `shotdamp report` evaluates them again instead of searching.
+    #[arg(long)]
+    pub store: bool,
+    /// Print what each search costs at most (placements, layout evaluations, steady
+    /// states, time); search nothing.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Stop the searches after this many seconds (of the whole run) and write the best
+    /// layouts found so far, marked as such (not stored).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_limit: Option<f64>,
+    /// Search only shard I of N (0-based; item k of the placements of every search belongs to
+    /// shard k mod N) and write its part into --parts DIR. Default with --parts: from
+    /// SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT, or JOB_COMPLETION_INDEX with --shards.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// The number of shards, with the index from JOB_COMPLETION_INDEX (a Kubernetes Indexed Job)
+    /// or SLURM_ARRAY_TASK_ID.
+    #[arg(long, value_name = "N")]
+    pub shards: Option<usize>,
+    /// The folder the shards write their parts into (shared by every shard).
+    #[arg(long, value_name = "DIR")]
+    pub parts: Option<PathBuf>,
+    /// Gather the parts of a sharded search from DIR and write the report (and with --store
+    /// the answers) the whole search writes; search nothing.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["shard", "shards", "parts", "dry_run", "time_limit"])]
+    pub merge: Option<PathBuf>,
+}
+
+/// Runs `shotdamp design`.
+pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
+    let DesignArgs { files, out, jobs, store, dry_run, time_limit, merge, .. } = args;
+    cli.project().refuse_overlap(out)?;
+    if let Some(sharded) = sharded(args)? {
+        return search_shard(args, cli, sharded);
+    }
+    if let Some(t) = time_limit.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+        return Err(crate::Error::invalid(
+            "(command line)",
+            "--time-limit",
+            t.to_string(),
+            "a number of seconds, 0 or more",
+        )
+        .into());
+    }
+    let threads = runner::threads(*jobs)?;
+    // A merge searches nothing: no budget to print.
+    let budgets = if merge.is_some() { Vec::new() } else { runner::designs::budgets(files, &cli.reference)? };
+    for (key, n, b) in budgets {
+        let point = crate::design::Budget::seconds_per_point(n) * b.fast;
+        let fast = if b.fast > 1.0 {
+            format!(
+                ", the structure's fastest mode oscillating {:.0} times a period of the lowest forcing frequency",
+                b.fast * crate::design::Budget::FAST_RATIO
+            )
+        } else {
+            String::new()
+        };
+        say!(
+                "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {} a steady state{fast} (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
+                b.placements,
+                b.searches,
+                b.evaluations,
+                b.points,
+                super::study::duration(b.nominal_seconds(n, threads)),
+                if threads == 1 { "" } else { "s" },
+                if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.0} ms", point * 1e3) },
+            );
+    }
+    if *dry_run {
+        // The nominal cost is a rule of thumb; one layout evaluated measures this
+        // structure and its beds.
+        let budgets = runner::designs::budgets(files, &cli.reference)?;
+        for (probe, (_, _, b)) in runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets) {
+            let runner::designs::Probe { key, hosts, clearance_mm: d, seconds_per_point: point } = probe;
+            let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
+            say!(
+                    "design {key}: measured {} a steady state (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
+                    if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.1} ms", point * 1e3) },
+                    on.join(" "),
+                    crate::number::fmt_sig(d, 2),
+                    super::study::duration(b.evaluations as f64 * b.points as f64 * point / threads.max(1) as f64),
+                    if threads == 1 { "" } else { "s" },
+                );
+        }
+        return Ok(true);
+    }
+    let interrupt = Interrupt::default();
+    let settings = runner::designs::DesignSettings {
+        reference: cli.reference.clone(),
+        out: out.clone(),
+        jobs: *jobs,
+        store: *store,
+        time_limit: *time_limit,
+        interrupt: Some(interrupt.flag.clone()),
+        merge: merge.clone(),
+    };
+    let mut stored = Vec::new();
+    let (ok, _) = super::finish_with(Some(interrupt.clone()), |progress, log, staging| {
+        let run = runner::designs::run(files, &settings, progress, log, staging)?;
+        stored = run.stored;
+        Ok(run.finished)
+    })?;
+    for path in stored {
+        say!("stored: {}", path.display());
+    }
+    let sig = interrupt.signal.load(std::sync::atomic::Ordering::Relaxed);
+    if sig != 0 {
+        // The report of the best so far is in place; the exit status says the run
+        // was interrupted, as a shell expects.
+        say!("interrupted: the report holds the best layouts found before the interrupt");
+        std::process::exit(128 + sig);
+    }
+    Ok(ok)
+}
+
+/// The shard this process searches, when it searches one: `--shard I/N`, else with `--parts`
+/// the cluster's environment (a Slurm array task, a Kubernetes Indexed Job's index).
+fn sharded(args: &DesignArgs) -> anyhow::Result<Option<DesignShard>> {
+    let bad = |key: &str, value: &str, msg: &str| crate::Error::invalid("(command line)", key, value, msg);
+    let parse = |key: &str, i: &str, n: &str| -> anyhow::Result<DesignShard> {
+        match (i.trim().parse::<usize>(), n.trim().parse::<usize>()) {
+            (Ok(index), Ok(count)) if count >= 1 && index < count => Ok(DesignShard { index, count }),
+            _ => Err(bad(key, &format!("{i}/{n}"), "I/N with N >= 1 and 0 <= I < N (shards are 0-based)").into()),
+        }
+    };
+    if let Some(s) = &args.shard {
+        let Some((i, n)) = s.split_once('/') else {
+            return Err(bad("--shard", s, "I/N, e.g. 0/4 (shards are 0-based)").into());
+        };
+        if args.parts.is_none() {
+            return Err(bad("--parts", "(missing)", "a shard writes its part into a folder: give --parts DIR").into());
+        }
+        return parse("--shard", i, n).map(Some);
+    }
+    if args.parts.is_none() {
+        if args.shards.is_some() {
+            return Err(bad(
+                "--shards",
+                "(without --parts)",
+                "a shard writes its part into a folder: give --parts DIR",
+            )
+            .into());
+        }
+        return Ok(None);
+    }
+    let env = |k: &str| std::env::var(k).ok();
+    let count = args.shards.map(|n| n.to_string());
+    let (key, index, count) = match (env("SLURM_ARRAY_TASK_ID"), env("JOB_COMPLETION_INDEX")) {
+        (Some(i), _) => ("SLURM_ARRAY_TASK_ID/shards", i, count.or_else(|| env("SLURM_ARRAY_TASK_COUNT"))),
+        (None, Some(i)) => ("JOB_COMPLETION_INDEX/--shards", i, count),
+        (None, None) => {
+            return Err(bad(
+                "--shard",
+                "(missing)",
+                "with --parts give --shard I/N, or run as a Slurm array task or a Kubernetes Indexed Job",
+            )
+            .into())
+        }
+    };
+    let Some(count) = count else {
+        return Err(bad("--shards", "(missing)", "the number of shards: give --shards N").into());
+    };
+    parse(key, &index, &count).map(Some)
+}
+
+/// Searches one shard and writes its part.
+fn search_shard(args: &DesignArgs, cli: &Cli, shard: DesignShard) -> anyhow::Result<bool> {
+    let Some(dir) = &args.parts else { return Ok(false) };
+    if args.store || args.dry_run || args.time_limit.is_some() {
+        return Err(crate::Error::invalid(
+            "(command line)",
+            "--shard",
+            format!("{}/{}", shard.index, shard.count),
+            "a shard writes its part only: --store, --dry-run and --time-limit go with the merge or a whole search",
+        )
+        .into());
+    }
+    let (total, mine) = runner::design_parts::items(&args.files, &cli.reference, shard)?;
+    say!("design shard {}/{}: {mine} of {total} placement searches", shard.index, shard.count);
+    let part = runner::design_parts::search_shard(&args.files, &cli.reference, dir, shard, args.jobs, &|| {})?;
+    say!("shard {}/{}: {}", shard.index, shard.count, part.display());
+    say!("when every shard is done: shotdamp design FILE... --merge {}", dir.display());
+    Ok(true)
+}
