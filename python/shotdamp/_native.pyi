@@ -56,6 +56,10 @@ class Structure:
         self, freq_hz: _Floats, *, force_mass: int = 1, dampers: Optional[Sequence["Damper"]] = None
     ) -> npt.NDArray[np.float64]:
         """Exact linear compliance (m/N), frequencies x masses; damper masses stuck when given."""
+    def reduction(self, freq_hz: Optional[_Floats] = None, *, force_point: int = 1) -> Dict[str, Any]:
+        """A finite-element structure's reduction against its full model: ``frequencies`` and
+        (with ``freq_hz``) ``compliance`` Tables, and ``largest``, the largest difference of
+        the compliance relative to each point's peak."""
 
 class Damper:
     """One container of shot: the keys of an experiment file's ``dampers`` entry."""

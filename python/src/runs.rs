@@ -58,7 +58,7 @@ impl Experiment {
     /// The structure of this model.
     #[getter]
     fn structure(&self) -> Structure {
-        Structure { bare: self.exp.structure.clone() }
+        Structure { bare: self.exp.structure.clone(), fe: self.exp.finite_element.clone() }
     }
 
     /// The frequency grid of a sweep or clearance study, Hz (None for other kinds).

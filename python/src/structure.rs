@@ -19,6 +19,8 @@ const ORIGIN: &str = "shotdamp.Structure";
 #[pyclass(module = "shotdamp._native", frozen)]
 pub struct Structure {
     pub bare: Bare,
+    /// The finite-element model it was reduced from, if any.
+    pub fe: Option<std::sync::Arc<shotdamp::model::fe::FeStructure>>,
 }
 
 #[pymethods]
@@ -61,7 +63,55 @@ impl Structure {
             ("rayleigh_beta", rayleigh_beta),
         ])?;
         t.insert("damping".into(), toml::Value::Table(damping));
-        Ok(Structure { bare: parts::structure(ORIGIN, t).map_err(error)? })
+        let (bare, fe) = parts::structure_and_model(ORIGIN, t).map_err(error)?;
+        Ok(Structure { bare, fe })
+    }
+
+    /// How good a finite-element structure's reduction is: a dict of two `Table`s,
+    /// `frequencies` (the full model's natural frequencies, the reduced model's, their relative
+    /// difference) and, with `freq_hz`, `compliance` (the undamped compliance at every point for
+    /// a unit force at `force_point`, 1-based: the full model's by a sparse direct solve, the
+    /// reduced model's, their difference relative to each point's peak), and `largest`, the
+    /// largest of those differences (the report's reduction check). A ValueError for a
+    /// structure that was not reduced.
+    #[pyo3(signature = (freq_hz=None, *, force_point=1))]
+    fn reduction<'py>(
+        &self,
+        py: Python<'py>,
+        freq_hz: Option<&Bound<'py, PyAny>>,
+        force_point: i64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let origin = "shotdamp.Structure.reduction";
+        let Some(fe) = &self.fe else {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{origin}: this structure was not reduced from a finite-element model (give finite_element)"
+            )));
+        };
+        let points = fe.points.len();
+        if !(1..=points as i64).contains(&force_point) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{origin}: force_point = {force_point}: the points are numbered 1 to {points}"
+            )));
+        }
+        let mut f = match freq_hz {
+            Some(f) => floats("freq_hz", f)?,
+            None => Vec::new(),
+        };
+        if let Some(bad) = f.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{origin}: freq_hz: {bad}: frequencies must be positive and finite (Hz)"
+            )));
+        }
+        f.sort_by(f64::total_cmp);
+        f.dedup();
+        let out = py.detach(|| shotdamp::analysis::reduction::compare(fe, (force_point - 1) as usize, &f));
+        let d = PyDict::new(py);
+        for t in &out.tables {
+            let key = t.name.trim_start_matches("reduction_");
+            d.set_item(key, crate::convert::columns(py, t)?)?;
+        }
+        d.set_item("largest", out.check.as_ref().map(|c| c.computed))?;
+        Ok(d)
     }
 
     /// Number of masses.

@@ -90,6 +90,20 @@ def test_a_finite_element_plate_from_calculix_reduces_to_its_points(tmp_path, mo
     assert 0 < f1 / 38.63284950725794 - 1 < 2e-6
     with pytest.raises(ValueError, match="node = 99999"):
         sd.Structure(finite_element=dict(fe, points=[{"node": 99999, "dof": 3}]), modal_ratios=[0.01])
+    # The reduction against the full model: the first bending band, a force at the corner.
+    r = s.reduction(np.linspace(33.0, 43.0, 21), force_point=1)
+    freqs = r["frequencies"]
+    assert freqs.columns == ["mode", "full_hz", "reduced_hz", "rel_diff"]
+    assert abs(freqs["full_hz"][0] / 38.63284950725794 - 1) < 1e-6
+    assert np.all(freqs["rel_diff"] >= -1e-12)  # the reduced model is stiffer: from above
+    c = r["compliance"]
+    assert len(c["freq_hz"]) == 21 * 4 and set(c["point"]) == {f"node {n} z" for n in (224, 290, 257, 252)}
+    assert 0 < r["largest"] < 1e-3 and r["largest"] == np.max(c["rel_diff"])
+    assert "compliance" not in s.reduction()
+    with pytest.raises(ValueError, match="not reduced"):
+        paper_structure().reduction([10.0])
+    with pytest.raises(ValueError, match="force_point = 5"):
+        s.reduction([10.0], force_point=5)
 
 
 def test_infinite_clearance_far_above_the_flight_equals_stuck_masses_below_lift_off():

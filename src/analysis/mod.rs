@@ -21,7 +21,7 @@ mod orbit_checks;
 mod orbit_figures;
 pub mod orbits;
 mod overlays;
-mod reduction;
+pub mod reduction;
 pub mod result;
 pub mod study;
 mod sweep;

@@ -46,8 +46,16 @@ fn frequencies(exp: &Experiment) -> Vec<f64> {
     f
 }
 
-/// Runs the comparison for `exp`'s structure, reduced from `fe`.
+/// Runs the comparison for `exp`'s structure, reduced from `fe`, over the frequencies its
+/// analysis simulates, for a force at its driven point.
 pub fn run(exp: &Experiment, fe: &FeStructure) -> Outcome {
+    compare(fe, exp.excitation.mass, &frequencies(exp))
+}
+
+/// The comparison of `fe`'s reduced model with its full model: natural frequencies, and the
+/// undamped compliance at every point for a unit force at point `force` (0-based) over `freqs`
+/// (Hz, ascending; none: the frequencies only), checked against `fe`'s tolerance.
+pub fn compare(fe: &FeStructure, force: usize, freqs: &[f64]) -> Outcome {
     let full = &fe.full;
     let reduced_modes = symmetric_modes(&fe.reduced.mass, &fe.reduced.stiffness);
     // The full model's lowest modes, as many as the reduced model has.
@@ -69,11 +77,9 @@ pub fn run(exp: &Experiment, fe: &FeStructure) -> Outcome {
     .f64("reduced_hz", red_hz[..count].to_vec())
     .f64("rel_diff", (0..count).map(|i| (red_hz[i] - full_hz[i]) / full_hz[i]).collect());
     let mut tables = vec![freq_table];
-    let freqs = frequencies(exp);
     if freqs.is_empty() {
         return Outcome { tables, check: None, figure: None };
     }
-    let force = exp.excitation.mass;
     let omegas: Vec<f64> = freqs.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     // The full model's compliance in the reduced model's coordinates (points whose
     // direction points down are measured upward there).
@@ -101,7 +107,7 @@ pub fn run(exp: &Experiment, fe: &FeStructure) -> Outcome {
             rel.push(if peak > 0.0 { (p.reduced[i] - p.full[i]).abs() / peak } else { 0.0 });
         }
     }
-    let figure = figure(fe, &pairs, &freqs);
+    let figure = figure(fe, &pairs, freqs);
     tables.push(
         Table::new(
             "reduction_compliance",

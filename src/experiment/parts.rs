@@ -41,8 +41,19 @@ fn read<T: DeserializeOwned>(origin: &str, prefix: &str, mut value: toml::Value)
 /// `chain_stiffness_n_per_m`, `stiffness_matrix_n_per_m` and `fit`, `ground_stiffness_n_per_m`,
 /// `damping`).
 pub fn structure(origin: &str, table: toml::Table) -> Result<Structure> {
+    Ok(structure_and_model(origin, table)?.0)
+}
+
+/// [`structure`], and the finite-element model it was reduced from when the table has
+/// `finite_element` (its full matrices, points and reduction: what
+/// [`crate::analysis::reduction::compare`] compares).
+pub fn structure_and_model(
+    origin: &str,
+    table: toml::Table,
+) -> Result<(Structure, Option<std::sync::Arc<crate::model::fe::FeStructure>>)> {
     let raw: RawStructure = read(origin, "structure.", toml::Value::Table(table))?;
-    Ok(super::validate::structure(origin.as_ref(), raw)?.structure)
+    let built = super::validate::structure(origin.as_ref(), raw)?;
+    Ok((built.structure, built.fe.map(std::sync::Arc::new)))
 }
 
 /// The dampers of one case from tables with the keys of an experiment file's

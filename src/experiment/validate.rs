@@ -244,7 +244,7 @@ pub(super) struct Built {
     source: Option<String>,
     damping_assumption: Option<String>,
     fit: Option<StiffnessFit>,
-    fe: Option<crate::model::fe::FeStructure>,
+    pub(super) fe: Option<crate::model::fe::FeStructure>,
 }
 
 pub(super) fn structure(path: &Path, mut s: RawStructure) -> Result<Built> {

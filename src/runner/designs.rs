@@ -84,7 +84,8 @@ pub fn run(
     let finished = run_and_write(&exps, &[], &run, progress, log, staging)?;
     let stored = if settings.store {
         let threads = super::threads(settings.jobs)?;
-        store_designs(&finished.results, &settings.reference, started.elapsed().as_secs_f64(), threads)?
+        let seconds = started.elapsed().as_secs_f64();
+        store_designs(&finished.results, &settings.reference, seconds, threads, settings.merge.as_deref())?
     } else {
         Vec::new()
     };
@@ -137,12 +138,14 @@ pub fn report_designs(dir: &Path, reference: &Path) -> crate::Result<Vec<Experim
 }
 
 /// `shotdamp design --store`: each model's answer, with how it was computed, as
-/// `REFERENCE/designs/ID/MODEL.json` (written atomically); the files written.
+/// `REFERENCE/designs/ID/MODEL.json` (written atomically); the files written. `merged_from`:
+/// the folder of a sharded search's parts the answers were merged from, if so.
 pub fn store_designs(
     results: &[crate::analysis::ExperimentResult],
     reference: &Path,
     seconds: f64,
     threads: usize,
+    merged_from: Option<&Path>,
 ) -> crate::Result<Vec<PathBuf>> {
     let mut stored = Vec::new();
     for r in results {
@@ -156,7 +159,9 @@ pub fn store_designs(
             results.iter().filter(|r| r.design.is_some()).count(),
             seconds,
             threads
-        );
+        ) + &merged_from
+            .map(|d| format!(" (merging the parts of a sharded search from {})", d.display()))
+            .unwrap_or_default();
         let path = crate::checks::reference::stored_design_path(reference, &r.experiment.key());
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
