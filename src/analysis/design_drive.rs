@@ -67,8 +67,8 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
                 let need = if vertical && with_g > 0.0 && with_g < 1.0 {
                     format!(
                         "; about {} (now {}) would bring the hosts to 1 g at the peak, where the beds start to move",
-                        problem.amount(&fmt_sig(force / with_g, 2)),
-                        problem.amount(&fmt_sig(force, 3))
+                        problem.drive().amount(&fmt_sig(force / with_g, 2)),
+                        problem.drive().amount(&fmt_sig(force, 3))
                     )
                 } else {
                     String::new()
@@ -96,8 +96,8 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
         "design_drive",
         format!(
             "The drive level of the best layout and the experiment's cases in each band ({} {}): the largest host acceleration, (2 pi f)^2 x amplitude / g at the layout's hosts{}, bare and with the shot (exact for the bare structure and for beds that never lift off, whose motion is linear; the first harmonic's scale otherwise), the steady states in which some bed lifts off (over the band's frequencies and sweeps; the worst scenario's) and the highest flight, mm; beds that lift off in under {} % of them mostly add mass",
-            problem.drive_name(),
-            problem.amount(&fmt_sig(force, 3)),
+            problem.drive().name(),
+            problem.drive().amount(&fmt_sig(force, 3)),
             if problem.supports {
                 " (the amplitude relative to the supports, plus the supports' own acceleration: a bound on the absolute one)"
             } else {
@@ -174,7 +174,7 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         let at: Vec<String> = inputs
             .levels
             .iter()
-            .map(|(f, o)| format!("{} at {}", fmt_sig(*o, 2), problem.amount(&fmt_sig(*f, 3))))
+            .map(|(f, o)| format!("{} at {}", fmt_sig(*o, 2), problem.drive().amount(&fmt_sig(*f, 3))))
             .collect();
         let worse = inputs.levels.iter().filter(|(_, o)| *o > 1.0).count();
         let warn = if worse > 0 {
@@ -218,8 +218,8 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         fmt_sig(100.0 * shot / total_mass, 2),
         fmt_sig(eval.objective, 3),
         bands.join(", "),
-        problem.drive_name(),
-        problem.amount(&fmt_sig(force, 3)),
+        problem.drive().name(),
+        problem.drive().amount(&fmt_sig(force, 3)),
         drive.join("; "),
         eval.unsettled,
         eval.points

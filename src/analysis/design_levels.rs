@@ -98,7 +98,7 @@ pub fn drive_levels(problem: &Problem, layouts: &[Rated<'_>], figure_name: &str)
             "The worst band's measure over the bare structure's at each force (log axis), for the best layout and the experiment's cases; the best layout's ranges from {} to {} over {}. An impact damper works in a window of drive levels: away from the force it was designed for its beds no longer land in step with the structure (and vertical beds below 1 g at their hosts only add mass).",
             fmt_sig(a, 2),
             fmt_sig(b, 2),
-            problem.amount(&format!("{}-{}", fmt_sig(lo, 2), fmt_sig(hi, 2)))
+            problem.drive().amount(&format!("{}-{}", fmt_sig(lo, 2), fmt_sig(hi, 2)))
         ),
         None => "The worst band's measure over the bare structure's at each force of the scenarios.".to_string(),
     };

@@ -274,32 +274,9 @@ impl Problem {
         }
     }
 
-    /// An amplitude of the drive in words: "2.6 N" of force, or "3 m/s^2" of the supports'
-    /// acceleration (`value` already formatted).
-    pub fn amount(&self, value: &str) -> String {
-        if self.supports {
-            format!("{value} m/s^2")
-        } else {
-            format!("{value} N")
-        }
-    }
-
-    /// What drives the structure, in words: "force" or "support acceleration".
-    pub fn drive_name(&self) -> &'static str {
-        if self.supports {
-            "support acceleration"
-        } else {
-            "force"
-        }
-    }
-
-    /// The unit of a compliance: "m/N", or "m/(m/s^2)" relative to moving supports.
-    pub fn per_unit(&self) -> &'static str {
-        if self.supports {
-            "m/(m/s^2)"
-        } else {
-            "m/N"
-        }
+    /// What drives the structure, for words and units ([`crate::model::base::Drive`]).
+    pub fn drive(&self) -> crate::model::base::Drive {
+        crate::model::base::Drive::of(self.supports)
     }
 
     /// The scenarios evaluated: the given ones, or the nominal structure and force.

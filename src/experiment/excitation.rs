@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::model::base::Drive;
 use crate::model::{Structure, GRAVITY};
 use crate::number::fmt_num;
 use crate::sim::System;
@@ -34,32 +35,24 @@ impl Excitation {
         Excitation { mass: 0, force: accel, supports: true }
     }
 
-    /// The unit of the amplitude: "N" or "m/s^2".
-    pub fn unit(&self) -> &'static str {
-        if self.supports {
-            "m/s^2"
-        } else {
-            "N"
-        }
+    /// What drives, for words and units ([`Drive`]).
+    pub fn drive(&self) -> Drive {
+        Drive::of(self.supports)
     }
 
-    /// The unit of a response divided by the amplitude: "m/N", or "m/(m/s^2)" (displacement
-    /// relative to the supports per unit of their acceleration).
+    /// The unit of the amplitude: "N" or "m/s^2".
+    pub fn unit(&self) -> &'static str {
+        self.drive().unit()
+    }
+
+    /// The unit of a response divided by the amplitude: "m/N" or "m/(m/s^2)".
     pub fn per_unit(&self) -> &'static str {
-        if self.supports {
-            "m/(m/s^2)"
-        } else {
-            "m/N"
-        }
+        self.drive().per_unit()
     }
 
     /// The response divided by the amplitude, in symbols: "|x / F|" or "|u / A|".
     pub fn ratio(&self) -> &'static str {
-        if self.supports {
-            "|u / A|"
-        } else {
-            "|x / F|"
-        }
+        self.drive().ratio()
     }
 
     /// The excitation in words, e.g. "F = 2.6 N sin(omega t) on m_1".
@@ -218,11 +211,7 @@ pub(super) fn supports_fit(path: &Path, analysis: &super::Analysis) -> Result<()
 impl Excitation {
     /// The amplitude's symbol: "F" or "A".
     pub fn symbol(&self) -> &'static str {
-        if self.supports {
-            "A"
-        } else {
-            "F"
-        }
+        self.drive().symbol()
     }
 
     /// Where the excitation acts, for captions: "F = 2.6 N on m1" or "A = 3 m/s^2 at the

@@ -16,6 +16,74 @@ use num_complex::Complex64;
 
 use super::Structure;
 
+/// What drives a structure, for the words and units of its amplitude and its responses: a
+/// force `F sin(omega t)` on one mass, or its supports accelerating as `A sin(omega t)`
+/// (responses then relative to them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Drive {
+    /// A force on one mass, N.
+    Force,
+    /// The supports' acceleration, m/s^2.
+    Supports,
+}
+
+impl Drive {
+    /// The drive of a structure whose supports move (`true`) or that a force drives.
+    pub fn of(supports: bool) -> Drive {
+        if supports {
+            Drive::Supports
+        } else {
+            Drive::Force
+        }
+    }
+
+    /// The unit of the amplitude: "N" or "m/s^2".
+    pub fn unit(self) -> &'static str {
+        match self {
+            Drive::Force => "N",
+            Drive::Supports => "m/s^2",
+        }
+    }
+
+    /// An amplitude in words, `value` already formatted: "2.6 N" or "3 m/s^2".
+    pub fn amount(self, value: &str) -> String {
+        format!("{value} {}", self.unit())
+    }
+
+    /// The unit of a response over the amplitude: "m/N", or "m/(m/s^2)" (displacement
+    /// relative to the supports per unit of their acceleration).
+    pub fn per_unit(self) -> &'static str {
+        match self {
+            Drive::Force => "m/N",
+            Drive::Supports => "m/(m/s^2)",
+        }
+    }
+
+    /// The amplitude's symbol: "F" or "A".
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Drive::Force => "F",
+            Drive::Supports => "A",
+        }
+    }
+
+    /// The response over the amplitude, in symbols: "|x / F|" or "|u / A|".
+    pub fn ratio(self) -> &'static str {
+        match self {
+            Drive::Force => "|x / F|",
+            Drive::Supports => "|u / A|",
+        }
+    }
+
+    /// What drives, in words: "force" or "support acceleration".
+    pub fn name(self) -> &'static str {
+        match self {
+            Drive::Force => "force",
+            Drive::Supports => "support acceleration",
+        }
+    }
+}
+
 /// How a structure's coordinates follow a unit rigid motion of its supports: `r` and the
 /// inertia load `L` per unit support acceleration. A chain's is `r = 1`, `L = M_S r`
 /// ([`BaseMotion::rigid`]); a reduced finite-element model's is `r` at its physical points
