@@ -313,3 +313,29 @@ fn a_reduced_finite_element_chain_on_shaken_supports_moves_as_the_whole_chain() 
     println!("{compared} amplitudes ({impacting} points with impacts) within {worst:.1e} of the whole chain's");
     assert!(compared >= 9 && impacting >= 2, "{compared} compared, {impacting} with impacts");
 }
+
+#[test]
+fn soft_contacts_on_shaken_supports_give_the_stuck_chain_below_lift_off() {
+    // A bed that never lifts off (the hosts far below 1 g) rides as added mass: the soft-contact
+    // model's amplitude relative to the supports, over A, is the stuck chain's closed form,
+    // within the contact springs' compliance and the explicit steps' error.
+    use shotdamp::sim::soft::{amplitude, SoftOptions};
+    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    let bed = Damper::new(2, 0.064, Clearance::from_mm(0.35));
+    let accel = 0.05;
+    let sys = System::plastic(s, vec![bed], 0, 0.0)
+        .with_law(shotdamp::sim::bed::ImpactLaw { restitution: 0.5, stick_speed: 1e-3 })
+        .on_supports(accel);
+    let opts = SoftOptions { stiffness: 1e8, steps_per_contact: 20 };
+    let mut worst = 0.0f64;
+    for f in [12.0, 20.0] {
+        let (amp, _) = amplitude(&sys, 2.0 * PI * f, &opts, 400, 20).expect("a soft contact");
+        let want = shaken_chain([0.0, 0.0, 0.064], f);
+        for i in 0..3 {
+            let rel = (amp[i] / accel - want[i]).abs() / want[i];
+            worst = worst.max(rel);
+            assert!(rel < 2e-4, "{f} Hz, m{}: {} vs {}", i + 1, amp[i] / accel, want[i]);
+        }
+    }
+    println!("soft contacts within {worst:.1e} of the stuck chain");
+}
