@@ -345,3 +345,22 @@ fn calculix_meshes_and_solves_the_plate() {
     let plate = 0.30 * 0.20 * 0.004 * 7850.0;
     assert!((sum / 3.0 - plate).abs() <= 1e-9 * plate, "{} kg against {plate} kg", sum / 3.0);
 }
+
+#[test]
+fn a_reduced_model_s_modes_are_read_at_its_points() {
+    // Eq. 12-13 scale each mode to 1 at a mass: on a reduced model, at one of its points, never
+    // at a modal coordinate (modes that hardly move the points then get a huge equivalent mass,
+    // which is what they are to a damper there).
+    let exps =
+        shotdamp::experiment::load(&repo().join("examples/plate/plate.toml"), &repo().join("reference")).unwrap();
+    let s = &exps[0].structure;
+    assert_eq!(s.points, Some(4));
+    let modes = shotdamp::model::modal::modal_summary(s, &[]);
+    assert_eq!(modes.len(), 20);
+    for m in &modes {
+        assert!(m.reference_mass < 4, "mode {}: read at coordinate {}", m.number, m.reference_mass + 1);
+        assert!((m.shape[m.reference_mass] - 1.0).abs() < 1e-15);
+    }
+    // The first bending mode is read at the free edge's middle, as the chain's modes are.
+    assert_eq!(modes[0].reference_mass, 2);
+}

@@ -39,6 +39,7 @@ fn with_uncoupled(extra: usize) -> Structure {
         damping: block_diagonal(&p.damping, &other.damping),
         damping_spec: p.damping_spec.clone(),
         supports: None,
+        points: None,
     }
 }
 
@@ -62,6 +63,7 @@ fn renumbered(s: &Structure, perm: &[usize]) -> Structure {
         damping: c,
         damping_spec: s.damping_spec.clone(),
         supports: None,
+        points: None,
     }
 }
 

@@ -405,12 +405,13 @@ pub(super) fn structure(path: &Path, mut s: RawStructure) -> Result<Built> {
         }
     };
     let supports = fe.as_ref().map(|f| std::sync::Arc::new(f.supports.clone()));
+    let points = fe.as_ref().map(|f| f.fe.points.len());
     let structure = match full_mass {
         Some(m) => Structure::from_mass_matrix(m, k, damping),
         None => Structure::from_matrices(&masses, k, damping),
     };
     Ok(Built {
-        structure: Structure { supports, ..structure },
+        structure: Structure { supports, points, ..structure },
         source: s.source,
         damping_assumption: d.assumption,
         fit,

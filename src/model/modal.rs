@@ -31,24 +31,31 @@ pub struct ModeSummary {
     pub mass_ratio: f64,
 }
 
-/// Modal analysis of a structure, with the mass ratios of Eq. 13 for `dampers`.
+/// Modal analysis of a structure, with the mass ratios of Eq. 13 for `dampers`. Each shape
+/// is scaled to 1 at its largest component among the masses (a reduced model's points: its
+/// modal coordinates are no place to read a mode at), or among every coordinate when the mode
+/// does not move the points at all.
 pub fn modal_summary(structure: &Structure, dampers: &[Damper]) -> Vec<ModeSummary> {
     let m0 = structure.mass_matrix();
     let modes = symmetric_modes(&m0, &structure.stiffness);
     let n = structure.dof();
+    let physical = structure.points.unwrap_or(n).min(n);
     (0..n)
         .map(|i| {
             let col = modes.mass_normalised.column(i);
-            let (imax, _) = col.iter().enumerate().fold(
-                (0, 0.0_f64),
-                |acc, (j, v)| {
-                    if v.abs() > acc.1 {
-                        (j, v.abs())
-                    } else {
-                        acc
-                    }
-                },
-            );
+            let moves = col.iter().take(physical).any(|v| *v != 0.0);
+            let among = if moves { physical } else { n };
+            let (imax, _) =
+                col.iter().take(among).enumerate().fold(
+                    (0, 0.0_f64),
+                    |acc, (j, v)| {
+                        if v.abs() > acc.1 {
+                            (j, v.abs())
+                        } else {
+                            acc
+                        }
+                    },
+                );
             let scale = col[imax];
             let shape: DVector<f64> = col / scale;
             let modal_mass = (shape.transpose() * &m0 * &shape)[(0, 0)];

@@ -43,6 +43,9 @@ pub struct Structure {
     /// How the coordinates follow moving supports when that is not every coordinate
     /// translating with them (a reduced finite-element model); `None`: they do (a chain).
     pub supports: Option<std::sync::Arc<super::base::Supports>>,
+    /// A reduced model's physical coordinates (its points) come first: this many; the rest
+    /// are modal. `None`: every coordinate is a mass's displacement.
+    pub points: Option<usize>,
 }
 
 /// Lists the fields; `coupled_mass` only when there is one, so that a lumped structure reads
@@ -57,6 +60,9 @@ impl std::fmt::Debug for Structure {
         d.field("stiffness", &self.stiffness).field("damping", &self.damping).field("damping_spec", &self.damping_spec);
         if let Some(s) = &self.supports {
             d.field("supports", s);
+        }
+        if let Some(p) = &self.points {
+            d.field("points", p);
         }
         d.finish()
     }
@@ -119,7 +125,15 @@ impl Structure {
             }
         };
         let masses = m0.diagonal().iter().copied().collect();
-        Structure { masses, coupled_mass: coupled, stiffness, damping: c, damping_spec: damping, supports: None }
+        Structure {
+            masses,
+            coupled_mass: coupled,
+            stiffness,
+            damping: c,
+            damping_spec: damping,
+            supports: None,
+            points: None,
+        }
     }
 
     /// The same mass and stiffness with another damping.
@@ -128,7 +142,7 @@ impl Structure {
             Some(m) => Structure::assemble(m.clone(), Some(m.clone()), self.stiffness.clone(), damping),
             None => Structure::from_matrices(&self.masses, self.stiffness.clone(), damping),
         };
-        Structure { supports: self.supports.clone(), ..s }
+        Structure { supports: self.supports.clone(), points: self.points, ..s }
     }
 
     /// Whether `M0` is diagonal (lumped masses, the paper's structure).
