@@ -285,11 +285,12 @@ fn curve_check(
     );
     if let Some((d, f, m, ours, theirs)) = worst {
         detail += &format!(
-            "; worst at {} Hz, m{}: {} vs {} m/N ({:.2e} relative)",
+            "; worst at {} Hz, m{}: {} vs {} {} ({:.2e} relative)",
             fmt_num(f),
             m + 1,
             fmt_num(ours),
             fmt_num(theirs),
+            exp.excitation.per_unit(),
             d
         );
     }

@@ -35,11 +35,12 @@ fn ratio(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Option<(f6
     Some(Read {
         value: a.1 / b.1,
         words: format!(
-            "{case}: {} m/N at {} Hz over {over}: {} m/N at {} Hz",
+            "{case}: {} {unit} at {} Hz over {over}: {} {unit} at {} Hz",
             fmt_num(a.1),
             fmt_num(a.0),
             fmt_num(b.1),
-            fmt_num(b.0)
+            fmt_num(b.0),
+            unit = curves.unit()
         ),
         settled: ca.peak_settled(mass, w) && cb.peak_settled(mass, w),
         values: named(&[("f", a.0), ("peak", a.1), ("f_over", b.0), ("peak_over", b.1)]),
@@ -56,11 +57,12 @@ fn at_resonance(curves: &Curves, (case, over): (&str, &str), mass: usize, w: Opt
     Some(Read {
         value: peak / c,
         words: format!(
-            "at {case}'s peak, {} Hz: {case} {} m/N over {over} {} m/N{}",
+            "at {case}'s peak, {} Hz: {case} {} {unit} over {over} {} {unit}{}",
             fmt_num(f),
             fmt_num(peak),
             fmt_num(c),
-            if settled { "" } else { " (not settled or not period-1 there)" }
+            if settled { "" } else { " (not settled or not period-1 there)" },
+            unit = curves.unit()
         ),
         settled,
         values: named(&[("f", f), ("peak", peak), ("at_over", c)]),

@@ -41,14 +41,30 @@ pub struct Curve {
     pub stop: Vec<String>,
 }
 
-/// The curves an experiment computed, found by identity.
-#[derive(Debug, Clone, Default)]
-pub struct Curves(Vec<Curve>);
+/// The curves an experiment computed, found by identity, and the unit of their compliance.
+#[derive(Debug, Clone)]
+pub struct Curves(Vec<Curve>, &'static str);
+
+impl Default for Curves {
+    fn default() -> Self {
+        Curves(Vec::new(), "m/N")
+    }
+}
 
 impl Curves {
-    /// No curves.
+    /// No curves (compliance in m/N).
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// No curves, their compliance in `unit` (e.g. "m/(m/s^2)" relative to moving supports).
+    pub fn per(unit: &'static str) -> Self {
+        Curves(Vec::new(), unit)
+    }
+
+    /// The unit of the compliance.
+    pub fn unit(&self) -> &'static str {
+        self.1
     }
 
     /// The curve with this identity.

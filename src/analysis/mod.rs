@@ -73,7 +73,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     let modes = modal_summary(&exp.structure, &[]);
     let mut tables = vec![linear::modal_table(exp, &modes)];
     let mut figures = Vec::new();
-    let mut curves = curves::Curves::new();
+    let mut curves = curves::Curves::per(exp.excitation.per_unit());
     let mut decays = std::collections::BTreeMap::new();
     let mut orbits_result = None;
     let mut motion_types = waveform::MotionTypes::new();
