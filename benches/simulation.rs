@@ -66,7 +66,7 @@ fn fig08_sweep(c: &mut Criterion) {
 /// restitution 0.3: one container (m2) and three.
 fn column_sweep(c: &mut Criterion) {
     let freqs: Vec<f64> = (0..=120).map(|i| ((440.0 + i as f64) / 10.0 * 1e9).round() / 1e9).collect();
-    let law = shotdamp::sim::bed::ImpactLaw { restitution: 0.3, stick_speed: 1e-3 };
+    let law = shotdamp::sim::bed::ImpactLaw::with_restitution(0.3, 1e-3);
     let mut group = c.benchmark_group("sweep");
     group.sample_size(10);
     for (name, hosts) in [("N=1 (m2)", vec![1]), ("N=3", vec![0, 1, 2])] {

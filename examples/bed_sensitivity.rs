@@ -29,7 +29,7 @@ fn main() {
                 let peaks: Vec<(f64, bool)> = restitutions
                     .iter()
                     .map(|&e| {
-                        let law = ImpactLaw { restitution: e, stick_speed: if e > 0.0 { 1e-3 } else { 0.0 } };
+                        let law = ImpactLaw::with_restitution(e, 1e-3);
                         let sys = System::plastic(structure.clone(), dampers.clone(), 0, 2.6)
                             .with_law(law)
                             .with_grains(&vec![grains; hosts.len()]);

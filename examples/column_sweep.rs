@@ -21,7 +21,7 @@ fn main() {
     let structure = Structure::chain(&m, &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
     let dampers: Vec<Damper> = hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_m(0.35e-3))).collect();
     let single = System::plastic(structure, dampers, 0, 2.6);
-    let law = ImpactLaw { restitution: e, stick_speed: 1e-3 };
+    let law = ImpactLaw::with_restitution(e, 1e-3);
     let column = single.clone().with_law(law).with_grains(&vec![grains; hosts.len()]);
     let freqs: Vec<f64> = (0..121).map(|i| 35.0 + 0.25 * i as f64).collect();
     let opts = SteadyOptions::default();

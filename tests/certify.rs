@@ -91,7 +91,7 @@ fn a_column_with_restitution_is_certified_where_its_motion_is_periodic() {
     // record's amplitudes (the record settled to 1e-7); where the central differences
     // straddle a change of the grains' collisions (a stack that lands in a different order)
     // the point keeps the transient record without a certificate.
-    let law = ImpactLaw { restitution: 0.3, stick_speed: 1e-3 };
+    let law = ImpactLaw::with_restitution(0.3, 1e-3);
     let sys = fig5(&[1]).with_law(law).with_grains(&[3]);
     let (mut settled, mut certified) = (0, 0);
     for i in 0..13 {

@@ -73,7 +73,7 @@ fn a_plastic_column_is_the_single_plastic_mass_on_fig8s_band_without_a_top() {
 #[test]
 fn a_column_of_one_grain_is_the_single_bed_with_its_restitution() {
     for e in [0.0, 0.3, 0.6] {
-        let law = ImpactLaw { restitution: e, stick_speed: if e > 0.0 { 1e-3 } else { 0.0 } };
+        let law = ImpactLaw::with_restitution(e, 1e-3);
         let single = fig5(&[0, 1, 2], 0.35e-3).with_law(law);
         let column = one_grain_columns(single.clone());
         for f in [44.0, 47.0, 50.0] {
@@ -116,7 +116,7 @@ fn ordered(d: &Dynamics, s: &State) -> bool {
 fn a_column_keeps_its_order_and_every_joule_is_accounted_for() {
     use shotdamp::sim::observe::stored_energy;
     for (e, n) in [(0.3, 10), (0.6, 4), (0.9, 20)] {
-        let law = ImpactLaw { restitution: e, stick_speed: 1e-3 };
+        let law = ImpactLaw::with_restitution(e, 1e-3);
         let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(law).with_grains(&[n, n, n]);
         let f = 47.0;
         let d = Dynamics::new(&fig5(&[0, 1, 2], 0.35e-3), 2.0 * PI * f).and_then(|_| Dynamics::new(&sys, 2.0 * PI * f));
@@ -156,7 +156,7 @@ fn a_column_dropped_into_a_resting_container_comes_to_rest_after_a_bounded_numbe
     // The paper's structure at rest, no force; a column of n grains released together 0.3 mm
     // above the bottom of the container on m3 (clearance 1 mm).
     for &(n, e) in &[(1, 0.9), (3, 0.9), (20, 0.1), (20, 0.5), (20, 0.9)] {
-        let law = ImpactLaw { restitution: e, stick_speed: 1e-3 };
+        let law = ImpactLaw::with_restitution(e, 1e-3);
         let base = System::plastic(paper(), vec![Damper::new(2, 0.064, Clearance::from_m(1e-3))], 0, 0.0);
         let sys = base.with_law(law).with_grains(&[n]);
         let d = Dynamics::new(&sys, 2.0 * PI * 10.0).unwrap();
@@ -214,8 +214,7 @@ fn a_column_in_an_experiment_file_is_the_column_of_the_library() {
     let exp = exps.iter().find(|e| e.model.as_ref().is_none_or(|m| m.id == "stated")).unwrap();
     assert_eq!(exp.cases[0].grains, vec![4, 4, 4]);
     let sys = shotdamp::analysis::curves::system(exp, &exp.cases[0]);
-    let by_hand =
-        fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw { restitution: 0.3, stick_speed: 1e-3 }).with_grains(&[4, 4, 4]);
+    let by_hand = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw::with_restitution(0.3, 1e-3)).with_grains(&[4, 4, 4]);
     assert_eq!(sys.dampers, by_hand.dampers);
     assert_eq!(sys.columns, by_hand.columns);
     assert_eq!(sys.laws, by_hand.laws);
@@ -289,7 +288,7 @@ fn a_motion_that_never_settles_gets_a_long_record_whose_halves_are_compared() {
     use shotdamp::sim::observe::Extrema;
     use shotdamp::sim::steady::NoSteady;
     // One bouncing mass per container, stopped before it can settle (30 periods).
-    let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw { restitution: 0.5, stick_speed: 1e-3 });
+    let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw::with_restitution(0.5, 1e-3));
     let d = Dynamics::new(&sys, 2.0 * PI * 48.5).unwrap();
     let short = SteadyOptions { max_periods: 30, min_periods: 25, ..transient() };
     let st = shotdamp::sim::transient::transient_steady(&d, State::at_rest(&d), &short);
@@ -330,9 +329,7 @@ fn an_impulse_decay_with_columns_accounts_for_every_joule_and_a_plastic_column_i
     use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
     let opts = ImpulseOptions { mass: 0, kick: Kick::Velocity(0.5), duration: 0.5, dt: 1e-3 };
     for (e, n) in [(0.0, 10), (0.3, 10), (0.6, 5)] {
-        let sys = fig5(&[0, 1, 2], 0.35e-3)
-            .with_law(ImpactLaw { restitution: e, stick_speed: if e > 0.0 { 1e-3 } else { 0.0 } })
-            .with_grains(&[n, n, n]);
+        let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw::with_restitution(e, 1e-3)).with_grains(&[n, n, n]);
         let run = free_response(&sys, &opts).unwrap();
         assert!(run.stop.is_none(), "e = {e}: {:?}", run.stop);
         let residual = run.energy_residual();

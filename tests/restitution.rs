@@ -28,7 +28,7 @@ fn each_containers_law_reaches_the_simulator() {
     let exps = shotdamp::experiment::load(&file, &common::repo().join("reference")).unwrap();
     let exp = exps.iter().find(|e| e.model.as_ref().is_none_or(|m| m.id == "stated")).unwrap();
     let case = &exp.cases[0];
-    let bounce = ImpactLaw { restitution: 0.5, stick_speed: 0.002 };
+    let bounce = ImpactLaw::with_restitution(0.5, 0.002);
     assert_eq!(case.laws, vec![ImpactLaw::PLASTIC, bounce, ImpactLaw::PLASTIC]);
 
     // The experiment's system is the structure with those laws, bed by bed.
@@ -56,11 +56,7 @@ fn the_energy_balance_closes_with_mixed_laws() {
     let m = [0.74, 0.71, 0.64];
     let dampers: Vec<Damper> = (0..3).map(|h| Damper::new(h, 0.1 * m[h], Clearance::from_m(0.35e-3))).collect();
     let mut sys = System::plastic(paper(), dampers, 0, 2.6);
-    sys.laws = vec![
-        ImpactLaw { restitution: 0.3, stick_speed: 1e-3 },
-        ImpactLaw::PLASTIC,
-        ImpactLaw { restitution: 0.6, stick_speed: 1e-3 },
-    ];
+    sys.laws = vec![ImpactLaw::with_restitution(0.3, 1e-3), ImpactLaw::PLASTIC, ImpactLaw::with_restitution(0.6, 1e-3)];
     for f in [44.0, 48.0, 52.0] {
         let d = Dynamics::new(&sys, 2.0 * PI * f).unwrap();
         let st = steady_state(&d, State::at_rest(&d), &SteadyOptions { energy: true, ..SteadyOptions::default() });

@@ -377,7 +377,7 @@ fn chatter_stops_with_a_flag() {
     // Restitution without a sticking threshold on a bouncing ball: infinitely many ever
     // smaller bounces (a Zeno sequence) must end with a flag, not a hang.
     let (d0, s, _) = bouncing_ball(2.0);
-    let law = |stick_speed| shotdamp::sim::bed::ImpactLaw { restitution: 0.5, stick_speed };
+    let law = |stick_speed| shotdamp::sim::bed::ImpactLaw::with_restitution(0.5, stick_speed);
     let sys = (*d0.system).clone().with_law(law(0.0));
     let d = Dynamics::new(&sys, d0.omega).unwrap();
     let mut s = s;

@@ -316,7 +316,7 @@ fn a_full_mass_matrix_carries_columns_restitution_and_impulses_as_the_chain_does
     use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
     let keep = [0, 5, 6, 7];
     let (chain, coupled) = in_coupled_coordinates(8, &keep);
-    let law = ImpactLaw { restitution: 0.4, stick_speed: 1e-3 };
+    let law = ImpactLaw::with_restitution(0.4, 1e-3);
     // Columns of three grains, and single beds that bounce.
     for (what, f) in [("columns", 1usize), ("restitution", 0)] {
         let shape = |s: System| if f == 1 { s.with_grains(&[3, 3, 3]) } else { s.with_law(law) };

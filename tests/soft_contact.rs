@@ -17,7 +17,7 @@ fn column(grains: usize, e: f64) -> System {
     let m = [0.74, 0.71, 0.64];
     let structure = Structure::chain(&m, &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
     let single = System::plastic(structure, vec![Damper::new(2, 0.064, Clearance::from_m(0.35e-3))], 0, 2.6);
-    single.with_law(ImpactLaw { restitution: e, stick_speed: 1e-3 }).with_grains(&[grains])
+    single.with_law(ImpactLaw::with_restitution(e, 1e-3)).with_grains(&[grains])
 }
 
 /// Largest relative difference of the soft column's amplitudes from the event-driven ones at
@@ -61,7 +61,7 @@ fn the_contact_damping_gives_the_restitution() {
     // whichever container it is.
     let mut mixed = column(3, 0.3);
     mixed.dampers.push(Damper::new(0, 0.074, Clearance::from_m(0.35e-3)));
-    mixed.laws.push(ImpactLaw { restitution: 0.05, stick_speed: 1e-3 });
+    mixed.laws.push(ImpactLaw::with_restitution(0.05, 1e-3));
     let opts = SoftOptions { stiffness: 1e6, steps_per_contact: 40 };
     assert!(amplitude(&mixed, 2.0 * PI * 48.0, &opts, 1, 1).is_none());
 }

@@ -281,22 +281,16 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
                 .map(|(j, (d, law))| {
                     let grains = c.grains.get(j).copied().unwrap_or(1);
                     let clr = d.clearance.to_string();
+                    let sticks =
+                        law.stick_speed().map_or(String::new(), |v| format!(" (sticks below {} m/s)", fmt_num(v)));
                     let bed = if grains > 1 {
                         format!(
                             ", a column of {grains} grains, restitution e = {}{}",
-                            fmt_num(law.restitution),
-                            if law.restitution > 0.0 {
-                                format!(" (sticks below {} m/s)", fmt_num(law.stick_speed))
-                            } else {
-                                String::new()
-                            }
+                            fmt_num(law.restitution()),
+                            sticks
                         )
-                    } else if law.restitution > 0.0 {
-                        format!(
-                            ", restitution e = {} (sticks below {} m/s)",
-                            fmt_num(law.restitution),
-                            fmt_num(law.stick_speed)
-                        )
+                    } else if !law.is_plastic() {
+                        format!(", restitution e = {}{sticks}", fmt_num(law.restitution()))
                     } else {
                         String::new()
                     };
@@ -341,19 +335,19 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
                 "Case {}: the bed on m_{} is a column of {n} equal grains (total mass unchanged) with restitution e = {} between grains and against the ends{}; grains resting on an end move with it, grains in free flight meet in binary collisions resolved in sequence (docs/model.md, \"Bed models\"); the paper's bed is one plastic mass.",
                 c.id,
                 d.host + 1,
-                fmt_num(law.restitution),
-                if law.restitution > 0.0 { format!(", sticking below {} m/s", fmt_num(law.stick_speed)) } else { String::new() }
+                fmt_num(law.restitution()),
+                law.stick_speed().map_or(String::new(), |v| format!(", sticking below {} m/s", fmt_num(v)))
             ));
         }
         for ((d, law), _) in
-            c.dampers.iter().zip(&c.laws).zip(&c.grains).filter(|((_, l), &n)| l.restitution > 0.0 && n <= 1)
+            c.dampers.iter().zip(&c.laws).zip(&c.grains).filter(|((_, l), &n)| !l.is_plastic() && n <= 1)
         {
             a.push(format!(
                 "Case {}: the bed on m_{} bounces off its container's ends with restitution e = {} and sticks below {} m/s (the paper's bed is plastic, e = 0).",
                 c.id,
                 d.host + 1,
-                fmt_num(law.restitution),
-                fmt_num(law.stick_speed)
+                fmt_num(law.restitution()),
+                fmt_num(law.stick_speed().unwrap_or(0.0))
             ));
         }
     }

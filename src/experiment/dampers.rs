@@ -197,7 +197,7 @@ fn bed_model(path: &Path, key: &dyn Fn(&str) -> String, d: &RawDamper) -> Result
                 return Err(Error::invalid(
                     path,
                     key("restitution"),
-                    law.restitution,
+                    law.restitution(),
                     "a plastic bed has e = 0: leave restitution out, or set bed = \"restitution\" or \"column\"",
                 ));
             }
@@ -271,7 +271,7 @@ fn impact_law(
             "only with a restitution > 0 (a plastic bed always sticks)",
         ));
     }
-    Ok(ImpactLaw { restitution: e, stick_speed: if e == 0.0 { 0.0 } else { stick_speed } })
+    Ok(ImpactLaw::with_restitution(e, stick_speed))
 }
 
 /// A clearance in mm (a number, "inf", "scan" or "@EXPERIMENT.KEY"); scanned and exported

@@ -138,11 +138,11 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
     }
     if analysis.plastic_only() {
         for (ci, case) in cases.iter().enumerate() {
-            if let Some(di) = case.laws.iter().position(|l| l.restitution > 0.0) {
+            if let Some(di) = case.laws.iter().position(|l| !l.is_plastic()) {
                 return Err(Error::invalid(
                     path,
                     format!("cases[{ci}].dampers[{di}].restitution"),
-                    case.laws[di].restitution,
+                    case.laws[di].restitution(),
                     "the equivalent SDOF analysis and the design search model the paper's plastic bed only: leave restitution out (0)",
                 ));
             }

@@ -13,14 +13,21 @@ pub fn flight(g: f64, t0: f64, y0: f64, u0: f64, t: f64) -> (f64, f64) {
     (y0 + u0 * tau - 0.5 * g * tau * tau, u0 - g * tau)
 }
 
-/// How a bed's impact exchanges momentum with its host.
+/// How a bed's impact exchanges momentum with its host: the law answers for itself (whether
+/// it bounces, its parameters), so that a new law is one arm here and its keys in the
+/// experiment file.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ImpactLaw {
-    /// Coefficient of restitution, 0 <= e < 1 (0: plastic, the paper's assumption).
-    pub restitution: f64,
-    /// Relative impact speed below which the bed sticks when `restitution > 0` (what ends a
-    /// sequence of ever smaller bounces), m/s.
-    pub stick_speed: f64,
+pub enum ImpactLaw {
+    /// The paper's assumption: the bed sticks to the end it hits (e = 0).
+    Plastic,
+    /// The relative velocity reversed and scaled by `e`, 0 < e < 1; an impact slower than
+    /// `stick_speed` (m/s) sticks (what ends a sequence of ever smaller bounces).
+    Restitution {
+        /// Coefficient of restitution.
+        e: f64,
+        /// Relative impact speed below which the bed sticks, m/s.
+        stick_speed: f64,
+    },
 }
 
 /// What one impact did.
@@ -38,18 +45,52 @@ pub struct Exchange {
 
 impl ImpactLaw {
     /// The paper's law: plastic impacts.
-    pub const PLASTIC: ImpactLaw = ImpactLaw { restitution: 0.0, stick_speed: 0.0 };
+    pub const PLASTIC: ImpactLaw = ImpactLaw::Plastic;
+
+    /// The law of coefficient of restitution `e` (0 <= e < 1) that sticks below
+    /// `stick_speed`: plastic at `e = 0`.
+    pub fn with_restitution(e: f64, stick_speed: f64) -> ImpactLaw {
+        if e == 0.0 {
+            ImpactLaw::Plastic
+        } else {
+            ImpactLaw::Restitution { e, stick_speed }
+        }
+    }
+
+    /// Whether every impact sticks (the paper's bed).
+    pub fn is_plastic(&self) -> bool {
+        matches!(self, ImpactLaw::Plastic)
+    }
+
+    /// The coefficient of restitution: 0 for a plastic law.
+    pub fn restitution(&self) -> f64 {
+        match *self {
+            ImpactLaw::Plastic => 0.0,
+            ImpactLaw::Restitution { e, .. } => e,
+        }
+    }
+
+    /// The relative impact speed below which a bouncing bed sticks, m/s (none: plastic).
+    pub fn stick_speed(&self) -> Option<f64> {
+        match *self {
+            ImpactLaw::Plastic => None,
+            ImpactLaw::Restitution { stick_speed, .. } => Some(stick_speed),
+        }
+    }
 
     /// Whether an impact at relative speed `rel` bounces (else the bed sticks).
     pub fn bounces(&self, rel: f64) -> bool {
-        self.restitution > 0.0 && rel.abs() >= self.stick_speed
+        match *self {
+            ImpactLaw::Plastic => false,
+            ImpactLaw::Restitution { e, stick_speed } => e > 0.0 && rel.abs() >= stick_speed,
+        }
     }
 
     /// The coefficient an impact at relative speed `rel` gets: the restitution when it
     /// bounces, 0 when the bed sticks.
     pub fn coefficient(&self, rel: f64) -> f64 {
         if self.bounces(rel) {
-            self.restitution
+            self.restitution()
         } else {
             0.0
         }
@@ -62,7 +103,7 @@ impl ImpactLaw {
         let total = mh + md;
         let ke_before = 0.5 * mh * vp * vp + 0.5 * md * u * u;
         if self.bounces(rel) {
-            let e = self.restitution;
+            let e = self.restitution();
             let host = vp + md * (1.0 + e) * rel / total;
             let bed = u - mh * (1.0 + e) * rel / total;
             Exchange { host, bed, sticks: false, loss: ke_before - 0.5 * mh * host * host - 0.5 * md * bed * bed }
@@ -88,7 +129,7 @@ mod tests {
     #[test]
     fn momentum_is_kept_and_energy_lost_as_the_closed_forms_say() {
         let (mh, md, vp, u) = (0.71, 0.071, 0.1, -0.3);
-        for law in [ImpactLaw::PLASTIC, ImpactLaw { restitution: 0.5, stick_speed: 1e-3 }] {
+        for law in [ImpactLaw::PLASTIC, ImpactLaw::with_restitution(0.5, 1e-3)] {
             let x = law.exchange(mh, vp, md, u);
             let p = mh * vp + md * u;
             assert!((mh * x.host + md * x.bed - p).abs() < 1e-15);
@@ -100,14 +141,14 @@ mod tests {
             assert_eq!(x.sticks, e == 0.0);
         }
         // Slower than the sticking speed: plastic.
-        let law = ImpactLaw { restitution: 0.5, stick_speed: 1.0 };
+        let law = ImpactLaw::with_restitution(0.5, 1.0);
         assert!(law.exchange(mh, vp, md, u).sticks);
     }
 
     #[test]
     fn the_derivative_is_that_of_the_exchange() {
         let (mh, md, vp, u, h) = (0.71, 0.071, 0.1, -0.3, 1e-6);
-        for law in [ImpactLaw::PLASTIC, ImpactLaw { restitution: 0.4, stick_speed: 1e-3 }] {
+        for law in [ImpactLaw::PLASTIC, ImpactLaw::with_restitution(0.4, 1e-3)] {
             let (a, b) = law.derivative(mh, md, u - vp);
             let d_vp = (law.exchange(mh, vp + h, md, u).host - law.exchange(mh, vp - h, md, u).host) / (2.0 * h);
             let d_u = (law.exchange(mh, vp, md, u + h).bed - law.exchange(mh, vp, md, u - h).bed) / (2.0 * h);

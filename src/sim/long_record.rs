@@ -18,7 +18,7 @@ pub use super::steady::{LONG_RECORD_PERIODS, LONG_RECORD_TOL};
 /// Whether a system's unsettled points get the long record: any bed that is not the paper's
 /// plastic single mass.
 pub fn applies(d: &Dynamics) -> bool {
-    !d.system.columns.is_empty() || d.system.laws.iter().any(|l| l.restitution > 0.0)
+    !d.system.columns.is_empty() || d.system.laws.iter().any(|l| !l.is_plastic())
 }
 
 /// `st` with its record replaced by a long one, when it did not settle and its system is

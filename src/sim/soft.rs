@@ -95,7 +95,7 @@ pub fn amplitude(
     let mut dt = f64::INFINITY;
     for g in &groups {
         let dm = sys.dampers[g.start];
-        let zeta = damping_ratio(sys.impact_law(g.start).restitution)?;
+        let zeta = damping_ratio(sys.impact_law(g.start).restitution())?;
         // The host's effective mass (a coupled mass matrix: `1 / (M0^-1)_pp`).
         let m0p = m0_inv.as_ref().map_or(m0[dm.host], |inv| 1.0 / inv[(dm.host, dm.host)]);
         let (mu_wall, mu_pair) = (dm.mass * m0p / (dm.mass + m0p), 0.5 * dm.mass);

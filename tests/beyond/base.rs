@@ -120,7 +120,7 @@ fn a_chain_on_a_shaken_base_moves_as_under_the_equivalent_force_on_its_first_mas
 fn the_energy_balance_closes_with_the_supports_work() {
     let (s, dampers) = chain(0.35);
     let mut sys = on_base(System::plastic(s.with_damping(Damping::ModalRatios(vec![0.01; 3])), dampers, 0, 0.0), 5.0);
-    sys.laws = vec![shotdamp::sim::bed::ImpactLaw { restitution: 0.4, stick_speed: 1e-3 }; 3];
+    sys.laws = vec![shotdamp::sim::bed::ImpactLaw::with_restitution(0.4, 1e-3); 3];
     for f in [12.0, 13.5, 36.0] {
         let dy = Dynamics::new(&sys, 2.0 * PI * f).expect("dynamics");
         let st = steady_state(&dy, State::at_rest(&dy), &SteadyOptions { energy: true, ..SteadyOptions::default() });
@@ -324,7 +324,7 @@ fn soft_contacts_on_shaken_supports_give_the_stuck_chain_below_lift_off() {
     let bed = Damper::new(2, 0.064, Clearance::from_mm(0.35));
     let accel = 0.05;
     let sys = System::plastic(s, vec![bed], 0, 0.0)
-        .with_law(shotdamp::sim::bed::ImpactLaw { restitution: 0.5, stick_speed: 1e-3 })
+        .with_law(shotdamp::sim::bed::ImpactLaw::with_restitution(0.5, 1e-3))
         .on_supports(accel);
     let opts = SoftOptions { stiffness: 1e8, steps_per_contact: 20 };
     let mut worst = 0.0f64;

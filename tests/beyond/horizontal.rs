@@ -257,7 +257,7 @@ impl Damper1 {
         let s =
             Structure::from_matrices(&[self.m], DMatrix::from_element(1, 1, self.k), Damping::ModalRatios(vec![zeta]));
         let bed = Damper::new(0, self.md, Clearance::from_m(self.d)).along(Direction::Horizontal);
-        System::plastic(s, vec![bed], 0, self.f).with_law(ImpactLaw { restitution: self.e, stick_speed: 1e-6 })
+        System::plastic(s, vec![bed], 0, self.f).with_law(ImpactLaw::with_restitution(self.e, 1e-6))
     }
 
     /// The state on the orbit a quarter period after the impact on the upper wall (far from
@@ -401,7 +401,7 @@ fn the_energy_balance_closes_with_horizontal_and_vertical_containers() {
     let dampers: Vec<Damper> =
         (0..3).map(|h| Damper::new(h, 0.1 * m[h], Clearance::from_mm(0.35)).along(along[h])).collect();
     let mut sys = System::plastic(s, dampers, 0, 2.6);
-    sys.laws = vec![ImpactLaw { restitution: 0.5, stick_speed: 1e-3 }, ImpactLaw::PLASTIC, ImpactLaw::PLASTIC];
+    sys.laws = vec![ImpactLaw::with_restitution(0.5, 1e-3), ImpactLaw::PLASTIC, ImpactLaw::PLASTIC];
     for f in [12.0, 13.0, 35.0] {
         let dy = Dynamics::new(&sys, 2.0 * PI * f).expect("dynamics");
         let st = steady_state(&dy, State::at_rest(&dy), &SteadyOptions { energy: true, ..SteadyOptions::default() });

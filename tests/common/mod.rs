@@ -69,7 +69,7 @@ pub fn bouncing_ball(gamma: f64, e: f64) -> Result<shotdamp::sim::Dynamics, shot
     let h = receptance(&host, &host.mass_matrix(), 0, omega).expect("receptance")[0];
     let force = gamma * GRAVITY / (omega * omega) / h.norm();
     let sys = shotdamp::sim::System::plastic(host, vec![Damper::new(0, 1e-9, Clearance::NO_TOP)], 0, force)
-        .with_law(shotdamp::sim::bed::ImpactLaw { restitution: e, stick_speed: 1e-3 });
+        .with_law(shotdamp::sim::bed::ImpactLaw::with_restitution(e, 1e-3));
     shotdamp::sim::Dynamics::new(&sys, omega)
 }
 
