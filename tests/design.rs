@@ -181,6 +181,35 @@ fn bad_design_files_are_named() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("analysis.kind"));
 }
 
+/// The paper's conclusion as a check: only a design has layouts to read it on, and it names a
+/// bound that exists.
+#[test]
+fn the_conclusion_check_is_refused_where_it_cannot_be_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let check = "\n[[checks]]\nid = \"conclusion\"\nkind = \"design_conclusion\"\nreference = \"paper-text.toml#REF\"\nrel_tol = 0.0\n";
+    let cases = [
+        ("experiments/fig04b_no_damper.toml", "reduction_min", "only a design analysis"),
+        ("designs/five_storey.toml", "no_such_bound", "no quantity with id \"no_such_bound\""),
+    ];
+    for (file, id, words) in cases {
+        let text = std::fs::read_to_string(common::repo().join(file)).unwrap();
+        let text = text.replace(
+            "extends = \"",
+            &format!("extends = \"{}/", common::repo().join(file).parent().unwrap().display()),
+        );
+        let bad = dir.path().join("bad.toml");
+        std::fs::write(&bad, text + &check.replace("REF", id)).unwrap();
+        let out = common::shotdamp()
+            .args(["run", bad.to_str().unwrap(), "--out"])
+            .arg(dir.path().join("out"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{file}: {err}");
+        assert!(err.contains("bad.toml") && err.contains("checks[") && err.contains(words), "{file}: {err}");
+    }
+}
+
 /// Scenarios: the worst (or mean) over scenarios is the largest (or mean) of the objectives of
 /// each scenario alone, and the bare values are each scenario's own.
 #[test]

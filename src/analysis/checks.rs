@@ -174,7 +174,8 @@ fn evaluate_one(
         | CheckKind::Peak { .. }
         | CheckKind::ImpulseHistory { .. }
         | CheckKind::DecayTime { .. }
-        | CheckKind::OrbitVsSimulation => {}
+        | CheckKind::OrbitVsSimulation
+        | CheckKind::DesignConclusion => {}
     }
 }
 

@@ -338,6 +338,15 @@ pub fn run(
             .collect();
         (found, front, Vec::new())
     };
+    let mut checks = checks;
+    for c in exp.checks.iter().filter(|c| matches!(c.kind, crate::experiment::CheckKind::DesignConclusion)) {
+        let mut o = match refs.values(&c.reference_file) {
+            Some(file) => super::design_conclusion::check(c, file, &found),
+            None => CheckOutcome::missing(c, "reference file not loaded"),
+        };
+        o.id = c.id.clone();
+        checks.push(o);
+    }
     tick();
     let stored = StoredDesign {
         experiment: exp.key(),

@@ -8,6 +8,7 @@ mod clearance;
 pub mod curves;
 mod decay_checks;
 pub mod design;
+mod design_conclusion;
 mod design_drive;
 mod design_levels;
 mod design_near;

@@ -198,11 +198,22 @@ pub fn check(
                 };
                 impulse_check(path, i, &c, n, case_ids, levels)?
             }
+            "design_conclusion" => {
+                if !matches!(analysis, Analysis::Design { .. }) {
+                    return Err(Error::invalid(
+                        path,
+                        key("kind"),
+                        format!("\"{}\"", c.kind),
+                        format!("only a design analysis has layouts to read the conclusion on (this one is \"{}\")", analysis.kind()),
+                    ));
+                }
+                CheckKind::DesignConclusion
+            }
             other => return Err(Error::invalid(
                 path,
                 key("kind"),
                 format!("\"{other}\""),
-                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"tube\", \"peak\", \"peak_ratio\", \"ratio_order\", \"motion_types\", \"impulse_history\", \"decay_time\", \"decay_ratio\", \"orbit_vs_simulation\", \"sdof_vs_simulation\"",
+                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"tube\", \"peak\", \"peak_ratio\", \"ratio_order\", \"motion_types\", \"impulse_history\", \"decay_time\", \"decay_ratio\", \"orbit_vs_simulation\", \"sdof_vs_simulation\", \"design_conclusion\"",
             )),
         };
     // Tolerances in pixels, or none at all (a set of motion types).
@@ -262,7 +273,7 @@ pub fn check(
     let what = match &kind {
         CheckKind::NaturalFrequency { .. } | CheckKind::ModeShape { .. } => Some("the value"),
         CheckKind::PeakRatio { bound: super::Bound::Within { .. }, .. } => Some("the lower bound"),
-        CheckKind::PeakRatio { .. } | CheckKind::DecayRatio { .. } => Some("the bound"),
+        CheckKind::PeakRatio { .. } | CheckKind::DecayRatio { .. } | CheckKind::DesignConclusion => Some("the bound"),
         CheckKind::SdofVsSimulation | CheckKind::RatioOrder { .. } | CheckKind::MotionTypes { .. } => Some("the claim"),
         _ => None,
     };

@@ -374,6 +374,10 @@ pub enum CheckKind {
     /// The peak compliance of the SDOF solution against that of the simulation of the full
     /// structure (the paper's "close agreement").
     SdofVsSimulation,
+    /// The paper's conclusion read on a design (docs/design.md, "The paper's conclusion as a
+    /// check"): the best layout found with two containers or more lowers the worst peak of
+    /// the bands at least the reference value's factor below the bare structure's.
+    DesignConclusion,
 }
 
 /// How a claim about the ratio of two responses "around resonance" is read: the paper's words
