@@ -3,7 +3,7 @@
 //! nalgebra's own iteration cycles for ever, on random matrices, and at the sweep point where a
 //! study once hung.
 
-mod common;
+use crate::common;
 
 use shotdamp::model::Clearance;
 use std::sync::mpsc;

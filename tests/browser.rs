@@ -5,7 +5,7 @@
 //!
 //! Needs Chromium (`apt-get install chromium`, or the path in `SHOTDAMP_BROWSER`), so it is
 //! ignored by default; `.ci/run` installs Chromium and runs it:
-//! `cargo test --release --locked --test browser -- --ignored`.
+//! `cargo test --release --locked --test all -- --ignored browser::`.
 
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpListener;
@@ -178,7 +178,7 @@ fn chromium(args: &[String]) -> (String, String) {
 }
 
 #[test]
-#[ignore = "needs Chromium: cargo test --release --locked --test browser -- --ignored"]
+#[ignore = "needs Chromium: cargo test --release --locked --test all -- --ignored browser::"]
 fn the_report_reads_in_a_real_browser() {
     let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let dir = tempfile::tempdir().unwrap();

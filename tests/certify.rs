@@ -6,7 +6,7 @@
 //! certified orbit of a column with restitution must reproduce the transient record it
 //! certifies.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

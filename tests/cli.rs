@@ -1,7 +1,7 @@
 //! The binary end to end: bad input gives a clear message and exit code 2; a valid set
 //! gives a report whose links all resolve.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

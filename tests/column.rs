@@ -3,7 +3,7 @@
 //! joule is accounted for, and a column dropped into its container comes to rest after a
 //! bounded number of events.
 
-mod common;
+use crate::common;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;

@@ -4,11 +4,11 @@
 //! from what the binary says, so the contract cannot drift. After a deliberate change of a
 //! message, write the table anew with
 //!
-//!     SHOTDAMP_WRITE_CONTRACT=1 cargo test --release --locked --test contract
+//!     SHOTDAMP_WRITE_CONTRACT=1 cargo test --release --locked --test all -- contract::
 //!
 //! and review the diff of docs/reliability.md.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;
@@ -764,7 +764,7 @@ fn every_row_of_the_contract_is_what_the_binary_does() {
         }
         let first = current.lines().zip(table.lines()).find(|(a, b)| a != b);
         panic!(
-            "docs/reliability.md differs from what the binary does (first difference: {first:?}; rows {} vs {}). If the change is meant, run SHOTDAMP_WRITE_CONTRACT=1 cargo test --release --locked --test contract and review the diff",
+            "docs/reliability.md differs from what the binary does (first difference: {first:?}; rows {} vs {}). If the change is meant, run SHOTDAMP_WRITE_CONTRACT=1 cargo test --release --locked --test all -- contract:: and review the diff",
             current.lines().count(),
             table.lines().count()
         );

@@ -2,7 +2,7 @@
 //! experiment pipeline, the optimiser against a brute-force grid, and determinism for any
 //! number of threads.
 
-mod common;
+use crate::common;
 
 use shotdamp::design::search::{grid, optimise, placements, Options, Space};
 use shotdamp::design::{band_compliance, bare, evaluate, Band, Combine, Layout, Measure, Problem, Scenario, Sweep};

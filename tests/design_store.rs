@@ -3,7 +3,7 @@
 //! the layout gives now, when the design problem changed since the search, or when there is no
 //! stored answer. Models as scenarios of one search.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

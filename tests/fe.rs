@@ -4,7 +4,7 @@
 //! are input errors that say what is wrong. The test marked `#[ignore]` runs CalculiX itself
 //! (CI installs it: `apt-get install calculix-ccx`).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -308,7 +308,7 @@ fn bad_finite_element_files_and_keys_say_what_is_wrong() {
 /// Runs CalculiX on the plate's decks (examples/plate/ccx.sh) and checks what it writes:
 /// shotdamp's full-model frequencies from the new matrices against CalculiX's own, and the
 /// unsupported plate's mass matrix summing to three times the plate's mass (one per
-/// translational direction). Needs `ccx`: `cargo test --release --test fe -- --ignored`.
+/// translational direction). Needs `ccx`: `cargo test --release --test all -- --ignored fe::`.
 #[test]
 #[ignore]
 fn calculix_meshes_and_solves_the_plate() {

@@ -2,9 +2,9 @@
 //! duplicated and swapped lines, numbers replaced by huge, tiny, non-finite, negative or
 //! wrongly typed values, truncation, invalid UTF-8. The property: a loader returns a value or
 //! an error that names the file, and never panics. `PROPTEST_CASES=20000 cargo test --release
-//! --locked --test fuzz` runs a longer campaign (docs/reliability.md).
+//! --locked --test all -- fuzz::` runs a longer campaign (docs/reliability.md).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -370,7 +370,7 @@ fn bounded_run(dir: &Path, args: &[String], seconds: u64, bytes: u64) -> (Option
 /// line), never a signal, a panic or the memory limit; a design search within its printed
 /// bound; nothing of the user's touched. Prints the counts.
 ///
-///     FUZZ_EXPERIMENTS=3000 FUZZ_DESIGNS=300 cargo test --release --locked --test fuzz -- --ignored --nocapture campaign
+///     FUZZ_EXPERIMENTS=3000 FUZZ_DESIGNS=300 cargo test --release --locked --test all -- --ignored --nocapture fuzz::campaign
 #[test]
 #[ignore = "a campaign of hours: run by hand (docs/reliability.md)"]
 fn campaign() {

@@ -3,7 +3,7 @@
 //! for byte; a study through `shotdamp::runner::study` and through `shotdamp study` writes
 //! the same long table, summary and heat maps.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

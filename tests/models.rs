@@ -1,7 +1,7 @@
 //! The structure fitted to the paper's measured modes, model variants, and the damping
 //! calibrated against a measured (digitised) curve, end to end.
 
-mod common;
+use crate::common;
 
 use common::{repo, shotdamp};
 

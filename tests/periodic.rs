@@ -1,6 +1,6 @@
 //! Periodic orbits by shooting against long simulations and the bouncing ball's closed forms.
 
-mod common;
+use crate::common;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;

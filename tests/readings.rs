@@ -1,7 +1,7 @@
 //! The readings of a claim about "amplitude reductions around resonance": each computed value
 //! is what the sweep's own table gives by hand.
 
-mod common;
+use crate::common;
 
 use common::{repo, shotdamp};
 

@@ -2,7 +2,7 @@
 //! wrote (or empty ones), never moves or deletes a user's files, cleans up after an interrupt
 //! and after dead processes, and names each file and OS error once (docs/reliability.md).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

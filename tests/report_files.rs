@@ -1,7 +1,7 @@
 //! What a report folder holds: long tables thinned in CSV and whole in Parquet (README,
 //! "Reading the report"), `--full-csv` for every row.
 
-mod common;
+use crate::common;
 
 use polars::prelude::*;
 

@@ -2,7 +2,7 @@
 //! 2): the file's law reaches the simulator for each container, the energy balance closes with
 //! mixed laws, and bad values are input errors naming the key.
 
-mod common;
+use crate::common;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;

@@ -1,7 +1,7 @@
 //! What reviewers and CI rely on: digitised curves in, the regression baseline, checks.json and
 //! JUnit XML, exit codes, and the comparison of two reports.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

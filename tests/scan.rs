@@ -3,7 +3,7 @@
 //! describe a scan, and the overlay: every point of our curve lands within one pixel of where
 //! the scan draws it, on linear and log axes. A calibration three pixels off does not.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! shard started twice at once, parts of two versions of a study, shard counts from a Slurm
 //! array that reruns one task, and study paths spelled differently (docs/studies.md).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};

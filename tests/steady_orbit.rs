@@ -3,7 +3,7 @@
 //! one-bed orbits against the impact-section solver, the bouncing ball's period doubling, and
 //! the orbits against long transient runs.
 
-mod common;
+use crate::common;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;

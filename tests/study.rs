@@ -2,7 +2,7 @@
 //! killed shard resumes, a one-point study gives the experiment's own check values, and bad
 //! input is named.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -5,7 +5,7 @@
 //! (ordinals, mode numbers, counts) or a section, equation, figure or year. A stale number
 //! typed by hand fails here.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
