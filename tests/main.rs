@@ -19,6 +19,7 @@ mod fe;
 mod follow;
 mod fuzz;
 mod impulse;
+mod joint;
 mod library;
 mod models;
 mod periodic;

@@ -113,10 +113,22 @@ pub fn claims(exp: &Experiment) -> Vec<crate::experiment::CheckSpec> {
     exp.checks.iter().filter(|c| is_claim(&c.kind)).cloned().collect()
 }
 
-/// A sample's experiment ready to run: built from the study with the sample's values, its
-/// exports resolved from its dependencies (run at the sample, cached), only its claim checks.
-/// Errors name the sample and its values.
+/// A sample's experiments ready to run (one; a joint study's: each of its experiments, in the
+/// file's order): built from the study with the sample's values, their exports resolved from
+/// their dependencies (run at the sample, cached), only their claim checks. Errors name the
+/// sample and its values.
 pub fn prepare(
+    study: &Study,
+    sample: &Sample,
+    refs: &ReferenceStore,
+    reference_dir: &Path,
+    cache: &DependencyCache,
+) -> Result<Vec<Experiment>> {
+    study.parts().map(|part| prepare_one(part, sample, refs, reference_dir, cache)).collect()
+}
+
+/// [`prepare`] for one experiment of the study.
+fn prepare_one(
     study: &Study,
     sample: &Sample,
     refs: &ReferenceStore,
@@ -140,9 +152,9 @@ pub fn prepare_all(
     refs: &ReferenceStore,
     reference_dir: &Path,
     cache: &DependencyCache,
-) -> Result<Vec<Experiment>> {
+) -> Result<Vec<Vec<Experiment>>> {
     use rayon::prelude::*;
-    let all: Vec<Result<Experiment>> =
+    let all: Vec<Result<Vec<Experiment>>> =
         samples.par_iter().map(|s| prepare(study, s, refs, reference_dir, cache)).collect();
     all.into_iter().collect()
 }
@@ -156,13 +168,32 @@ pub fn run_sample(
     cache: &DependencyCache,
     tick: &Tick,
 ) -> Result<Vec<ClaimRow>> {
-    let exp = prepare(study, sample, refs, reference_dir, cache)?;
-    run_prepared(&exp, sample, refs, tick)
+    let exps = prepare(study, sample, refs, reference_dir, cache)?;
+    run_prepared(&exps, sample, refs, tick)
 }
 
-/// Evaluates one prepared sample ([`prepare`]): its claim rows, in check order. `tick` is
-/// called at every simulated point.
-pub fn run_prepared(exp: &Experiment, sample: &Sample, refs: &ReferenceStore, tick: &Tick) -> Result<Vec<ClaimRow>> {
+/// Evaluates one prepared sample ([`prepare`]): its claim rows, in check order (a joint
+/// study's: experiment after experiment, numbered on, each claim named `EXPERIMENT: claim`).
+/// `tick` is called at every simulated point.
+pub fn run_prepared(exps: &[Experiment], sample: &Sample, refs: &ReferenceStore, tick: &Tick) -> Result<Vec<ClaimRow>> {
+    let joint = exps.len() > 1;
+    let mut rows = Vec::new();
+    for exp in exps {
+        let first = rows.len();
+        rows.extend(rows_of(exp, sample, refs, tick, first, joint)?);
+    }
+    Ok(rows)
+}
+
+/// The claim rows of one experiment of a sample, numbered from `first`.
+fn rows_of(
+    exp: &Experiment,
+    sample: &Sample,
+    refs: &ReferenceStore,
+    tick: &Tick,
+    first: usize,
+    joint: bool,
+) -> Result<Vec<ClaimRow>> {
     let result = super::run(exp, refs, tick)?;
     Ok(exp
         .checks
@@ -175,8 +206,8 @@ pub fn run_prepared(exp: &Experiment, sample: &Sample, refs: &ReferenceStore, ti
                 sample: sample.index,
                 model: sample.model.clone(),
                 values: sample.values.clone(),
-                check,
-                claim: outcome.name.clone(),
+                check: first + check,
+                claim: if joint { format!("{}: {}", exp.meta.id, outcome.name) } else { outcome.name.clone() },
                 reading: match &spec.kind {
                     CheckKind::PeakRatio { reading, .. } => reading.name().to_string(),
                     _ => String::new(),

@@ -72,14 +72,14 @@ pub fn dispatch(args: &StudyArgs, project: &crate::runner::ReportInputs) -> anyh
     let mine = study.samples.iter().filter(|s| shard.owns(s.index)).count();
     let points = shards::estimate(&study, reference, shard, &pool)?;
     let estimate = points as f64 * SECONDS_PER_POINT / threads as f64;
-    let dependent = !study.base.iter().all(|e| e.dependencies().is_empty());
+    let dependent = !study.parts().flat_map(|p| &p.base).all(|e| e.dependencies().is_empty());
     say!(
         "study {}: {} samples ({}; {}), {} claims each; shard {shard}: {} samples, {points} simulated points, roughly {} on {threads} threads{}",
         study.id,
         study.samples.len(),
         size_words(&study),
         study.design.name(),
-        crate::analysis::study::claims(&study.base[0]).len(),
+        study.parts().map(|p| crate::analysis::study::claims(&p.base[0]).len()).sum::<usize>(),
         mine,
         duration(estimate),
         if dependent { " (plus the experiments it takes values from, once per model and structure)" } else { "" }
@@ -260,6 +260,24 @@ fn print_merged(m: &shards::Merged) {
     say!("study {} ({}): {} rows in {}", m.manifest.study, m.manifest.figure, m.rows, m.table.display());
     for s in &m.summaries {
         say!("  {} | {} ({}): {}", s.model, s.claim, s.bound, s.words(&m.names));
+    }
+    // The bottom line: the samples where the most claims hold at once.
+    let best = crate::analysis::study_samples::best(&m.samples);
+    for b in best.iter().take(3) {
+        let values: Vec<String> =
+            m.names.iter().zip(&b.values).map(|(n, v)| format!("{n} {}", crate::number::fmt_num(*v))).collect();
+        let model = if b.model.is_empty() { String::new() } else { format!("model {}, ", b.model) };
+        say!(
+            "  most claims at once: sample {} ({model}{}): {} of {} evaluable hold{}",
+            b.sample,
+            values.join(", "),
+            b.holds,
+            b.evaluable,
+            if b.failing.is_empty() { String::new() } else { format!("; fail: {}", b.failing.join("; ")) }
+        );
+    }
+    if best.len() > 3 {
+        say!("  ... and {} more samples with as many (the table {}_samples.csv)", best.len() - 3, m.manifest.study);
     }
 }
 

@@ -137,6 +137,9 @@ impl Manifest {
         let mut text = format!("{}\n{}\n{}", study.id, study.base[0].meta.id, study.content());
         for v in &study.vary {
             text.push_str(&format!("vary {} {}\n", v.name, v.key.as_str()));
+            if !v.experiments.is_empty() {
+                text.push_str(&format!("vary {} in {}\n", v.name, v.experiments.join(" ")));
+            }
         }
         for (k, v) in &study.set {
             text.push_str(&format!("set {} = {v}\n", k.as_str()));
@@ -150,7 +153,8 @@ impl Manifest {
             title: study.title.clone(),
             file: file.to_string(),
             experiment: study.base[0].meta.id.clone(),
-            figure: study.base[0].meta.figure.clone(),
+            // A joint study's claims come from several figures: all of them, in order.
+            figure: study.parts().map(|p| p.base[0].meta.figure.clone()).collect::<Vec<_>>().join(", "),
             fingerprint: fingerprint(&text),
             samples: study.samples.len(),
             columns: crate::analysis::study::columns(study),

@@ -120,7 +120,8 @@ pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool> {
 /// The references of a study's experiment and of those it takes values from, without the
 /// baseline (it holds the experiments' own values, not a sample's).
 pub fn study_references(study: &Study, reference: &Path) -> Result<ReferenceStore> {
-    ReferenceStore::load(reference, &[study.base.clone(), study.dependencies.clone()].concat())
+    let exps: Vec<_> = study.parts().flat_map(|p| p.base.iter().chain(&p.dependencies)).cloned().collect();
+    ReferenceStore::load(reference, &exps)
 }
 
 /// The studies `shotdamp report` runs: those of `dir` marked `report = true` (none when the

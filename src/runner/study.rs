@@ -41,7 +41,11 @@ impl StudyProgress for Quiet {}
 pub fn estimate(study: &Study, reference: &Path, shard: Shard, pool: &rayon::ThreadPool) -> Result<u64> {
     let refs = super::study_references(study, reference)?;
     let mine: Vec<&Sample> = study.samples.iter().filter(|s| shard.owns(s.index)).collect();
-    let built = pool.install(|| mine.par_iter().map(|s| study.experiment(s, reference)).collect::<Vec<Result<_>>>());
+    let built = pool.install(|| {
+        mine.par_iter()
+            .flat_map_iter(|s| study.parts().map(move |part| part.experiment(s, reference)))
+            .collect::<Vec<Result<_>>>()
+    });
     let exps: Vec<Experiment> = built.into_iter().collect::<Result<_>>()?;
     Ok(exps
         .iter()
@@ -63,7 +67,7 @@ pub fn default_out(study: &Study) -> PathBuf {
 pub fn refuse_overlap(study: &Study, reference: &Path, out: &Path) -> Result<()> {
     let mut inputs: Vec<(&str, &Path)> =
         vec![("the study file", study.path.as_path()), ("the reference folder", reference)];
-    inputs.extend(study.base.iter().map(|e| ("the study's experiment file", e.path.as_path())));
+    inputs.extend(study.parts().flat_map(|p| &p.base).map(|e| ("the study's experiment file", e.path.as_path())));
     crate::output::destination::refuse_overlap(out, &inputs)
 }
 
@@ -99,7 +103,7 @@ pub fn run_shard(
     let end = if complete {
         ShardEnd::AlreadyComplete
     } else {
-        let todo: Vec<(&Sample, &Experiment)> =
+        let todo: Vec<(&Sample, &Vec<Experiment>)> =
             mine.iter().copied().zip(&prepared).filter(|(s, _)| done.binary_search(&s.index).is_err()).collect();
         if !done.is_empty() {
             progress.resuming(done.len(), mine.len());
@@ -135,7 +139,7 @@ fn take_lock(out: &Path, shard: Shard, progress: &dyn StudyProgress) -> Result<f
 fn compute(
     study: &Study,
     manifest: &Manifest,
-    todo: &[(&Sample, &Experiment)],
+    todo: &[(&Sample, &Vec<Experiment>)],
     refs: &ReferenceStore,
     pool: &rayon::ThreadPool,
     out: &Path,
@@ -178,6 +182,8 @@ pub struct Merged {
     pub summaries: Vec<ClaimSummary>,
     /// The varied values' names (what the summaries' words name).
     pub names: Vec<String>,
+    /// Per sample: the claims that hold and those that fail.
+    pub samples: Vec<crate::analysis::study_samples::SampleSummary>,
 }
 
 /// Merges a study folder's parts and writes the long table, the summary and the heat maps.
@@ -190,11 +196,13 @@ pub fn merge(dir: &Path) -> Result<Merged> {
     let summaries = run::summarise(&models, &rows);
     let names: Vec<String> = manifest.vary.iter().map(|a| a.name.clone()).collect();
     folder::write_table(dir, &run::summary_table(&manifest.study, &names, &summaries))?;
+    let samples = crate::analysis::study_samples::per_sample(&rows);
+    folder::write_table(dir, &crate::analysis::study_samples::table(&manifest.study, &names, &samples))?;
     let figures = dir.join("figures");
     std::fs::create_dir_all(&figures).map_err(|e| Error::io(&figures, e))?;
     for map in heatmap::maps(&manifest, &rows, &[]) {
         heatmap::write(&map, &figures)?;
     }
     let table = dir.join(format!("{}.csv", manifest.study));
-    Ok(Merged { rows: df.height(), table, summaries, names, manifest })
+    Ok(Merged { rows: df.height(), table, summaries, names, samples, manifest })
 }

@@ -5,6 +5,7 @@
 //! table with the sample's values set at their key paths, validated like any experiment.
 
 pub mod design;
+mod joint;
 pub mod overrides;
 
 use std::collections::BTreeMap;
@@ -32,6 +33,9 @@ pub struct Vary {
     pub label: String,
     /// The values it takes.
     pub domain: Domain,
+    /// A joint study's experiments (ids) it is set in; empty: every experiment that has the
+    /// key.
+    pub experiments: Vec<String>,
 }
 
 impl Vary {
@@ -88,9 +92,15 @@ pub struct Study {
     pub dependencies: Vec<Experiment>,
     /// Their merged tables, by experiment id and model id, with their files.
     dependency_tables: BTreeMap<(String, String), (PathBuf, toml::Table)>,
+    /// A joint study (`experiments = [...]`, docs/studies.md "Joint studies"): the other
+    /// experiments, each a study of its own with the same samples (this one is the first).
+    /// Empty for a study of one experiment.
+    pub joint: Vec<Study>,
+    /// Part of a joint study: a key is set in an experiment only where the experiment has it.
+    pub joint_member: bool,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawFile {
     study: RawStudy,
@@ -98,12 +108,15 @@ struct RawFile {
     vary: Vec<RawVary>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawStudy {
     id: String,
     title: String,
-    experiment: String,
+    #[serde(default)]
+    experiment: Option<String>,
+    #[serde(default)]
+    experiments: Option<Vec<String>>,
     #[serde(default)]
     description: Option<String>,
     #[serde(default)]
@@ -136,7 +149,7 @@ pub enum Section {
     Bed,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawVary {
     name: String,
@@ -147,9 +160,11 @@ struct RawVary {
     values: Option<Vec<f64>>,
     #[serde(default)]
     range: Option<RawRange>,
+    #[serde(default)]
+    experiments: Option<Vec<String>>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawRange {
     start: f64,
@@ -185,15 +200,53 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
         }
     })?;
     let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
+    let files: Vec<(String, String)> = match (&raw.study.experiment, &raw.study.experiments) {
+        (Some(e), None) => vec![("study.experiment".into(), e.clone())],
+        (None, Some(list)) if !list.is_empty() => {
+            list.iter().enumerate().map(|(i, e)| (format!("study.experiments[{i}]"), e.clone())).collect()
+        }
+        (None, _) => return Err(bad(
+            "study.experiment",
+            &"(missing)",
+            "name the experiment file (`experiment = \"...\"`), or several for a joint study (`experiments = [...]`)",
+        )),
+        (Some(_), Some(_)) => {
+            return Err(bad("study.experiments", &"(given)", "give `experiment` or `experiments`, not both"))
+        }
+    };
+    let joint = raw.study.experiments.is_some();
+    let mut parts = Vec::with_capacity(files.len());
+    for (key, file) in &files {
+        parts.push(load_one(path, raw.clone(), key, file, joint, reference_dir)?);
+    }
+    let mut study = parts.remove(0);
+    if let Some(i) = study.vary.iter().position(|v| !joint && !v.experiments.is_empty()) {
+        return Err(bad(
+            &format!("vary[{i}].experiments"),
+            &"(given)",
+            "only a joint study (`experiments = [...]`) names the experiments a key is set in",
+        ));
+    }
+    if joint {
+        joint::check(&study, &parts, &files)?;
+    }
+    study.joint = parts;
+    Ok(study)
+}
+
+/// The study of one experiment file (`key` names it in the study file): the whole study, or
+/// one experiment of a joint one.
+fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, reference_dir: &Path) -> Result<Study> {
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
     let s = raw.study;
     if !super::fields::is_identifier(&s.id) {
         return Err(bad("study.id", &format!("\"{}\"", s.id), "use letters, digits, '_' and '-' only"));
     }
-    let experiment_path = path.parent().unwrap_or(Path::new(".")).join(&s.experiment);
+    let experiment_path = path.parent().unwrap_or(Path::new(".")).join(file);
     if !experiment_path.is_file() {
         return Err(bad(
-            "study.experiment",
-            &format!("\"{}\"", s.experiment),
+            key,
+            &format!("\"{file}\""),
             &format!("no such experiment file: {} (the path is relative to the study file)", experiment_path.display()),
         ));
     }
@@ -228,8 +281,8 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
     };
     if !base[0].checks.iter().any(|c| is_claim(&c.kind)) {
         return Err(bad(
-            "study.experiment",
-            &format!("\"{}\"", s.experiment),
+            key,
+            &format!("\"{file}\""),
             "the experiment has no claim checks (peak_ratio, ratio_order, motion_types, decay_ratio) to re-evaluate",
         ));
     }
@@ -319,6 +372,8 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
         tables,
         dependencies: Vec::new(),
         dependency_tables: BTreeMap::new(),
+        joint: Vec::new(),
+        joint_member: joint,
     };
     load_dependencies(&mut study, reference_dir)?;
     Ok(study)
@@ -381,7 +436,8 @@ fn vary_entry(path: &Path, i: usize, v: RawVary) -> Result<Vary> {
         }
     };
     let label = v.label.unwrap_or_else(|| v.name.clone());
-    Ok(Vary { name: v.name, key, label, domain })
+    let experiments = v.experiments.unwrap_or_default();
+    Ok(Vary { name: v.name, key, label, domain, experiments })
 }
 
 fn design_of(path: &Path, s: &RawStudy, vary: &[Vary]) -> Result<Design> {
@@ -518,13 +574,16 @@ impl Study {
         let on = |key: String, value: &dyn std::fmt::Display, m: String| {
             Error::invalid(&self.path, key, value, format!("cannot be set in {}: {m}", file.display()))
         };
+        // In a joint study a key reaches the experiments that have it (docs/studies.md).
+        let here = |k: &KeyPath, t: &toml::Table| !self.joint_member || !k.get(t).is_empty();
         for (i, (k, v)) in self.set.iter().enumerate() {
-            if applies(k) {
+            if applies(k) && here(k, &table) {
                 k.set(&mut table, v).map_err(|m| on(format!("study.set.\"{}\" (entry {i})", k.as_str()), v, m))?;
             }
         }
         for (i, (v, x)) in self.vary.iter().zip(&sample.values).enumerate() {
-            if applies(&v.key) {
+            let scoped = v.experiments.is_empty() || v.experiments.contains(&self.base[0].meta.id);
+            if applies(&v.key) && here(&v.key, &table) && scoped {
                 let value = toml::Value::Float(*x);
                 v.key
                     .set(&mut table, &value)
@@ -566,7 +625,16 @@ impl Study {
         for ((id, model), (_, table)) in &self.dependency_tables {
             text.push_str(&format!("[dependency {id} on {model}]\n{}\n", toml::to_string(table).unwrap_or_default()));
         }
+        for part in &self.joint {
+            text.push_str(&format!("[joint {}]\n{}", part.base[0].meta.id, part.content()));
+        }
         text
+    }
+
+    /// This study and the other experiments of a joint study, in the file's order: every
+    /// sample runs each.
+    pub fn parts(&self) -> impl Iterator<Item = &Study> {
+        std::iter::once(self).chain(&self.joint)
     }
 
     /// The sample's model and values in words, e.g. `model stated, damping 0.005`.
