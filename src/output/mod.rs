@@ -1,6 +1,7 @@
 //! Everything that leaves the program: tables, plots, pages. [`ReportWriter`] is the one
 //! owner of destinations; exporters render to bytes or draw to a path it gives them.
 
+pub mod bottom_line;
 pub mod compare;
 pub mod conclusion;
 pub mod destination;
@@ -198,7 +199,10 @@ impl ReportWriter {
         }
         write(&dir.join("style.css"), report::STYLE_CSS.as_bytes())?;
         let mut index_view = report::index_view(results);
-        for s in studies.iter().filter(|s| s.manifest.section == crate::experiment::study::Section::Bed) {
+        let bed = |s: &&study::StudyRun| {
+            s.manifest.joint.is_empty() && s.manifest.section == crate::experiment::study::Section::Bed
+        };
+        for s in studies.iter().filter(bed) {
             let m = &s.manifest;
             let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
             index_view.bed.push(report::BedRow {
@@ -206,6 +210,19 @@ impl ReportWriter {
                 link: format!("{}/index.html#{}", m.experiment, m.study),
                 sentence: crate::analysis::study::deviation_summary(&m.models, &names, &s.rows),
             });
+        }
+        // Joint studies: their tables in `ID/`, their bottom line on the index.
+        for s in studies.iter().filter(|s| !s.manifest.joint.is_empty()) {
+            let m = &s.manifest;
+            mkdir_below(dir, Path::new(&m.study))?;
+            let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
+            let long = crate::analysis::study::rows_table(&m.study, &names, &s.rows);
+            let samples = crate::analysis::study_samples::per_sample(&s.rows);
+            let per = crate::analysis::study_samples::table(&m.study, &names, &samples);
+            for t in [&long, &per] {
+                write(&dir.join(&m.study).join(format!("{}.csv", t.name)), &crate::table::to_csv(t)?)?;
+            }
+            index_view.bottom.push(bottom_line::of(s, &m.study));
         }
         let index = report::render(&self.tera, "index.html", &index_view)?;
         write(&dir.join("index.html"), index.as_bytes())?;
@@ -226,7 +243,7 @@ impl ReportWriter {
             write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
         }
         let mut view = models_page::models_view(runs, &overlays);
-        for s in studies.iter().filter(|s| &s.manifest.experiment == id) {
+        for s in studies.iter().filter(|s| s.manifest.joint.is_empty() && &s.manifest.experiment == id) {
             mkdir_below(self.staging.dir(), &Path::new(id).join("robustness"))?;
             mkdir_below(self.staging.dir(), &Path::new(id).join("data"))?;
             let written = robustness::write(&dir, s, &write)?;

@@ -368,6 +368,8 @@ pub struct IndexView {
     /// "Does the bed model matter?": per bed study, its figure, the link to its section and a
     /// sentence.
     pub bed: Vec<BedRow>,
+    /// The bottom line of each joint study the report runs (above the verdict matrix).
+    pub bottom: Vec<super::bottom_line::BottomLine>,
 }
 
 /// One bed study in the index.
@@ -422,6 +424,7 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         assumptions,
         conclusions: super::conclusion::conclusions(results),
         bed: Vec::new(),
+        bottom: Vec::new(),
     }
 }
 

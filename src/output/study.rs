@@ -124,6 +124,9 @@ pub struct Manifest {
     /// recorded, as for a study run by the report).
     #[serde(default)]
     pub shards: usize,
+    /// A joint study's experiments (ids, in order; empty for a study of one experiment).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joint: Vec<String>,
     /// Where the report shows it.
     #[serde(default)]
     pub section: crate::experiment::study::Section,
@@ -171,6 +174,11 @@ impl Manifest {
                 .collect(),
             grid: study.design == Design::Grid,
             shards: 0,
+            joint: if study.joint.is_empty() {
+                Vec::new()
+            } else {
+                study.parts().map(|p| p.base[0].meta.id.clone()).collect()
+            },
             section: study.section,
         }
     }

@@ -8,17 +8,9 @@ use super::Study;
 /// Checks the experiments of a joint study (`first` and `others`, named in the file by
 /// `files`: key and path): the same samples on every experiment, distinct experiments, every
 /// varied and set key reaching at least one of them (a varied key's `experiments` naming
-/// some of them), and no `report = true` (the report does not show joint studies yet).
+/// some of them).
 pub fn check(first: &Study, others: &[Study], files: &[(String, String)]) -> Result<()> {
     let path = &first.path;
-    if first.report {
-        return Err(Error::invalid(
-            path,
-            "study.report",
-            "true",
-            "the report does not show joint studies yet: run it with `shotdamp study` (report = false)",
-        ));
-    }
     let models =
         |s: &Study| s.base.iter().map(|e| e.model.as_ref().map_or(String::new(), |m| m.id.clone())).collect::<Vec<_>>();
     for (k, other) in others.iter().enumerate() {

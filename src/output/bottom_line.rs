@@ -1,0 +1,261 @@
+//! The report's bottom line (the index, above the verdict matrix): from each joint study the
+//! report runs (docs/studies.md, "Joint studies"), whether one setup of the values the paper
+//! leaves unstated reproduces every claim of its figures at once; if none does, the most that
+//! hold together and where, the claims that fail at every setup, and the claims that each hold
+//! somewhere but never together. Every number comes from this run's rows.
+
+use serde::Serialize;
+
+use crate::analysis::study::ClaimRow;
+use crate::analysis::study_samples::{best, per_sample, SampleSummary};
+use crate::number::fmt_num;
+
+use super::study::StudyRun;
+
+/// One joint study's bottom line.
+#[derive(Debug, Serialize)]
+pub struct BottomLine {
+    /// The study's id and title.
+    pub id: String,
+    /// Its title.
+    pub title: String,
+    /// The sentences.
+    pub sentences: Vec<String>,
+    /// The setups where the most claims hold at once: values in words, the count, the claims
+    /// that fail there.
+    pub best: Vec<BestRow>,
+    /// Links to its tables (file name, path).
+    pub tables: Vec<(String, String)>,
+}
+
+/// One setup of [`BottomLine::best`].
+#[derive(Debug, Serialize)]
+pub struct BestRow {
+    /// The model and the values, in words.
+    pub setup: String,
+    /// "10 of 13".
+    pub holds: String,
+    /// The failing claims, each with its value and bound.
+    pub failing: String,
+}
+
+/// The setup of a sample in words.
+fn setup(run: &StudyRun, s: &SampleSummary) -> String {
+    let model = run.manifest.models.iter().find(|m| m.0 == s.model).map_or(s.model.clone(), |m| m.1.clone());
+    let values: Vec<String> =
+        run.manifest.vary.iter().zip(&s.values).map(|(a, v)| format!("{} {}", a.name, fmt_num(*v))).collect();
+    if model.is_empty() {
+        values.join(", ")
+    } else {
+        format!("{model}: {}", values.join(", "))
+    }
+}
+
+/// The range of `values` in words.
+fn range(values: impl Iterator<Item = f64>) -> String {
+    let v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
+    let (lo, hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    if v.is_empty() {
+        "no value".into()
+    } else if lo == hi {
+        fmt_num(lo)
+    } else {
+        format!("{}-{}", fmt_num(lo), fmt_num(hi))
+    }
+}
+
+/// Where a claim holds, per varied key: the range of the values of the samples where it does.
+fn where_holds(run: &StudyRun, rows: &[&ClaimRow]) -> String {
+    let held: Vec<&&ClaimRow> = rows.iter().filter(|r| r.holds()).collect();
+    let words: Vec<String> = run
+        .manifest
+        .vary
+        .iter()
+        .enumerate()
+        .map(|(k, a)| format!("{} {}", a.name, range(held.iter().map(|r| r.values[k]))))
+        .collect();
+    format!("holds at {}", words.join(", "))
+}
+
+/// Claims, by their position, with the rows of each.
+fn by_claim(rows: &[ClaimRow]) -> Vec<(String, String, Vec<&ClaimRow>)> {
+    let mut out: Vec<(String, String, Vec<&ClaimRow>)> = Vec::new();
+    for r in rows {
+        match out.iter_mut().find(|c| c.0 == r.claim) {
+            Some(c) => c.2.push(r),
+            None => out.push((r.claim.clone(), r.bound.clone(), vec![r])),
+        }
+    }
+    out
+}
+
+/// The bottom line of one joint study run with the report.
+pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
+    let m = &run.manifest;
+    let samples = per_sample(&run.rows);
+    let top = best(&samples);
+    let claims = by_claim(&run.rows);
+    let n = claims.len();
+    let mut sentences = Vec::new();
+    let all: Vec<&SampleSummary> = samples.iter().filter(|s| s.evaluable == s.claims && s.holds == s.claims).collect();
+    let figures = m.figure.clone();
+    if !all.is_empty() {
+        let words: Vec<String> = all.iter().map(|s| setup(run, s)).collect();
+        sentences.push(format!(
+            "Every one of the {n} claims of {figures} holds at once, on settled points, at {} of the {} setups studied: {}.",
+            all.len(),
+            samples.len(),
+            words.join("; ")
+        ));
+    } else {
+        match top.first() {
+            Some(b) => sentences.push(format!(
+                "At none of the {} setups studied do all {n} claims of {figures} hold at once; the most, {} of {} that can be evaluated on settled points, hold at {} setup{} ({}).",
+                samples.len(),
+                b.holds,
+                b.evaluable,
+                top.len(),
+                if top.len() == 1 { "" } else { "s" },
+                setup(run, b)
+            )),
+            None => sentences.push(format!("No claim of {figures} can be evaluated on settled points at any setup studied.")),
+        }
+    }
+    // Claims that fail wherever they can be evaluated on settled points.
+    let never: Vec<String> = claims
+        .iter()
+        .filter(|(_, _, rs)| {
+            let settled: Vec<&&ClaimRow> =
+                rs.iter().filter(|r| r.outcome != crate::analysis::study::Verdict::NotEvaluable && r.settled).collect();
+            !settled.is_empty() && settled.iter().all(|r| !r.holds())
+        })
+        .map(|(c, bound, rs)| format!("{c} ({} against {bound})", range(rs.iter().map(|r| r.value))))
+        .collect();
+    if !never.is_empty() {
+        sentences.push(format!("Failing at every setup where it can be evaluated: {}.", never.join("; ")));
+    }
+    // Claims that each hold somewhere but never together: the figures that pull apart.
+    let holding: Vec<&(String, String, Vec<&ClaimRow>)> =
+        claims.iter().filter(|(_, _, rs)| rs.iter().any(|r| r.holds())).collect();
+    let mut apart = Vec::new();
+    for (i, a) in holding.iter().enumerate() {
+        for b in &holding[i + 1..] {
+            let together = a.2.iter().any(|ra| ra.holds() && b.2.iter().any(|rb| rb.sample == ra.sample && rb.holds()));
+            let other_figure = a.0.split(':').next() != b.0.split(':').next();
+            if !together && other_figure {
+                apart.push(format!(
+                    "\"{}\" ({}) and \"{}\" ({})",
+                    a.0,
+                    where_holds(run, &a.2),
+                    b.0,
+                    where_holds(run, &b.2)
+                ));
+            }
+        }
+    }
+    if !apart.is_empty() {
+        let shown: Vec<String> = apart.iter().take(3).cloned().collect();
+        sentences.push(format!(
+            "Claims that each hold on settled points at some setup but never at the same one{}: {}.",
+            if apart.len() > 3 { format!(" ({} pairs; the first three)", apart.len()) } else { String::new() },
+            shown.join("; ")
+        ));
+    }
+    BottomLine {
+        id: m.study.clone(),
+        title: m.title.clone(),
+        sentences,
+        best: top
+            .iter()
+            .map(|s| BestRow {
+                setup: setup(run, s),
+                holds: format!("{} of {}", s.holds, s.evaluable),
+                failing: s.failing.join("; "),
+            })
+            .collect(),
+        tables: [format!("{}.csv", m.study), format!("{}_samples.csv", m.study)]
+            .into_iter()
+            .map(|f| (f.clone(), format!("{file_dir}/{f}")))
+            .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::study::Verdict;
+    use crate::output::study::{Axis, Manifest};
+
+    fn row(sample: usize, x: f64, claim: &str, holds: bool) -> ClaimRow {
+        ClaimRow {
+            sample,
+            model: "stated".into(),
+            values: vec![x],
+            check: 0,
+            claim: claim.into(),
+            reading: String::new(),
+            value: if holds { 3.0 } else { 1.0 },
+            bound: "at least 2".into(),
+            outcome: if holds { Verdict::Holds } else { Verdict::Fails },
+            reason: String::new(),
+            settled: true,
+        }
+    }
+
+    fn run(rows: Vec<ClaimRow>) -> StudyRun {
+        StudyRun {
+            manifest: Manifest {
+                study: "j".into(),
+                title: "t".into(),
+                file: "j.toml".into(),
+                experiment: "a".into(),
+                figure: "Fig. A, Fig. B".into(),
+                fingerprint: String::new(),
+                samples: 3,
+                columns: Vec::new(),
+                vary: vec![Axis { name: "damping".into(), label: "damping".into(), log: false }],
+                map: None,
+                models: vec![("stated".into(), "stated chain".into())],
+                grid: true,
+                shards: 0,
+                joint: vec!["a".into(), "b".into()],
+                section: Default::default(),
+            },
+            description: String::new(),
+            rows,
+            assumed: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn figures_that_pull_apart_are_named_with_where_each_holds() {
+        // a:1 holds at low damping, b:1 at high damping, b:2 nowhere.
+        let mut rows = Vec::new();
+        for (k, x) in [0.002, 0.005, 0.01].into_iter().enumerate() {
+            rows.push(row(k, x, "a: one", k < 2));
+            rows.push(row(k, x, "b: one", k == 2));
+            rows.push(row(k, x, "b: two", false));
+        }
+        let b = of(&run(rows), "j");
+        let text = b.sentences.join(" ");
+        assert!(text.starts_with("At none of the 3 setups studied do all 3 claims"), "{text}");
+        assert!(text.contains("the most, 1 of 3"), "{text}");
+        assert!(
+            text.contains("Failing at every setup where it can be evaluated: b: two (1 against at least 2)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("\"a: one\" (holds at damping 0.002-0.005) and \"b: one\" (holds at damping 0.01)"),
+            "{text}"
+        );
+        assert_eq!(b.best.len(), 3, "every setup holds one claim");
+        // Where everything holds at one setup, that setup is the answer.
+        let all = vec![row(0, 0.002, "a: one", false), row(1, 0.005, "a: one", true), row(1, 0.005, "b: one", true)];
+        let b = of(&run(all), "j");
+        assert!(
+            b.sentences[0].starts_with("Every one of the 2 claims") && b.sentences[0].contains("damping 0.005"),
+            "{:?}",
+            b.sentences
+        );
+    }
+}
