@@ -108,7 +108,7 @@ fn bad_joint_studies_are_named() {
         (format!("experiment = \"{e5}\"\n{both}"), DAMPING.to_string(), "study.experiments", "not both"),
         (both.clone(), format!("{clearance}experiments = [\"fig99\"]\n"), "vary[0].experiments", "fig99"),
         (both.clone(), DAMPING.replace("structure.damping", "structure.dampin"), "vary[0].key", "reaches none"),
-        (format!("{both}\nreport = true"), DAMPING.to_string(), "study.report", "does not show joint studies"),
+        (both.clone(), format!("[study.set]\n\"structure.nope\" = 1.0\n\n{DAMPING}"), "study.set", "reaches none"),
         (format!("experiments = [\"{e5}\", \"{e5}\"]"), DAMPING.to_string(), "study.experiments[1]", "already"),
         (
             format!("experiment = \"{e5}\""),
