@@ -750,18 +750,7 @@ mod tests {
 
     fn found(objective: f64, unsettled: usize) -> Found {
         let layout = Layout { hosts: vec![1], masses_kg: vec![0.1], clearances_mm: vec![0.4] };
-        let evaluation = Evaluation {
-            bands: vec![objective],
-            bare: vec![1.0],
-            objective,
-            scenarios: vec![objective],
-            worst_scenario: 0,
-            worst: (0, 50.0, 1),
-            curves: Vec::new(),
-            unsettled,
-            points: 10,
-            motion: Vec::new(),
-        };
+        let evaluation = Evaluation::with_objective(objective, unsettled, 10);
         Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1 }
     }
 

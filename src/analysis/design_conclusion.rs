@@ -96,18 +96,7 @@ mod tests {
         let n = masses_kg.len();
         Found {
             layout: Layout { hosts: (0..n).collect(), masses_kg: masses_kg.to_vec(), clearances_mm: vec![1.0; n] },
-            evaluation: Evaluation {
-                bands: vec![objective],
-                bare: vec![1.0],
-                objective,
-                scenarios: vec![objective],
-                worst_scenario: 0,
-                worst: (0, 50.0, 1),
-                curves: Vec::new(),
-                unsettled,
-                points: 1,
-                motion: Vec::new(),
-            },
+            evaluation: Evaluation::with_objective(objective, unsettled, 1),
             x: Vec::new(),
             starts: 1,
             evaluations: 1,

@@ -348,6 +348,25 @@ pub struct Evaluation {
     pub motion: Vec<Motion>,
 }
 
+#[cfg(test)]
+impl Evaluation {
+    /// An evaluation of one band (the worst at 50 Hz on m2) with this objective, for tests.
+    pub fn with_objective(objective: f64, unsettled: usize, points: usize) -> Evaluation {
+        Evaluation {
+            bands: vec![objective],
+            bare: vec![1.0],
+            objective,
+            scenarios: vec![objective],
+            worst_scenario: 0,
+            worst: (0, 50.0, 1),
+            curves: Vec::new(),
+            unsettled,
+            points,
+            motion: Vec::new(),
+        }
+    }
+}
+
 /// How the beds of a layout moved over a band: whether the drive makes them work. Beds that
 /// never leave their containers only add mass.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
