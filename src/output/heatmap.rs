@@ -218,6 +218,23 @@ impl Scale {
         }
     }
 
+    /// The colour bar's label at `t`: three significant digits, or as many decimals as tell
+    /// its ticks apart when the values span less than that resolves (1.0368-1.0377).
+    fn label(&self, t: f64) -> String {
+        let v = self.value(t);
+        let step = (self.hi - self.lo) / 5.0;
+        if self.log || !(step > 0.0) || v == 0.0 || !(0.01..1000.0).contains(&v.abs()) {
+            return short(v);
+        }
+        let needed = (-step.log10().floor()).clamp(0.0, 8.0) as usize;
+        let digits = (2 - v.abs().log10().floor() as i32).clamp(0, 4) as usize;
+        if needed <= digits {
+            short(v)
+        } else {
+            format!("{v:.needed$}")
+        }
+    }
+
     fn value(&self, t: f64) -> f64 {
         if self.log {
             self.lo * (self.hi / self.lo).powf(t)
@@ -461,7 +478,7 @@ fn draw_bar<DB: DrawingBackend>(
             Rectangle::new([(0.0, a), (1.0, b)], viridis(0.5 * (a + b)).filled())
         }))
         .map_err(|e| err(map, e))?;
-    let fy = |t: &f64| short(scale.value(*t));
+    let fy = |t: &f64| scale.label(*t);
     chart
         .configure_mesh()
         .disable_mesh()
@@ -478,7 +495,20 @@ fn draw_bar<DB: DrawingBackend>(
 
 #[cfg(test)]
 mod tests {
-    use super::grid_position;
+    use super::{grid_position, Scale};
+
+    #[test]
+    fn a_narrow_colour_scale_tells_its_ticks_apart() {
+        let narrow = Scale { lo: 1.036826, hi: 1.037726, log: false };
+        let labels: Vec<String> = (0..=5).map(|k| narrow.label(k as f64 / 5.0)).collect();
+        let mut distinct = labels.clone();
+        distinct.dedup();
+        assert_eq!(distinct.len(), 6, "{labels:?}");
+        assert_eq!(labels[0], "1.0368");
+        // A usual spread keeps three significant digits.
+        let usual = Scale { lo: 1.5, hi: 4.0, log: false };
+        assert_eq!((usual.label(0.0).as_str(), usual.label(1.0).as_str()), ("1.50", "4.00"));
+    }
 
     #[test]
     fn grid_positions_interpolate_between_cells_and_stop_at_the_edges() {
