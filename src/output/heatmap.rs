@@ -223,7 +223,7 @@ impl Scale {
     fn label(&self, t: f64) -> String {
         let v = self.value(t);
         let step = (self.hi - self.lo) / 5.0;
-        if self.log || !(step > 0.0) || v == 0.0 || !(0.01..1000.0).contains(&v.abs()) {
+        if self.log || step.is_nan() || step <= 0.0 || v == 0.0 || !(0.01..1000.0).contains(&v.abs()) {
             return short(v);
         }
         let needed = (-step.log10().floor()).clamp(0.0, 8.0) as usize;
