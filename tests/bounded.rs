@@ -238,8 +238,8 @@ proptest! {
 #[test]
 fn forcing_frequencies_below_the_floor_are_input_errors_and_those_above_end() {
     use shotdamp::experiment::parts::{check_frequencies, MIN_FREQUENCY_RATIO};
-    use shotdamp::model::{Damper, Damping, Structure};
-    let paper = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    use shotdamp::model::Damper;
+    let paper = crate::common::paper();
     let top = shotdamp::model::modal::modal_summary(&paper, &[])[2].freq_hz;
     let floor = MIN_FREQUENCY_RATIO * top;
     let err = check_frequencies("file.toml", "analysis.freq_hz", &[48.0, 1e-6], &paper).unwrap_err();

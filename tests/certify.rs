@@ -10,15 +10,14 @@ use crate::common;
 
 use std::f64::consts::PI;
 
-use shotdamp::model::{Clearance, Damper, Damping, Structure};
+use shotdamp::model::{Clearance, Damper};
 use shotdamp::sim::bed::ImpactLaw;
 use shotdamp::sim::observe::Extrema;
 use shotdamp::sim::{steady_state, Dynamics, Engine, State, Steady, SteadyMethod, SteadyOptions, System};
 
 /// Fig. 5's containers on the stated chain: mu = 0.1 on the masses given, d = 0.35 mm.
 fn fig5(hosts: &[usize]) -> System {
-    let structure =
-        Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    let structure = crate::common::paper();
     let m = [0.74, 0.71, 0.64];
     let dampers = hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_mm(0.35))).collect();
     System::plastic(structure, dampers, 0, 2.6)

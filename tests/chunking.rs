@@ -6,16 +6,13 @@
 //! form from another origin, so the two states differ by rounding, ~1e-14 relative; at an
 //! impact of 6e-7 m/s that alone moves the event by ~2e-12 s, whatever the root search does.)
 
+use crate::common::paper;
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
-use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::model::Damper;
 use shotdamp::sim::observe::EventLog;
 use shotdamp::sim::{Dynamics, Engine, EventKind, State, System};
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];

@@ -4,17 +4,14 @@
 //! bounded number of events.
 
 use crate::common;
+use crate::common::paper;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
-use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::model::Damper;
 use shotdamp::sim::bed::ImpactLaw;
 use shotdamp::sim::{steady_state, Dynamics, Engine, EventKind, Quiet, State, SteadyMethod, SteadyOptions, System};
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 /// Fig. 5's containers: mu = 0.1 on the masses given, clearance `d` m.
 fn fig5(hosts: &[usize], d: f64) -> System {

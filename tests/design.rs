@@ -3,16 +3,12 @@
 //! number of threads.
 
 use crate::common;
+use crate::common::paper;
 
 use shotdamp::design::search::{grid, optimise, placements, Options, Space};
 use shotdamp::design::{band_compliance, bare, evaluate, Band, Combine, Layout, Measure, Problem, Scenario, Sweep};
 use shotdamp::model::frf::compliance_curve;
-use shotdamp::model::{Damping, Structure};
 use shotdamp::sim::{SteadyOptions, System};
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 fn problem(bands: Vec<Band>, sweeps: Vec<Sweep>) -> Problem {
     Problem {
@@ -215,8 +211,7 @@ fn the_conclusion_check_is_refused_where_it_cannot_be_read() {
 #[test]
 fn an_objective_over_scenarios_combines_the_scenarios_alone() {
     let band = Band { name: "mode 3".into(), freq_hz: grid_hz(46.0, 50.0, 1.0), masses: vec![1] };
-    let damped =
-        |z: f64| Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![z; 3]));
+    let damped = |z: f64| crate::common::paper_with(z);
     let scenarios = vec![
         Scenario { name: "a".into(), structure: damped(0.005), force: 2.6 },
         Scenario { name: "b".into(), structure: damped(0.02), force: 5.2 },

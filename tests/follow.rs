@@ -5,15 +5,12 @@
 //! across the grazes where a followed orbit's events per cycle change (a bed starts or stops
 //! lifting off or reaching the top).
 
+use crate::common::paper_with as paper;
 use shotdamp::design::{bare, evaluate, Band, Combine, Layout, Measure, Problem, Sweep};
 use shotdamp::model::Clearance;
-use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::model::Damper;
 use shotdamp::sim::sweep::{continued, Direction};
 use shotdamp::sim::{SteadyOptions, System};
-
-fn paper(zeta: f64) -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![zeta; 3]))
-}
 
 fn band() -> Vec<f64> {
     (0..=48).map(|i| 44.0 + 0.25 * i as f64).collect()

@@ -1,17 +1,14 @@
 //! The impulse response against closed forms: the modal solution of the bare structure, the
 //! log-decrement estimator, the energy balance, and a bed that never lifts off.
 
+use crate::common::paper;
 use nalgebra::{DMatrix, DVector};
 use shotdamp::model::modal::symmetric_modes;
 use shotdamp::model::Clearance;
-use shotdamp::model::{Damper, Damping, Structure, GRAVITY};
+use shotdamp::model::{Damper, GRAVITY};
 use shotdamp::signal::log_decrements;
 use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
 use shotdamp::sim::System;
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 fn opts(v0: f64, duration: f64) -> ImpulseOptions {
     ImpulseOptions { mass: 0, kick: Kick::Velocity(v0), duration, dt: 1e-4 }

@@ -1,6 +1,7 @@
 //! Periodic orbits by shooting against long simulations and the bouncing ball's closed forms.
 
 use crate::common;
+use crate::common::paper;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;
@@ -8,14 +9,10 @@ use std::f64::consts::PI;
 use nalgebra::DVector;
 use shotdamp::model::frf::receptance;
 use shotdamp::model::sdof::EquivalentSdof;
-use shotdamp::model::{Damper, Damping, Structure, GRAVITY};
+use shotdamp::model::{Damper, GRAVITY};
 use shotdamp::sim::continuation::{continue_branch, ContinuationOptions, Special};
 use shotdamp::sim::periodic::{seed, solve, summarize, NewtonOptions, Problem};
 use shotdamp::sim::{steady_state, Dynamics, SetupError, State, SteadyOptions, System};
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 /// A long simulation to a tight steady state, then the orbit through its state.
 fn orbit_against_simulation(sys: &System, f: f64) {

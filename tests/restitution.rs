@@ -3,17 +3,14 @@
 //! mixed laws, and bad values are input errors naming the key.
 
 use crate::common;
+use crate::common::paper;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
-use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::model::Damper;
 use shotdamp::sim::bed::ImpactLaw;
 use shotdamp::sim::{steady_state, sweep, Dynamics, State, SteadyOptions, System};
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 /// Fig. 5's three containers (d = 0.35 mm), the one on m2 with restitution keys `restitution`.
 fn experiment_file(dir: &std::path::Path, restitution: &str) -> std::path::PathBuf {

@@ -2,6 +2,7 @@
 //! plastic bouncing ball, a second integrator, grazes and chatter.
 
 #![allow(clippy::needless_range_loop)]
+use crate::common::paper;
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
@@ -11,10 +12,6 @@ use shotdamp::model::{Damper, Damping, Structure, GRAVITY};
 use shotdamp::sim::{
     steady_state, Bed, Dynamics, Engine, Event, EventKind, Observer, SetupError, State, SteadyOptions, Stop, System,
 };
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
     let m = [0.74, 0.71, 0.64];

@@ -4,17 +4,13 @@
 //! agree on a 32-mass chain, the thread count changes no bit, and a full mass matrix (the same
 //! chain in coordinates that keep the hosts physical) gives the same motion.
 
+use crate::common::paper;
 use std::f64::consts::PI;
 
 use nalgebra::DMatrix;
 use shotdamp::model::{Clearance, Damper, Damping, Structure};
 use shotdamp::sim::sweep;
 use shotdamp::sim::{steady_state, Dynamics, State, Steady, SteadyMethod, SteadyOptions, System};
-
-/// The paper's chain with modal damping 0.01.
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 /// `a` and `b` on the diagonal.
 fn block_diagonal(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {

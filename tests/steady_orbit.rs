@@ -4,21 +4,18 @@
 //! the orbits against long transient runs.
 
 use crate::common;
+use crate::common::paper_with as paper;
 
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use num_complex::Complex64;
-use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::model::Damper;
 use shotdamp::sim::continuation::{continue_branch, Special};
 use shotdamp::sim::periodic::{fd_jacobian, multipliers, seed, solve, summarize, NewtonOptions, Section};
 use shotdamp::sim::steady::SteadyMethod;
 use shotdamp::sim::strobe::Strobe;
 use shotdamp::sim::{steady_state, Dynamics, SetupError, State, SteadyOptions, System};
-
-fn paper(zeta: f64) -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![zeta; 3]))
-}
 
 fn system(hosts: &[usize], clearance: f64, zeta: f64) -> System {
     let m = [0.74, 0.71, 0.64];

@@ -4,13 +4,13 @@
 use shotdamp::analysis::curves::{self, from_sweep};
 use shotdamp::experiment::CurveId;
 use shotdamp::model::Clearance;
-use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::model::Damper;
 use shotdamp::sim::sweep::{self, Direction};
 use shotdamp::sim::{SteadyOptions, System};
 use shotdamp::table::to_csv;
 
 fn system(hosts: &[usize], clearance: f64) -> System {
-    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    let s = crate::common::paper();
     let m = [0.74, 0.71, 0.64];
     let dampers = hosts.iter().map(|&h| Damper::new(h, 0.1 * m[h], Clearance::from_m(clearance))).collect();
     System::plastic(s, dampers, 0, 2.6)

@@ -5,16 +5,13 @@
 //! budget's own ten periods are, or closer; a point that is not on a torus is left to the
 //! budget.
 
+use crate::common::paper;
 use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
-use shotdamp::model::{Damper, Damping, Structure};
+use shotdamp::model::Damper;
 use shotdamp::sim::steady::{NoSteady, TORUS_TOL};
 use shotdamp::sim::{steady_state, Dynamics, State, SteadyOptions, System};
-
-fn paper() -> Structure {
-    Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]))
-}
 
 fn system(hosts: &[usize]) -> System {
     let m = [0.74, 0.71, 0.64];

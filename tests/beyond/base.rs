@@ -320,7 +320,7 @@ fn soft_contacts_on_shaken_supports_give_the_stuck_chain_below_lift_off() {
     // model's amplitude relative to the supports, over A, is the stuck chain's closed form,
     // within the contact springs' compliance and the explicit steps' error.
     use shotdamp::sim::soft::{amplitude, SoftOptions};
-    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+    let s = crate::common::paper();
     let bed = Damper::new(2, 0.064, Clearance::from_mm(0.35));
     let accel = 0.05;
     let sys = System::plastic(s, vec![bed], 0, 0.0)

@@ -7,6 +7,21 @@ use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 
+/// The paper's chain (0.74, 0.71, 0.64 kg; 24.3, 21.8, 19.8 kN/m) with modal damping `zeta` in
+/// every mode.
+pub fn paper_with(zeta: f64) -> shotdamp::model::Structure {
+    shotdamp::model::Structure::chain(
+        &[0.74, 0.71, 0.64],
+        &[24.3e3, 21.8e3, 19.8e3],
+        shotdamp::model::Damping::ModalRatios(vec![zeta; 3]),
+    )
+}
+
+/// The paper's chain with the modal damping the report assumes, 0.01 in every mode.
+pub fn paper() -> shotdamp::model::Structure {
+    paper_with(0.01)
+}
+
 /// The repository.
 pub fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
