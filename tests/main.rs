@@ -5,6 +5,7 @@
 
 mod common;
 
+mod adaptive;
 mod beyond;
 mod bounded;
 mod browser;

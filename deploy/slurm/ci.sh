@@ -6,7 +6,8 @@
 #   3. an array with task 1 cancelled mid-run: the merge names shard 1; `sbatch --array=1` (the
 #      natural rerun) resumes it as shard 1 of the folder's 3;
 #   4. an array with task 1 cancelled mid-run and requeued by Slurm;
-# every merge equal to the unsharded table byte for byte; and deploy/slurm/design.sbatch: a
+# every merge equal to the unsharded table byte for byte; an adaptive study's rounds as an array
+# of 3 (studies/fig05_adaptive.toml), equal to the unsharded folder; and deploy/slurm/design.sbatch: a
 # small design searched as an array of 3 shards, the chained merge's report equal to the whole
 # search's file for file. Tears down on success, on failure and
 # on SIGTERM/SIGINT. Usage, from a checkout with target/release/shotdamp built (or under
@@ -96,6 +97,13 @@ grep -q "^resuming: " "$R/requeue/logs/${j}_1.out"   # the requeued task appende
 [ "$(grep -c '^== ' "$R/requeue/logs/${j}_1.out")" -ge 2 ]
 "$BIN" study merge "$R/requeue" > "$W/logs/merge-requeue.log"
 cmp "$R/whole/$ID.csv" "$R/requeue/$ID.csv"
+say "adaptive study: an array of 3 shards, rounds computed by whichever task is free"
+A=studies/fig05_adaptive.toml; AID=fig05_adaptive
+"$BIN" study "$A" --out "$R/adaptive-whole" --jobs 2 > "$W/logs/adaptive-whole.log" 2>&1
+j=$(sbatch --parsable "${ONE[@]}" --array=0-2 deploy/slurm/study.sbatch "$A" "$R/adaptive" 3)
+m=$(sbatch --parsable --dependency=afterok:"$j" --output="$W/logs/adaptive-merge-%j.out" --wrap "$BIN study merge $R/adaptive")
+waitfor "gone $j && gone $m"; all_ok "$j"; all_ok "$m"
+for f in "$AID.csv" "${AID}_map.csv" "${AID}_summary.csv" "${AID}_samples.csv"; do cmp "$R/adaptive-whole/$f" "$R/adaptive/$f"; done
 say "design: an array of 3 shards + chained merge, equal to the whole search's report"
 D=$W/design.toml   # a small design: the 5-storey frame, two candidates, coarse bands
 sed -e 's/candidates = \[1, 2, 3, 4, 5\]/candidates = [4, 5]/' \
@@ -109,4 +117,4 @@ grep -q "shard 1/3" "$R/design-parts/logs/${j}_1.out"
 diff -r "$R/design-whole" "$R/design-merged"
 # Job logs and study folders of a run from the checkout are ignored by git.
 [ -z "$(git -C "$REPO" status --porcelain)" ] || { git -C "$REPO" status --porcelain; say "the checkout changed"; exit 1; }
-say "PASS: arrays run together, rerun with --array=1 and requeued equal the unsharded $ID.csv; the sharded design's report equals the whole search's"
+say "PASS: arrays run together, rerun with --array=1 and requeued equal the unsharded $ID.csv; the adaptive study's array equals its unsharded folder; the sharded design's report equals the whole search's"

@@ -25,6 +25,7 @@ mod overlays;
 pub mod reduction;
 pub mod result;
 pub mod study;
+pub mod study_adaptive;
 pub mod study_samples;
 mod sweep;
 mod waveform;

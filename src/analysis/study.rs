@@ -255,7 +255,8 @@ fn dependency_exports(
 }
 
 /// Every sample of a study, in parallel (on the caller's pool), rows in sample order: the
-/// same rows whatever the number of threads.
+/// same rows whatever the number of threads. An adaptive study's samples are its round 0:
+/// [`super::study_adaptive::run_all`] runs its rounds.
 pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path, tick: &Tick) -> Result<Vec<ClaimRow>> {
     use rayon::prelude::*;
     let cache = DependencyCache::default();

@@ -241,6 +241,18 @@ impl shards::StudyProgress for Told<'_> {
         }
     }
 
+    fn round(&self, round: u32, samples: usize) {
+        let line = format!("{} round {round}: {samples} samples over every shard", self.id);
+        match &self.bar {
+            Some(b) => {
+                b.println(line);
+                b.set_length(samples.div_ceil(self.shard.count) as u64);
+                b.set_position(0);
+            }
+            None => eprintln!("{line}"),
+        }
+    }
+
     fn batch(&self, done: usize, total: usize, first: usize, seconds: f64) {
         if self.bar.is_none() {
             let per = seconds / (done - first) as f64;
@@ -289,6 +301,20 @@ fn size_words(study: &Study) -> String {
             for v in &study.vary {
                 parts.push(format!("{} {}", v.domain.grid().map_or(0, |g| g.len()), v.name));
             }
+        }
+        Design::Adaptive { levels, refine } => {
+            let sizes: Vec<String> =
+                study.vary.iter().map(|v| format!("{} {}", v.domain.grid().map_or(0, |g| g.len()), v.name)).collect();
+            parts.push(format!(
+                "a grid of {} refined in {levels} rounds where the {} changes (round 0 below; the rest as the answers come)",
+                sizes.join(" x "),
+                match refine {
+                    study::Refine::All => "answer to \"does every claim hold?\"".to_string(),
+                    study::Refine::Count => "number of claims that hold".to_string(),
+                    study::Refine::Outcomes => "outcome of any claim".to_string(),
+                    study::Refine::Check(k) => format!("outcome of claim {k}"),
+                }
+            ));
         }
         Design::Sobol { samples, .. } | Design::LatinHypercube { samples, .. } => {
             let names: Vec<&str> = study.vary.iter().map(|v| v.name.as_str()).collect();

@@ -89,6 +89,49 @@ fn by_claim(rows: &[ClaimRow]) -> Vec<(String, String, Vec<&ClaimRow>)> {
     out
 }
 
+/// How a figure's experiment fares at a joint study's best setup on one model (the sample
+/// where the most claims of every experiment hold at once): for the verdict matrix's cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AtJointSetup {
+    /// The experiment's id.
+    pub experiment: String,
+    /// The model's id.
+    pub model: String,
+    /// Its claims that hold there on settled points.
+    pub holds: usize,
+    /// Its claims in the joint study.
+    pub claims: usize,
+    /// The setup, in words.
+    pub setup: String,
+}
+
+/// Every experiment of a joint study at its best setup, per model: the first sample (in
+/// sample order) among those of the model where the most claims hold at once.
+pub fn at_joint_setup(run: &StudyRun) -> Vec<AtJointSetup> {
+    let samples = per_sample(&run.rows);
+    let mut out = Vec::new();
+    for (model, _) in &run.manifest.models {
+        let mine: Vec<SampleSummary> = samples.iter().filter(|s| &s.model == model).cloned().collect();
+        let Some(b) = best(&mine).into_iter().next() else { continue };
+        for id in &run.manifest.joint {
+            let prefix = format!("{id}: ");
+            let rows: Vec<&ClaimRow> =
+                run.rows.iter().filter(|r| r.sample == b.sample && r.claim.starts_with(&prefix)).collect();
+            if rows.is_empty() {
+                continue;
+            }
+            out.push(AtJointSetup {
+                experiment: id.clone(),
+                model: model.clone(),
+                holds: rows.iter().filter(|r| r.holds()).count(),
+                claims: rows.len(),
+                setup: setup(run, b),
+            });
+        }
+    }
+    out
+}
+
 /// The bottom line of one joint study run with the report.
 pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
     let m = &run.manifest;
@@ -218,6 +261,7 @@ mod tests {
                 models: vec![("stated".into(), "stated chain".into())],
                 grid: true,
                 shards: 0,
+                rounds: 0,
                 joint: vec!["a".into(), "b".into()],
                 section: Default::default(),
             },
@@ -251,6 +295,11 @@ mod tests {
         assert_eq!(b.best.len(), 3, "every setup holds one claim");
         // Where everything holds at one setup, that setup is the answer.
         let all = vec![row(0, 0.002, "a: one", false), row(1, 0.005, "a: one", true), row(1, 0.005, "b: one", true)];
+        let at = at_joint_setup(&run(all.clone()));
+        assert_eq!(at.len(), 2, "{at:?}");
+        assert_eq!((at[0].experiment.as_str(), at[0].holds, at[0].claims), ("a", 1, 1));
+        assert_eq!((at[1].experiment.as_str(), at[1].holds, at[1].claims), ("b", 1, 1));
+        assert_eq!(at[0].setup, "stated chain: damping 0.005");
         let b = of(&run(all), "j");
         assert!(
             b.sentences[0].starts_with("Every one of the 2 claims") && b.sentences[0].contains("damping 0.005"),

@@ -343,7 +343,7 @@ fn draw_panel<DB: DrawingBackend>(
         .caption(&panel.title, ("sans-serif", 15).into_font())
         .margin(8)
         .x_label_area_size(40)
-        .y_label_area_size(56)
+        .y_label_area_size(68)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(|e| err(map, e))?;
     let label = |all: Vec<f64>, log: bool, grid: bool| {
@@ -356,7 +356,8 @@ fn draw_panel<DB: DrawingBackend>(
                     String::new()
                 }
             } else if log {
-                fmt_num(10f64.powf(*v))
+                // Ticks at round steps of the logarithm: three significant digits.
+                short(10f64.powf(*v))
             } else {
                 fmt_num(*v)
             }

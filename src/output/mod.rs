@@ -224,6 +224,9 @@ impl ReportWriter {
             }
             index_view.bottom.push(bottom_line::of(s, &m.study));
         }
+        let joint: Vec<bottom_line::AtJointSetup> =
+            studies.iter().filter(|s| !s.manifest.joint.is_empty()).flat_map(bottom_line::at_joint_setup).collect();
+        report::mark_joint(&mut index_view, &joint);
         let index = report::render(&self.tera, "index.html", &index_view)?;
         write(&dir.join("index.html"), index.as_bytes())?;
         write(&dir.join("checks.json"), &checks_json(results)?)?;

@@ -316,6 +316,14 @@ pub struct ModelCell {
     pub unsettled: usize,
     /// The page of the figure's experiment on this model ("" when not run).
     pub link: String,
+    /// Its claims that hold at a joint study's best setup on this model ("2/3"; "" when no
+    /// joint study the report runs holds the figure on this model).
+    pub joint: String,
+    /// That setup, in words (the cell's tooltip).
+    pub joint_setup: String,
+    /// The model's id.
+    #[serde(skip)]
+    pub model: String,
 }
 
 /// One paper figure: its verdict and the experiments behind it.
@@ -332,6 +340,9 @@ pub struct FigureRow {
     pub cells: Vec<ModelCell>,
     /// (title, link) of each experiment.
     pub experiments: Vec<(String, String)>,
+    /// The ids of its experiments.
+    #[serde(skip)]
+    pub ids: Vec<String>,
     /// One short sentence: the verdict on each model, grouped.
     pub sentence: String,
     /// Checks against the paper's own numbers and figures, counted in words.
@@ -353,6 +364,9 @@ pub struct IndexView {
     pub overall: String,
     /// CSS class of the outcome.
     pub overall_class: String,
+    /// The replication's verdict: per model, how many figures are reproduced, partly, not
+    /// (named), without a reference (empty without several models).
+    pub replication: Vec<String>,
     /// Labels of the models experiments run on, in first-seen order.
     pub models: Vec<String>,
     /// One row per paper figure.
@@ -396,8 +410,10 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         }
     }
     let models = model_list(results);
+    let figures = figure_rows(results, &models);
     IndexView {
-        figures: figure_rows(results, &models),
+        replication: replication(&figures, &models),
+        figures,
         models: models.iter().map(|m| m.label.clone()).collect(),
         title: "shotdamp: replication of Araki et al. (1997)".into(),
         generated_by: format!("shotdamp {}", env!("CARGO_PKG_VERSION")),
@@ -425,6 +441,57 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         conclusions: super::conclusion::conclusions(results),
         bed: Vec::new(),
         bottom: Vec::new(),
+    }
+}
+
+/// Per model: the figures reproduced, partly reproduced, not reproduced (named) and without a
+/// reference, from the verdict matrix's cells.
+fn replication(figures: &[FigureRow], models: &[ModelInfo]) -> Vec<String> {
+    use crate::checks::verdict::Verdict as V;
+    models
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let of = |v: V| -> Vec<&str> {
+                figures
+                    .iter()
+                    .filter(|f| f.cells.get(i).is_some_and(|c| c.verdict == v.label()))
+                    .map(|f| f.figure.as_str())
+                    .collect()
+            };
+            let (rep, part, not, none) =
+                (of(V::Reproduced), of(V::PartlyReproduced), of(V::NotReproduced), of(V::NoReference));
+            let mut words = vec![format!("{} reproduced", rep.len()), format!("{} partly", part.len())];
+            words.push(if not.is_empty() {
+                "0 not reproduced".to_string()
+            } else {
+                format!("{} not reproduced ({})", not.len(), not.join(", "))
+            });
+            if !none.is_empty() {
+                words.push(format!("{} without a reference", none.len()));
+            }
+            format!("{}: {}", m.label, words.join(", "))
+        })
+        .collect()
+}
+
+/// Marks each verdict cell whose figure a joint study the report runs holds on its model:
+/// how many of the figure's claims hold at that study's best setup (the first study that
+/// has the figure on the model).
+pub fn mark_joint(view: &mut IndexView, joint: &[super::bottom_line::AtJointSetup]) {
+    for f in &mut view.figures {
+        for cell in &mut f.cells {
+            let here: Vec<&super::bottom_line::AtJointSetup> =
+                joint.iter().filter(|j| j.model == cell.model && f.ids.contains(&j.experiment)).collect();
+            if let Some(first) = here.first() {
+                let same: Vec<&&super::bottom_line::AtJointSetup> =
+                    here.iter().filter(|j| j.setup == first.setup).collect();
+                let holds: usize = same.iter().map(|j| j.holds).sum();
+                let claims: usize = same.iter().map(|j| j.claims).sum();
+                cell.joint = format!("{holds}/{claims}");
+                cell.joint_setup = first.setup.clone();
+            }
+        }
     }
 }
 
@@ -494,6 +561,9 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                             checks: String::new(),
                             unsettled: 0,
                             link: String::new(),
+                            joint: String::new(),
+                            joint_setup: String::new(),
+                            model: m.id.clone(),
                         };
                     }
                     let v = verdict(on.iter().flat_map(|r| r.checks.iter()));
@@ -509,6 +579,9 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                         checks: if paper.is_empty() { String::new() } else { format!("{passing}/{}", paper.len()) },
                         unsettled: paper.iter().filter(|c| c.settled == Some(false)).count(),
                         link: format!("{}/index.html", on[0].experiment.key()),
+                        joint: String::new(),
+                        joint_setup: String::new(),
+                        model: m.id.clone(),
                     }
                 })
                 .collect();
@@ -521,7 +594,10 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                     titles.push((r.experiment.meta.title.clone(), link));
                 }
             }
+            let mut ids: Vec<String> = members.iter().map(|r| r.experiment.meta.id.clone()).collect();
+            ids.dedup();
             FigureRow {
+                ids,
                 figure: g,
                 verdict: label(v).to_string(),
                 verdict_class: v.class().to_string(),

@@ -124,6 +124,9 @@ pub struct Manifest {
     /// recorded, as for a study run by the report).
     #[serde(default)]
     pub shards: usize,
+    /// An adaptive study's rounds, once its last has ended and they are merged (0 otherwise).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rounds: usize,
     /// A joint study's experiments (ids, in order; empty for a study of one experiment).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joint: Vec<String>,
@@ -146,6 +149,10 @@ impl Manifest {
         }
         for (k, v) in &study.set {
             text.push_str(&format!("set {} = {v}\n", k.as_str()));
+        }
+        if let Design::Adaptive { levels, refine } = study.design {
+            // Its samples after round 0 follow from these and from the answers.
+            text.push_str(&format!("adaptive {levels} {}\n", refine.name()));
         }
         for s in &study.samples {
             let bits: Vec<String> = s.values.iter().map(|x| format!("{:016x}", x.to_bits())).collect();
@@ -174,6 +181,7 @@ impl Manifest {
                 .collect(),
             grid: study.design == Design::Grid,
             shards: 0,
+            rounds: 0,
             joint: if study.joint.is_empty() {
                 Vec::new()
             } else {
@@ -182,6 +190,10 @@ impl Manifest {
             section: study.section,
         }
     }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// FNV-1a, 64 bits: a fingerprint that is the same on every machine and version.

@@ -10,6 +10,7 @@ pub mod design_parts;
 pub mod designs;
 pub mod schedule;
 pub mod study;
+pub mod study_rounds;
 
 use std::path::{Path, PathBuf};
 
@@ -320,10 +321,22 @@ fn run_studies(
         // No count of points before the samples are built: a counter of unknown total (the
         // command line draws no bar for it; a caller may stop the run at any point).
         let tick = progress.start(&s.id, 0);
-        let rows = analysis::study::run_all(s, refs, reference, &*tick)?;
-        log(format!("  ok {:<36} study: {} samples ({:.2} s)", s.id, s.samples.len(), started.elapsed().as_secs_f64()));
+        let rows = if s.lattice().is_some() {
+            analysis::study_adaptive::run_all(s, refs, reference, &*tick)?
+        } else {
+            analysis::study::run_all(s, refs, reference, &*tick)?
+        };
+        let mut manifest = Manifest::of(s, &s.path.display().to_string());
+        // An adaptive study's samples are those its rounds computed.
+        manifest.samples = rows.last().map_or(0, |r| r.sample + 1);
+        log(format!(
+            "  ok {:<36} study: {} samples ({:.2} s)",
+            s.id,
+            manifest.samples,
+            started.elapsed().as_secs_f64()
+        ));
         out.push(StudyRun {
-            manifest: Manifest::of(s, &s.path.display().to_string()),
+            manifest,
             description: s.description.clone().unwrap_or_default(),
             rows,
             assumed: Vec::new(),

@@ -27,6 +27,8 @@ pub trait StudyProgress: Sync {
     fn point(&self) {}
     /// One more sample computed.
     fn sample(&self) {}
+    /// An adaptive study's round `round` starts, with `samples` samples over every shard.
+    fn round(&self, _round: u32, _samples: usize) {}
     /// A batch written: `done` of `total`, `seconds` since this run started computing.
     fn batch(&self, _done: usize, _total: usize, _first: usize, _seconds: f64) {}
 }
@@ -90,6 +92,24 @@ pub fn run_shard(
     pool: &rayon::ThreadPool,
     progress: &dyn StudyProgress,
 ) -> Result<(ShardEnd, Option<Merged>)> {
+    if study.lattice().is_some() {
+        return super::study_rounds::run_shard(study, reference, out, shard, pool, progress);
+    }
+    let end = compute_shard(study, reference, out, shard, pool, progress)?;
+    let merged = if shard.count == 1 { Some(merge(out)?) } else { None };
+    Ok((end, merged))
+}
+
+/// Computes the share `shard` of `study`'s samples into the folder `out` (created, or resumed
+/// when it holds this study's batches).
+pub(super) fn compute_shard(
+    study: &Study,
+    reference: &Path,
+    out: &Path,
+    shard: Shard,
+    pool: &rayon::ThreadPool,
+    progress: &dyn StudyProgress,
+) -> Result<ShardEnd> {
     let manifest = Manifest::of(study, &study.path.display().to_string());
     let refs = super::study_references(study, reference)?;
     let mine: Vec<&Sample> = study.samples.iter().filter(|s| shard.owns(s.index)).collect();
@@ -111,8 +131,7 @@ pub fn run_shard(
         compute(study, &manifest, &todo, &refs, pool, out, shard, (done.len(), mine.len()), progress)?;
         ShardEnd::Written(folder::finish_shard(out, &manifest, shard, &run::table(study, &[]))?)
     };
-    let merged = if shard.count == 1 { Some(merge(out)?) } else { None };
-    Ok((end, merged))
+    Ok(end)
 }
 
 /// Takes the shard's lock, waiting while another live process computes the same shard (a
@@ -189,7 +208,26 @@ pub struct Merged {
 /// Merges a study folder's parts and writes the long table, the summary and the heat maps.
 pub fn merge(dir: &Path) -> Result<Merged> {
     let manifest = folder::read_manifest(dir)?;
-    let mut df = folder::merge(dir, &manifest)?;
+    if super::study_rounds::is_adaptive(dir) {
+        if let Some(merged) = super::study_rounds::merge(dir, &manifest)? {
+            return Ok(merged);
+        }
+        return Err(Error::Destination {
+            path: dir.to_path_buf(),
+            message: format!(
+                "is an adaptive study's folder whose rounds have not all ended: each round follows from the one before, and the study merges them when its last round ends: run `shotdamp study {} --out {}` (it finds what is computed and computes the rest)",
+                manifest.file,
+                dir.display()
+            ),
+        });
+    }
+    let df = folder::merge(dir, &manifest)?;
+    write_outputs(dir, manifest, df)
+}
+
+/// Writes a study folder's long table (`df`, sorted by sample and check), summary, table per
+/// sample and heat maps.
+pub(super) fn write_outputs(dir: &Path, manifest: Manifest, mut df: polars::prelude::DataFrame) -> Result<Merged> {
     folder::write_merged(dir, &manifest, &mut df)?;
     let rows = folder::rows(&df, &manifest, dir)?;
     let models: Vec<String> = manifest.models.iter().map(|m| m.0.clone()).collect();

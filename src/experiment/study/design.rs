@@ -77,6 +77,40 @@ pub enum Design {
         /// Seed of the orders and places.
         seed: u32,
     },
+    /// A grid refined where the answer changes (`adaptive.rs`): round 0 every `2^levels`-th
+    /// value of each key, then `levels` rounds that halve the step where a cell's corners
+    /// disagree on `refine`.
+    Adaptive {
+        /// Halvings of the step after the coarse grid.
+        levels: u32,
+        /// The answer whose change between corners refines a cell.
+        refine: Refine,
+    },
+}
+
+/// What an adaptive design compares between the corners of a cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refine {
+    /// Whether every claim holds (the edge of the region where the whole claim set holds).
+    All,
+    /// The number of claims that hold.
+    Count,
+    /// Every claim's outcome (holds, fails, not evaluable, unsettled).
+    Outcomes,
+    /// One claim's outcome (its check number in the study's table).
+    Check(usize),
+}
+
+impl Refine {
+    /// The name used in files and manifests.
+    pub fn name(self) -> String {
+        match self {
+            Refine::All => "all".into(),
+            Refine::Count => "count".into(),
+            Refine::Outcomes => "outcomes".into(),
+            Refine::Check(k) => format!("check {k}"),
+        }
+    }
 }
 
 impl Design {
@@ -86,13 +120,34 @@ impl Design {
             Design::Grid => "grid",
             Design::Sobol { .. } => "sobol",
             Design::LatinHypercube { .. } => "latin_hypercube",
+            Design::Adaptive { .. } => "adaptive",
         }
+    }
+
+    /// The fine lattice of an adaptive design over `domains` (`None` for other designs, or
+    /// when a domain has no grid of `2^levels * k + 1` values: validation refuses those).
+    pub fn lattice(self, domains: &[Domain]) -> Option<super::adaptive::Lattice> {
+        let Design::Adaptive { levels, .. } = self else {
+            return None;
+        };
+        let sizes: Option<Vec<usize>> = domains.iter().map(|d| d.grid().map(|g| g.len())).collect();
+        super::adaptive::Lattice::new(sizes?, levels).ok()
     }
 }
 
-/// The points of `design` over `domains` (one value per domain each).
+/// The values of a lattice point (`point[k]` indexes key `k`'s grid).
+pub fn values_at(domains: &[Domain], point: &[usize]) -> Vec<f64> {
+    domains.iter().zip(point).map(|(d, &i)| d.grid().map_or(f64::NAN, |g| g[i])).collect()
+}
+
+/// The points of `design` over `domains` (one value per domain each); an adaptive design's
+/// round 0 (the coarse grid).
 pub fn points(design: Design, domains: &[Domain]) -> Vec<Vec<f64>> {
     match design {
+        Design::Adaptive { .. } => design
+            .lattice(domains)
+            .map(|l| l.coarse().iter().map(|p| values_at(domains, p)).collect())
+            .unwrap_or_default(),
         Design::Grid => {
             let grids: Vec<Vec<f64>> = domains.iter().map(|d| d.grid().unwrap_or_default()).collect();
             let mut out: Vec<Vec<f64>> = vec![Vec::new()];

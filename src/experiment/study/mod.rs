@@ -4,6 +4,7 @@
 //! ranges, or a quasi-random design over ranges). Each sample is the experiment's merged
 //! table with the sample's values set at their key paths, validated like any experiment.
 
+pub mod adaptive;
 pub mod design;
 mod joint;
 pub mod overrides;
@@ -16,7 +17,7 @@ use serde::Deserialize;
 use crate::error::{read_to_string, Error, Result};
 
 use super::{load as loader, validate, CheckKind, Experiment};
-pub use design::{Design, Domain};
+pub use design::{Design, Domain, Refine};
 pub use overrides::KeyPath;
 
 /// Most samples a study may have (the Sobol sequence's limit, and a sane size for one table).
@@ -128,6 +129,10 @@ struct RawStudy {
     #[serde(default)]
     seed: Option<i64>,
     #[serde(default)]
+    levels: Option<i64>,
+    #[serde(default)]
+    refine: Option<toml::Value>,
+    #[serde(default)]
     map: Option<Vec<String>>,
     #[serde(default)]
     report: bool,
@@ -231,6 +236,16 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
         joint::check(&study, &parts, &files)?;
     }
     study.joint = parts;
+    if let Design::Adaptive { refine: Refine::Check(k), .. } = study.design {
+        let claims: usize = study.parts().map(|p| p.base[0].checks.iter().filter(|c| is_claim(&c.kind)).count()).sum();
+        if k >= claims {
+            return Err(bad(
+                "study.refine",
+                &k,
+                &format!("the number of a claim in the study's table, 0 to {} (the claims, in file order)", claims - 1),
+            ));
+        }
+    }
     Ok(study)
 }
 
@@ -325,6 +340,10 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, refer
     let per_model = match design {
         Design::Grid => domains.iter().map(|d| d.grid().map_or(0, |g| g.len())).fold(1usize, usize::saturating_mul),
         Design::Sobol { samples, .. } | Design::LatinHypercube { samples, .. } => samples,
+        // At most the whole fine grid.
+        Design::Adaptive { .. } => {
+            domains.iter().map(|d| d.grid().map_or(0, |g| g.len())).fold(1usize, usize::saturating_mul)
+        }
     };
     let total = per_model.saturating_mul(base.len());
     if total > MAX_SAMPLES {
@@ -454,7 +473,20 @@ fn design_of(path: &Path, s: &RawStudy, vary: &[Vary]) -> Result<Design> {
             None => Err(bad("study.samples", &"(missing)", &format!("a {name} design needs the number of samples"))),
         }
     };
-    match s.design.as_deref().unwrap_or("grid") {
+    let design = s.design.as_deref().unwrap_or("grid");
+    if design != "adaptive" {
+        if let Some(key) = [("study.levels", s.levels.is_some()), ("study.refine", s.refine.is_some())]
+            .iter()
+            .find_map(|(k, given)| given.then_some(*k))
+        {
+            return Err(bad(
+                key,
+                &"(given)",
+                "only an adaptive design (`design = \"adaptive\"`) has levels and refine",
+            ));
+        }
+    }
+    match design {
         "grid" => {
             if s.samples.is_some() || s.seed.is_some() {
                 return Err(bad(
@@ -479,7 +511,14 @@ fn design_of(path: &Path, s: &RawStudy, vary: &[Vary]) -> Result<Design> {
         )),
         "sobol" => Ok(Design::Sobol { samples: samples("sobol")?, seed }),
         "latin_hypercube" => Ok(Design::LatinHypercube { samples: samples("latin_hypercube")?, seed }),
-        other => Err(bad("study.design", &format!("\"{other}\""), "one of \"grid\", \"sobol\", \"latin_hypercube\"")),
+        "adaptive" => {
+            adaptive::design_of(path, s.levels, s.refine.as_ref(), s.samples.is_some() || s.seed.is_some(), vary)
+        }
+        other => Err(bad(
+            "study.design",
+            &format!("\"{other}\""),
+            "one of \"grid\", \"sobol\", \"latin_hypercube\", \"adaptive\"",
+        )),
     }
 }
 
@@ -680,12 +719,6 @@ impl Study {
 
     /// The model ids studied, in order (`""` when the experiment has none).
     pub fn models(&self) -> Vec<String> {
-        let mut out: Vec<String> = Vec::new();
-        for s in &self.samples {
-            if !out.contains(&s.model) {
-                out.push(s.model.clone());
-            }
-        }
-        out
+        self.base.iter().map(|e| e.model.as_ref().map(|m| m.id.clone()).unwrap_or_default()).collect()
     }
 }
