@@ -271,7 +271,7 @@ impl shards::StudyProgress for Told<'_> {
 fn print_merged(m: &shards::Merged) {
     say!("study {} ({}): {} rows in {}", m.manifest.study, m.manifest.figure, m.rows, m.table.display());
     for s in &m.summaries {
-        say!("  {} | {} ({}): {}", s.model, s.claim, s.bound, s.words(&m.names));
+        say!("  {} | {} ({}): {}", s.model, s.claim, s.bound, crate::output::study_words::words(s, &m.names));
     }
     // The bottom line: the samples where the most claims hold at once.
     let best = crate::analysis::study_samples::best(&m.samples);

@@ -14,6 +14,7 @@ pub mod report;
 pub mod robustness;
 pub mod scan;
 pub mod study;
+pub mod study_words;
 pub mod svg;
 pub mod texts;
 pub mod view;
@@ -208,7 +209,7 @@ impl ReportWriter {
             index_view.bed.push(report::BedRow {
                 figure: m.figure.clone(),
                 link: format!("{}/index.html#{}", m.experiment, m.study),
-                sentence: crate::analysis::study::deviation_summary(&m.models, &names, &s.rows),
+                sentence: crate::output::study_words::deviation_summary(&m.models, &names, &s.rows),
             });
         }
         // Joint studies: their tables in `ID/`, their bottom line on the index.

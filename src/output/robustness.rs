@@ -5,9 +5,10 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::analysis::study::{claim_sentences, deviation_sentences, rows_table, summarise, summary_table};
+use crate::analysis::study::{rows_table, summarise, summary_table};
 use crate::error::Result;
 use crate::number::fmt_num;
+use crate::output::study_words::{claim_sentences, deviation_sentences};
 use crate::table;
 
 use super::heatmap;
