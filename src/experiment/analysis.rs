@@ -13,9 +13,6 @@ use super::{Analysis, Number, Start};
 /// Most grid points a frequency axis may have.
 const MAX_GRID_POINTS: usize = 100_000;
 
-/// The analysis kinds, for messages.
-const KINDS: &str = "\"modal\", \"linear_frf\", \"sweep\", \"clearance_study\", \"waveform\", \"impulse\", \"sdof_periodic\", \"design\"";
-
 /// A frequency grid in Hz, validated.
 pub fn grid(path: &Path, key: &str, g: &RawGrid) -> Result<Vec<f64>> {
     let bad = |k: &str, v: &dyn std::fmt::Display, msg: &str| Error::invalid(path, format!("{key}.{k}"), v, msg);
@@ -212,36 +209,22 @@ pub fn analysis(
         ("spectrum_hz", a.spectrum_hz.is_some()),
         ("decay_levels", a.decay_levels.is_some()),
     ];
-    let reads: &[&str] = match a.kind.as_str() {
-        "modal" => &[],
-        "linear_frf" => &["freq_hz"],
-        "sweep" => &["freq_hz", "start", "steady"],
-        "clearance_study" => {
-            &["freq_hz", "steady", "clearances_mm", "clearance_points", "objective_mass", "objective_case"]
-        }
-        "waveform" => &["frequencies_hz", "labels", "periods", "steady"],
-        "sdof_periodic" => &["mode", "freq_hz", "clearances_mm", "steady"],
-        "design" => &["steady"],
-        "impulse" => &[
-            "struck_mass",
-            "initial_velocity_m_s",
-            "impulse_n_s",
-            "duration_s",
-            "sample_rate_hz",
-            "spectrum_hz",
-            "decay_levels",
-        ],
-        _ => &[],
+    // The table of kinds first: a kind without its line there is unknown.
+    let Some(spec) = super::kind::kind_spec(&a.kind) else {
+        return Err(Error::invalid(
+            path,
+            "analysis.kind",
+            format!("\"{}\"", a.kind),
+            format!("allowed kinds: {}", super::kind::kind_names()),
+        ));
     };
-    if KINDS.contains(&format!("\"{}\"", a.kind)) {
-        if let Some((key, _)) = given.iter().find(|(k, present)| *present && !reads.contains(k)) {
-            return Err(Error::invalid(
-                path,
-                format!("analysis.{key}"),
-                "(given)",
-                format!("not used by analysis kind \"{}\", which reads: {}", a.kind, reads.join(", ")),
-            ));
-        }
+    if let Some((key, _)) = given.iter().find(|(k, present)| *present && !spec.reads.contains(k)) {
+        return Err(Error::invalid(
+            path,
+            format!("analysis.{key}"),
+            "(given)",
+            format!("not used by analysis kind \"{}\", which reads: {}", a.kind, spec.reads.join(", ")),
+        ));
     }
     match a.kind.as_str() {
         "modal" => Ok(Analysis::Modal),
@@ -358,7 +341,12 @@ pub fn analysis(
             let clearances_mm = clearance_list(path, a.clearances_mm.as_deref())?;
             Ok(Analysis::SdofPeriodic { mode, freq_hz: require_grid(path, &a)?, clearances_mm, steady })
         }
-        other => Err(Error::invalid(path, "analysis.kind", format!("\"{other}\""), format!("allowed kinds: {KINDS}"))),
+        other => Err(Error::invalid(
+            path,
+            "analysis.kind",
+            format!("\"{other}\""),
+            format!("allowed kinds: {}", super::kind::kind_names()),
+        )),
     }
 }
 

@@ -83,8 +83,55 @@ pub enum Analysis {
     },
 }
 
+/// One analysis kind of experiment files: its name and the keys of `[analysis]` it reads (any
+/// other key of `[analysis]` given with it is an input error).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KindSpec {
+    /// The name in files (`analysis.kind`).
+    pub name: &'static str,
+    /// The keys of `[analysis]` it reads.
+    pub reads: &'static [&'static str],
+}
+
+/// The analysis kinds: the one list that validation, its messages and [`Analysis::kind`]'s
+/// test read.
+pub const KINDS: &[KindSpec] = &[
+    KindSpec { name: "modal", reads: &[] },
+    KindSpec { name: "linear_frf", reads: &["freq_hz"] },
+    KindSpec { name: "sweep", reads: &["freq_hz", "start", "steady"] },
+    KindSpec {
+        name: "clearance_study",
+        reads: &["freq_hz", "steady", "clearances_mm", "clearance_points", "objective_mass", "objective_case"],
+    },
+    KindSpec { name: "waveform", reads: &["frequencies_hz", "labels", "periods", "steady"] },
+    KindSpec {
+        name: "impulse",
+        reads: &[
+            "struck_mass",
+            "initial_velocity_m_s",
+            "impulse_n_s",
+            "duration_s",
+            "sample_rate_hz",
+            "spectrum_hz",
+            "decay_levels",
+        ],
+    },
+    KindSpec { name: "sdof_periodic", reads: &["mode", "freq_hz", "clearances_mm", "steady"] },
+    KindSpec { name: "design", reads: &["steady"] },
+];
+
+/// The kind named `name` in a file.
+pub fn kind_spec(name: &str) -> Option<&'static KindSpec> {
+    KINDS.iter().find(|k| k.name == name)
+}
+
+/// The kinds' names, quoted, for messages.
+pub fn kind_names() -> String {
+    KINDS.iter().map(|k| format!("\"{}\"", k.name)).collect::<Vec<_>>().join(", ")
+}
+
 impl Analysis {
-    /// The name used in files.
+    /// The name used in files (one of [`KINDS`]).
     pub fn kind(&self) -> &'static str {
         match self {
             Analysis::Modal => "modal",
@@ -183,5 +230,22 @@ impl Analysis {
                 | Analysis::LinearFrf { .. }
                 | Analysis::Modal
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_is_listed_once_with_keys_listed_once() {
+        for (i, k) in KINDS.iter().enumerate() {
+            assert!(KINDS[..i].iter().all(|o| o.name != k.name), "{} twice", k.name);
+            for (j, key) in k.reads.iter().enumerate() {
+                assert!(!k.reads[..j].contains(key), "{}: {key} twice", k.name);
+            }
+        }
+        assert_eq!(kind_spec("sweep").map(|k| k.reads), Some(&["freq_hz", "start", "steady"][..]));
+        assert!(kind_names().starts_with("\"modal\", \"linear_frf\""));
     }
 }
