@@ -125,3 +125,76 @@ fn bad_joint_studies_are_named() {
         assert!(!dir.path().join("x").exists(), "nothing written for bad input");
     }
 }
+
+/// A joint study's stored answer: `--store` writes the best samples per model into the
+/// reference folder; the report refuses `stored = true` without it, runs each model's best
+/// sample again with it, says so when the count differs now, and takes every number from the
+/// file or the run.
+#[test]
+fn a_stored_answer_heads_the_report_and_is_run_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let exps =
+        common::experiments(root, &["fig04b_no_damper.toml", "fig08_number_of_dampers.toml", "fig10b_impulse.toml"]);
+    let reference = root.join("reference");
+    common::copy_tree(&repo().join("reference"), &reference);
+    let studies = root.join("studies");
+    std::fs::create_dir_all(&studies).unwrap();
+    let file = study_file(
+        &studies,
+        "j",
+        "experiments = [\"../experiments/fig08_number_of_dampers.toml\", \"../experiments/fig10b_impulse.toml\"]\nstored = true",
+        DAMPING,
+    );
+    let report = |out: &str| {
+        shotdamp()
+            .arg("--experiments")
+            .arg(&exps)
+            .arg("--reference")
+            .arg(&reference)
+            .arg("report")
+            .arg("--out")
+            .arg(root.join(out))
+            .output()
+            .unwrap()
+    };
+    let o = report("r0");
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--store"), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = shotdamp()
+        .arg("--reference")
+        .arg(&reference)
+        .arg("study")
+        .arg(&file)
+        .arg("--out")
+        .arg(root.join("o"))
+        .arg("--store")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let stored_path = reference.join("studies/j.json");
+    let stored: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stored_path).unwrap()).unwrap();
+    let samples = csv_rows(&std::fs::read_to_string(root.join("o/j_samples.csv")).unwrap());
+    let holds = samples[0].iter().position(|h| h == "holds").unwrap();
+    let most = samples[1..].iter().map(|r| r[holds].parse::<u64>().unwrap()).max().unwrap();
+    let best = &stored["models"][0]["best"][0];
+    assert_eq!(best["holds"].as_u64(), Some(most), "{stored}");
+    assert_eq!(stored["models"][0]["samples"].as_u64(), Some(2));
+    let o = report("r1");
+    assert!(o.status.code() == Some(0) || o.status.code() == Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+    let index = std::fs::read_to_string(root.join("r1/index.html")).unwrap();
+    assert!(index.contains("setups searched"), "no stored bottom line");
+    assert!(index.contains("gives the stored count"), "the best sample run again gives the stored count");
+    assert!(index.contains(&format!("{most} of ")), "the stored count is on the page");
+    // A stored count that the run no longer gives is named.
+    let tampered = std::fs::read_to_string(&stored_path).unwrap().replacen(
+        &format!("\"holds\": {most}"),
+        &format!("\"holds\": {}", most + 7),
+        1,
+    );
+    std::fs::write(&stored_path, tampered).unwrap();
+    let o = report("r2");
+    assert!(o.status.code() == Some(0) || o.status.code() == Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+    let index = std::fs::read_to_string(root.join("r2/index.html")).unwrap();
+    assert!(index.contains("the stored answer is out of date"), "a changed count is named");
+}

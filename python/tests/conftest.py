@@ -2,6 +2,7 @@
 the command line's binary (built by `cargo build --release --locked` when missing)."""
 
 import os
+import signal
 import subprocess
 from pathlib import Path
 
@@ -18,6 +19,16 @@ def root() -> Path:
 @pytest.fixture(autouse=True)
 def at_root(monkeypatch):
     monkeypatch.chdir(ROOT)
+
+
+@pytest.fixture(autouse=True)
+def python_handles_ctrl_c():
+    # A process started in the background by a non-interactive shell (a CI job, `cmd &`)
+    # inherits SIGINT ignored, and Python then leaves it ignored: `_thread.interrupt_main()`
+    # would do nothing. The Ctrl-C tests need Python's own handler, as in a terminal.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
 
 
 @pytest.fixture(scope="session")

@@ -3,6 +3,7 @@
 //! joint study this is the question a replication asks: under which one setup of the values
 //! the paper leaves unstated does the most of the paper hold at once.
 
+use crate::experiment::study::stored::{StoredModel, StoredSample, StoredStudy, BEST_STORED};
 use crate::number::fmt_num;
 use crate::table::Table;
 
@@ -73,6 +74,50 @@ pub fn best(summaries: &[SampleSummary]) -> Vec<&SampleSummary> {
     match most {
         Some(m) => summaries.iter().filter(|s| s.evaluable > 0 && s.holds == m).collect(),
         None => Vec::new(),
+    }
+}
+
+/// A study's stored answer from its samples' counts: per model (`models`, in order), the
+/// samples where the most claims hold (at most [`BEST_STORED`]) and how many hold every claim.
+pub fn stored(
+    study: &str,
+    fingerprint: &str,
+    design: &str,
+    names: &[String],
+    models: &[String],
+    summaries: &[SampleSummary],
+    date: &str,
+) -> StoredStudy {
+    let models = models
+        .iter()
+        .map(|m| {
+            let mine: Vec<SampleSummary> = summaries.iter().filter(|s| &s.model == m).cloned().collect();
+            StoredModel {
+                model: m.clone(),
+                samples: mine.len(),
+                all_hold: mine.iter().filter(|s| s.evaluable == s.claims && s.holds == s.claims).count(),
+                best: best(&mine)
+                    .into_iter()
+                    .take(BEST_STORED)
+                    .map(|s| StoredSample {
+                        sample: s.sample,
+                        values: s.values.clone(),
+                        claims: s.claims,
+                        evaluable: s.evaluable,
+                        holds: s.holds,
+                        failing: s.failing.clone(),
+                    })
+                    .collect(),
+            }
+        })
+        .collect();
+    StoredStudy {
+        study: study.to_string(),
+        fingerprint: fingerprint.to_string(),
+        design: design.to_string(),
+        vary: names.to_vec(),
+        models,
+        date: date.to_string(),
     }
 }
 

@@ -153,6 +153,11 @@ pub enum BaselineMode {
     Required,
 }
 
+/// Where the stored answer of study `id` lives under the reference folder `dir`.
+pub fn stored_study_path(dir: &Path, id: &str) -> std::path::PathBuf {
+    dir.join("studies").join(format!("{id}.json"))
+}
+
 /// Where the stored answer of the design experiment `key` (`ID/MODEL`) lives under the
 /// reference folder `dir`.
 pub fn stored_design_path(dir: &Path, key: &str) -> std::path::PathBuf {

@@ -38,6 +38,11 @@ pub struct StudyArgs {
     /// Print the samples (and which shard runs each) and the estimate; compute nothing.
     #[arg(long)]
     pub dry_run: bool,
+    /// Once the study is merged, store its answer (the samples where the most claims hold,
+    /// per model) as reference/studies/ID.json, which `shotdamp report` runs again for a study
+    /// marked `stored = true`.
+    #[arg(long)]
+    pub store: bool,
 }
 
 /// Subcommands of `shotdamp study`.
@@ -48,14 +53,21 @@ pub enum StudyCommand {
     Merge {
         /// The study folder (--out of the shards).
         dir: PathBuf,
+        /// Store the merged study's answer as reference/studies/ID.json (see `study --store`).
+        #[arg(long)]
+        store: bool,
     },
 }
 
 /// Runs `shotdamp study`.
 pub fn dispatch(args: &StudyArgs, project: &crate::runner::ReportInputs) -> anyhow::Result<bool> {
     let reference = project.reference.as_path();
-    if let Some(StudyCommand::Merge { dir }) = &args.command {
-        print_merged(&shards::merge(dir)?);
+    if let Some(StudyCommand::Merge { dir, store }) = &args.command {
+        let merged = shards::merge(dir)?;
+        print_merged(&merged);
+        if *store {
+            say!("stored: {}", shards::store(reference, &merged)?.display());
+        }
         return Ok(true);
     }
     let Some(file) = &args.file else {
@@ -96,7 +108,15 @@ pub fn dispatch(args: &StudyArgs, project: &crate::runner::ReportInputs) -> anyh
         shards::ShardEnd::Written(part) => say!("shard {shard}: {}", part.display()),
     }
     match merged {
-        Some(m) => print_merged(&m),
+        Some(m) => {
+            print_merged(&m);
+            if args.store {
+                say!("stored: {}", shards::store(reference, &m)?.display());
+            }
+        }
+        None if args.store => {
+            say!("when every shard is done: shotdamp study merge {} --store (this shard stores nothing)", out.display())
+        }
         None => say!("when every shard is done: shotdamp study merge {}", out.display()),
     }
     Ok(true)

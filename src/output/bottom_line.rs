@@ -26,6 +26,8 @@ pub struct BottomLine {
     pub best: Vec<BestRow>,
     /// Links to its tables (file name, path).
     pub tables: Vec<(String, String)>,
+    /// How the report ran it, in words (the whole study, or a stored answer's best samples).
+    pub how: String,
 }
 
 /// One setup of [`BottomLine::best`].
@@ -93,6 +95,10 @@ fn by_claim(rows: &[ClaimRow]) -> Vec<(String, String, Vec<&ClaimRow>)> {
 /// where the most claims of every experiment hold at once): for the verdict matrix's cells.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AtJointSetup {
+    /// The joint study's id.
+    pub study: String,
+    /// Claims of every experiment of the study that hold at that setup.
+    pub total: usize,
     /// The experiment's id.
     pub experiment: String,
     /// The model's id.
@@ -121,6 +127,8 @@ pub fn at_joint_setup(run: &StudyRun) -> Vec<AtJointSetup> {
                 continue;
             }
             out.push(AtJointSetup {
+                study: run.manifest.study.clone(),
+                total: b.holds,
                 experiment: id.clone(),
                 model: model.clone(),
                 holds: rows.iter().filter(|r| r.holds()).count(),
@@ -132,8 +140,12 @@ pub fn at_joint_setup(run: &StudyRun) -> Vec<AtJointSetup> {
     out
 }
 
-/// The bottom line of one joint study run with the report.
+/// The bottom line of one joint study run with the report (a stored one: its stored answer,
+/// whose best sample per model the report ran again).
 pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
+    if let Some(stored) = &run.stored {
+        return of_stored(run, stored, file_dir);
+    }
     let m = &run.manifest;
     let samples = per_sample(&run.rows);
     let top = best(&samples);
@@ -220,6 +232,105 @@ pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
             .into_iter()
             .map(|f| (f.clone(), format!("{file_dir}/{f}")))
             .collect(),
+        how: "run with this report".into(),
+    }
+}
+
+/// The bottom line of a stored joint study: what its whole run found on each model, and
+/// whether its best samples give the same now.
+fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -> BottomLine {
+    let m = &run.manifest;
+    let a = &stored.answer;
+    let label = |id: &str| m.models.iter().find(|x| x.0 == id).map_or(id.to_string(), |x| x.1.clone());
+    let total: usize = a.models.iter().map(|x| x.samples).sum();
+    let now = per_sample(&run.rows);
+    let mut sentences = Vec::new();
+    let everywhere: Vec<String> = a
+        .models
+        .iter()
+        .filter(|x| x.all_hold > 0)
+        .map(|x| format!("{} ({} setups)", label(&x.model), x.all_hold))
+        .collect();
+    let claims = a.models.iter().flat_map(|x| x.best.first()).map(|b| b.claims).max().unwrap_or(0);
+    let best: Vec<String> = a
+        .models
+        .iter()
+        .filter_map(|x| {
+            let b = x.best.first()?;
+            let values: Vec<String> =
+                a.vary.iter().zip(&b.values).map(|(n, v)| format!("{n} {}", fmt_num(*v))).collect();
+            Some(format!("{}: {} of {} at {}", label(&x.model), b.holds, b.evaluable, values.join(", ")))
+        })
+        .collect();
+    let head = if everywhere.is_empty() {
+        format!(
+            "At none of the {total} setups searched ({} over {}) do all {claims} claims of {} hold at once",
+            a.design,
+            a.vary.join(", "),
+            m.figure
+        )
+    } else {
+        format!(
+            "Every one of the {claims} claims of {} holds at once on {} of the {total} setups searched ({} over {})",
+            m.figure,
+            everywhere.join(", "),
+            a.design,
+            a.vary.join(", ")
+        )
+    };
+    sentences.push(format!("{head}; the most at once, per model: {}.", best.join("; ")));
+    // The stored best samples, run again now.
+    let mut same = true;
+    for x in &a.models {
+        let (Some(b), Some(n)) =
+            (x.best.first(), now.iter().find(|s| s.sample == x.best[0].sample && s.model == x.model))
+        else {
+            continue;
+        };
+        if (n.holds, n.evaluable) != (b.holds, b.evaluable) {
+            same = false;
+            sentences.push(format!(
+                "Run again now, {}'s best setup gives {} of {} (stored: {} of {}): the stored answer is out of date.",
+                label(&x.model),
+                n.holds,
+                n.evaluable,
+                b.holds,
+                b.evaluable
+            ));
+        }
+    }
+    if same {
+        sentences.push(format!(
+            "Each model's best setup, run again with this report, gives the stored count (the search ran on {}).",
+            a.date
+        ));
+    }
+    if !stored.fresh {
+        sentences.push(format!(
+            "The stored answer was computed by another version of the study {} (its experiments or keys changed since): run `shotdamp study studies/{}.toml --store` again.",
+            m.study, m.study
+        ));
+    }
+    BottomLine {
+        id: m.study.clone(),
+        title: m.title.clone(),
+        sentences,
+        best: now
+            .iter()
+            .map(|s| BestRow {
+                setup: setup(run, s),
+                holds: format!("{} of {}", s.holds, s.evaluable),
+                failing: s.failing.join("; "),
+            })
+            .collect(),
+        tables: [format!("{}.csv", m.study), format!("{}_samples.csv", m.study)]
+            .into_iter()
+            .map(|f| (f.clone(), format!("{file_dir}/{f}")))
+            .collect(),
+        how: format!(
+            "searched by a whole run of the study on {} (its answer in reference/studies/{}.json), each model's best setup run again with this report (the tables: those runs)",
+            a.date, m.study
+        ),
     }
 }
 
@@ -268,6 +379,7 @@ mod tests {
             description: String::new(),
             rows,
             assumed: Vec::new(),
+            stored: None,
         }
     }
 
@@ -306,5 +418,48 @@ mod tests {
             "{:?}",
             b.sentences
         );
+    }
+
+    #[test]
+    fn a_stored_answer_s_numbers_are_the_stored_ones_and_a_rerun_that_differs_is_named() {
+        use crate::experiment::study::stored::{StoredModel, StoredSample, StoredStudy};
+        let answer = StoredStudy {
+            study: "j".into(),
+            fingerprint: "f".into(),
+            design: "7 samples per model".into(),
+            vary: vec!["damping".into()],
+            models: vec![StoredModel {
+                model: "stated".into(),
+                samples: 7,
+                all_hold: 0,
+                best: vec![StoredSample {
+                    sample: 4,
+                    values: vec![0.004],
+                    claims: 2,
+                    evaluable: 2,
+                    holds: 1,
+                    failing: vec!["b: one = 1 (at least 2)".into()],
+                }],
+            }],
+            date: "2026-11-27".into(),
+        };
+        // Run again: sample 4 gives 1 of 2, as stored.
+        let mut r = run(vec![row(4, 0.004, "a: one", true), row(4, 0.004, "b: one", false)]);
+        r.stored = Some(crate::output::study::StoredRun { answer: answer.clone(), fresh: true });
+        let b = of(&r, "j");
+        assert!(
+            b.sentences[0].starts_with("At none of the 7 setups searched (7 samples per model over damping)"),
+            "{:?}",
+            b.sentences
+        );
+        assert!(b.sentences[0].contains("stated chain: 1 of 2 at damping 0.004"), "{:?}", b.sentences);
+        assert!(b.sentences[1].contains("gives the stored count (the search ran on 2026-11-27)"), "{:?}", b.sentences);
+        // Another count now, another version: both said.
+        let mut r = run(vec![row(4, 0.004, "a: one", true), row(4, 0.004, "b: one", true)]);
+        r.stored = Some(crate::output::study::StoredRun { answer, fresh: false });
+        let b = of(&r, "j");
+        let text = b.sentences.join(" ");
+        assert!(text.contains("gives 2 of 2 (stored: 1 of 2): the stored answer is out of date"), "{text}");
+        assert!(text.contains("another version of the study j"), "{text}");
     }
 }

@@ -212,8 +212,11 @@ impl ReportWriter {
                 sentence: crate::output::study_words::deviation_summary(&m.models, &names, &s.rows),
             });
         }
-        // Joint studies: their tables in `ID/`, their bottom line on the index.
-        for s in studies.iter().filter(|s| !s.manifest.joint.is_empty()) {
+        // Joint studies: their tables in `ID/`, their bottom line on the index (a stored
+        // answer, the widest search, first).
+        let mut joint_runs: Vec<&study::StudyRun> = studies.iter().filter(|s| !s.manifest.joint.is_empty()).collect();
+        joint_runs.sort_by_key(|s| s.stored.is_none());
+        for s in joint_runs {
             let m = &s.manifest;
             mkdir_below(dir, Path::new(&m.study))?;
             let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();

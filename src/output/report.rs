@@ -483,16 +483,23 @@ pub fn mark_joint(view: &mut IndexView, joint: &[super::bottom_line::AtJointSetu
         for cell in &mut f.cells {
             let here: Vec<&super::bottom_line::AtJointSetup> =
                 joint.iter().filter(|j| j.model == cell.model && f.ids.contains(&j.experiment)).collect();
-            if let Some(first) = here.first() {
-                let same: Vec<&&super::bottom_line::AtJointSetup> =
-                    here.iter().filter(|j| j.setup == first.setup).collect();
-                let holds: usize = same.iter().map(|j| j.holds).sum();
-                let claims: usize = same.iter().map(|j| j.claims).sum();
-                cell.joint = format!("{holds}/{claims}");
-                cell.joint_setup = first.setup.clone();
-            }
+            // The joint study whose best setup on this model holds the most claims.
+            let Some(top) = here.iter().max_by_key(|j| (j.total, std::cmp::Reverse(joint_rank(joint, &j.study))))
+            else {
+                continue;
+            };
+            let same: Vec<&&super::bottom_line::AtJointSetup> = here.iter().filter(|j| j.study == top.study).collect();
+            let holds: usize = same.iter().map(|j| j.holds).sum();
+            let claims: usize = same.iter().map(|j| j.claims).sum();
+            cell.joint = format!("{holds}/{claims}");
+            cell.joint_setup = top.setup.clone();
         }
     }
+}
+
+/// The position of study `id` among the joint studies (the first wins a tie).
+fn joint_rank(joint: &[super::bottom_line::AtJointSetup], id: &str) -> usize {
+    joint.iter().position(|j| j.study == id).unwrap_or(usize::MAX)
 }
 
 /// Sort key of a figure label: its number, then the label ("Fig. 10(a)" after "Fig. 9").

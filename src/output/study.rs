@@ -80,6 +80,18 @@ pub struct StudyRun {
     /// Per model of the manifest: the experiment's own value of each varied key, as the report
     /// ran it (`None`: no single value; empty: not known, as in `shotdamp study`).
     pub assumed: Vec<Vec<Option<f64>>>,
+    /// A study marked `stored = true`: its stored answer, whose best sample per model `rows`
+    /// ran again; `fresh` says whether the answer is of this version of the study.
+    pub stored: Option<StoredRun>,
+}
+
+/// The stored answer of a study the report ran again.
+#[derive(Debug, Clone)]
+pub struct StoredRun {
+    /// The answer as stored.
+    pub answer: crate::experiment::study::stored::StoredStudy,
+    /// Whether it was computed by this version of the study (the same fingerprint).
+    pub fresh: bool,
 }
 
 /// A varied key as the merged outputs need it.

@@ -18,7 +18,7 @@ use crate::analysis::{self, ExperimentResult, Progress};
 use crate::checks::baseline;
 use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::error::{Error, Result};
-use crate::experiment::study::Study;
+use crate::experiment::study::{Sample, Study};
 use crate::experiment::{self, Experiment};
 use crate::output::study::{Manifest, StudyRun};
 use crate::output::{ReportOptions, ReportWriter};
@@ -125,8 +125,31 @@ pub fn study_references(study: &Study, reference: &Path) -> Result<ReferenceStor
     ReferenceStore::load(reference, &exps)
 }
 
-/// The studies `shotdamp report` runs: those of `dir` marked `report = true` (none when the
-/// folder does not exist).
+/// The stored answer of a study marked `stored = true` (`reference/studies/ID.json`), and
+/// whether this version of the study computed it.
+fn stored_run(s: &Study, reference: &Path) -> Result<crate::output::study::StoredRun> {
+    let path = crate::checks::reference::stored_study_path(reference, &s.id);
+    if !path.is_file() {
+        return Err(Error::invalid(
+            &s.path,
+            "study.stored",
+            "true",
+            format!(
+                "no stored answer {}: run `shotdamp study {} --store` (or `shotdamp study merge DIR --store` after its shards)",
+                path.display(),
+                s.path.display()
+            ),
+        ));
+    }
+    let text = crate::error::read_to_string(&path)?;
+    let answer: crate::experiment::study::stored::StoredStudy = serde_json::from_str(&text)
+        .map_err(|e| Error::Parse { file: path.display().to_string(), message: e.to_string() })?;
+    let fresh = answer.fingerprint == Manifest::of(s, &s.path.display().to_string()).fingerprint;
+    Ok(crate::output::study::StoredRun { answer, fresh })
+}
+
+/// The studies `shotdamp report` runs: those of `dir` marked `report = true` or `stored = true`
+/// (none when the folder does not exist).
 pub fn report_studies(dir: &Path, reference: &Path) -> Result<Vec<Study>> {
     if !dir.is_dir() {
         return Ok(Vec::new());
@@ -134,7 +157,7 @@ pub fn report_studies(dir: &Path, reference: &Path) -> Result<Vec<Study>> {
     let mut out = Vec::new();
     for file in experiment::discover(dir)? {
         let s = experiment::study::load(&file, reference)?;
-        if s.report {
+        if s.report || s.stored {
             out.push(s);
         }
     }
@@ -321,14 +344,32 @@ fn run_studies(
         // No count of points before the samples are built: a counter of unknown total (the
         // command line draws no bar for it; a caller may stop the run at any point).
         let tick = progress.start(&s.id, 0);
-        let rows = if s.lattice().is_some() {
+        let stored = if s.stored { Some(stored_run(s, reference)?) } else { None };
+        let rows = if let Some(st) = &stored {
+            // The best sample of each model, as stored, run again.
+            let samples: Vec<Sample> = st
+                .answer
+                .models
+                .iter()
+                .filter_map(|m| {
+                    let b = m.best.first()?;
+                    Some(Sample { index: b.sample, model: m.model.clone(), values: b.values.clone() })
+                })
+                .collect();
+            analysis::study::run_all(&s.with_samples(samples), refs, reference, &*tick)?
+        } else if s.lattice().is_some() {
             analysis::study_adaptive::run_all(s, refs, reference, &*tick)?
         } else {
             analysis::study::run_all(s, refs, reference, &*tick)?
         };
         let mut manifest = Manifest::of(s, &s.path.display().to_string());
-        // An adaptive study's samples are those its rounds computed.
-        manifest.samples = rows.last().map_or(0, |r| r.sample + 1);
+        // An adaptive study's samples are those its rounds computed (a stored study's: those
+        // it ran again).
+        manifest.samples = if stored.is_some() {
+            rows.iter().map(|r| r.sample).collect::<std::collections::BTreeSet<_>>().len()
+        } else {
+            rows.last().map_or(0, |r| r.sample + 1)
+        };
         log(format!(
             "  ok {:<36} study: {} samples ({:.2} s)",
             s.id,
@@ -340,6 +381,7 @@ fn run_studies(
             description: s.description.clone().unwrap_or_default(),
             rows,
             assumed: Vec::new(),
+            stored,
         });
     }
     Ok(out)

@@ -244,3 +244,34 @@ pub(super) fn write_outputs(dir: &Path, manifest: Manifest, mut df: polars::prel
     let table = dir.join(format!("{}.csv", manifest.study));
     Ok(Merged { rows: df.height(), table, summaries, names, samples, manifest })
 }
+
+/// Writes the stored answer of a merged study folder into the reference folder
+/// (`reference/studies/ID.json`, atomically): what `shotdamp report` runs again for a study
+/// marked `stored = true`.
+pub fn store(reference: &Path, merged: &Merged) -> Result<PathBuf> {
+    let m = &merged.manifest;
+    let models: Vec<String> = m.models.iter().map(|x| x.0.clone()).collect();
+    let per_model = merged.samples.len() / models.len().max(1);
+    let design = if m.grid {
+        format!("a grid of {per_model} samples per model")
+    } else {
+        format!("{per_model} samples per model")
+    };
+    let answer = crate::analysis::study_samples::stored(
+        &m.study,
+        &m.fingerprint,
+        &design,
+        &merged.names,
+        &models,
+        &merged.samples,
+        &crate::output::files::today_utc(),
+    );
+    let path = crate::checks::reference::stored_study_path(reference, &m.study);
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let text = serde_json::to_string_pretty(&answer)
+        .map_err(|e| Error::Destination { path: path.clone(), message: format!("cannot write: {e}") })?;
+    folder::write_atomic(&path, format!("{text}\n").as_bytes())?;
+    Ok(path)
+}

@@ -8,6 +8,7 @@ pub mod adaptive;
 pub mod design;
 mod joint;
 pub mod overrides;
+pub mod stored;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -70,6 +71,9 @@ pub struct Study {
     pub description: Option<String>,
     /// Whether `shotdamp report` runs it (sized for the report's time budget).
     pub report: bool,
+    /// Whether `shotdamp report` runs the best samples of its stored answer again
+    /// (`reference/studies/ID.json`, [`stored::StoredStudy`]).
+    pub stored: bool,
     /// Where the report shows it on the experiment's page.
     pub section: Section,
     /// The experiment file it re-runs.
@@ -136,6 +140,8 @@ struct RawStudy {
     map: Option<Vec<String>>,
     #[serde(default)]
     report: bool,
+    #[serde(default)]
+    stored: bool,
     #[serde(default)]
     section: Option<String>,
     #[serde(default)]
@@ -236,6 +242,13 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
         joint::check(&study, &parts, &files)?;
     }
     study.joint = parts;
+    if study.stored && study.joint.is_empty() {
+        return Err(bad(
+            "study.stored",
+            &"true",
+            "a stored answer heads the report's bottom line, which a joint study gives (`experiments = [...]`)",
+        ));
+    }
     if let Design::Adaptive { refine: Refine::Check(k), .. } = study.design {
         let claims: usize = study.parts().map(|p| p.base[0].checks.iter().filter(|c| is_claim(&c.kind)).count()).sum();
         if k >= claims {
@@ -311,6 +324,13 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, refer
             return Err(bad(&format!("vary[{i}].name"), &format!("\"{}\"", v.name), "each name may be used once"));
         }
     }
+    if s.report && s.stored {
+        return Err(bad(
+            "study.stored",
+            &"true",
+            "`report = true` runs the whole study with the report; `stored = true` runs the best samples of its stored answer again: give one",
+        ));
+    }
     let design = design_of(path, &s, &vary)?;
     let mut set = Vec::new();
     for (k, v) in &s.set {
@@ -369,6 +389,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, refer
         title: s.title,
         description: s.description,
         report: s.report,
+        stored: s.stored,
         section: match s.section.as_deref() {
             None | Some("robustness") => Section::Robustness,
             Some("bed") => Section::Bed,
