@@ -252,16 +252,15 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
         .map(|x| format!("{} ({} setups)", label(&x.model), x.all_hold))
         .collect();
     let claims = a.models.iter().flat_map(|x| x.best.first()).map(|b| b.claims).max().unwrap_or(0);
-    let best: Vec<String> = a
-        .models
-        .iter()
-        .filter_map(|x| {
-            let b = x.best.first()?;
-            let values: Vec<String> =
-                a.vary.iter().zip(&b.values).map(|(n, v)| format!("{n} {}", fmt_num(*v))).collect();
-            Some(format!("{}: {} of {} at {}", label(&x.model), b.holds, b.evaluable, values.join(", ")))
-        })
-        .collect();
+    // The most at once per model (the setups are in the folded table).
+    let counts: Vec<(String, usize, usize)> =
+        a.models.iter().filter_map(|x| x.best.first().map(|b| (label(&x.model), b.holds, b.evaluable))).collect();
+    let most = match counts.as_slice() {
+        [(_, h, e), rest @ ..] if !rest.is_empty() && rest.iter().all(|c| (c.1, c.2) == (*h, *e)) => {
+            format!("{h} of {e} on every model")
+        }
+        _ => counts.iter().map(|(l, h, e)| format!("{h} of {e} on {l}")).collect::<Vec<_>>().join(", "),
+    };
     let head = if everywhere.is_empty() {
         format!(
             "At none of the {total} setups searched ({} over {}) do all {claims} claims of {} hold at once",
@@ -278,7 +277,7 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
             a.vary.join(", ")
         )
     };
-    sentences.push(format!("{head}; the most at once, per model: {}.", best.join("; ")));
+    sentences.push(format!("{head}; the most at once: {most}."));
     // The stored best samples, run again now.
     let mut same = true;
     for x in &a.models {
@@ -452,7 +451,8 @@ mod tests {
             "{:?}",
             b.sentences
         );
-        assert!(b.sentences[0].contains("stated chain: 1 of 2 at damping 0.004"), "{:?}", b.sentences);
+        assert!(b.sentences[0].ends_with("the most at once: 1 of 2 on stated chain."), "{:?}", b.sentences);
+        assert!(b.best[0].setup.contains("damping 0.004") && b.best[0].holds == "1 of 2", "{:?}", b.best);
         assert!(b.sentences[1].contains("gives the stored count (the search ran on 2026-11-27)"), "{:?}", b.sentences);
         // Another count now, another version: both said.
         let mut r = run(vec![row(4, 0.004, "a: one", true), row(4, 0.004, "b: one", true)]);
