@@ -416,7 +416,7 @@ pub fn summary_table(id: &str, names: &[String], summaries: &[ClaimSummary]) -> 
 }
 
 /// How far one group of samples moves a claim from the paper's bed (see
-/// [`deviation_sentences`]).
+/// `output::study_words::deviation_sentences`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Deviation {
     /// The value of the first varied key the group shares.

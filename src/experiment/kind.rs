@@ -131,7 +131,7 @@ pub fn kind_names() -> String {
 }
 
 impl Analysis {
-    /// The name used in files (one of [`KINDS`]).
+    /// The name used in files (one of the table `KINDS` of this module).
     pub fn kind(&self) -> &'static str {
         match self {
             Analysis::Modal => "modal",
