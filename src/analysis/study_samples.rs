@@ -108,6 +108,8 @@ pub fn stored(
                         failing: s.failing.clone(),
                     })
                     .collect(),
+                findings: Vec::new(),
+                apart: Vec::new(),
             }
         })
         .collect();

@@ -66,16 +66,12 @@ fn range(values: impl Iterator<Item = f64>) -> String {
     }
 }
 
-/// Where a claim holds, per varied key: the range of the values of the samples where it does.
-fn where_holds(run: &StudyRun, rows: &[&ClaimRow]) -> String {
+/// Where a claim holds, per varied key (`names`): the range of the values of the samples where
+/// it does.
+fn where_holds(names: &[String], rows: &[&ClaimRow]) -> String {
     let held: Vec<&&ClaimRow> = rows.iter().filter(|r| r.holds()).collect();
-    let words: Vec<String> = run
-        .manifest
-        .vary
-        .iter()
-        .enumerate()
-        .map(|(k, a)| format!("{} {}", a.name, range(held.iter().map(|r| r.values[k]))))
-        .collect();
+    let words: Vec<String> =
+        names.iter().enumerate().map(|(k, n)| format!("{n} {}", range(held.iter().map(|r| r.values[k])))).collect();
     format!("holds at {}", words.join(", "))
 }
 
@@ -140,6 +136,64 @@ pub fn at_joint_setup(run: &StudyRun) -> Vec<AtJointSetup> {
     out
 }
 
+/// The pairs of claims of different experiments that each hold on settled points at some
+/// sample of `rows` but never at the same one, in claim order.
+pub fn apart_pairs(rows: &[ClaimRow]) -> Vec<(String, String)> {
+    let claims = by_claim(rows);
+    let holding: Vec<&(String, String, Vec<&ClaimRow>)> =
+        claims.iter().filter(|(_, _, rs)| rs.iter().any(|r| r.holds())).collect();
+    let mut out = Vec::new();
+    for (i, a) in holding.iter().enumerate() {
+        for b in &holding[i + 1..] {
+            let together = a.2.iter().any(|ra| ra.holds() && b.2.iter().any(|rb| rb.sample == ra.sample && rb.holds()));
+            let other_figure = a.0.split(':').next() != b.0.split(':').next();
+            if !together && other_figure {
+                out.push((a.0.clone(), b.0.clone()));
+            }
+        }
+    }
+    out
+}
+
+/// What the rows of a joint study (one model's) say beyond the best setup, as sentences: the
+/// claims that fail wherever they can be evaluated on settled points, and the pairs of claims
+/// of different figures that each hold at some sample but never at the same one, with where
+/// each holds (`names`: the varied keys).
+pub fn findings(names: &[String], rows: &[ClaimRow]) -> Vec<String> {
+    let claims = by_claim(rows);
+    let mut sentences = Vec::new();
+    // Claims that fail wherever they can be evaluated on settled points.
+    let never: Vec<String> = claims
+        .iter()
+        .filter(|(_, _, rs)| {
+            let settled: Vec<&&ClaimRow> =
+                rs.iter().filter(|r| r.outcome != crate::analysis::study::Verdict::NotEvaluable && r.settled).collect();
+            !settled.is_empty() && settled.iter().all(|r| !r.holds())
+        })
+        .map(|(c, bound, rs)| format!("{c} ({} against {bound})", range(rs.iter().map(|r| r.value))))
+        .collect();
+    if !never.is_empty() {
+        sentences.push(format!("Failing at every setup where it can be evaluated: {}.", never.join("; ")));
+    }
+    // Claims that each hold somewhere but never together: the figures that pull apart.
+    let apart: Vec<String> = apart_pairs(rows)
+        .iter()
+        .map(|(a, b)| {
+            let of = |c: &str| claims.iter().find(|x| x.0 == c).map(|x| where_holds(names, &x.2)).unwrap_or_default();
+            format!("\"{a}\" ({}) and \"{b}\" ({})", of(a), of(b))
+        })
+        .collect();
+    if !apart.is_empty() {
+        let shown: Vec<String> = apart.iter().take(3).cloned().collect();
+        sentences.push(format!(
+            "Claims that each hold on settled points at some setup but never at the same one{}: {}.",
+            if apart.len() > 3 { format!(" ({} pairs; the first three)", apart.len()) } else { String::new() },
+            shown.join("; ")
+        ));
+    }
+    sentences
+}
+
 /// The bottom line of one joint study run with the report (a stored one: its stored answer,
 /// whose best sample per model the report ran again).
 pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
@@ -176,46 +230,8 @@ pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
             None => sentences.push(format!("No claim of {figures} can be evaluated on settled points at any setup studied.")),
         }
     }
-    // Claims that fail wherever they can be evaluated on settled points.
-    let never: Vec<String> = claims
-        .iter()
-        .filter(|(_, _, rs)| {
-            let settled: Vec<&&ClaimRow> =
-                rs.iter().filter(|r| r.outcome != crate::analysis::study::Verdict::NotEvaluable && r.settled).collect();
-            !settled.is_empty() && settled.iter().all(|r| !r.holds())
-        })
-        .map(|(c, bound, rs)| format!("{c} ({} against {bound})", range(rs.iter().map(|r| r.value))))
-        .collect();
-    if !never.is_empty() {
-        sentences.push(format!("Failing at every setup where it can be evaluated: {}.", never.join("; ")));
-    }
-    // Claims that each hold somewhere but never together: the figures that pull apart.
-    let holding: Vec<&(String, String, Vec<&ClaimRow>)> =
-        claims.iter().filter(|(_, _, rs)| rs.iter().any(|r| r.holds())).collect();
-    let mut apart = Vec::new();
-    for (i, a) in holding.iter().enumerate() {
-        for b in &holding[i + 1..] {
-            let together = a.2.iter().any(|ra| ra.holds() && b.2.iter().any(|rb| rb.sample == ra.sample && rb.holds()));
-            let other_figure = a.0.split(':').next() != b.0.split(':').next();
-            if !together && other_figure {
-                apart.push(format!(
-                    "\"{}\" ({}) and \"{}\" ({})",
-                    a.0,
-                    where_holds(run, &a.2),
-                    b.0,
-                    where_holds(run, &b.2)
-                ));
-            }
-        }
-    }
-    if !apart.is_empty() {
-        let shown: Vec<String> = apart.iter().take(3).cloned().collect();
-        sentences.push(format!(
-            "Claims that each hold on settled points at some setup but never at the same one{}: {}.",
-            if apart.len() > 3 { format!(" ({} pairs; the first three)", apart.len()) } else { String::new() },
-            shown.join("; ")
-        ));
-    }
+    let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
+    sentences.extend(findings(&names, &run.rows));
     BottomLine {
         id: m.study.clone(),
         title: m.title.clone(),
@@ -277,7 +293,23 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
             a.vary.join(", ")
         )
     };
-    sentences.push(format!("{head}; the most at once: {most}."));
+    // Claims that pull apart on every model searched.
+    let common: Vec<&[String; 2]> = a
+        .models
+        .first()
+        .map(|f| f.apart.iter().filter(|p| a.models.iter().all(|x| x.apart.contains(p))).collect())
+        .unwrap_or_default();
+    let apart = match common.as_slice() {
+        [] => String::new(),
+        [p] => format!("; on every model \"{}\" and \"{}\" each hold somewhere but never together", p[0], p[1]),
+        [p, ..] => format!(
+            "; on every model {} pairs of claims each hold somewhere but never together, among them \"{}\" and \"{}\"",
+            common.len(),
+            p[0],
+            p[1]
+        ),
+    };
+    sentences.push(format!("{head}; the most at once: {most}{apart}."));
     // The stored best samples, run again now.
     let mut same = true;
     for x in &a.models {
@@ -303,6 +335,9 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
             "Each model's best setup, run again with this report, gives the stored count (the search ran on {}).",
             a.date
         ));
+    }
+    for x in a.models.iter().filter(|x| !x.findings.is_empty()) {
+        sentences.push(format!("On {} (the whole search): {}", label(&x.model), x.findings.join(" ")));
     }
     if !stored.fresh {
         sentences.push(format!(
@@ -439,6 +474,8 @@ mod tests {
                     holds: 1,
                     failing: vec!["b: one = 1 (at least 2)".into()],
                 }],
+                findings: Vec::new(),
+                apart: Vec::new(),
             }],
             date: "2026-11-27".into(),
         };
@@ -454,12 +491,20 @@ mod tests {
         assert!(b.sentences[0].ends_with("the most at once: 1 of 2 on stated chain."), "{:?}", b.sentences);
         assert!(b.best[0].setup.contains("damping 0.004") && b.best[0].holds == "1 of 2", "{:?}", b.best);
         assert!(b.sentences[1].contains("gives the stored count (the search ran on 2026-11-27)"), "{:?}", b.sentences);
-        // Another count now, another version: both said.
+        // Another count now, another version: both said; a pair that pulls apart on every model
+        // heads it.
+        let mut answer = answer;
+        answer.models[0].apart = vec![["a: one".into(), "b: one".into()]];
         let mut r = run(vec![row(4, 0.004, "a: one", true), row(4, 0.004, "b: one", true)]);
         r.stored = Some(crate::output::study::StoredRun { answer, fresh: false });
         let b = of(&r, "j");
         let text = b.sentences.join(" ");
         assert!(text.contains("gives 2 of 2 (stored: 1 of 2): the stored answer is out of date"), "{text}");
         assert!(text.contains("another version of the study j"), "{text}");
+        assert!(
+            b.sentences[0].contains("on every model \"a: one\" and \"b: one\" each hold somewhere but never together"),
+            "{:?}",
+            b.sentences
+        );
     }
 }

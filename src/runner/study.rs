@@ -203,6 +203,8 @@ pub struct Merged {
     pub names: Vec<String>,
     /// Per sample: the claims that hold and those that fail.
     pub samples: Vec<crate::analysis::study_samples::SampleSummary>,
+    /// Every row of the long table.
+    pub claim_rows: Vec<ClaimRow>,
 }
 
 /// Merges a study folder's parts and writes the long table, the summary and the heat maps.
@@ -242,7 +244,7 @@ pub(super) fn write_outputs(dir: &Path, manifest: Manifest, mut df: polars::prel
         heatmap::write(&map, &figures)?;
     }
     let table = dir.join(format!("{}.csv", manifest.study));
-    Ok(Merged { rows: df.height(), table, summaries, names, samples, manifest })
+    Ok(Merged { rows: df.height(), table, summaries, names, samples, manifest, claim_rows: rows })
 }
 
 /// Writes the stored answer of a merged study folder into the reference folder
@@ -257,7 +259,7 @@ pub fn store(reference: &Path, merged: &Merged) -> Result<PathBuf> {
     } else {
         format!("{per_model} samples per model")
     };
-    let answer = crate::analysis::study_samples::stored(
+    let mut answer = crate::analysis::study_samples::stored(
         &m.study,
         &m.fingerprint,
         &design,
@@ -266,6 +268,12 @@ pub fn store(reference: &Path, merged: &Merged) -> Result<PathBuf> {
         &merged.samples,
         &crate::output::files::today_utc(),
     );
+    // What the rows say beyond the best setups, per model, in the report's words.
+    for model in &mut answer.models {
+        let rows: Vec<ClaimRow> = merged.claim_rows.iter().filter(|r| r.model == model.model).cloned().collect();
+        model.findings = crate::output::bottom_line::findings(&merged.names, &rows);
+        model.apart = crate::output::bottom_line::apart_pairs(&rows).into_iter().map(|(a, b)| [a, b]).collect();
+    }
     let path = crate::checks::reference::stored_study_path(reference, &m.study);
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;

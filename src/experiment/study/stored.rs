@@ -38,6 +38,15 @@ pub struct StoredModel {
     /// The samples where the most claims hold at once (at most [`BEST_STORED`], in sample
     /// order).
     pub best: Vec<StoredSample>,
+    /// What every sample of the model says beyond them, in the report's words: the claims that
+    /// fail wherever they can be evaluated, the claims of different figures that never hold
+    /// together (written by the run that stored it).
+    #[serde(default)]
+    pub findings: Vec<String>,
+    /// The pairs of claims of different figures that each hold at some sample of the model but
+    /// never at the same one.
+    #[serde(default)]
+    pub apart: Vec<[String; 2]>,
 }
 
 /// A study's stored answer.
