@@ -48,7 +48,7 @@ pub fn share(
     owned: &(dyn Fn(usize) -> bool + Sync),
     tick: &(dyn Fn() + Sync),
 ) -> Share {
-    let p = super::design::problem(exp, spec, steady);
+    let p = super::design_problem::problem(exp, spec, steady);
     let b = bare(&p);
     let mut first = 0;
     let searches = spaces(exp, spec)

@@ -12,6 +12,7 @@ mod design_conclusion;
 mod design_drive;
 mod design_levels;
 mod design_near;
+mod design_problem;
 pub mod design_shards;
 mod digitised_checks;
 mod figures;

@@ -1,14 +1,14 @@
 //! An adaptive study's rounds (docs/studies.md, "Adaptive refinement"): each round's samples
 //! run like any study's, and the answers of its samples (the number of claims that hold, every
 //! claim's outcome, or one claim's) choose the next round's samples
-//! ([`crate::experiment::study::adaptive`]).
+//! ([`crate::experiment::study::lattice`]).
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::checks::reference::ReferenceStore;
 use crate::error::Result;
-use crate::experiment::study::adaptive::{self, Point};
+use crate::experiment::study::lattice::{self, Point};
 use crate::experiment::study::{Design, Domain, Refine, Sample, Study};
 use crate::table::Table;
 
@@ -59,7 +59,7 @@ pub fn rounds(
     };
     let mut all: Vec<ClaimRow> = Vec::new();
     let mut first = 0;
-    let known = adaptive::run(&lattice, study.models().len(), |r, todo: &[(usize, Point)]| {
+    let known = lattice::run(&lattice, study.models().len(), |r, todo: &[(usize, Point)]| {
         let samples = study.samples_at(todo, first);
         first += samples.len();
         let rows = round(r, samples)?;

@@ -11,6 +11,7 @@ pub mod designs;
 pub mod schedule;
 pub mod study;
 pub mod study_rounds;
+pub mod study_shard;
 
 use std::path::{Path, PathBuf};
 

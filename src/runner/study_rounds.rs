@@ -13,7 +13,7 @@ use crate::error::Result;
 use crate::experiment::study::{Sample, Study};
 use crate::output::study::{self as folder, Manifest, Shard};
 
-use super::study::{compute_shard, write_outputs, Merged, ShardEnd, StudyProgress};
+use super::study_shard::{compute_shard, write_outputs, Merged, ShardEnd, StudyProgress};
 
 /// The folder of round `round` in a study folder.
 pub fn round_dir(out: &Path, round: u32) -> PathBuf {

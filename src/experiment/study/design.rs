@@ -77,7 +77,7 @@ pub enum Design {
         /// Seed of the orders and places.
         seed: u32,
     },
-    /// A grid refined where the answer changes (`adaptive.rs`): round 0 every `2^levels`-th
+    /// A grid refined where the answer changes (`lattice.rs`): round 0 every `2^levels`-th
     /// value of each key, then `levels` rounds that halve the step where a cell's corners
     /// disagree on `refine`.
     Adaptive {
@@ -126,12 +126,12 @@ impl Design {
 
     /// The fine lattice of an adaptive design over `domains` (`None` for other designs, or
     /// when a domain has no grid of `2^levels * k + 1` values: validation refuses those).
-    pub fn lattice(self, domains: &[Domain]) -> Option<super::adaptive::Lattice> {
+    pub fn lattice(self, domains: &[Domain]) -> Option<super::lattice::Lattice> {
         let Design::Adaptive { levels, .. } = self else {
             return None;
         };
         let sizes: Option<Vec<usize>> = domains.iter().map(|d| d.grid().map(|g| g.len())).collect();
-        super::adaptive::Lattice::new(sizes?, levels).ok()
+        super::lattice::Lattice::new(sizes?, levels).ok()
     }
 }
 

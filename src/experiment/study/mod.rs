@@ -7,6 +7,7 @@
 pub mod adaptive;
 pub mod design;
 mod joint;
+pub mod lattice;
 pub mod overrides;
 pub mod stored;
 
