@@ -239,17 +239,41 @@ mod tests {
     }
 
     #[test]
-    fn the_rounds_are_the_same_whatever_order_answers_come_in() {
+    fn each_round_adds_new_points_in_grid_order_inside_disagreeing_cells_only() {
         let lattice = Lattice::new(vec![17, 9, 5], 2).unwrap();
         let f = |p: &Point| (p[0] * p[0] + 2 * p[1] * p[1] + 3 * p[2]) / 40;
-        let a = run::<_, (), _>(&lattice, 1, |_, todo| Ok(todo.iter().map(|(_, p)| f(p)).collect())).unwrap();
-        // Answers computed back to front (as another thread count would) give the same map.
-        let b = run::<_, (), _>(&lattice, 1, |_, todo| {
-            let mut v: Vec<usize> = todo.iter().rev().map(|(_, p)| f(p)).collect();
-            v.reverse();
-            Ok(v)
+        let mut seen: Vec<Point> = Vec::new();
+        let known = run::<_, (), _>(&lattice, 1, |round, todo| {
+            let points: Vec<Point> = todo.iter().map(|(_, p)| p.clone()).collect();
+            // Sorted, no point twice, none computed in an earlier round.
+            assert!(points.windows(2).all(|w| w[0] < w[1]), "round {round} not in grid order");
+            assert!(points.iter().all(|p| !seen.contains(p)), "round {round} repeats a point");
+            // Every point of round r >= 1 lies on its step, inside a cell of the step before.
+            let step = lattice.stride(round);
+            assert!(points.iter().all(|p| p.iter().all(|x| x % step == 0)), "round {round} off its step");
+            if round > 0 {
+                let cell = 2 * step;
+                for p in &points {
+                    let corner: Point =
+                        p.iter().zip(&lattice.sizes).map(|(&x, &n)| (x / cell * cell).min(n - 1 - cell)).collect();
+                    let answers: Vec<usize> = lattice.corners(&corner, cell).iter().map(f).collect();
+                    let disagree = answers.iter().any(|a| *a != answers[0]);
+                    // On a face two cells share a point: either may be the one that disagrees.
+                    let on_face = p.iter().any(|x| x % cell == 0);
+                    assert!(disagree || on_face, "round {round}: {p:?} in a cell whose corners agree");
+                }
+            }
+            seen.extend(points);
+            Ok(todo.iter().map(|(_, p)| f(p)).collect())
         })
         .unwrap();
-        assert_eq!(a, b);
+        assert_eq!(known[0].len(), seen.len());
+        // Wherever the rounds stopped, the corners agreed: the inferred answer is theirs.
+        for (p, v) in lattice.infer(&known[0]) {
+            let (answer, computed) = v.expect("every point known or inferred");
+            if computed {
+                assert_eq!(answer, f(&p));
+            }
+        }
     }
 }
