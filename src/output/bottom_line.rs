@@ -41,6 +41,14 @@ pub struct BestRow {
     pub failing: String,
 }
 
+/// Links to a joint study's tables in the report: (file name, path).
+fn tables(study: &str, file_dir: &str) -> Vec<(String, String)> {
+    [format!("{study}.csv"), format!("{study}_samples.csv")]
+        .into_iter()
+        .map(|f| (f.clone(), format!("{file_dir}/{f}")))
+        .collect()
+}
+
 /// The setup of a sample in words.
 fn setup(run: &StudyRun, s: &SampleSummary) -> String {
     let model = run.manifest.models.iter().find(|m| m.0 == s.model).map_or(s.model.clone(), |m| m.1.clone());
@@ -244,10 +252,7 @@ pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
                 failing: s.failing.join("; "),
             })
             .collect(),
-        tables: [format!("{}.csv", m.study), format!("{}_samples.csv", m.study)]
-            .into_iter()
-            .map(|f| (f.clone(), format!("{file_dir}/{f}")))
-            .collect(),
+        tables: tables(&m.study, file_dir),
         how: "run with this report".into(),
     }
 }
@@ -357,10 +362,7 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
                 failing: s.failing.join("; "),
             })
             .collect(),
-        tables: [format!("{}.csv", m.study), format!("{}_samples.csv", m.study)]
-            .into_iter()
-            .map(|f| (f.clone(), format!("{file_dir}/{f}")))
-            .collect(),
+        tables: tables(&m.study, file_dir),
         how: format!(
             "searched by a whole run of the study on {} (its answer in reference/studies/{}.json), each model's best setup run again with this report (the tables: those runs)",
             a.date, m.study
