@@ -41,6 +41,17 @@ pub struct BestRow {
     pub failing: String,
 }
 
+impl BestRow {
+    /// The row of one sample of `run`.
+    fn of(run: &StudyRun, s: &SampleSummary) -> BestRow {
+        BestRow {
+            setup: setup(run, s),
+            holds: format!("{} of {}", s.holds, s.evaluable),
+            failing: s.failing.join("; "),
+        }
+    }
+}
+
 /// Links to a joint study's tables in the report: (file name, path).
 fn tables(study: &str, file_dir: &str) -> Vec<(String, String)> {
     [format!("{study}.csv"), format!("{study}_samples.csv")]
@@ -244,14 +255,7 @@ pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
         id: m.study.clone(),
         title: m.title.clone(),
         sentences,
-        best: top
-            .iter()
-            .map(|s| BestRow {
-                setup: setup(run, s),
-                holds: format!("{} of {}", s.holds, s.evaluable),
-                failing: s.failing.join("; "),
-            })
-            .collect(),
+        best: top.iter().map(|s| BestRow::of(run, s)).collect(),
         tables: tables(&m.study, file_dir),
         how: "run with this report".into(),
     }
@@ -354,14 +358,7 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
         id: m.study.clone(),
         title: m.title.clone(),
         sentences,
-        best: now
-            .iter()
-            .map(|s| BestRow {
-                setup: setup(run, s),
-                holds: format!("{} of {}", s.holds, s.evaluable),
-                failing: s.failing.join("; "),
-            })
-            .collect(),
+        best: now.iter().map(|s| BestRow::of(run, s)).collect(),
         tables: tables(&m.study, file_dir),
         how: format!(
             "searched by a whole run of the study on {} (its answer in reference/studies/{}.json), each model's best setup run again with this report (the tables: those runs)",
