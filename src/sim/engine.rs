@@ -62,11 +62,16 @@ pub struct Settings {
     pub step_fraction: f64,
     /// Most events in one `advance` call before it stops with [`Stop::Chatter`].
     pub max_events: usize,
+    /// Whether the search skips coarse windows where no event can be (above
+    /// [`LARGE_ABOVE`](super::system::LARGE_ABOVE) degrees of freedom, at the default step;
+    /// `sim::coarse`). Off, it steps through ordinary windows only: the same events (a test
+    /// compares the two).
+    pub coarse: bool,
 }
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { step_fraction: STEP_FRACTION, max_events: 2000 }
+        Settings { step_fraction: STEP_FRACTION, max_events: 2000, coarse: true }
     }
 }
 
@@ -87,10 +92,8 @@ fn fresh_tol(w: &Watch, omega: f64) -> [f64; 3] {
 /// degrees of freedom rounds more: on a 64-mass chain a relative velocity of 2e-12 m/s left by
 /// rounding after a lift-off counted as an impact, again and again at one instant.
 fn rounded_tol(w: &Watch, tol: [f64; 3], seg: &Segment, d: &Dynamics, pt: &Point) -> [f64; 3] {
-    let (host, first) = match *w {
-        Watch::Contact { host, .. } => (host, 2),
-        Watch::GapBottom { host, .. } | Watch::GapTop { host, .. } => (host, 0),
-        Watch::Pair { .. } => return tol,
+    let Some((host, first, _)) = w.reads() else {
+        return tol;
     };
     let rounding = rounding(seg, d);
     [
@@ -110,7 +113,7 @@ fn rounding(seg: &Segment, d: &Dynamics) -> f64 {
 /// closed form's rounding where that exceeds [`ACCEL_TOL`] (on the paper's three masses the
 /// rounding is about 2e-11 m/s^2; on a 64-mass chain near resonance 3e-8 m/s^2, and a lift-off
 /// the event search found was undone again and again by a contact force computed as 1.3e-8).
-const ROUNDED_CONTACTS_ABOVE: usize = 8;
+const ROUNDED_CONTACTS_ABOVE: usize = super::system::LARGE_ABOVE;
 
 /// A bed that leaves its host at this instant (`tf` the state's time): its gap and the gap's
 /// rate from the state itself, exact (zero when it lifts off or sticks), not from the closed
@@ -357,19 +360,47 @@ impl<'a> Engine<'a> {
         // The windows' starts are equally spaced: with the default step each point is carried
         // from the one before by the step's factors (no exponential, sine or cosine).
         let carry = (self.settings.step_fraction == STEP_FRACTION).then(|| d.window_step(seg.slot));
+        // Above LARGE_ABOVE degrees of freedom, windows of many steps skipped whole where no
+        // function can reach zero (`sim::coarse`), once every watch's search has started.
+        let coarse = self.settings.coarse && d.dof > super::system::LARGE_ABOVE;
+        let levels = carry.filter(|_| coarse).map(|_| d.levels(seg.slot)).filter(|l| !l.is_empty());
+        let searching = starts[..n_starts].iter().fold(t_a, |m, &s| m.max(s));
         let mut best: Option<f64> = None;
         let mut a = t_a;
         let mut current = first;
         // A point the inner loop overwrites when a watch's window starts inside a step.
         let mut spare: Option<Point> = None;
+        // Whether `current` must still be carried one ordinary step to `a`.
+        let mut behind = false;
+        // Ordinary windows before the next try of a coarse one: after each failed try twice as
+        // many as after the one before (at most MAX_WAIT), none after a skip.
+        let (mut wait, mut backoff) = (0usize, 1usize);
         while a < t_b {
-            let b = (a + step).min(t_b);
-            if a != t_a {
+            if behind {
                 match carry {
                     Some(st) => current.advance(st, a),
                     None => seg.point_into(d, a, &mut current),
                 }
             }
+            if let Some(levels) = levels.filter(|_| a >= searching) {
+                if wait > 0 {
+                    wait -= 1;
+                } else if let Some(k) = super::coarse::clear_level(seg, d, watches, &current, levels, t_b - a) {
+                    let st = &levels.steps[k];
+                    if st.dt >= t_b - a {
+                        return None;
+                    }
+                    a += st.dt;
+                    current.advance(st, a);
+                    (behind, backoff) = (false, 1);
+                    continue;
+                } else {
+                    wait = backoff;
+                    backoff = (2 * backoff).min(super::coarse::MAX_WAIT);
+                }
+            }
+            let b = (a + step).min(t_b);
+            behind = true;
             let pt = &current;
             for (w, &start) in watches.iter().zip(&starts[..n_starts]) {
                 let lo = a.max(start);

@@ -5,6 +5,7 @@
 
 pub mod bed;
 pub mod buf;
+pub mod coarse;
 pub mod column;
 pub mod continuation;
 pub mod eigen;

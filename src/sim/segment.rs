@@ -235,6 +235,74 @@ impl Segment {
         (out, b + d.omega_pow[bound_order] * f.amp)
     }
 
+    /// `h` (sums of the terms for four successive derivatives of mass `p`'s displacement from
+    /// `order` on) plus the forced response's and the static offset's.
+    #[inline]
+    fn particular4(&self, d: &Dynamics, pt: &Point, p: usize, order: usize, h: [f64; 4]) -> [f64; 4] {
+        let f = &d.forced(self.slot)[p];
+        let (pp, qq) = (f.p, f.q);
+        let mut out = [0.0; 4];
+        for (i, o) in out.iter_mut().enumerate() {
+            let forced = match (order + i) % 4 {
+                0 => pp * pt.cos + qq * pt.sin,
+                1 => -pp * pt.sin + qq * pt.cos,
+                2 => -(pp * pt.cos + qq * pt.sin),
+                _ => pp * pt.sin - qq * pt.cos,
+            } * d.omega_pow[order + i];
+            *o = h[i] + forced + if order + i == 0 { d.configs[self.slot].modes.offset[p] } else { 0.0 };
+        }
+        out
+    }
+
+    /// [`Segment::derivs4_bound`] of the slow terms at each coarse level (the first `slow[k]`
+    /// terms, which are ordered by `|lambda|` above [`super::system::LARGE_ABOVE`] degrees of
+    /// freedom), with the forced response, and a bound from this point on of the fast terms'
+    /// contribution to derivative `order` (the rest): into `out[k]`, in one pass over the
+    /// terms. `slow` does not increase with `k`.
+    pub fn derivs4_levels(
+        &self,
+        d: &Dynamics,
+        pt: &Point,
+        (p, order, bound_order): (usize, usize, usize),
+        slow: &[usize],
+        out: &mut [Split],
+    ) {
+        let cfg = &d.configs[self.slot];
+        let (e, e_abs) = (&pt.e[..], &pt.e_abs[..]);
+        let rows = &cfg.modes.vl[p][order..order + 4];
+        let (r0, r1, r2, r3) = (&rows[0][..e.len()], &rows[1][..e.len()], &rows[2][..e.len()], &rows[3][..e.len()]);
+        let ra = &cfg.modes.vl_abs[p][bound_order][..e.len()];
+        let rv = &cfg.modes.vl_abs[p][order][..e.len()];
+        let (mut h, mut b, mut a) = ([-0.0; 4], -0.0, -0.0);
+        let mut r = 0;
+        for k in (0..slow.len()).rev() {
+            while r < slow[k] {
+                let z = e[r];
+                h[0] += r0[r].re * z.re - r0[r].im * z.im;
+                h[1] += r1[r].re * z.re - r1[r].im * z.im;
+                h[2] += r2[r].re * z.re - r2[r].im * z.im;
+                h[3] += r3[r].re * z.re - r3[r].im * z.im;
+                b += ra[r] * e_abs[r];
+                a += rv[r] * e_abs[r];
+                r += 1;
+            }
+            out[k] = Split { x: h, bound4: b, fast: a };
+        }
+        let total = a + (r..e.len()).map(|r| rv[r] * e_abs[r]).sum::<f64>();
+        // The fast part as the total less the slow part, plus what the two sums' rounding
+        // can take from it (each within len roundings of the total).
+        let margin = 4.0 * (e.len() as f64 + 2.0) * f64::EPSILON * total;
+        let forcing = d.omega_pow[bound_order] * d.forced(self.slot)[p].amp;
+        let particular = self.particular4(d, pt, p, order, [0.0; 4]);
+        for s in out[..slow.len()].iter_mut() {
+            for (x, q) in s.x.iter_mut().zip(particular) {
+                *x += q;
+            }
+            s.bound4 += forcing;
+            s.fast = (total - s.fast).max(0.0) + margin;
+        }
+    }
+
     /// Displacements and velocities of all masses at a point.
     pub fn state(&self, d: &Dynamics, pt: &Point) -> (DVector<f64>, DVector<f64>) {
         let n = d.system.dof();
@@ -306,6 +374,18 @@ pub enum Watch {
     },
 }
 
+/// One coarse level's part of a displacement derivative ([`Segment::derivs4_levels`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Split {
+    /// Four successive derivatives of the slow terms and the forced response.
+    pub x: [f64; 4],
+    /// A bound on the next-but-three derivative of the slow terms and the forced response from
+    /// the point on.
+    pub bound4: f64,
+    /// A bound on the fast terms' part of the first of the four from the point on.
+    pub fast: f64,
+}
+
 /// A function value with three derivatives at a point, and a bound on the fourth derivative
 /// valid from that point on.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -343,30 +423,56 @@ impl Watch {
         }
     }
 
+    /// The host's displacement derivatives a function reads: `(host, first order, bound
+    /// order)`; `None` for a grain pair (gravity alone).
+    #[inline]
+    pub fn reads(&self) -> Option<(usize, usize, usize)> {
+        match *self {
+            Watch::Contact { host, .. } => Some((host, 2, 6)),
+            Watch::GapBottom { host, .. } | Watch::GapTop { host, .. } => Some((host, 0, 4)),
+            Watch::Pair { .. } => None,
+        }
+    }
+
     /// Value, derivatives and bound at a point of a segment.
+    #[inline]
     pub fn taylor(&self, seg: &Segment, d: &Dynamics, pt: &Point) -> Taylor {
         match *self {
-            Watch::Contact { bed, host, sigma } => {
-                let g = d.system.dampers[bed].gravity();
+            Watch::Contact { host, .. } => {
                 let (x, bound4) = seg.derivs4_bound(d, pt, host, 2, 6);
+                self.compose(d, pt.t, x, bound4)
+            }
+            Watch::GapBottom { host, .. } | Watch::GapTop { host, .. } => {
+                let (x, bound4) = seg.derivs4_bound(d, pt, host, 0, 4);
+                self.compose(d, pt.t, x, bound4)
+            }
+            Watch::Pair { .. } => self.compose(d, pt.t, [0.0; 4], 0.0),
+        }
+    }
+
+    /// The function's Taylor data at time `t` from its host's displacement derivatives `x`
+    /// (those [`Watch::reads`]) and their bound.
+    #[inline]
+    pub fn compose(&self, d: &Dynamics, t: f64, x: [f64; 4], bound4: f64) -> Taylor {
+        match *self {
+            Watch::Contact { bed, sigma, .. } => {
+                let g = d.system.dampers[bed].gravity();
                 Taylor { h: [sigma * (x[0] + g), sigma * x[1], sigma * x[2], sigma * x[3]], bound4 }
             }
-            Watch::GapBottom { bed, host, y0, u0, tf } => {
+            Watch::GapBottom { bed, y0, u0, tf, .. } => {
                 let g = d.system.dampers[bed].gravity();
-                let (x, bound4) = seg.derivs4_bound(d, pt, host, 0, 4);
-                let (y, u) = super::bed::flight(g, tf, y0, u0, pt.t);
+                let (y, u) = super::bed::flight(g, tf, y0, u0, t);
                 Taylor { h: [y - x[0], u - x[1], -g - x[2], -x[3]], bound4 }
             }
-            Watch::GapTop { bed, host, d: clearance, y0, u0, tf } => {
+            Watch::GapTop { bed, d: clearance, y0, u0, tf, .. } => {
                 let g = d.system.dampers[bed].gravity();
-                let (x, bound4) = seg.derivs4_bound(d, pt, host, 0, 4);
-                let (y, u) = super::bed::flight(g, tf, y0, u0, pt.t);
+                let (y, u) = super::bed::flight(g, tf, y0, u0, t);
                 Taylor { h: [x[0] + clearance - y, x[1] - u, x[2] + g, x[3]], bound4 }
             }
             Watch::Pair { upper, lower_flight: [tl, yl, ul], upper_flight: [tu, yu, uu], .. } => {
                 let g = d.system.dampers[upper].gravity();
-                let (a, va) = super::bed::flight(g, tl, yl, ul, pt.t);
-                let (b, vb) = super::bed::flight(g, tu, yu, uu, pt.t);
+                let (a, va) = super::bed::flight(g, tl, yl, ul, t);
+                let (b, vb) = super::bed::flight(g, tu, yu, uu, t);
                 Taylor { h: [b - a, vb - va, 0.0, 0.0], bound4: 0.0 }
             }
         }

@@ -308,6 +308,12 @@ pub struct Config {
     pub modes: Arc<Modes>,
 }
 
+/// Degrees of freedom above which the simulator runs its rules for large structures: contact
+/// accelerations counted as zero up to the closed form's rounding, one contact decision per
+/// event (`sim::engine`) and the event search's coarse windows (`sim::coarse`). Up to it the
+/// paper's structures run the code they always ran, bit for bit.
+pub const LARGE_ABOVE: usize = 8;
+
 /// The event search's step as a fraction of [`Dynamics::min_period`] (the engine's default;
 /// [`Dynamics::window_step`] holds the factors of this step).
 pub const STEP_FRACTION: f64 = 0.125;
@@ -384,6 +390,9 @@ pub struct Dynamics {
     /// Per configuration, the factors of the event search's default step
     /// (`STEP_FRACTION * min_period`), computed when first needed.
     window: Vec<std::sync::OnceLock<Step>>,
+    /// Per configuration, the event search's coarse windows above [`LARGE_ABOVE`] degrees
+    /// of freedom ([`super::coarse::Levels`]), computed when first needed.
+    coarse: Vec<std::sync::OnceLock<super::coarse::Levels>>,
 }
 
 impl Dynamics {
@@ -416,6 +425,7 @@ impl Dynamics {
         let support = self.system.base.as_ref().map_or(0.0, |b| b.displacement(omega));
         let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
         let window = vec![std::sync::OnceLock::new(); configs.len()];
+        let coarse = vec![std::sync::OnceLock::new(); configs.len()];
         Ok(Dynamics {
             system: Arc::clone(&self.system),
             omega,
@@ -430,6 +440,7 @@ impl Dynamics {
             omega_pow: std::array::from_fn(|m| omega.powi(m as i32)),
             groups: Arc::clone(&self.groups),
             window,
+            coarse,
         })
     }
 
@@ -475,7 +486,14 @@ impl Dynamics {
             if condition.is_nan() || condition >= MAX_CONDITION || eig.values.iter().any(|l| l.re > 1e-9 * rate) {
                 return Err(SetupError::IllConditioned { mask, condition });
             }
-            let reps = &eig.representatives;
+            // Above LARGE_ABOVE degrees of freedom the terms are ordered by |lambda| (slowest
+            // first): the event search's coarse windows sum the slow ones as a prefix
+            // (`sim::coarse`). The paper's structures keep the decomposition's own order.
+            let mut reps = eig.representatives.clone();
+            if n > LARGE_ABOVE {
+                reps.sort_by(|a, b| eig.values[a.0].norm().total_cmp(&eig.values[b.0].norm()));
+            }
+            let reps = &reps;
             let vl: Vec<[Vec<Complex64>; ORDERS]> = (0..n)
                 .map(|p| {
                     std::array::from_fn(|order| {
@@ -525,6 +543,7 @@ impl Dynamics {
             omega_pow: std::array::from_fn(|m| omega.powi(m as i32)),
             groups: Arc::new(groups),
             window: vec![std::sync::OnceLock::new(); configs_len],
+            coarse: vec![std::sync::OnceLock::new(); configs_len],
         })
     }
 
@@ -564,6 +583,12 @@ impl Dynamics {
     /// The factors of the event search's default step in configuration `slot`.
     pub fn window_step(&self, slot: usize) -> &Step {
         self.window[slot].get_or_init(|| self.step(slot, self.min_period * STEP_FRACTION))
+    }
+
+    /// The event search's coarse windows in configuration `slot` ([`super::coarse::Levels`];
+    /// none up to [`LARGE_ABOVE`] degrees of freedom).
+    pub fn levels(&self, slot: usize) -> &super::coarse::Levels {
+        self.coarse[slot].get_or_init(|| super::coarse::Levels::of(self, slot))
     }
 
     /// The configuration in which the beds of `mask` are attached.
