@@ -19,7 +19,7 @@ fn fig05_map(c: &mut Criterion) {
     let mut group = c.benchmark_group("study");
     group.sample_size(10);
     group.bench_function("fig05 map stated: 8 damping x 14 clearances x 2 cases x 61 frequencies", |b| {
-        b.iter(|| run_all(&s, &refs, &reference, &|| {}).expect("rows"))
+        b.iter(|| run_all(&s, &refs, &|| {}).expect("rows"))
     });
     group.finish();
 }

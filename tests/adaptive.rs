@@ -177,7 +177,7 @@ fn the_report_s_run_in_one_process_gives_the_folder_s_rows() {
     let reference = repo().join("reference");
     let study = shotdamp::experiment::study::load(&file, &reference).unwrap();
     let refs = shotdamp::runner::study_references(&study, &reference).unwrap();
-    let rows = shotdamp::analysis::study_adaptive::run_all(&study, &refs, &reference, &|| {}).unwrap();
+    let rows = shotdamp::analysis::study_adaptive::run_all(&study, &refs, &|| {}).unwrap();
     let table = shotdamp::analysis::study::table(&study, &rows);
     let csv = shotdamp::table::to_csv(&table).unwrap();
     let folder = csv_rows(&String::from_utf8(read(&dir.path().join("f"), "ad.csv")).unwrap());

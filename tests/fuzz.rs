@@ -221,7 +221,7 @@ proptest! {
             // Every sample's experiment builds, or the error names the study.
             Ok(study) => {
                 for sample in &study.samples {
-                    if let Err(e) = study.experiment(sample, &reference) {
+                    if let Err(e) = study.experiment(sample) {
                         prop_assert!(names(&e, &p), "{e}");
                     }
                 }

@@ -106,3 +106,31 @@ fn a_library_study_writes_what_the_command_line_writes() {
         assert!(bytes == &b[path], "{} differs", path.display());
     }
 }
+
+/// Every experiment of the report loaded with one set of reference files parses each value
+/// file and digitised file once, and the checks' store takes them from the checks: with those
+/// files gone from the reference folder after loading, the store still has them all.
+#[test]
+fn each_reference_file_is_parsed_once() {
+    use shotdamp::reference::files::Files;
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("reference");
+    common::copy_tree(&common::repo().join("reference"), &reference);
+    let refs = Files::new(&reference);
+    let mut exps = Vec::new();
+    for p in shotdamp::experiment::discover(&common::repo().join("experiments")).unwrap() {
+        exps.extend(shotdamp::experiment::load_with(&p, &refs).unwrap());
+    }
+    let parsed: std::collections::BTreeSet<&str> =
+        exps.iter().flat_map(|e| &e.checks).filter(|c| c.loaded.is_some()).map(|c| c.reference_file.as_str()).collect();
+    assert!(!parsed.is_empty());
+    assert!(exps.iter().flat_map(|e| &e.checks).filter(|c| c.loaded.is_some()).count() > 2 * parsed.len());
+    assert_eq!(refs.reads(), parsed.len(), "one parse a file: {parsed:?}");
+    for file in &parsed {
+        std::fs::remove_file(reference.join(file)).unwrap();
+    }
+    let store = shotdamp::checks::reference::ReferenceStore::load(&reference, &exps).unwrap();
+    for file in &parsed {
+        assert!(store.values(file).is_some() || store.digitised(file).is_some(), "{file}");
+    }
+}

@@ -112,6 +112,7 @@ mod tests {
 
     fn spec() -> CheckSpec {
         CheckSpec {
+            loaded: None,
             kind: CheckKind::DesignConclusion,
             id: Some("conclusion".into()),
             reference_file: "paper-text.toml".into(),

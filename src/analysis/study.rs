@@ -3,7 +3,6 @@
 //! No I/O: the study's tables and references arrive loaded.
 
 use std::collections::BTreeMap;
-use std::path::Path;
 use std::sync::Mutex;
 
 use crate::checks::reference::ReferenceStore;
@@ -121,23 +120,15 @@ pub fn prepare(
     study: &Study,
     sample: &Sample,
     refs: &ReferenceStore,
-    reference_dir: &Path,
     cache: &DependencyCache,
 ) -> Result<Vec<Experiment>> {
-    study.parts().map(|part| prepare_one(part, sample, refs, reference_dir, cache)).collect()
+    study.parts().map(|part| prepare_one(part, sample, refs, cache)).collect()
 }
 
 /// [`prepare`] for one experiment of the study.
-fn prepare_one(
-    study: &Study,
-    sample: &Sample,
-    refs: &ReferenceStore,
-    reference_dir: &Path,
-    cache: &DependencyCache,
-) -> Result<Experiment> {
-    let exp = study.experiment(sample, reference_dir)?;
-    let exports =
-        dependency_exports(study, &exp, sample, refs, reference_dir, cache).map_err(|e| study.at_sample(e, sample))?;
+fn prepare_one(study: &Study, sample: &Sample, refs: &ReferenceStore, cache: &DependencyCache) -> Result<Experiment> {
+    let exp = study.experiment(sample)?;
+    let exports = dependency_exports(study, &exp, sample, refs, cache).map_err(|e| study.at_sample(e, sample))?;
     let mut exp = exp.resolve(&exports).map_err(|e| study.at_sample(e, sample))?;
     exp.checks = claims(&exp);
     Ok(exp)
@@ -150,12 +141,10 @@ pub fn prepare_all(
     study: &Study,
     samples: &[&Sample],
     refs: &ReferenceStore,
-    reference_dir: &Path,
     cache: &DependencyCache,
 ) -> Result<Vec<Vec<Experiment>>> {
     use rayon::prelude::*;
-    let all: Vec<Result<Vec<Experiment>>> =
-        samples.par_iter().map(|s| prepare(study, s, refs, reference_dir, cache)).collect();
+    let all: Vec<Result<Vec<Experiment>>> = samples.par_iter().map(|s| prepare(study, s, refs, cache)).collect();
     all.into_iter().collect()
 }
 
@@ -164,11 +153,10 @@ pub fn run_sample(
     study: &Study,
     sample: &Sample,
     refs: &ReferenceStore,
-    reference_dir: &Path,
     cache: &DependencyCache,
     tick: &Tick,
 ) -> Result<Vec<ClaimRow>> {
-    let exps = prepare(study, sample, refs, reference_dir, cache)?;
+    let exps = prepare(study, sample, refs, cache)?;
     run_prepared(&exps, sample, refs, tick)
 }
 
@@ -229,7 +217,6 @@ fn dependency_exports(
     exp: &Experiment,
     sample: &Sample,
     refs: &ReferenceStore,
-    reference_dir: &Path,
     cache: &DependencyCache,
 ) -> Result<Exports> {
     let mut exports = Exports::new();
@@ -239,8 +226,8 @@ fn dependency_exports(
         let values = match known {
             Some(v) => v,
             None => {
-                let dep = study.dependency(&id, sample, reference_dir)?;
-                let inner = dependency_exports(study, &dep, sample, refs, reference_dir, cache)?;
+                let dep = study.dependency(&id, sample)?;
+                let inner = dependency_exports(study, &dep, sample, refs, cache)?;
                 let dep = dep.resolve(&inner)?;
                 let v = super::run(&dep, refs, &|| {})?.exports;
                 if let Ok(mut m) = cache.runs.lock() {
@@ -257,11 +244,11 @@ fn dependency_exports(
 /// Every sample of a study, in parallel (on the caller's pool), rows in sample order: the
 /// same rows whatever the number of threads. An adaptive study's samples are its round 0:
 /// [`super::study_adaptive::run_all`] runs its rounds.
-pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path, tick: &Tick) -> Result<Vec<ClaimRow>> {
+pub fn run_all(study: &Study, refs: &ReferenceStore, tick: &Tick) -> Result<Vec<ClaimRow>> {
     use rayon::prelude::*;
     let cache = DependencyCache::default();
     let samples: Vec<&Sample> = study.samples.iter().collect();
-    let exps = prepare_all(study, &samples, refs, reference_dir, &cache)?;
+    let exps = prepare_all(study, &samples, refs, &cache)?;
     let rows: Vec<Result<Vec<ClaimRow>>> =
         exps.par_iter().zip(&samples).map(|(e, s)| run_prepared(e, s, refs, tick)).collect();
     let rows: Vec<Vec<ClaimRow>> = rows.into_iter().collect::<Result<_>>()?;

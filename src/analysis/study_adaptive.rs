@@ -4,7 +4,6 @@
 //! ([`crate::experiment::study::lattice`]).
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use crate::checks::reference::ReferenceStore;
 use crate::error::Result;
@@ -74,9 +73,8 @@ pub fn rounds(
 
 /// Every round of an adaptive study in this process (as `shotdamp report` runs a study): the
 /// rows of every sample computed, in sample order (round after round).
-pub fn run_all(study: &Study, refs: &ReferenceStore, reference_dir: &Path, tick: &Tick) -> Result<Vec<ClaimRow>> {
-    let (rows, _) =
-        rounds(study, |_, samples| super::study::run_all(&study.with_samples(samples), refs, reference_dir, tick))?;
+pub fn run_all(study: &Study, refs: &ReferenceStore, tick: &Tick) -> Result<Vec<ClaimRow>> {
+    let (rows, _) = rounds(study, |_, samples| super::study::run_all(&study.with_samples(samples), refs, tick))?;
     Ok(rows)
 }
 

@@ -3,9 +3,11 @@
 //! tolerance (given by the check) + provenance.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use crate::reference::digitised::{self, DigitisedFile};
+use crate::reference::files::Loaded;
 use crate::reference::values::ValueFile;
 
 /// A reference curve file (CSV): every numeric column as f64, by name.
@@ -167,9 +169,9 @@ pub fn stored_design_path(dir: &Path, key: &str) -> std::path::PathBuf {
 /// Reference files loaded once, before any experiment runs (no I/O during analysis).
 #[derive(Debug, Clone, Default)]
 pub struct ReferenceStore {
-    values: std::collections::BTreeMap<String, ValueFile>,
+    values: std::collections::BTreeMap<String, Arc<ValueFile>>,
     curves: std::collections::BTreeMap<String, Curve>,
-    digitised: std::collections::BTreeMap<String, DigitisedFile>,
+    digitised: std::collections::BTreeMap<String, Arc<DigitisedFile>>,
     baselines: std::collections::BTreeMap<String, Vec<super::baseline::Value>>,
     /// Whether experiments are compared with their blessed baselines.
     pub baseline_mode: BaselineMode,
@@ -178,23 +180,34 @@ pub struct ReferenceStore {
 }
 
 impl ReferenceStore {
-    /// Loads every value file the experiments' checks name, from `dir`.
+    /// Every reference file the experiments' checks name: the value files and digitised files
+    /// validation parsed (kept by the checks, [`Loaded`]), the CSV curves read from `dir`
+    /// once each (and any file a check built in code names without its parse).
     pub fn load(dir: &Path, experiments: &[crate::experiment::Experiment]) -> Result<ReferenceStore> {
         let mut store = ReferenceStore::default();
         for exp in experiments {
             for check in &exp.checks {
                 let file = &check.reference_file;
+                match &check.loaded {
+                    Some(Loaded::Values(v)) => {
+                        store.values.entry(file.clone()).or_insert_with(|| Arc::clone(v));
+                    }
+                    Some(Loaded::Digitised(d)) => {
+                        store.digitised.entry(file.clone()).or_insert_with(|| Arc::clone(d));
+                    }
+                    None => {}
+                }
                 if matches!(
                     check.kind,
                     crate::experiment::CheckKind::Tube { .. } | crate::experiment::CheckKind::Peak { .. }
                 ) {
                     if !store.digitised.contains_key(file) {
-                        store.digitised.insert(file.clone(), digitised::load(&dir.join(file))?);
+                        store.digitised.insert(file.clone(), Arc::new(digitised::load(&dir.join(file))?));
                     }
                     continue;
                 }
                 if file.ends_with(".toml") && !store.values.contains_key(file) {
-                    store.values.insert(file.clone(), ValueFile::load(&dir.join(file))?);
+                    store.values.insert(file.clone(), Arc::new(ValueFile::load(&dir.join(file))?));
                 }
                 if file.ends_with(".csv") && !store.curves.contains_key(file) {
                     store.curves.insert(file.clone(), Curve::load(&dir.join(file))?);
@@ -264,12 +277,12 @@ impl ReferenceStore {
 
     /// A loaded value file.
     pub fn values(&self, file: &str) -> Option<&ValueFile> {
-        self.values.get(file)
+        self.values.get(file).map(Arc::as_ref)
     }
 
     /// A loaded digitised file.
     pub fn digitised(&self, file: &str) -> Option<&DigitisedFile> {
-        self.digitised.get(file)
+        self.digitised.get(file).map(Arc::as_ref)
     }
 
     /// A loaded curve file.
@@ -279,6 +292,6 @@ impl ReferenceStore {
 
     /// Adds a value file (for tests and tools).
     pub fn insert_values(&mut self, file: impl Into<String>, values: ValueFile) {
-        self.values.insert(file.into(), values);
+        self.values.insert(file.into(), Arc::new(values));
     }
 }

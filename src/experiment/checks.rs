@@ -2,9 +2,11 @@
 //! reference files and ids, which must exist.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use crate::error::{Error, Result};
-use crate::reference::values::ValueFile;
+use crate::reference::digitised::DigitisedFile;
+use crate::reference::files::{Files, Loaded};
 
 use super::fields::mass_index;
 use super::raw::RawCheck;
@@ -37,7 +39,7 @@ pub fn check(
     n: usize,
     case_ids: &[String],
     analysis: &Analysis,
-    reference_dir: &Path,
+    files: &Files,
 ) -> Result<CheckSpec> {
     let key = |k: &str| format!("checks[{i}].{k}");
     if let Some(id) = &c.id {
@@ -74,6 +76,8 @@ pub fn check(
             ));
         }
     }
+    // The reference file validation parsed, kept for the checks (parsed once).
+    let mut loaded: Option<Loaded> = None;
     let kind =
         match c.kind.as_str() {
             "natural_frequency" => CheckKind::NaturalFrequency { mode: mode(c.mode)? },
@@ -142,7 +146,11 @@ pub fn check(
                 }
             }
             "peak_ratio" | "ratio_order" => claim(path, i, &c, n, case_ids)?,
-            "tube" | "peak" => digitised(path, i, &c, n, case_ids, reference_dir)?,
+            "tube" | "peak" => {
+                let (kind, file) = digitised(path, i, &c, n, case_ids, files)?;
+                loaded = Some(Loaded::Digitised(file));
+                kind
+            }
             "motion_types" => {
                 if !matches!(analysis, Analysis::Waveform { .. }) {
                     return Err(Error::invalid(
@@ -236,6 +244,7 @@ pub fn check(
                 reference_id: None,
                 tolerance,
                 known_deviation: c.known_deviation,
+                loaded: None,
             })
         }
         (CheckKind::OrbitVsSimulation, Some(r)) => {
@@ -260,7 +269,7 @@ pub fn check(
         Some((f, id)) => (f.to_string(), Some(id.to_string())),
         None => (reference.clone(), None),
     };
-    let ref_path = reference_dir.join(&file);
+    let ref_path = files.dir().join(&file);
     if !ref_path.is_file() {
         return Err(Error::invalid(
             path,
@@ -302,8 +311,11 @@ pub fn check(
             "a curve reference is a CSV file",
         ));
     }
-    if !ids.is_empty() {
-        let values = ValueFile::load(&ref_path)?;
+    // A value file is parsed here whether or not the check names a value in it (the checks
+    // take it from here); a digitised file was parsed above.
+    if !ids.is_empty() || (loaded.is_none() && file.ends_with(".toml")) {
+        let values = files.values(&file)?;
+        loaded = Some(Loaded::Values(Arc::clone(&values)));
         for id in ids {
             if values.get(id).is_none() {
                 return Err(Error::invalid(
@@ -322,6 +334,7 @@ pub fn check(
         reference_id: id,
         tolerance,
         known_deviation: c.known_deviation,
+        loaded,
     })
 }
 
@@ -457,13 +470,13 @@ fn digitised(
     c: &RawCheck,
     n: usize,
     case_ids: &[String],
-    reference_dir: &Path,
-) -> Result<CheckKind> {
+    files: &Files,
+) -> Result<(CheckKind, Arc<DigitisedFile>)> {
     let key = |k: &str| format!("checks[{i}].{k}");
     let Some(reference) = c.reference.as_deref() else {
         return Err(Error::invalid(path, key("reference"), "(missing)", "name the digitised file under reference/"));
     };
-    let file = crate::reference::digitised::load(&reference_dir.join(reference)).map_err(|e| {
+    let file = files.digitised(reference).map_err(|e| {
         Error::invalid(
             path,
             key("reference"),
@@ -499,7 +512,7 @@ fn digitised(
     };
     let (x_px, y_px) = (px("x_tol_px", c.x_tol_px)?, px("y_tol_px", c.y_tol_px)?);
     if c.kind == "tube" {
-        return Ok(CheckKind::Tube { case, mass, curve: name, x_px, y_px });
+        return Ok((CheckKind::Tube { case, mass, curve: name, x_px, y_px }, file));
     }
     let Some(window) = window(path, key("window_hz"), &c.window_hz)? else {
         return Err(Error::invalid(
@@ -509,5 +522,5 @@ fn digitised(
             "a peak check needs the window of the resonance, [from, to] Hz",
         ));
     };
-    Ok(CheckKind::Peak { case, mass, curve: name, window, x_px, y_px })
+    Ok((CheckKind::Peak { case, mass, curve: name, window, x_px, y_px }, file))
 }

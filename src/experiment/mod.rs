@@ -25,6 +25,7 @@ use crate::error::{Error, Result};
 use crate::model::fit::StiffnessFit;
 use crate::model::{Damper, Structure};
 use crate::number::Tolerance;
+use crate::reference::files::Files;
 use crate::reference::values::{Quantity, ValueFile};
 
 pub use analysis::round_hz;
@@ -433,6 +434,9 @@ pub struct CheckSpec {
     pub tolerance: Tolerance,
     /// An expected difference and its reason (a failure is then a known deviation).
     pub known_deviation: Option<String>,
+    /// The value file or digitised file validation parsed for it (the checks take it from
+    /// here: a reference file is parsed once); `None` for a CSV curve or no file.
+    pub loaded: Option<crate::reference::files::Loaded>,
 }
 
 impl CheckSpec {
@@ -613,11 +617,16 @@ pub fn dependency_graph(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
 /// Loads and validates one experiment file: one experiment per model it runs on (one when it
 /// lists no models); references are looked up in `reference_dir`.
 pub fn load(path: &Path, reference_dir: &Path) -> Result<Vec<Experiment>> {
+    load_with(path, &Files::new(reference_dir))
+}
+
+/// [`load`] with the reference files parsed so far (each parsed once, [`Files`]).
+pub fn load_with(path: &Path, files: &Files) -> Result<Vec<Experiment>> {
     let mut exps = load::read_models(path)?
         .into_iter()
         .map(|(model_file, table)| {
             load::read_raw(path, table)
-                .and_then(|raw| validate(path, raw, reference_dir))
+                .and_then(|raw| validate(path, raw, files))
                 .map_err(|e| on_model(e, model_file.as_deref()))
         })
         .collect::<Result<Vec<_>>>()?;
@@ -675,11 +684,13 @@ fn on_model(e: Error, model_file: Option<&Path>) -> Error {
     }
 }
 
-/// Loads every experiment of several files (each once per model).
+/// Loads every experiment of several files (each once per model), each reference file
+/// parsed once.
 pub fn load_all(paths: &[PathBuf], reference_dir: &Path) -> Result<Vec<Experiment>> {
+    let files = Files::new(reference_dir);
     let mut out = Vec::new();
     for p in paths {
-        out.extend(load(p, reference_dir)?);
+        out.extend(load_with(p, &files)?);
     }
     Ok(out)
 }

@@ -8,6 +8,7 @@ use nalgebra::DMatrix;
 use crate::error::{Error, Result};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 use crate::model::{Damping, Structure};
+use crate::reference::files::Files;
 use crate::sim::impulse::ImpulseOptions;
 use crate::sim::system::{config_limit, MAX_DOF};
 
@@ -21,7 +22,7 @@ use super::raw::{RawCase, RawExperiment, RawFit, RawStructure};
 use super::{Analysis, Case, ClearanceSource, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
-pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result<Experiment> {
+pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experiment> {
     let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
 
     let m = raw.experiment;
@@ -199,7 +200,7 @@ pub fn validate(path: &Path, raw: RawExperiment, reference_dir: &Path) -> Result
         .checks
         .into_iter()
         .enumerate()
-        .map(|(i, c)| check(path, i, c, responses, &case_ids, &analysis, reference_dir))
+        .map(|(i, c)| check(path, i, c, responses, &case_ids, &analysis, files))
         .collect::<Result<Vec<_>>>()?;
     super::texts::validate(path, &meta, &checks)?;
 

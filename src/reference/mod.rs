@@ -3,5 +3,6 @@
 //! references against these, and the checks compare with them.
 
 pub mod digitised;
+pub mod files;
 pub mod import;
 pub mod values;

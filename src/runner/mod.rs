@@ -357,11 +357,11 @@ fn run_studies(
                     Some(Sample { index: b.sample, model: m.model.clone(), values: b.values.clone() })
                 })
                 .collect();
-            analysis::study::run_all(&s.with_samples(samples), refs, reference, &*tick)?
+            analysis::study::run_all(&s.with_samples(samples), refs, &*tick)?
         } else if s.lattice().is_some() {
-            analysis::study_adaptive::run_all(s, refs, reference, &*tick)?
+            analysis::study_adaptive::run_all(s, refs, &*tick)?
         } else {
-            analysis::study::run_all(s, refs, reference, &*tick)?
+            analysis::study::run_all(s, refs, &*tick)?
         };
         let mut manifest = Manifest::of(s, &s.path.display().to_string());
         // An adaptive study's samples are those its rounds computed (a stored study's: those

@@ -22,9 +22,7 @@ pub fn estimate(study: &Study, reference: &Path, shard: Shard, pool: &rayon::Thr
     let refs = super::study_references(study, reference)?;
     let mine: Vec<&Sample> = study.samples.iter().filter(|s| shard.owns(s.index)).collect();
     let built = pool.install(|| {
-        mine.par_iter()
-            .flat_map_iter(|s| study.parts().map(move |part| part.experiment(s, reference)))
-            .collect::<Vec<Result<_>>>()
+        mine.par_iter().flat_map_iter(|s| study.parts().map(move |part| part.experiment(s))).collect::<Vec<Result<_>>>()
     });
     let exps: Vec<Experiment> = built.into_iter().collect::<Result<_>>()?;
     Ok(exps

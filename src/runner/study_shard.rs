@@ -60,7 +60,7 @@ pub fn compute_shard(
     // The values the experiments take from others (run at each sample's structure, cached),
     // checked for every sample before any sample runs.
     let cache = DependencyCache::default();
-    let prepared = pool.install(|| run::prepare_all(study, &mine, &refs, reference, &cache))?;
+    let prepared = pool.install(|| run::prepare_all(study, &mine, &refs, &cache))?;
     let manifest = folder::prepare(out, &manifest, shard.count)?;
     let _lock = take_lock(out, shard, progress)?;
     let (complete, done) = folder::done(out, &manifest, shard)?;

@@ -13,10 +13,12 @@ pub mod stored;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde::Deserialize;
 
 use crate::error::{read_to_string, Error, Result};
+use crate::reference::files::Files;
 
 use super::{load as loader, validate, CheckKind, Experiment};
 pub use design::{Design, Domain, Refine};
@@ -104,6 +106,9 @@ pub struct Study {
     pub joint: Vec<Study>,
     /// Part of a joint study: a key is set in an experiment only where the experiment has it.
     pub joint_member: bool,
+    /// The reference files, each parsed once for the whole study (every sample's experiment
+    /// is validated against them).
+    files: Arc<Files>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -227,9 +232,10 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
         }
     };
     let joint = raw.study.experiments.is_some();
+    let refs = Arc::new(Files::new(reference_dir));
     let mut parts = Vec::with_capacity(files.len());
     for (key, file) in &files {
-        parts.push(load_one(path, raw.clone(), key, file, joint, reference_dir)?);
+        parts.push(load_one(path, raw.clone(), key, file, joint, &refs)?);
     }
     let mut study = parts.remove(0);
     if let Some(i) = study.vary.iter().position(|v| !joint && !v.experiments.is_empty()) {
@@ -265,7 +271,7 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
 
 /// The study of one experiment file (`key` names it in the study file): the whole study, or
 /// one experiment of a joint one.
-fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, reference_dir: &Path) -> Result<Study> {
+fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files: &Arc<Files>) -> Result<Study> {
     let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
     let s = raw.study;
     if !super::fields::is_identifier(&s.id) {
@@ -279,7 +285,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, refer
             &format!("no such experiment file: {} (the path is relative to the study file)", experiment_path.display()),
         ));
     }
-    let all = super::load(&experiment_path, reference_dir)?;
+    let all = super::load_with(&experiment_path, files)?;
     let known: Vec<String> = all.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
     let base: Vec<Experiment> = match &s.models {
         None => all,
@@ -415,8 +421,9 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, refer
         dependency_tables: BTreeMap::new(),
         joint: Vec::new(),
         joint_member: joint,
+        files: Arc::clone(files),
     };
-    load_dependencies(&mut study, reference_dir)?;
+    load_dependencies(&mut study)?;
     Ok(study)
 }
 
@@ -546,7 +553,7 @@ fn design_of(path: &Path, s: &RawStudy, vary: &[Vary]) -> Result<Design> {
 
 /// Loads the experiments that the studied experiment takes values from (in its folder),
 /// recursively: their tables (to build them at each sample) and themselves (for references).
-fn load_dependencies(study: &mut Study, reference_dir: &Path) -> Result<()> {
+fn load_dependencies(study: &mut Study) -> Result<()> {
     let mut wanted: Vec<String> = study.base.iter().flat_map(|e| e.dependencies()).collect();
     if wanted.is_empty() {
         return Ok(());
@@ -572,7 +579,7 @@ fn load_dependencies(study: &mut Study, reference_dir: &Path) -> Result<()> {
                 format!("no experiment with id \"{id}\" in {}", dir.display()),
             ));
         };
-        for e in super::load(file, reference_dir)? {
+        for e in super::load_with(file, &study.files)? {
             wanted.extend(e.dependencies());
             study.dependencies.push(e);
         }
@@ -598,16 +605,16 @@ fn model_of(table: &toml::Table) -> String {
 impl Study {
     /// The experiment at one sample: the model's merged table with `[study.set]` and the
     /// sample's values set, validated.
-    pub fn experiment(&self, sample: &Sample, reference_dir: &Path) -> Result<Experiment> {
+    pub fn experiment(&self, sample: &Sample) -> Result<Experiment> {
         let table = self.tables.get(&sample.model).cloned().ok_or_else(|| {
             Error::invalid(&self.path, "study.models", &sample.model, "not a model of the experiment")
         })?;
-        self.build(&self.experiment_path, table, sample, reference_dir, |_| true)
+        self.build(&self.experiment_path, table, sample, |_| true)
     }
 
     /// Experiment `id` (a dependency) at one sample: only values under `structure` and
     /// `excitation` carry over (the other keys are the studied experiment's own).
-    pub fn dependency(&self, id: &str, sample: &Sample, reference_dir: &Path) -> Result<Experiment> {
+    pub fn dependency(&self, id: &str, sample: &Sample) -> Result<Experiment> {
         let (file, table) = self.dependency_tables.get(&(id.to_string(), sample.model.clone())).ok_or_else(|| {
             Error::invalid(
                 &self.experiment_path,
@@ -616,7 +623,7 @@ impl Study {
                 format!("experiment \"{id}\" does not run on model \"{}\"", sample.model),
             )
         })?;
-        self.build(file, table.clone(), sample, reference_dir, carries_over)
+        self.build(file, table.clone(), sample, carries_over)
     }
 
     /// The values of the sample that reach its dependencies (those of `carries_over` keys).
@@ -629,7 +636,6 @@ impl Study {
         file: &Path,
         mut table: toml::Table,
         sample: &Sample,
-        reference_dir: &Path,
         applies: impl Fn(&KeyPath) -> bool,
     ) -> Result<Experiment> {
         let on = |key: String, value: &dyn std::fmt::Display, m: String| {
@@ -652,7 +658,7 @@ impl Study {
             }
         }
         let raw = loader::read_raw(file, table).map_err(|e| self.at_sample(e, sample))?;
-        let mut exp = validate(file, raw, reference_dir).map_err(|e| self.at_sample(e, sample))?;
+        let mut exp = validate(file, raw, &self.files).map_err(|e| self.at_sample(e, sample))?;
         exp.models = self.base.iter().filter_map(|e| e.model.clone()).collect();
         Ok(exp)
     }
