@@ -23,7 +23,7 @@ fn fe(c: &mut Criterion) {
     group.bench_function("plate 1410 dof: read CalculiX files and reduce to 20 coordinates", |b| b.iter(plate));
     let exp = plate();
     let case = exp.cases.iter().find(|c| c.id == "corners").expect("the corners case");
-    let sys = System::plastic(exp.structure.clone(), case.dampers.clone(), exp.excitation.mass, exp.excitation.force);
+    let sys = System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force);
     let base = Dynamics::unforced(&sys);
     assert!(base.is_ok(), "decomposed");
     let freqs: Vec<f64> = (0..12).map(|i| 30.0 + 0.5 * i as f64).collect();

@@ -209,7 +209,7 @@ fn a_column_in_an_experiment_file_is_the_column_of_the_library() {
     let file = experiment_file(dir.path(), SWEEP, r#", bed = "column", grains = 4, restitution = 0.3"#);
     let exps = shotdamp::experiment::load(&file, &common::repo().join("reference")).unwrap();
     let exp = exps.iter().find(|e| e.model.as_ref().is_none_or(|m| m.id == "stated")).unwrap();
-    assert_eq!(exp.cases[0].grains, vec![4, 4, 4]);
+    assert_eq!(exp.cases[0].grains(), vec![4, 4, 4]);
     let sys = shotdamp::analysis::curves::system(exp, &exp.cases[0]);
     let by_hand = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw::with_restitution(0.3, 1e-3)).with_grains(&[4, 4, 4]);
     assert_eq!(sys.dampers, by_hand.dampers);

@@ -26,7 +26,7 @@ fn each_containers_law_reaches_the_simulator() {
     let exp = exps.iter().find(|e| e.model.as_ref().is_none_or(|m| m.id == "stated")).unwrap();
     let case = &exp.cases[0];
     let bounce = ImpactLaw::with_restitution(0.5, 0.002);
-    assert_eq!(case.laws, vec![ImpactLaw::PLASTIC, bounce, ImpactLaw::PLASTIC]);
+    assert_eq!(case.laws(), vec![ImpactLaw::PLASTIC, bounce, ImpactLaw::PLASTIC]);
 
     // The experiment's system is the structure with those laws, bed by bed.
     let m = [0.74, 0.71, 0.64];

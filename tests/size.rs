@@ -449,7 +449,7 @@ fn coarse_windows_find_the_events_ordinary_windows_find() {
         let reference = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference");
         let exp = shotdamp::experiment::load(&path, &reference).unwrap().remove(0);
         let case = exp.cases.iter().find(|c| c.id == "corners").unwrap().clone();
-        System::plastic(exp.structure.clone(), case.dampers, exp.excitation.mass, exp.excitation.force)
+        System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force)
     };
     let mut starts: Vec<(String, Dynamics, State, usize)> = Vec::new();
     let chain = Dynamics::unforced(&refined(16)).unwrap();

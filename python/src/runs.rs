@@ -106,7 +106,7 @@ impl Experiment {
                 format!("one of the file's cases: {}", self.cases.join(", ")),
             )));
         };
-        if let Some(i) = c.clearances.iter().position(|x| *x != ClearanceSource::Fixed) {
+        if let Some(i) = c.beds.iter().position(|b| b.clearance != ClearanceSource::Fixed) {
             return Err(error(shotdamp::Error::invalid(
                 &origin,
                 format!("cases[{case}].dampers[{i}].clearance_mm"),

@@ -150,7 +150,7 @@ impl Structure {
     #[pyo3(signature = (dampers=None))]
     fn modes<'py>(&self, py: Python<'py>, dampers: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyDict>> {
         let beds = match dampers {
-            Some(d) => case(&self.bare, d, "shotdamp.Structure.modes")?.dampers,
+            Some(d) => case(&self.bare, d, "shotdamp.Structure.modes")?.dampers(),
             None => Vec::new(),
         };
         let modes = shotdamp::model::modal::modal_summary(&self.bare, &beds);
@@ -186,7 +186,7 @@ impl Structure {
         let f = crate::convert::frequencies("shotdamp.Structure.frf", &floats("freq_hz", freq_hz)?)?;
         let driven = parts::excitation("shotdamp.Structure.frf", force_mass, 1.0, &self.bare).map_err(error)?.mass;
         let added = match dampers {
-            Some(d) => shotdamp::model::damper::added_masses(&case(&self.bare, d, "shotdamp.Structure.frf")?.dampers),
+            Some(d) => shotdamp::model::damper::added_masses(&case(&self.bare, d, "shotdamp.Structure.frf")?.dampers()),
             None => Vec::new(),
         };
         let mass = self.bare.mass_matrix_with(&added);

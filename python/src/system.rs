@@ -85,7 +85,7 @@ impl System {
     /// Number of containers.
     #[getter]
     fn containers(&self) -> usize {
-        self.case.dampers.len()
+        self.case.beds.len()
     }
 
     /// The steady state at `freq_hz` from rest (the same computation as one point of a sweep
@@ -100,7 +100,7 @@ impl System {
         let mut points = compute::run(py, Some(1), None, |t| Ok(sweep::from_rest(sim, &f, &opts, &|| t.tick())))?;
         let p = points.pop().ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no point computed"))?;
         match p.result {
-            Ok(s) => Steady::of(py, p.freq_hz, s, self.force, &self.case.grains),
+            Ok(s) => Steady::of(py, p.freq_hz, s, self.force, &self.case.grains()),
             Err(e) => Err(pyo3::exceptions::PyValueError::new_err(format!("{origin}: {e}"))),
         }
     }
@@ -155,10 +155,10 @@ impl System {
             curve,
             points,
             self.force,
-            &self.case.grains,
+            &self.case.grains(),
             n,
         );
-        let t = curves::table("compliance", "", &[&c], n, self.case.dampers.len());
+        let t = curves::table("compliance", "", &[&c], n, self.case.beds.len());
         crate::convert::columns(py, &t)
     }
 
@@ -214,7 +214,7 @@ impl System {
 
     fn __repr__(&self) -> String {
         let drive = if self.sim.base.is_some() { "base_acceleration_m_s2" } else { "force_n" };
-        format!("System(dof={}, containers={}, {drive}={})", self.sim.dof(), self.case.dampers.len(), self.force)
+        format!("System(dof={}, containers={}, {drive}={})", self.sim.dof(), self.case.beds.len(), self.force)
     }
 }
 

@@ -37,15 +37,15 @@ pub struct Study<'a> {
 
 /// Simulated points a study will run when its clearances are listed (for progress).
 pub fn work(exp: &Experiment, study: &Study) -> u64 {
-    let cases = exp.cases.iter().filter(|c| !c.dampers.is_empty()).count();
+    let cases = exp.cases.iter().filter(|c| !c.beds.is_empty()).count();
     let clearances = study.clearances_mm.map(|c| c.len()).unwrap_or(study.points);
     (cases * (clearances + 1) * study.freq_hz.len()) as u64
 }
 
 fn with_clearance(case: &Case, d: Clearance) -> Case {
     let mut c = case.clone();
-    for dm in &mut c.dampers {
-        dm.clearance = d;
+    for bed in &mut c.beds {
+        bed.damper.clearance = d;
     }
     c
 }
@@ -55,7 +55,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
     let n = exp.structure.dof();
     let m = study.objective_mass;
     let force = exp.excitation.force;
-    let cases: Vec<&Case> = exp.cases.iter().filter(|c| !c.dampers.is_empty()).collect();
+    let cases: Vec<&Case> = exp.cases.iter().filter(|c| !c.beds.is_empty()).collect();
     // Beds without a top: how high they fly decides the useful clearances.
     let unbounded: Vec<Curve> = cases
         .iter()
@@ -67,7 +67,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                 &format!("{}, d = inf", case.label),
                 pts,
                 force,
-                &case.grains,
+                &case.grains(),
                 n,
             )
         })
@@ -92,7 +92,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
                 &format!("{}, d = {} mm", case.label, fmt_num(mm)),
                 pts,
                 force,
-                &case.grains,
+                &case.grains(),
                 n,
             ));
         }
@@ -147,7 +147,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
         .str("case", cases.iter().map(|c| c.id.clone()).collect())
         .f64("limit_mm", limits_mm.clone());
     let all: Vec<&Curve> = unbounded.iter().chain(scanned.iter()).collect();
-    let beds = cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
+    let beds = cases.iter().map(|c| c.beds.len()).max().unwrap_or(0);
     let curves_table = curves::table(
         "compliance",
         &format!(

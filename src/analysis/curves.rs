@@ -239,7 +239,7 @@ pub fn stop_text(s: &crate::sim::Steady) -> String {
 /// The exact linear curve of a case: bare without dampers, damper masses rigidly added
 /// ("stuck") otherwise. Every point is settled and period-1 by construction.
 pub fn linear(exp: &Experiment, case: &Case, id: CurveId, label: &str, freq_hz: &[f64], stuck: bool) -> Curve {
-    let added = if stuck { added_masses(&case.dampers) } else { Vec::new() };
+    let added = if stuck { added_masses(&case.dampers()) } else { Vec::new() };
     let mass = exp.structure.mass_matrix_with(&added);
     let omegas: Vec<f64> = freq_hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     let rows = if exp.excitation.supports {
@@ -269,9 +269,9 @@ pub fn linear(exp: &Experiment, case: &Case, id: CurveId, label: &str, freq_hz: 
 /// grain first).
 pub fn bed_ranges(case: &crate::experiment::Case) -> Vec<std::ops::Range<usize>> {
     let mut start = 0;
-    (0..case.dampers.len())
+    (0..case.beds.len())
         .map(|k| {
-            let n = case.grains.get(k).copied().unwrap_or(1).max(1);
+            let n = case.grains().get(k).copied().unwrap_or(1).max(1);
             start += n;
             start - n..start
         })

@@ -231,9 +231,9 @@ fn layouts_table(
 /// The layout of a case of the experiment (its dampers as they are).
 fn case_layout(case: &crate::experiment::Case) -> Layout {
     Layout {
-        hosts: case.dampers.iter().map(|d| d.host).collect(),
-        masses_kg: case.dampers.iter().map(|d| d.mass).collect(),
-        clearances_mm: case.dampers.iter().map(|d| d.clearance.mm()).collect(),
+        hosts: case.beds.iter().map(|b| &b.damper).map(|d| d.host).collect(),
+        masses_kg: case.beds.iter().map(|b| &b.damper).map(|d| d.mass).collect(),
+        clearances_mm: case.beds.iter().map(|b| &b.damper).map(|d| d.clearance.mm()).collect(),
     }
 }
 

@@ -165,7 +165,8 @@ fn tables(
     levels: &[f64],
 ) -> Vec<Table> {
     let n = exp.structure.dof();
-    let beds = exp.cases.iter().map(|c| c.grains.iter().map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
+    let beds =
+        exp.cases.iter().map(|c| c.beds.iter().map(|b| &b.grains).map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
     // Histories: one row per case and sample.
     let rows: Vec<(&Decay, usize)> =
         decays.iter().flat_map(|d| (0..d.run.samples.a.len()).map(move |i| (*d, i))).collect();

@@ -28,8 +28,8 @@ pub fn modal_table(exp: &Experiment, modes: &[ModeSummary]) -> Table {
         .f64("modal_stiffness_n_per_m", modes.iter().map(|m| m.modal_stiffness).collect())
         .f64("modal_damping_ns_per_m", modes.iter().map(|m| m.modal_damping).collect())
         .f64("damping_ratio", modes.iter().map(|m| m.damping_ratio).collect());
-    for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
-        let with = modal_summary(&exp.structure, &case.dampers);
+    for case in exp.cases.iter().filter(|c| !c.beds.is_empty()) {
+        let with = modal_summary(&exp.structure, &case.dampers());
         t = t.f64(format!("mu_{}", case.id), with.iter().map(|m| m.mass_ratio).collect());
     }
     t
@@ -49,7 +49,7 @@ pub fn frf(
         .iter()
         .map(|case| {
             let grid = union_grid(freq_hz, &super::sweep::check_frequencies(exp, refs, &CurveId::whole(&case.id)));
-            curves::linear(exp, case, CurveId::whole(&case.id), &case.label, &grid, !case.dampers.is_empty())
+            curves::linear(exp, case, CurveId::whole(&case.id), &case.label, &grid, !case.beds.is_empty())
         })
         .collect();
     let shown: Vec<&Curve> = curves.iter().collect();

@@ -275,15 +275,13 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
         }
     }
     for c in &exp.cases {
-        let d = if c.dampers.is_empty() {
+        let d = if c.beds.is_empty() {
             "no damper".to_string()
         } else {
-            c.dampers
+            c.beds
                 .iter()
-                .zip(&c.laws)
-                .enumerate()
-                .map(|(j, (d, law))| {
-                    let grains = c.grains.get(j).copied().unwrap_or(1);
+                .map(|b| {
+                    let (d, law, grains) = (&b.damper, b.law, b.grains);
                     let clr = d.clearance.to_string();
                     let sticks =
                         law.stick_speed().map_or(String::new(), |v| format!(" (sticks below {} m/s)", fmt_num(v)));
@@ -334,7 +332,7 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
         a.push(format!("Structure: {src}."));
     }
     for c in &exp.cases {
-        for ((d, law), &n) in c.dampers.iter().zip(&c.laws).zip(&c.grains).filter(|((_, _), &n)| n > 1) {
+        for (d, law, n) in c.beds.iter().filter(|b| b.grains > 1).map(|b| (&b.damper, b.law, b.grains)) {
             a.push(format!(
                 "Case {}: the bed on m_{} is a column of {n} equal grains (total mass unchanged) with restitution e = {} between grains and against the ends{}; grains resting on an end move with it, grains in free flight meet in binary collisions resolved in sequence (docs/model.md, \"Bed models\"); the paper's bed is one plastic mass.",
                 c.id,
@@ -343,9 +341,7 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
                 law.stick_speed().map_or(String::new(), |v| format!(", sticking below {} m/s", fmt_num(v)))
             ));
         }
-        for ((d, law), _) in
-            c.dampers.iter().zip(&c.laws).zip(&c.grains).filter(|((_, l), &n)| !l.is_plastic() && n <= 1)
-        {
+        for (d, law) in c.beds.iter().filter(|b| !b.law.is_plastic() && b.grains <= 1).map(|b| (&b.damper, b.law)) {
             a.push(format!(
                 "Case {}: the bed on m_{} bounces off its container's ends with restitution e = {} and sticks below {} m/s (the paper's bed is plastic, e = 0).",
                 c.id,
@@ -356,7 +352,7 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
         }
     }
     for c in &exp.cases {
-        for d in c.dampers.iter().filter(|d| d.direction == crate::model::Direction::Horizontal) {
+        for d in c.beds.iter().map(|b| &b.damper).filter(|d| d.direction == crate::model::Direction::Horizontal) {
             a.push(format!(
                 "Case {}: the container on m_{} is horizontal: no gravity along its bed's motion, which flies at constant velocity between two walls {} apart and hits either; friction with the container's floor is neglected (docs/model.md section 5; the paper's containers are vertical).",
                 c.id,

@@ -77,7 +77,7 @@ pub fn tables(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult) -> Vec<
             .i64("only_type_ii", rows.iter().map(|x| x.only_type_ii as i64).collect())
             .i64(
                 "chosen",
-                rows.iter().map(|x| (x.clearance_mm == r.case.dampers[0].clearance.mm()) as i64).collect(),
+                rows.iter().map(|x| (x.clearance_mm == r.case.beds[0].damper.clearance.mm()) as i64).collect(),
             ),
         );
     }
@@ -334,10 +334,10 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                     caption: format!(
                         "Mode {} with one damper on m{} (mu_{} = {:.4}, d = {} mm): periodic orbits of the equivalent SDOF model and of the exact 3-mass structure, stable solid and unstable dashed; circles: simulation of the 3-mass structure from rest; dotted: no damper; dash-dot: damper mass stuck; squares: folds, triangles: period doublings. Where no impacting orbit exists the bed rests and the SDOF solution is its linear response with the bed's mass added (thin blue, drawn where its acceleration stays below g). Below: phi, tau0, tau1, tau2 of the SDOF orbits in rad of forcing phase from the bottom impact. Stable SDOF motion types: {}.",
                         r.mode + 1,
-                        r.case.dampers[0].host + 1,
+                        r.case.beds[0].damper.host + 1,
                         r.mode + 1,
                         r.sdof_model.mode.mass_ratio,
-                        fmt_num(r.case.dampers[0].clearance.mm()),
+                        fmt_num(r.case.beds[0].damper.clearance.mm()),
                         kinds.join(", ")
                     ),
                     panels,
@@ -369,8 +369,8 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                 let (x, y) = pick(false);
                 panel.series.push(Series::points("other types within the resonance", x, y, 1, Marker::Cross));
                 panel.vlines.push(VLine {
-                    x: r.case.dampers[0].clearance.mm(),
-                    label: format!(" chosen: {}", r.case.dampers[0].clearance),
+                    x: r.case.beds[0].damper.clearance.mm(),
+                    label: format!(" chosen: {}", r.case.beds[0].damper.clearance),
                 });
                 out.push(Figure {
                     id: p.id.clone(),

@@ -364,7 +364,7 @@ pub fn run(
     steady: &SteadyOptions,
     tick: &Tick,
 ) -> Option<OrbitsResult> {
-    let case = exp.cases.iter().find(|c| c.dampers.len() == 1)?.clone();
+    let case = exp.cases.iter().find(|c| c.beds.len() == 1)?.clone();
     let force = exp.excitation.force;
     let natural = modes[mode].freq_hz;
     let seeds_hz = seeds(freq_hz, natural);
@@ -374,21 +374,21 @@ pub fn run(
     };
     let reference = modes[mode].reference_mass;
     // Candidate clearances: the SDOF branch of each, and the types within its resonance.
-    let scan = matches!(case.clearances.first(), Some(crate::experiment::ClearanceSource::Scan));
+    let scan = matches!(case.beds.first().map(|b| &b.clearance), Some(crate::experiment::ClearanceSource::Scan));
     let (chosen_mm, clearance_rows, clearance_note, mut branches) = match (scan, clearances_mm) {
         (true, Some(list)) => {
-            let choice = sdof_choice(exp, &case.dampers, mode, reference, freq_hz, list, steady, tick);
+            let choice = sdof_choice(exp, &case.dampers(), mode, reference, freq_hz, list, steady, tick);
             (choice.clearance_mm, choice.rows, choice.note, choice.branches)
         }
         _ => {
-            let mm = case.dampers[0].clearance.mm();
+            let mm = case.beds[0].damper.clearance.mm();
             (mm, Vec::new(), format!("The clearance is given: {} mm.", crate::checks::fmt_num(mm)), Vec::new())
         }
     };
     let mut case = case;
-    case.dampers[0].clearance = Clearance::from_mm(chosen_mm);
-    case.clearances = vec![crate::experiment::ClearanceSource::Fixed];
-    let (sdof_model, sdof_sys) = sdof_system(exp, &case.dampers, mode);
+    case.beds[0].damper.clearance = Clearance::from_mm(chosen_mm);
+    case.beds[0].clearance = crate::experiment::ClearanceSource::Fixed;
+    let (sdof_model, sdof_sys) = sdof_system(exp, &case.dampers(), mode);
     // The chosen candidate's branch is already there (the same system, computed the same way).
     let sdof = match clearance_rows.iter().position(|r| r.clearance_mm == chosen_mm) {
         Some(i) => OrbitBranch { label: "equivalent SDOF".into(), ..branches.swap_remove(i) },
@@ -470,7 +470,7 @@ fn check_points(sys: &System, points: &[SweepPoint], force: f64) -> Vec<OrbitChe
 /// Values other experiments may use.
 pub fn exports(r: &OrbitsResult, reference: usize) -> BTreeMap<String, f64> {
     let mut e = BTreeMap::new();
-    e.insert("clearance_mm".into(), r.case.dampers[0].clearance.mm());
+    e.insert("clearance_mm".into(), r.case.beds[0].damper.clearance.mm());
     for (name, b) in [("sdof", &r.sdof), ("exact", &r.exact)] {
         if let Some((f, c)) = b.peak(reference) {
             e.insert(format!("peak_{name}"), c);

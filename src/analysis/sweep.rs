@@ -33,7 +33,7 @@ pub fn check_frequencies(exp: &Experiment, refs: &ReferenceStore, curve_id: &Cur
 pub fn work(exp: &Experiment, freq_hz: &[f64], start: Start, refs: &ReferenceStore) -> u64 {
     exp.cases
         .iter()
-        .filter(|c| !c.dampers.is_empty())
+        .filter(|c| !c.beds.is_empty())
         .map(|c| {
             let extra = match start {
                 Start::Rest => check_frequencies(exp, refs, &CurveId::whole(&c.id)),
@@ -68,12 +68,12 @@ pub fn run(
     tick: &Tick,
 ) -> SweepOutput {
     let n = exp.structure.dof();
-    let beds = exp.cases.iter().map(|c| c.dampers.len()).max().unwrap_or(0);
+    let beds = exp.cases.iter().map(|c| c.beds.len()).max().unwrap_or(0);
     let mut curves: Vec<Curve> = Vec::new();
     let mut orbit_branches: Vec<OrbitCurve> = Vec::new();
     let band = (freq_hz[0], freq_hz[freq_hz.len() - 1]);
     for case in &exp.cases {
-        if case.dampers.is_empty() {
+        if case.beds.is_empty() {
             let grid = union_grid(freq_hz, &check_frequencies(exp, refs, &CurveId::whole(&case.id)));
             curves.push(curves::linear(exp, case, CurveId::whole(&case.id), &case.label, &grid, false));
             continue;
@@ -88,7 +88,7 @@ pub fn run(
                     &case.label,
                     pts,
                     exp.excitation.force,
-                    &case.grains,
+                    &case.grains(),
                     n,
                 ));
             }
@@ -109,7 +109,7 @@ pub fn run(
                     }
                     let id = CurveId::continued(&case.id, dir);
                     let label = format!("{} (continued {word}ward)", case.label);
-                    curves.push(curves::from_sweep(id, &label, pts, exp.excitation.force, &case.grains, n));
+                    curves.push(curves::from_sweep(id, &label, pts, exp.excitation.force, &case.grains(), n));
                 }
             }
         }
@@ -164,8 +164,7 @@ fn linear_refs(exp: &Experiment, freq_hz: &[f64]) -> Vec<Curve> {
     let wanted: Vec<Linear> = exp.plots.iter().flat_map(|p| p.linear.iter().copied()).collect();
     let mut out = Vec::new();
     if wanted.contains(&Linear::Bare) {
-        let bare =
-            exp.cases.iter().find(|c| c.dampers.is_empty()).cloned().unwrap_or_else(crate::experiment::Case::bare);
+        let bare = exp.cases.iter().find(|c| c.beds.is_empty()).cloned().unwrap_or_else(crate::experiment::Case::bare);
         out.push(curves::linear(
             exp,
             &bare,
@@ -176,7 +175,7 @@ fn linear_refs(exp: &Experiment, freq_hz: &[f64]) -> Vec<Curve> {
         ));
     }
     if wanted.contains(&Linear::Stuck) {
-        for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
+        for case in exp.cases.iter().filter(|c| !c.beds.is_empty()) {
             out.push(curves::linear(
                 exp,
                 case,

@@ -77,7 +77,7 @@ fn motion_type(s: &Sampler, beds: std::ops::Range<usize>, periods: usize, finite
 /// Whether a case of `exp` has a column of grains (its events tables then name the container
 /// and the grain of each bed).
 fn has_columns(exp: &Experiment) -> bool {
-    exp.cases.iter().any(|c| c.grains.iter().any(|&g| g > 1))
+    exp.cases.iter().any(|c| c.beds.iter().map(|b| &b.grains).any(|&g| g > 1))
 }
 
 /// The bed columns of an events table in words, for its description.
@@ -130,7 +130,7 @@ pub fn event_words(kind: &EventKind) -> String {
 
 /// Simulated points a waveform analysis runs (for progress).
 pub fn work(exp: &Experiment, frequencies: &[Number]) -> u64 {
-    (exp.cases.iter().filter(|c| !c.dampers.is_empty()).count() * frequencies.len()) as u64
+    (exp.cases.iter().filter(|c| !c.beds.is_empty()).count() * frequencies.len()) as u64
 }
 
 /// Runs the waveform analysis. Frequencies are resolved values.
@@ -145,7 +145,7 @@ pub fn run(
     let mut skipped = Vec::new();
     let freqs: Vec<f64> = frequencies.iter().map(|f| if let Number::Value(v) = f { *v } else { f64::NAN }).collect();
     let mut records = Vec::new();
-    for case in exp.cases.iter().filter(|c| !c.dampers.is_empty()) {
+    for case in exp.cases.iter().filter(|c| !c.beds.is_empty()) {
         let sys = curves::system(exp, case);
         for (f, label) in freqs.iter().zip(labels) {
             let omega = 2.0 * PI * f;
@@ -172,7 +172,7 @@ pub fn run(
                 .into_iter()
                 .enumerate()
                 .map(|(k, beds)| {
-                    let d = &case.dampers[k];
+                    let d = &case.beds[k].damper;
                     let horizontal = d.direction == crate::model::Direction::Horizontal;
                     motion_type(&sampler, beds, periods, d.clearance.is_bounded(), horizontal)
                 })
@@ -215,7 +215,8 @@ fn short_type(t: &str) -> String {
 
 fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
     let n = exp.structure.dof();
-    let beds = exp.cases.iter().map(|c| c.grains.iter().map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
+    let beds =
+        exp.cases.iter().map(|c| c.beds.iter().map(|b| &b.grains).map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
     let rows: Vec<(&Record, usize)> =
         records.iter().flat_map(|r| (0..r.sampler.x.len()).map(move |i| (r, i))).collect();
     let mut t = Table::new(
@@ -262,13 +263,13 @@ fn tables(exp: &Experiment, records: &[Record]) -> Vec<Table> {
 fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> {
     let mut out = Vec::new();
     for p in exp.plots.iter().filter(|p| p.kind == PlotKind::Waveform) {
-        for case in exp.cases.iter().filter(|c| p.cases.contains(&c.id) && !c.dampers.is_empty()) {
+        for case in exp.cases.iter().filter(|c| p.cases.contains(&c.id) && !c.beds.is_empty()) {
             let recs: Vec<&Record> = records.iter().filter(|r| r.case == case.id).collect();
             let mut panels = Vec::new();
             let mut type_lines = Vec::new();
             for r in &recs {
                 let mut series = Vec::new();
-                for ((j, dm), beds) in case.dampers.iter().enumerate().zip(curves::bed_ranges(case)) {
+                for ((j, dm), beds) in case.beds.iter().map(|b| &b.damper).enumerate().zip(curves::bed_ranges(case)) {
                     let host: Vec<f64> = r.sampler.x.iter().map(|x| 1e3 * x[dm.host]).collect();
                     series.push(Series::line(format!("m{} (host)", dm.host + 1), r.phase_deg.clone(), host.clone(), j));
                     let grains = beds.len();
@@ -306,12 +307,12 @@ fn figures(exp: &Experiment, records: &[Record], periods: usize) -> Vec<Figure> 
                     ));
                 }
                 let short: Vec<String> = case
-                    .dampers
+                    .dampers()
                     .iter()
                     .zip(&r.types)
                     .map(|(dm, t)| {
                         let name = t.split(" (").next().unwrap_or(t).split(';').next().unwrap_or(t);
-                        if case.dampers.len() > 1 {
+                        if case.beds.len() > 1 {
                             format!("m{}: {name}", dm.host + 1)
                         } else {
                             name.to_string()

@@ -345,7 +345,7 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
             })?;
             vec![c]
         }
-        None => exp.cases.iter().filter(|c| !c.dampers.is_empty()).collect(),
+        None => exp.cases.iter().filter(|c| !c.beds.is_empty()).collect(),
     };
     let modes = modal_summary(&exp.structure, &[]);
     let n = modes.len();
@@ -386,7 +386,7 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
             "d mm"
         );
         for i in 0..n {
-            let e = EquivalentSdof::new(&exp.structure, &c.dampers, i, exp.excitation.mass, exp.excitation.force);
+            let e = EquivalentSdof::new(&exp.structure, &c.dampers(), i, exp.excitation.mass, exp.excitation.force);
             let m = &e.mode;
             let d = if e.clearance.is_bounded() { format!("{:.3}", e.clearance.mm()) } else { "inf".into() };
             say!(

@@ -13,14 +13,11 @@ use crate::sim::system::{MAX_BEDS, MAX_CONFIGS};
 use super::analysis::export_ref;
 use super::fields::mass_index;
 use super::raw::RawDamper;
-use super::ClearanceSource;
+use super::{Bed, ClearanceSource};
 
-/// The dampers of a case, one per container: their masses and clearances, clearance specs,
-/// impact laws and grains. Keys are named `{prefix}dampers[i].KEY` (`prefix` "cases[0]." in an
-/// experiment file).
-pub(super) type CaseDampers = (Vec<Damper>, Vec<ClearanceSource>, Vec<ImpactLaw>, Vec<usize>);
-
-pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Structure) -> Result<CaseDampers> {
+/// The containers of a case, one row each: damper, clearance spec, impact law and grains. Keys
+/// are named `{prefix}dampers[i].KEY` (`prefix` "cases[0]." in an experiment file).
+pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Structure) -> Result<Vec<Bed>> {
     let n = s.dof();
     if raw.len() > MAX_BEDS {
         return Err(Error::invalid(
@@ -30,10 +27,7 @@ pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Struct
             format!("at most {MAX_BEDS} dampers per case (every one of the 2^N configurations is decomposed)"),
         ));
     }
-    let mut dampers = Vec::with_capacity(raw.len());
-    let mut clearances = Vec::with_capacity(raw.len());
-    let mut laws = Vec::with_capacity(raw.len());
-    let mut grains = Vec::with_capacity(raw.len());
+    let mut beds = Vec::with_capacity(raw.len());
     for (di, d) in raw.into_iter().enumerate() {
         let key = |k: &str| format!("{prefix}dampers[{di}].{k}");
         let host = mass_index(path, &key("mass"), d.mass, n)?;
@@ -42,21 +36,20 @@ pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Struct
             DamperMass::Ratio(r) => r * s.masses[host],
             DamperMass::Kg(m) => m,
         };
-        dampers.push(Damper::new(host, mass, f.clearance).along(f.direction));
-        clearances.push(f.spec);
-        laws.push(f.law);
-        grains.push(f.grains);
+        let damper = Damper::new(host, mass, f.clearance).along(f.direction);
+        beds.push(Bed { damper, clearance: f.spec, law: f.law, grains: f.grains });
     }
+    let grains: Vec<usize> = beds.iter().map(|b| b.grains).collect();
     let configs = grains.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS));
     if configs.is_none() {
         return Err(Error::invalid(
             path,
             format!("{prefix}dampers"),
-            format!("{} dampers with grains {grains:?}", dampers.len()),
+            format!("{} dampers with grains {grains:?}", beds.len()),
             format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
         ));
     }
-    Ok((dampers, clearances, laws, grains))
+    Ok(beds)
 }
 
 /// A damper's mass as given: a ratio to its host's mass, or kilograms.

@@ -123,6 +123,21 @@ pub enum ClearanceSource {
     Export(ExportRef),
 }
 
+/// One container of a case (an entry of `[[cases]].dampers`): the damper, how its clearance
+/// is given, its bed's impact law and its grains.
+#[derive(Debug, Clone)]
+pub struct Bed {
+    /// Host, shot mass, clearance and direction; a clearance that is scanned or exported is
+    /// infinite until resolved.
+    pub damper: Damper,
+    /// How the clearance is given.
+    pub clearance: ClearanceSource,
+    /// The bed's impact law (plastic unless the file gives a restitution).
+    pub law: crate::sim::bed::ImpactLaw,
+    /// Its number of grains: 1 for one mass, more for a column (docs/model.md, "Bed models").
+    pub grains: usize,
+}
+
 /// One curve family of a figure: a set of dampers.
 #[derive(Debug, Clone)]
 pub struct Case {
@@ -130,29 +145,35 @@ pub struct Case {
     pub id: String,
     /// Legend label.
     pub label: String,
-    /// The dampers; a clearance that is scanned or exported is infinite until resolved.
-    pub dampers: Vec<Damper>,
-    /// How each damper's clearance is given.
-    pub clearances: Vec<ClearanceSource>,
-    /// Each damper's impact law (plastic unless the file gives a restitution).
-    pub laws: Vec<crate::sim::bed::ImpactLaw>,
-    /// Each damper's number of grains: 1 for one mass, more for a column (docs/model.md,
-    /// "Bed models").
-    pub grains: Vec<usize>,
+    /// The containers, one row each.
+    pub beds: Vec<Bed>,
 }
 
 impl Case {
     /// The structure without dampers, as a case (id `bare`), for the linear curves drawn under
     /// a figure whose experiment has no such case.
     pub fn bare() -> Case {
-        Case {
-            id: "bare".into(),
-            label: "no damper".into(),
-            dampers: Vec::new(),
-            clearances: Vec::new(),
-            laws: Vec::new(),
-            grains: Vec::new(),
-        }
+        Case { id: "bare".into(), label: "no damper".into(), beds: Vec::new() }
+    }
+
+    /// The dampers, in order.
+    pub fn dampers(&self) -> Vec<Damper> {
+        self.beds.iter().map(|b| b.damper).collect()
+    }
+
+    /// Each bed's impact law, in order.
+    pub fn laws(&self) -> Vec<crate::sim::bed::ImpactLaw> {
+        self.beds.iter().map(|b| b.law).collect()
+    }
+
+    /// Each bed's number of grains, in order.
+    pub fn grains(&self) -> Vec<usize> {
+        self.beds.iter().map(|b| b.grains).collect()
+    }
+
+    /// Whether the case has no container (the bare structure).
+    pub fn is_bare(&self) -> bool {
+        self.beds.is_empty()
     }
 }
 
@@ -503,8 +524,8 @@ impl Experiment {
             }
         };
         for case in &self.cases {
-            for c in &case.clearances {
-                if let ClearanceSource::Export(r) = c {
+            for bed in &case.beds {
+                if let ClearanceSource::Export(r) = &bed.clearance {
                     add(r);
                 }
             }
@@ -536,11 +557,11 @@ impl Experiment {
         };
         let mut out = self.clone();
         for (ci, case) in out.cases.iter_mut().enumerate() {
-            for (di, (d, c)) in case.dampers.iter_mut().zip(case.clearances.iter_mut()).enumerate() {
-                if let ClearanceSource::Export(r) = c {
+            for (di, bed) in case.beds.iter_mut().enumerate() {
+                if let ClearanceSource::Export(r) = &bed.clearance {
                     let mm = lookup(r, format!("cases[{ci}].dampers[{di}].clearance_mm"))?;
-                    d.clearance = crate::model::Clearance::from_mm(mm);
-                    *c = ClearanceSource::Fixed;
+                    bed.damper.clearance = crate::model::Clearance::from_mm(mm);
+                    bed.clearance = ClearanceSource::Fixed;
                 }
             }
         }

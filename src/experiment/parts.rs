@@ -65,11 +65,11 @@ pub fn case(origin: &str, id: &str, dampers: Vec<toml::Table>, structure: &Struc
     for (i, d) in dampers.into_iter().enumerate() {
         raw.push(read::<RawDamper>(origin, &format!("dampers[{i}]."), toml::Value::Table(d))?);
     }
-    let (dampers, clearances, laws, grains) = super::dampers::dampers(origin.as_ref(), "", raw, structure)?;
-    if let Some(i) = clearances.iter().position(|c| *c != ClearanceSource::Fixed) {
+    let beds = super::dampers::dampers(origin.as_ref(), "", raw, structure)?;
+    if let Some(i) = beds.iter().position(|b| b.clearance != ClearanceSource::Fixed) {
         return Err(fixed_only(origin, &format!("dampers[{i}].")));
     }
-    Ok(Case { id: id.into(), label: id.into(), dampers, clearances, laws, grains })
+    Ok(Case { id: id.into(), label: id.into(), beds })
 }
 
 /// Validates one damper entry (the keys of [`case`]'s tables) on its own, before any
@@ -150,7 +150,7 @@ pub fn simulated_case(origin: &str, case: &Case, structure: &Structure) -> Resul
     super::validate::configurations_fit(
         origin.as_ref(),
         "dampers",
-        &case.grains,
+        &case.grains(),
         structure.dof(),
         &format!("{origin} runs"),
     )
@@ -165,10 +165,9 @@ pub fn kick(origin: &str, options: &ImpulseOptions, structure: &Structure, case:
 /// The simulated system of a case: the structure, the case's dampers with their impact laws
 /// (a column's grains as beds of their own), driven by the excitation.
 pub fn system(structure: &Structure, excitation: &Excitation, case: &Case) -> System {
-    let sys =
-        System { laws: case.laws.clone(), ..excitation.system(structure, case.dampers.clone(), excitation.force) };
-    if case.grains.iter().any(|&g| g > 1) {
-        sys.with_grains(&case.grains)
+    let sys = System { laws: case.laws(), ..excitation.system(structure, case.dampers(), excitation.force) };
+    if case.beds.iter().map(|b| &b.grains).any(|&g| g > 1) {
+        sys.with_grains(&case.grains())
     } else {
         sys
     }

@@ -73,7 +73,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     let cases = cases(path, raw.cases, &structure)?;
     if let Some(f) = &fe {
         for (ci, case) in cases.iter().enumerate() {
-            for (di, d) in case.dampers.iter().enumerate() {
+            for (di, d) in case.beds.iter().map(|b| &b.damper).enumerate() {
                 super::fe::host_fits(path, f, &format!("cases[{ci}].dampers[{di}].mass"), d.host, d.direction)?;
             }
         }
@@ -107,8 +107,8 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     }
     let (scanning, may_scan) = (analysis.scans_clearances(), analysis.may_scan_clearances());
     for (ci, case) in cases.iter().enumerate() {
-        for (di, c) in case.clearances.iter().enumerate() {
-            let scan = *c == ClearanceSource::Scan;
+        for (di, bed) in case.beds.iter().enumerate() {
+            let scan = bed.clearance == ClearanceSource::Scan;
             if (scan && !(scanning || may_scan)) || (!scan && scanning) {
                 return Err(Error::invalid(
                     path,
@@ -123,7 +123,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         let who = format!("analysis kind \"{}\" runs", analysis.kind());
         simulator_fits(path, n, &who)?;
         for (ci, case) in cases.iter().enumerate() {
-            configurations_fit(path, &format!("cases[{ci}].dampers"), &case.grains, n, &who)?;
+            configurations_fit(path, &format!("cases[{ci}].dampers"), &case.grains(), n, &who)?;
         }
     }
     if let Analysis::Impulse { options, .. } = &analysis {
@@ -132,18 +132,18 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         }
     }
     let simulated = analysis.simulated_frequencies();
-    if matches!(analysis, Analysis::Design { .. }) || cases.iter().any(|c| !c.dampers.is_empty()) {
+    if matches!(analysis, Analysis::Design { .. }) || cases.iter().any(|c| !c.beds.is_empty()) {
         for (key, freq_hz) in &simulated {
             super::fields::check_frequencies(&path.display().to_string(), key, freq_hz, &structure)?;
         }
     }
     if analysis.plastic_only() {
         for (ci, case) in cases.iter().enumerate() {
-            if let Some(di) = case.laws.iter().position(|l| !l.is_plastic()) {
+            if let Some(di) = case.beds.iter().map(|b| &b.law).position(|l| !l.is_plastic()) {
                 return Err(Error::invalid(
                     path,
                     format!("cases[{ci}].dampers[{di}].restitution"),
-                    case.laws[di].restitution(),
+                    case.beds[di].law.restitution(),
                     "the equivalent SDOF analysis and the design search model the paper's plastic bed only: leave restitution out (0)",
                 ));
             }
@@ -151,7 +151,9 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     }
     if let Analysis::SdofPeriodic { .. } = analysis {
         for (ci, case) in cases.iter().enumerate() {
-            if let Some(di) = case.dampers.iter().position(|d| d.direction != crate::model::Direction::Vertical) {
+            if let Some(di) =
+                case.beds.iter().map(|b| &b.damper).position(|d| d.direction != crate::model::Direction::Vertical)
+            {
                 return Err(Error::invalid(
                     path,
                     format!("cases[{ci}].dampers[{di}].direction"),
@@ -164,11 +166,11 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     let columns_allowed = analysis.runs_columns();
     if !columns_allowed {
         for (ci, case) in cases.iter().enumerate() {
-            if let Some(di) = case.grains.iter().position(|&g| g > 1) {
+            if let Some(di) = case.beds.iter().map(|b| &b.grains).position(|&g| g > 1) {
                 return Err(Error::invalid(
                     path,
                     format!("cases[{ci}].dampers[{di}].grains"),
-                    case.grains[di],
+                    case.beds[di].grains,
                     format!(
                         "a column of grains runs in a sweep from rest, a clearance study, waveforms or an impulse decay (this analysis is {}{}): use one mass (bed = \"plastic\" or \"restitution\")",
                         analysis.kind(),
@@ -180,11 +182,11 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     }
     if let Analysis::SdofPeriodic { .. } = analysis {
         for (ci, case) in cases.iter().enumerate() {
-            if case.dampers.len() != 1 {
+            if case.beds.len() != 1 {
                 return Err(Error::invalid(
                     path,
                     format!("cases[{ci}].dampers"),
-                    format!("{} dampers", case.dampers.len()),
+                    format!("{} dampers", case.beds.len()),
                     "periodic orbits are computed for exactly one damper per case",
                 ));
             }
@@ -485,8 +487,8 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
                 "case ids must be unique",
             ));
         }
-        let (dampers, clearances, laws, grains) = dampers(path, &format!("cases[{ci}]."), c.dampers, s)?;
-        out.push(Case { id: c.id, label: c.label, dampers, clearances, laws, grains });
+        let beds = dampers(path, &format!("cases[{ci}]."), c.dampers, s)?;
+        out.push(Case { id: c.id, label: c.label, beds });
     }
     Ok(out)
 }
@@ -496,7 +498,7 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
 /// on the struck mass, as the simulation shares it).
 pub(super) fn kick_fits(path: &Path, options: &ImpulseOptions, structure: &Structure, case: &Case) -> Result<()> {
     let k = options.mass;
-    let resting: f64 = case.dampers.iter().filter(|d| d.host == k).map(|d| d.mass).sum();
+    let resting: f64 = case.beds.iter().map(|b| &b.damper).filter(|d| d.host == k).map(|d| d.mass).sum();
     super::analysis::kick_speed_fits(path, options.kick, structure.masses[k] + resting)
 }
 

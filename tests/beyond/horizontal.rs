@@ -452,7 +452,7 @@ fn an_experiment_files_horizontal_container_reaches_the_simulator() {
     let file = common::three_containers(dir.path(), "h", analysis, "c", [", direction = \"horizontal\"", "", ""]);
     let exps = shotdamp::experiment::load(&file, &common::repo().join("reference")).expect("loads");
     let exp = &exps[0];
-    let along: Vec<Direction> = exp.cases[0].dampers.iter().map(|d| d.direction).collect();
+    let along: Vec<Direction> = exp.cases[0].beds.iter().map(|b| &b.damper).map(|d| d.direction).collect();
     assert_eq!(along, [Direction::Horizontal, Direction::Vertical, Direction::Vertical]);
     let out = common::shotdamp()
         .args(["run", file.to_str().expect("utf-8"), "--out"])
