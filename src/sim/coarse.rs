@@ -1,5 +1,5 @@
 //! Coarse windows of the event search on large structures (above
-//! [`LARGE_ABOVE`] degrees of freedom).
+//! [`LARGE_ABOVE`](super::system::LARGE_ABOVE) degrees of freedom).
 //!
 //! The certified search ([`super::roots`]) steps through windows of an eighth of the shortest
 //! period of the structure, so that the bound on each event function's fourth derivative
@@ -18,56 +18,12 @@
 
 use super::roots::lower_root;
 use super::segment::{Point, Segment, Split, Watch};
-use super::system::{Dynamics, Step, LARGE_ABOVE, STEP_FRACTION};
-
-/// Most coarse levels (windows of up to `2^MAX_LEVELS` ordinary steps).
-pub const MAX_LEVELS: usize = 12;
+use super::system::{Dynamics, Levels, MAX_LEVELS};
 
 /// Most ordinary windows the search goes through before it tries a coarse one again after
 /// failed tries (where an impact's ringing keeps the stiff modes large, each try costs about
 /// one ordinary window's evaluation).
 pub const MAX_WAIT: usize = 2;
-
-/// The coarse windows of one configuration.
-#[derive(Debug, Clone, Default)]
-pub struct Levels {
-    /// Level `k + 1`'s window (`2^(k+1)` ordinary steps) and the factors that carry a point
-    /// by it.
-    pub steps: Vec<Step>,
-    /// How many of the terms (ordered by `|lambda|`) are slow at level `k + 1`: `|lambda| <=
-    /// max_rate / 2^(k+1)`, `max_rate` the fastest rate of every configuration.
-    pub slow: Vec<usize>,
-}
-
-impl Levels {
-    /// The levels of configuration `slot`: none up to [`LARGE_ABOVE`] degrees of freedom, at
-    /// a step other than the default, or where the forcing is the fastest rate; else every
-    /// level whose window is at most an eighth of the forcing period (and at most
-    /// [`MAX_LEVELS`]).
-    pub fn of(d: &Dynamics, slot: usize) -> Levels {
-        if d.dof <= LARGE_ABOVE {
-            return Levels::default();
-        }
-        let max_rate = 2.0 * std::f64::consts::PI / d.min_period;
-        let lambda = &d.configs[slot].modes.lambda;
-        let mut levels = Levels::default();
-        for k in 1..=MAX_LEVELS {
-            let rate = max_rate / (1u64 << k) as f64;
-            if rate < d.omega {
-                break;
-            }
-            let slow = lambda.iter().take_while(|l| l.norm() <= rate).count();
-            levels.steps.push(d.step(slot, d.min_period * STEP_FRACTION * (1u64 << k) as f64));
-            levels.slow.push(slow);
-        }
-        levels
-    }
-
-    /// Whether there is no level.
-    pub fn is_empty(&self) -> bool {
-        self.steps.is_empty()
-    }
-}
 
 /// The coarsest level (an index into [`Levels::steps`]) whose window from `pt`, cut at
 /// `left` seconds, certainly holds no zero of any of `watches`; `None` when none does.
@@ -111,6 +67,7 @@ pub fn clear_level(
 mod tests {
     use super::*;
     use crate::model::{Clearance, Damper, Damping, Structure};
+    use crate::sim::system::STEP_FRACTION;
     use crate::sim::System;
     use std::f64::consts::PI;
 

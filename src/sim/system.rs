@@ -337,6 +337,49 @@ pub struct Step {
     pub cos: f64,
 }
 
+/// Most coarse levels (windows of up to `2^MAX_LEVELS` ordinary steps).
+pub const MAX_LEVELS: usize = 12;
+
+/// The coarse windows of one configuration (the event search's, `sim::coarse`).
+#[derive(Debug, Clone, Default)]
+pub struct Levels {
+    /// Level `k + 1`'s window (`2^(k+1)` ordinary steps) and the factors that carry a point
+    /// by it.
+    pub steps: Vec<Step>,
+    /// How many of the terms (ordered by `|lambda|`) are slow at level `k + 1`: `|lambda| <=
+    /// max_rate / 2^(k+1)`, `max_rate` the fastest rate of every configuration.
+    pub slow: Vec<usize>,
+}
+
+impl Levels {
+    /// The levels of configuration `slot`: none up to [`LARGE_ABOVE`] degrees of freedom or
+    /// where the forcing is the fastest rate; else every level whose window is at most an
+    /// eighth of the forcing period (and at most [`MAX_LEVELS`]).
+    fn of(d: &Dynamics, slot: usize) -> Levels {
+        if d.dof <= LARGE_ABOVE {
+            return Levels::default();
+        }
+        let max_rate = 2.0 * std::f64::consts::PI / d.min_period;
+        let lambda = &d.configs[slot].modes.lambda;
+        let mut levels = Levels::default();
+        for k in 1..=MAX_LEVELS {
+            let rate = max_rate / (1u64 << k) as f64;
+            if rate < d.omega {
+                break;
+            }
+            let slow = lambda.iter().take_while(|l| l.norm() <= rate).count();
+            levels.steps.push(d.step(slot, d.min_period * STEP_FRACTION * (1u64 << k) as f64));
+            levels.slow.push(slow);
+        }
+        levels
+    }
+
+    /// Whether there is no level.
+    pub fn is_empty(&self) -> bool {
+        self.steps.is_empty()
+    }
+}
+
 /// The parts of the accelerations at one state that do not depend on the configuration
 /// ([`Dynamics::at_state`]).
 #[derive(Debug, Clone)]
@@ -391,8 +434,8 @@ pub struct Dynamics {
     /// (`STEP_FRACTION * min_period`), computed when first needed.
     window: Vec<std::sync::OnceLock<Step>>,
     /// Per configuration, the event search's coarse windows above [`LARGE_ABOVE`] degrees
-    /// of freedom ([`super::coarse::Levels`]), computed when first needed.
-    coarse: Vec<std::sync::OnceLock<super::coarse::Levels>>,
+    /// of freedom ([`Levels`]), computed when first needed.
+    coarse: Vec<std::sync::OnceLock<Levels>>,
 }
 
 impl Dynamics {
@@ -585,10 +628,10 @@ impl Dynamics {
         self.window[slot].get_or_init(|| self.step(slot, self.min_period * STEP_FRACTION))
     }
 
-    /// The event search's coarse windows in configuration `slot` ([`super::coarse::Levels`];
+    /// The event search's coarse windows in configuration `slot` ([`Levels`];
     /// none up to [`LARGE_ABOVE`] degrees of freedom).
-    pub fn levels(&self, slot: usize) -> &super::coarse::Levels {
-        self.coarse[slot].get_or_init(|| super::coarse::Levels::of(self, slot))
+    pub fn levels(&self, slot: usize) -> &Levels {
+        self.coarse[slot].get_or_init(|| Levels::of(self, slot))
     }
 
     /// The configuration in which the beds of `mask` are attached.
