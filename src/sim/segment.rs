@@ -220,24 +220,12 @@ impl Segment {
             h[3] += r3[r].re * z.re - r3[r].im * z.im;
             b += ra[r] * e_abs[r];
         }
-        let f = &d.forced(self.slot)[p];
-        let (pp, qq) = (f.p, f.q);
-        let mut out = [0.0; 4];
-        for (i, o) in out.iter_mut().enumerate() {
-            let forced = match (order + i) % 4 {
-                0 => pp * pt.cos + qq * pt.sin,
-                1 => -pp * pt.sin + qq * pt.cos,
-                2 => -(pp * pt.cos + qq * pt.sin),
-                _ => pp * pt.sin - qq * pt.cos,
-            } * d.omega_pow[order + i];
-            *o = h[i] + forced + if order + i == 0 { cfg.modes.offset[p] } else { 0.0 };
-        }
-        (out, b + d.omega_pow[bound_order] * f.amp)
+        (self.particular4(d, pt, p, order, h), b + d.omega_pow[bound_order] * d.forced(self.slot)[p].amp)
     }
 
     /// `h` (sums of the terms for four successive derivatives of mass `p`'s displacement from
     /// `order` on) plus the forced response's and the static offset's.
-    #[inline]
+    #[inline(always)]
     fn particular4(&self, d: &Dynamics, pt: &Point, p: usize, order: usize, h: [f64; 4]) -> [f64; 4] {
         let f = &d.forced(self.slot)[p];
         let (pp, qq) = (f.p, f.q);
