@@ -205,20 +205,11 @@ impl Segment {
         order: usize,
         bound_order: usize,
     ) -> ([f64; 4], f64) {
-        let cfg = &d.configs[self.slot];
-        let (e, e_abs) = (&pt.e[..], &pt.e_abs[..]);
-        let rows = &cfg.modes.vl[p][order..order + 4];
-        let (r0, r1, r2, r3) = (&rows[0][..e.len()], &rows[1][..e.len()], &rows[2][..e.len()], &rows[3][..e.len()]);
-        let ra = &cfg.modes.vl_abs[p][bound_order][..e.len()];
+        let rows = Rows::of(d, self.slot, pt, p, order, bound_order);
         // Each sum from -0, term by term, as `Iterator::sum` adds.
         let (mut h, mut b) = ([-0.0; 4], -0.0);
-        for r in 0..e.len() {
-            let z = e[r];
-            h[0] += r0[r].re * z.re - r0[r].im * z.im;
-            h[1] += r1[r].re * z.re - r1[r].im * z.im;
-            h[2] += r2[r].re * z.re - r2[r].im * z.im;
-            h[3] += r3[r].re * z.re - r3[r].im * z.im;
-            b += ra[r] * e_abs[r];
+        for r in 0..pt.e.len() {
+            rows.add(pt, r, &mut h, &mut b);
         }
         (self.particular4(d, pt, p, order, h), b + d.omega_pow[bound_order] * d.forced(self.slot)[p].amp)
     }
@@ -255,22 +246,14 @@ impl Segment {
         slow: &[usize],
         out: &mut [Split],
     ) {
-        let cfg = &d.configs[self.slot];
         let (e, e_abs) = (&pt.e[..], &pt.e_abs[..]);
-        let rows = &cfg.modes.vl[p][order..order + 4];
-        let (r0, r1, r2, r3) = (&rows[0][..e.len()], &rows[1][..e.len()], &rows[2][..e.len()], &rows[3][..e.len()]);
-        let ra = &cfg.modes.vl_abs[p][bound_order][..e.len()];
-        let rv = &cfg.modes.vl_abs[p][order][..e.len()];
+        let rows = Rows::of(d, self.slot, pt, p, order, bound_order);
+        let rv = &d.configs[self.slot].modes.vl_abs[p][order][..e.len()];
         let (mut h, mut b, mut a) = ([-0.0; 4], -0.0, -0.0);
         let mut r = 0;
         for k in (0..slow.len()).rev() {
             while r < slow[k] {
-                let z = e[r];
-                h[0] += r0[r].re * z.re - r0[r].im * z.im;
-                h[1] += r1[r].re * z.re - r1[r].im * z.im;
-                h[2] += r2[r].re * z.re - r2[r].im * z.im;
-                h[3] += r3[r].re * z.re - r3[r].im * z.im;
-                b += ra[r] * e_abs[r];
+                rows.add(pt, r, &mut h, &mut b);
                 a += rv[r] * e_abs[r];
                 r += 1;
             }
@@ -303,6 +286,37 @@ impl Segment {
             x[i] = self.deriv(d, pt, i, 0);
             v[i] = self.deriv(d, pt, i, 1);
         }
+    }
+}
+
+/// The rows of four successive displacement derivatives of one mass and of the bound's order,
+/// cut to a point's terms: what [`Segment::derivs4_bound`] and [`Segment::derivs4_levels`]
+/// sum term by term.
+struct Rows<'a> {
+    d: [&'a [Complex64]; 4],
+    bound: &'a [f64],
+}
+
+impl<'a> Rows<'a> {
+    /// Mass `p`'s rows of orders `order..order + 4` and `bound_order` in configuration `slot`.
+    #[inline(always)]
+    fn of(d: &'a Dynamics, slot: usize, pt: &Point, p: usize, order: usize, bound_order: usize) -> Rows<'a> {
+        let modes = &d.configs[slot].modes;
+        let (rows, len) = (&modes.vl[p][order..order + 4], pt.e.len());
+        Rows {
+            d: [&rows[0][..len], &rows[1][..len], &rows[2][..len], &rows[3][..len]],
+            bound: &modes.vl_abs[p][bound_order][..len],
+        }
+    }
+
+    /// Adds term `r` of `pt` to the four sums `h` and the bound `b`.
+    #[inline(always)]
+    fn add(&self, pt: &Point, r: usize, h: &mut [f64; 4], b: &mut f64) {
+        let z = pt.e[r];
+        for (h, row) in h.iter_mut().zip(self.d) {
+            *h += row[r].re * z.re - row[r].im * z.im;
+        }
+        *b += self.bound[r] * pt.e_abs[r];
     }
 }
 
