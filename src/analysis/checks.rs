@@ -10,9 +10,8 @@ use super::claim_checks;
 use super::curves::{Curve, Curves};
 use super::decay_checks;
 use super::digitised_checks;
-use super::impulse::Decay;
+use super::evidence::{Decay, MotionTypes, OrbitsResult};
 use super::orbit_checks;
-use super::orbits::OrbitsResult;
 use crate::experiment::{CheckKind, CheckSpec, Experiment};
 use crate::model::modal::ModeSummary;
 
@@ -21,7 +20,7 @@ pub struct Computed<'a> {
     pub curves: &'a Curves,
     pub decays: &'a BTreeMap<String, Decay>,
     pub orbits: Option<&'a OrbitsResult>,
-    pub motion_types: &'a super::waveform::MotionTypes,
+    pub motion_types: &'a MotionTypes,
 }
 
 /// Every check of `exp`, in file order. A reference that is missing (the loader validates

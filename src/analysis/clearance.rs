@@ -14,16 +14,9 @@ use crate::sim::SteadyOptions;
 use crate::table::Table;
 
 use super::curves::{self, Curve};
+use super::kind::{Input, Kind, Output};
 use super::result::Tick;
 use super::sweep::check_frequencies;
-
-/// What a clearance study produced.
-pub struct StudyOutput {
-    pub tables: Vec<Table>,
-    pub figures: Vec<Figure>,
-    pub curves: Vec<Curve>,
-    pub exports: BTreeMap<String, f64>,
-}
 
 /// The settings of a study.
 pub struct Study<'a> {
@@ -33,6 +26,16 @@ pub struct Study<'a> {
     pub objective_mass: usize,
     pub objective_case: &'a str,
     pub steady: &'a SteadyOptions,
+}
+
+impl Kind for Study<'_> {
+    fn work(&self, exp: &Experiment, _refs: &ReferenceStore) -> u64 {
+        work(exp, self)
+    }
+
+    fn run(&self, i: &Input<'_>) -> Output {
+        run(i.exp, i.refs, self, i.tick)
+    }
 }
 
 /// Simulated points a study will run when its clearances are listed (for progress).
@@ -51,7 +54,7 @@ fn with_clearance(case: &Case, d: Clearance) -> Case {
 }
 
 /// Runs a clearance study.
-pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) -> StudyOutput {
+pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) -> Output {
     let n = exp.structure.dof();
     let m = study.objective_mass;
     let force = exp.excitation.force;
@@ -210,5 +213,5 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
         .collect();
     let mut curves_out = unbounded;
     curves_out.extend(scanned);
-    StudyOutput { tables: vec![table, limits, curves_table], figures, curves: curves_out, exports }
+    Output { tables: vec![table, limits, curves_table], figures, curves: curves_out, exports, ..Output::default() }
 }

@@ -18,30 +18,26 @@ use crate::number::{fmt_num, fmt_sig};
 use crate::sim::SteadyOptions;
 use crate::table::Table;
 
+use super::kind::{Input, Kind, Output};
+
 pub use super::design_problem::problem;
 
 /// A clearance is in the robust band when its objective is within this factor of the best.
 pub const ROBUST: f64 = 1.05;
 
-/// What a design run hands over.
-pub struct DesignOutput {
-    /// The design's tables.
-    pub tables: Vec<Table>,
-    /// Its figures.
-    pub figures: Vec<Figure>,
-    /// Values other experiments may use.
-    pub exports: BTreeMap<String, f64>,
-    /// The search's answer, to store (`shotdamp design --store`).
-    pub stored: StoredDesign,
-    /// Replayed: the stored answer against the layouts evaluated now.
-    pub checks: Vec<CheckOutcome>,
-    /// What the user must know about the answer (beds that hardly move, unsettled points).
-    pub warnings: Vec<String>,
-    /// The answer in one paragraph.
-    pub answer: Option<String>,
-    /// The time limit stopped the search: the layouts are the best found so far (not to be
-    /// stored as the design's answer).
-    pub stopped: bool,
+/// A design search (`kind = "design"`, docs/design.md): the problem as the file states it and
+/// the steady-state settings of its sweeps.
+pub(crate) struct Design<'a> {
+    pub(crate) spec: &'a Spec,
+    pub(crate) steady: &'a SteadyOptions,
+}
+
+impl Kind for Design<'_> {
+    // A search's evaluations are not known ahead: a counter of unknown total, ticked at every
+    // evaluation (a caller may stop there): the default `work`.
+    fn run(&self, i: &Input<'_>) -> Output {
+        run(i.exp, self.spec, self.steady, i.refs, i.tick)
+    }
 }
 
 /// A replayed objective must equal the stored one to this relative difference, when every
@@ -242,14 +238,16 @@ fn lowest(found: Vec<Found>) -> Option<Found> {
     found.into_iter().reduce(|a, x| if a.evaluation.objective <= x.evaluation.objective { a } else { x })
 }
 
-/// Runs the design of `exp`.
-pub fn run(
+/// Runs the design of `exp`: its tables, figures and exports, the replay's checks, the
+/// warnings, the answer in a paragraph, and the answer to store (none when the time limit
+/// stopped the search: the layouts are then the best found so far).
+fn run(
     exp: &Experiment,
     spec: &Spec,
     steady: &SteadyOptions,
     refs: &ReferenceStore,
     tick: &(dyn Fn() + Sync),
-) -> DesignOutput {
+) -> Output {
     let p = problem(exp, spec, steady);
     let b = bare(&p);
     let total_mass = exp.structure.mass_matrix().trace();
@@ -516,7 +514,16 @@ pub fn run(
             format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer"),
         );
     }
-    DesignOutput { tables, figures, exports, stored, checks, warnings, answer, stopped }
+    Output {
+        tables,
+        figures,
+        exports,
+        checks,
+        warnings,
+        design: (!stopped).then_some(stored),
+        answer,
+        ..Output::default()
+    }
 }
 
 /// The compliance over each band of the bare structure, the best layout and the cases (the

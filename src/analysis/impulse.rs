@@ -5,16 +5,19 @@
 use std::collections::BTreeMap;
 
 use crate::checks::fmt_num;
+use crate::checks::reference::ReferenceStore;
 use crate::experiment::{Experiment, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::modal::{symmetric_modes, ModeSummary};
 use crate::model::GRAVITY;
 use crate::signal::{decay_time, envelope, falling_envelope, log_decrements, spectra, Decrement};
-use crate::sim::impulse::{free_response, ImpulseOptions, ImpulseRun, Kick};
+use crate::sim::impulse::{free_response, ImpulseOptions, Kick};
 use crate::sim::{EventKind, Stop};
 use crate::table::Table;
 
 use super::curves;
+pub use super::evidence::Decay;
+use super::kind::{Input, Kind, Output};
 use super::result::Tick;
 
 /// Horizontal resolution of dense signals in figures (min/max per bin).
@@ -24,38 +27,26 @@ const BINS: usize = 1400;
 /// cycles scatter).
 const DECREMENT_SPAN: usize = 4;
 
-/// One case's free decay and what is measured on it.
-#[derive(Debug, Clone)]
-pub struct Decay {
-    /// The case's id.
-    pub id: String,
-    /// Its label.
-    pub label: String,
-    /// The free response.
-    pub run: ImpulseRun,
-    /// Per mass: peaks of |acceleration| (time, m/s^2).
-    pub envelopes: Vec<Vec<(f64, f64)>>,
-    /// Per mass, per level: time for the envelope to fall there, s (`None`: not reached).
-    pub decay_times: Vec<Vec<Option<f64>>>,
-    /// Per mode of the bare structure: the log decrements of its modal coordinate.
-    pub decrements: Vec<Vec<Decrement>>,
-    /// Time of the last lift-off of any bed, s.
-    pub last_liftoff: Option<f64>,
-    /// Per mass: the magnitude of the spectrum of its acceleration at the analysis's frequencies.
-    pub spectra: Vec<Vec<f64>>,
+/// An impulse analysis (`kind = "impulse"`): the kick, the spectrum's frequencies and the
+/// envelope levels whose decay times are measured.
+pub(crate) struct Impulse<'a> {
+    pub(crate) options: &'a ImpulseOptions,
+    pub(crate) spectrum_hz: &'a [f64],
+    pub(crate) levels: &'a [f64],
 }
 
-/// What an impulse analysis produced.
-pub struct ImpulseOutput {
-    /// The impulse analysis's tables.
-    pub tables: Vec<Table>,
-    /// Its figures.
-    pub figures: Vec<Figure>,
-    /// Each case's decay, by case id.
-    pub decays: BTreeMap<String, Decay>,
-    /// Cases that could not be simulated, and why (they are missing from the tables and
-    /// figures).
-    pub skipped: Vec<String>,
+impl Kind for Impulse<'_> {
+    fn work(&self, exp: &Experiment, _refs: &ReferenceStore) -> u64 {
+        exp.cases.len() as u64
+    }
+
+    fn run(&self, i: &Input<'_>) -> Output {
+        let (tables, figures, decays, skipped) =
+            run(i.exp, i.modes, self.options, self.spectrum_hz, self.levels, i.tick);
+        let mut out = Output { tables, figures, decays, ..Output::default() };
+        out.missing_cases(i.exp, skipped);
+        out
+    }
 }
 
 /// Decay times of a sampled acceleration at each level (the estimator used for computed
@@ -65,15 +56,16 @@ pub fn decay_times(t: &[f64], a: &[f64], levels: &[f64]) -> Vec<Option<f64>> {
     levels.iter().map(|&l| decay_time(&env, l)).collect()
 }
 
-/// Runs every case.
-pub fn run(
+/// Runs every case: tables, figures, each case's decay and the cases that could not be
+/// simulated (and why).
+fn run(
     exp: &Experiment,
     modes: &[ModeSummary],
     options: &ImpulseOptions,
     spectrum_hz: &[f64],
     levels: &[f64],
     tick: &Tick,
-) -> ImpulseOutput {
+) -> (Vec<Table>, Vec<Figure>, BTreeMap<String, Decay>, Vec<String>) {
     let mut skipped = Vec::new();
     let n = exp.structure.dof();
     let bare = symmetric_modes(&exp.structure.mass_matrix(), &exp.structure.stiffness);
@@ -140,7 +132,7 @@ pub fn run(
     let list: Vec<&Decay> = order.iter().filter_map(|id| decays.get(id)).collect();
     let tables = tables(exp, modes, &list, options, spectrum_hz, levels);
     let figures = figures(exp, modes, &list, options, spectrum_hz, levels);
-    ImpulseOutput { tables, figures, decays, skipped }
+    (tables, figures, decays, skipped)
 }
 
 fn kick_words(o: &ImpulseOptions) -> String {

@@ -8,6 +8,28 @@ use crate::table::Table;
 
 use super::curves::{self, union_grid, Curve};
 use super::figures::{self, Extras};
+use super::kind::{Input, Kind, Output};
+
+/// Modal analysis only (`kind = "modal"`): the modal table every experiment has.
+pub struct Modal;
+
+impl Kind for Modal {
+    fn run(&self, _: &Input<'_>) -> Output {
+        Output::default()
+    }
+}
+
+/// The exact linear frequency response (`kind = "linear_frf"`) on a grid in Hz.
+pub(crate) struct Frf<'a> {
+    pub(crate) freq_hz: &'a [f64],
+}
+
+impl Kind for Frf<'_> {
+    fn run(&self, i: &Input<'_>) -> Output {
+        let (table, figures, curves) = frf(i.exp, i.modes, self.freq_hz, i.refs);
+        Output { tables: vec![table], figures, curves, ..Output::default() }
+    }
+}
 
 /// The modal table: frequencies, normalised shapes, modal mass/stiffness/damping, and the
 /// mass ratio mu_i of Eq. 13 for each case with dampers.

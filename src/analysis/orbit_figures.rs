@@ -10,7 +10,7 @@ use crate::sim::continuation::Special;
 use crate::table::Table;
 
 use super::curves::{self, Curve};
-use super::orbits::{OrbitBranch, OrbitPoint, OrbitsResult};
+use super::evidence::{OrbitBranch, OrbitPoint, OrbitsResult};
 
 /// A quantity read off an orbit point.
 type Value<'a> = dyn Fn(&OrbitPoint) -> f64 + 'a;

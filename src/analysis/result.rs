@@ -20,10 +20,6 @@ pub struct ExperimentResult {
     pub experiment: Experiment,
     /// Modes of the bare structure.
     pub modes: Vec<ModeSummary>,
-    /// Named parameters for the report's parameter table.
-    pub parameters: Vec<(String, String)>,
-    /// Every assumption the run rests on.
-    pub assumptions: Vec<String>,
     /// Tables for the report's data folder.
     pub tables: Vec<Table>,
     /// Figures for the report.

@@ -6,15 +6,15 @@ use std::collections::BTreeMap;
 use crate::checks::fmt_num;
 use crate::checks::reference::ReferenceStore;
 use crate::experiment::{round_hz, CheckKind, CurveId, Experiment, Linear, PlotSpec, Start};
-use crate::figure::{Figure, VLine};
+use crate::figure::VLine;
 use crate::model::modal::ModeSummary;
 use crate::sim::sweep::{self, Direction};
 use crate::sim::SteadyOptions;
-use crate::table::Table;
 
 use super::branches::{self, OrbitCurve};
 use super::curves::{self, union_grid, Curve};
 use super::figures::{self, Extras};
+use super::kind::{Input, Kind, Output};
 use super::result::Tick;
 
 /// Frequencies the curve checks of `curve_id` need, from their reference files.
@@ -49,12 +49,21 @@ pub fn work(exp: &Experiment, freq_hz: &[f64], start: Start, refs: &ReferenceSto
         .sum()
 }
 
-/// What a sweep produced.
-pub struct SweepOutput {
-    pub tables: Vec<Table>,
-    pub figures: Vec<Figure>,
-    pub curves: Vec<Curve>,
-    pub exports: BTreeMap<String, f64>,
+/// A sweep analysis (`kind = "sweep"`): its grid, its start and its steady-state settings.
+pub(crate) struct Sweep<'a> {
+    pub(crate) freq_hz: &'a [f64],
+    pub(crate) start: Start,
+    pub(crate) steady: &'a SteadyOptions,
+}
+
+impl Kind for Sweep<'_> {
+    fn work(&self, exp: &Experiment, refs: &ReferenceStore) -> u64 {
+        work(exp, self.freq_hz, self.start, refs)
+    }
+
+    fn run(&self, i: &Input<'_>) -> Output {
+        run(i.exp, i.modes, i.refs, self.freq_hz, self.start, self.steady, i.tick)
+    }
 }
 
 /// Runs a sweep analysis.
@@ -66,7 +75,7 @@ pub fn run(
     start: Start,
     steady: &SteadyOptions,
     tick: &Tick,
-) -> SweepOutput {
+) -> Output {
     let n = exp.structure.dof();
     let beds = exp.cases.iter().map(|c| c.beds.len()).max().unwrap_or(0);
     let mut curves: Vec<Curve> = Vec::new();
@@ -154,7 +163,7 @@ pub fn run(
             0,
         ));
     }
-    SweepOutput { tables, figures, curves, exports }
+    Output { tables, figures, curves, exports, ..Output::default() }
 }
 
 /// The linear curves the plots ask for, on a fine grid over the sweep's range.

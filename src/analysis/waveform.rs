@@ -4,6 +4,7 @@
 use std::f64::consts::PI;
 
 use crate::checks::fmt_num;
+use crate::checks::reference::ReferenceStore;
 use crate::experiment::{Experiment, Number, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Panel, Series};
 use crate::sim::observe::Sampler;
@@ -11,6 +12,8 @@ use crate::sim::{steady_state, Dynamics, Engine, EventKind, State, SteadyOptions
 use crate::table::Table;
 
 use super::curves;
+use super::evidence::MotionTypes;
+use super::kind::{Input, Kind, Output};
 use super::result::Tick;
 
 /// Samples drawn per forcing period.
@@ -128,13 +131,31 @@ pub fn event_words(kind: &EventKind) -> String {
     }
 }
 
-/// Simulated points a waveform analysis runs (for progress).
-pub fn work(exp: &Experiment, frequencies: &[Number]) -> u64 {
-    (exp.cases.iter().filter(|c| !c.beds.is_empty()).count() * frequencies.len()) as u64
+/// A waveform analysis (`kind = "waveform"`): its frequencies (resolved values), their
+/// labels, the periods drawn and the steady-state settings.
+pub(crate) struct Waveform<'a> {
+    pub(crate) frequencies: &'a [Number],
+    pub(crate) labels: &'a [String],
+    pub(crate) periods: usize,
+    pub(crate) steady: &'a SteadyOptions,
+}
+
+impl Kind for Waveform<'_> {
+    fn work(&self, exp: &Experiment, _refs: &ReferenceStore) -> u64 {
+        (exp.cases.iter().filter(|c| !c.beds.is_empty()).count() * self.frequencies.len()) as u64
+    }
+
+    fn run(&self, i: &Input<'_>) -> Output {
+        let (tables, figures, motion_types, skipped) =
+            run(i.exp, self.frequencies, self.labels, self.periods, self.steady, i.tick);
+        let mut out = Output { tables, figures, motion_types, ..Output::default() };
+        out.missing_cases(i.exp, skipped);
+        out
+    }
 }
 
 /// Runs the waveform analysis. Frequencies are resolved values.
-pub fn run(
+fn run(
     exp: &Experiment,
     frequencies: &[Number],
     labels: &[String],
@@ -198,10 +219,6 @@ pub fn run(
     }
     (tables(exp, &records), figures(exp, &records, periods), types, skipped)
 }
-
-/// Per case: the motion type of each bed at each frequency, short ("I", "II", "III", or
-/// "rests" when the bed does not fly).
-pub type MotionTypes = std::collections::BTreeMap<String, Vec<String>>;
 
 /// "Type II (hits the top...); ..." -> "II"; "rests on the bottom ..." -> "rests".
 fn short_type(t: &str) -> String {

@@ -13,6 +13,7 @@ pub mod plot;
 pub mod report;
 pub mod robustness;
 pub mod scan;
+pub mod setup_words;
 pub mod study;
 pub mod study_words;
 pub mod svg;

@@ -242,8 +242,8 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
         caption_heading: headings.0.to_string(),
         claim_heading: headings.1.to_string(),
         source_file: source_file.to_string(),
-        parameters: r.parameters.clone(),
-        assumptions: r.assumptions.clone(),
+        parameters: super::setup_words::parameters(&r.experiment),
+        assumptions: super::setup_words::assumptions(&r.experiment),
         notes: r.experiment.meta.notes.clone(),
         figures: r
             .figures
@@ -403,9 +403,9 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
     let (overall, class, words) = counts(&all);
     let mut assumptions: Vec<String> = Vec::new();
     for r in results {
-        for a in &r.assumptions {
-            if !assumptions.contains(a) {
-                assumptions.push(a.clone());
+        for a in super::setup_words::assumptions(&r.experiment) {
+            if !assumptions.contains(&a) {
+                assumptions.push(a);
             }
         }
     }

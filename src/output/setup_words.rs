@@ -1,0 +1,169 @@
+//! The words of an experiment's setup: the report's parameter table and the assumptions a run
+//! rests on, written from the experiment as validated (the analyses return numbers; the
+//! sentences about what they were given are written here).
+
+use crate::experiment::{Analysis, Experiment};
+use crate::model::Damping;
+use crate::number::fmt_num;
+
+fn list(v: &[f64]) -> String {
+    v.iter().map(|x| fmt_num(*x)).collect::<Vec<_>>().join(", ")
+}
+
+/// The parameter table of the report.
+pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
+    let s = &exp.structure;
+    let rows = |m: &nalgebra::DMatrix<f64>| {
+        (0..s.dof())
+            .map(|i| format!("[{}]", list(&m.row(i).iter().copied().collect::<Vec<_>>())))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let masses = match &s.coupled_mass {
+        None => ("masses m_1..m_n (kg)".to_string(), list(&s.masses)),
+        Some(m) => ("mass matrix M0 (kg), rows (not diagonal: coordinates, not masses)".to_string(), rows(m)),
+    };
+    let mut p = vec![
+        masses,
+        (
+            "stiffness K (N/m), rows".to_string(),
+            (0..s.dof())
+                .map(|i| format!("[{}]", list(&s.stiffness.row(i).iter().copied().collect::<Vec<_>>())))
+                .collect::<Vec<_>>()
+                .join(" "),
+        ),
+        (
+            "damping".to_string(),
+            match &s.damping_spec {
+                Damping::ModalRatios(z) => format!("modal ratios zeta = [{}]", list(z)),
+                Damping::Rayleigh { alpha, beta } => {
+                    format!("Rayleigh alpha = {} 1/s, beta = {} s", fmt_num(*alpha), fmt_num(*beta))
+                }
+            },
+        ),
+        ("excitation".to_string(), exp.excitation.describe()),
+        ("analysis".to_string(), exp.analysis.kind().to_string()),
+    ];
+    if let Some(m) = &exp.model {
+        p.insert(0, ("model".to_string(), format!("{} ({}): {}", m.label, m.id, m.description)));
+    }
+    if let Some(f) = &exp.fit {
+        let worst = f.shape_residuals.iter().flatten().fold(0.0_f64, |a, r| a.max(r.abs()));
+        let freq = f
+            .frequency_residuals
+            .iter()
+            .zip(&f.omegas)
+            .map(|(r, w)| format!("{:.1e}", r / (w - r)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        p.push((
+            "stiffness fit".to_string(),
+            format!(
+                "Levenberg-Marquardt from {} starts, {} at the best fit ({}); condition of K {:.2}; relative frequency residuals [{freq}]; largest mode-shape residual {:.4}; measured shapes mass-orthogonal to {:.3}",
+                f.starts,
+                f.starts_at_best,
+                if f.unique() { "unique" } else { "NOT unique" },
+                f.condition,
+                worst,
+                f.orthogonality
+            ),
+        ));
+    }
+    if let Analysis::LinearFrf { freq_hz } = &exp.analysis {
+        if let (Some(a), Some(b)) = (freq_hz.first(), freq_hz.last()) {
+            p.push((
+                "frequency grid (Hz)".into(),
+                format!("{} to {}, {} points", fmt_num(*a), fmt_num(*b), freq_hz.len()),
+            ));
+        }
+    }
+    for c in &exp.cases {
+        let d = if c.beds.is_empty() {
+            "no damper".to_string()
+        } else {
+            c.beds
+                .iter()
+                .map(|b| {
+                    let (d, law, grains) = (&b.damper, b.law, b.grains);
+                    let clr = d.clearance.to_string();
+                    let sticks =
+                        law.stick_speed().map_or(String::new(), |v| format!(" (sticks below {} m/s)", fmt_num(v)));
+                    let bed = if grains > 1 {
+                        format!(
+                            ", a column of {grains} grains, restitution e = {}{}",
+                            fmt_num(law.restitution()),
+                            sticks
+                        )
+                    } else if !law.is_plastic() {
+                        format!(", restitution e = {}{sticks}", fmt_num(law.restitution()))
+                    } else {
+                        String::new()
+                    };
+                    let along = match d.direction {
+                        crate::model::Direction::Vertical => "",
+                        crate::model::Direction::Horizontal => ", horizontal",
+                    };
+                    format!(
+                        "m_{}: m_d = {} kg (mu = {}), d = {clr}{bed}{along}",
+                        d.host + 1,
+                        fmt_num(d.mass),
+                        fmt_num(d.mass / s.masses[d.host])
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        p.push((format!("case {} ({})", c.id, c.label), d));
+    }
+    p
+}
+
+/// The assumptions a run rests on: derived from the model settings, then the file's own.
+pub fn assumptions(exp: &Experiment) -> Vec<String> {
+    let mut a = Vec::new();
+    let damping = match &exp.structure.damping_spec {
+        Damping::ModalRatios(z) => format!("Damping of the bare structure: modal damping ratios [{}]", list(z)),
+        Damping::Rayleigh { alpha, beta } => {
+            format!("Damping of the bare structure: Rayleigh alpha = {}, beta = {}", fmt_num(*alpha), fmt_num(*beta))
+        }
+    };
+    a.push(match &exp.damping_assumption {
+        Some(why) => format!("{damping} ({why})."),
+        None => format!("{damping}."),
+    });
+    if let Some(src) = &exp.structure_source {
+        a.push(format!("Structure: {src}."));
+    }
+    for c in &exp.cases {
+        for (d, law, n) in c.beds.iter().filter(|b| b.grains > 1).map(|b| (&b.damper, b.law, b.grains)) {
+            a.push(format!(
+                "Case {}: the bed on m_{} is a column of {n} equal grains (total mass unchanged) with restitution e = {} between grains and against the ends{}; grains resting on an end move with it, grains in free flight meet in binary collisions resolved in sequence (docs/model.md, \"Bed models\"); the paper's bed is one plastic mass.",
+                c.id,
+                d.host + 1,
+                fmt_num(law.restitution()),
+                law.stick_speed().map_or(String::new(), |v| format!(", sticking below {} m/s", fmt_num(v)))
+            ));
+        }
+        for (d, law) in c.beds.iter().filter(|b| !b.law.is_plastic() && b.grains <= 1).map(|b| (&b.damper, b.law)) {
+            a.push(format!(
+                "Case {}: the bed on m_{} bounces off its container's ends with restitution e = {} and sticks below {} m/s (the paper's bed is plastic, e = 0).",
+                c.id,
+                d.host + 1,
+                fmt_num(law.restitution()),
+                fmt_num(law.stick_speed().unwrap_or(0.0))
+            ));
+        }
+    }
+    for c in &exp.cases {
+        for d in c.beds.iter().map(|b| &b.damper).filter(|d| d.direction == crate::model::Direction::Horizontal) {
+            a.push(format!(
+                "Case {}: the container on m_{} is horizontal: no gravity along its bed's motion, which flies at constant velocity between two walls {} apart and hits either; friction with the container's floor is neglected (docs/model.md section 5; the paper's containers are vertical).",
+                c.id,
+                d.host + 1,
+                d.clearance
+            ));
+        }
+    }
+    a.extend(exp.meta.assumptions.iter().cloned());
+    a
+}
