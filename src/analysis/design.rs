@@ -354,72 +354,13 @@ fn run(
         if spec.shared_clearance {
             exports.insert("best_clearance_mm".into(), best.layout.clearances_mm[0]);
         }
-        // How the objective varies with the clearance, the best hosts and split held.
-        let (lo, hi) = spec.clearance_mm;
-        let ds: Vec<f64> =
-            (0..PROFILE_POINTS).map(|i| lo * (hi / lo).powf(i as f64 / (PROFILE_POINTS - 1) as f64)).collect();
-        let evaluated: Vec<(f64, usize)> = ds
-            .par_iter()
-            .map(|&d| {
-                let l = Layout { clearances_mm: vec![d; best.layout.hosts.len()], ..best.layout.clone() };
-                let e = evaluate(&p, &b, &l);
-                (e.objective, e.unsettled)
-            })
-            .collect();
-        let profile: Vec<f64> = evaluated.iter().map(|e| e.0).collect();
-        let target = ROBUST * best.evaluation.objective;
-        let inside: Vec<f64> = ds.iter().zip(&profile).filter(|(_, o)| **o <= target).map(|(d, _)| *d).collect();
-        let (rlo, rhi) = (
-            inside.iter().copied().fold(f64::INFINITY, f64::min),
-            inside.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        );
-        if rlo.is_finite() {
+        let (table, figure, robust) = clearance_profile(exp, spec, &p, &b, best);
+        if let Some((rlo, rhi)) = robust {
             exports.insert("robust_clearance_min_mm".into(), rlo);
             exports.insert("robust_clearance_max_mm".into(), rhi);
         }
-        tables.push(
-            Table::new(
-                "design_clearance",
-                format!(
-                    "The objective of the best layout ({}, bed kg {}) with one clearance for every container, from {} to {} mm: the robust band is where it is within {} % of the best",
-                    hosts_words(&best.layout),
-                    joined(&best.layout.masses_kg),
-                    fmt_num(lo),
-                    fmt_num(hi),
-                    fmt_num(100.0 * (ROBUST - 1.0))
-                ),
-            )
-            .f64("clearance_mm", ds.clone())
-            .f64("objective", profile.clone())
-            .i64("robust", profile.iter().map(|o| i64::from(*o <= target)).collect())
-            .i64("unsettled_points", evaluated.iter().map(|e| e.1 as i64).collect()),
-        );
-        let mut panel = Panel::new(
-            "objective against the clearance, best hosts and split held",
-            "clearance d (mm)",
-            "worst band over the bare structure",
-            (lo, hi),
-        )
-        .log_x();
-        let mut s = Series::line(hosts_words(&best.layout), ds.clone(), profile.clone(), 0);
-        s.marker = Marker::Circle;
-        panel.series.push(s);
-        panel
-            .series
-            .push(Series::line(format!("best x {ROBUST}"), vec![lo, hi], vec![target, target], 1).dashed(Dash::Dashed));
-        if rlo.is_finite() {
-            panel
-                .vlines
-                .push(VLine { x: rlo, label: format!(" robust band {}-{} mm", fmt_sig(rlo, 2), fmt_sig(rhi, 2)) });
-            panel.vlines.push(VLine { x: rhi, label: String::new() });
-        }
-        panel.legend = Corner::UpperRight;
-        figures.push(Figure {
-            id: "design_clearance".into(),
-            title: format!("{}: the objective near the optimum", exp.meta.figure),
-            caption: "The worst band's measure over the bare structure's against one clearance for every container, with the best layout's hosts and shot split; dashed: 5 % above the best (the robust band).".into(),
-            panels: vec![panel],
-        });
+        tables.push(table);
+        figures.push(figure);
         // The bare structure's curves (the first scenario's, as the evaluations' curves).
         let bare_sys = p.system(&p.cases()[0], Vec::new());
         let bare_curves: Vec<Vec<Vec<f64>>> =
@@ -472,36 +413,9 @@ fn run(
     }
     tick();
     if !front.is_empty() {
-        let rows: Vec<(String, Layout, Evaluation, u64)> = front
-            .iter()
-            .map(|(r, f)| {
-                (format!("mass ratio {}", fmt_num(*r)), f.layout.clone(), f.evaluation.clone(), f.evaluations)
-            })
-            .collect();
-        tables.push(layouts_table(
-            ("design_pareto", exp.excitation.per_unit()),
-            "The best layout for each total shot mass ratio (the Pareto front of shot mass against the objective)",
-            spec,
-            &names,
-            &rows,
-        ));
-        let x: Vec<f64> = front.iter().map(|(r, _)| *r).collect();
-        let y: Vec<f64> = front.iter().map(|(_, f)| f.evaluation.objective).collect();
-        let mut panel = Panel::new(
-            "best objective against the shot budget",
-            "total shot mass / structure mass",
-            "worst band over the bare structure",
-            (x[0], x[x.len() - 1]),
-        );
-        let mut s = Series::line("best layout", x, y, 0);
-        s.marker = Marker::Circle;
-        panel.series.push(s);
-        figures.push(Figure {
-            id: "design_pareto".into(),
-            title: format!("{}: shot mass against the objective", exp.meta.figure),
-            caption: "The best objective found for each total shot mass ratio (every placement, split and clearance searched again for each). Where the table's worst_at_band_edge is 1 the damped resonance has moved to the band's edge (more shot lowers it): that point is limited by the band, not the dampers.".into(),
-            panels: vec![panel],
-        });
+        let (table, figure) = pareto(exp, spec, &names, &front);
+        tables.push(table);
+        figures.push(figure);
     }
     if stopped {
         let why = if spec.halt.interrupted() {
@@ -524,6 +438,110 @@ fn run(
         answer,
         ..Output::default()
     }
+}
+
+/// How the objective of the best layout varies with one clearance for every container, its
+/// hosts and shot split held: the table, the figure and the robust band (where the objective is
+/// within [`ROBUST`] of the best), when some clearance is in it.
+fn clearance_profile(
+    exp: &Experiment,
+    spec: &Spec,
+    p: &Problem,
+    b: &[Vec<f64>],
+    best: &Found,
+) -> (Table, Figure, Option<(f64, f64)>) {
+    // How the objective varies with the clearance, the best hosts and split held.
+    let (lo, hi) = spec.clearance_mm;
+    let ds: Vec<f64> =
+        (0..PROFILE_POINTS).map(|i| lo * (hi / lo).powf(i as f64 / (PROFILE_POINTS - 1) as f64)).collect();
+    let evaluated: Vec<(f64, usize)> = ds
+        .par_iter()
+        .map(|&d| {
+            let l = Layout { clearances_mm: vec![d; best.layout.hosts.len()], ..best.layout.clone() };
+            let e = evaluate(p, b, &l);
+            (e.objective, e.unsettled)
+        })
+        .collect();
+    let profile: Vec<f64> = evaluated.iter().map(|e| e.0).collect();
+    let target = ROBUST * best.evaluation.objective;
+    let inside: Vec<f64> = ds.iter().zip(&profile).filter(|(_, o)| **o <= target).map(|(d, _)| *d).collect();
+    let (rlo, rhi) = (
+        inside.iter().copied().fold(f64::INFINITY, f64::min),
+        inside.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    let table = Table::new(
+            "design_clearance",
+            format!(
+                "The objective of the best layout ({}, bed kg {}) with one clearance for every container, from {} to {} mm: the robust band is where it is within {} % of the best",
+                hosts_words(&best.layout),
+                joined(&best.layout.masses_kg),
+                fmt_num(lo),
+                fmt_num(hi),
+                fmt_num(100.0 * (ROBUST - 1.0))
+            ),
+        )
+        .f64("clearance_mm", ds.clone())
+        .f64("objective", profile.clone())
+        .i64("robust", profile.iter().map(|o| i64::from(*o <= target)).collect())
+        .i64("unsettled_points", evaluated.iter().map(|e| e.1 as i64).collect());
+    let mut panel = Panel::new(
+        "objective against the clearance, best hosts and split held",
+        "clearance d (mm)",
+        "worst band over the bare structure",
+        (lo, hi),
+    )
+    .log_x();
+    let mut s = Series::line(hosts_words(&best.layout), ds.clone(), profile.clone(), 0);
+    s.marker = Marker::Circle;
+    panel.series.push(s);
+    panel
+        .series
+        .push(Series::line(format!("best x {ROBUST}"), vec![lo, hi], vec![target, target], 1).dashed(Dash::Dashed));
+    if rlo.is_finite() {
+        panel.vlines.push(VLine { x: rlo, label: format!(" robust band {}-{} mm", fmt_sig(rlo, 2), fmt_sig(rhi, 2)) });
+        panel.vlines.push(VLine { x: rhi, label: String::new() });
+    }
+    panel.legend = Corner::UpperRight;
+    let figure = Figure {
+        id: "design_clearance".into(),
+        title: format!("{}: the objective near the optimum", exp.meta.figure),
+        caption: "The worst band's measure over the bare structure's against one clearance for every container, with the best layout's hosts and shot split; dashed: 5 % above the best (the robust band).".into(),
+        panels: vec![panel],
+    };
+    (table, figure, rlo.is_finite().then_some((rlo, rhi)))
+}
+
+/// The Pareto front of shot mass against the objective: its table and figure.
+fn pareto(exp: &Experiment, spec: &Spec, names: &[String], front: &[(f64, Found)]) -> (Table, Figure) {
+    let rows: Vec<(String, Layout, Evaluation, u64)> = front
+        .iter()
+        .map(|(r, f)| (format!("mass ratio {}", fmt_num(*r)), f.layout.clone(), f.evaluation.clone(), f.evaluations))
+        .collect();
+    let table = layouts_table(
+        ("design_pareto", exp.excitation.per_unit()),
+        "The best layout for each total shot mass ratio (the Pareto front of shot mass against the objective)",
+        spec,
+        names,
+        &rows,
+    );
+    let x: Vec<f64> = front.iter().map(|(r, _)| *r).collect();
+    let y: Vec<f64> = front.iter().map(|(_, f)| f.evaluation.objective).collect();
+    let mut panel = Panel::new(
+        "best objective against the shot budget",
+        "total shot mass / structure mass",
+        "worst band over the bare structure",
+        (x[0], x[x.len() - 1]),
+    );
+    let mut s = Series::line("best layout", x, y, 0);
+    s.marker = Marker::Circle;
+    panel.series.push(s);
+    let figure = Figure {
+        id: "design_pareto".into(),
+        title: format!("{}: shot mass against the objective", exp.meta.figure),
+        caption: "The best objective found for each total shot mass ratio (every placement, split and clearance searched again for each). Where the table's worst_at_band_edge is 1 the damped resonance has moved to the band's edge (more shot lowers it): that point is limited by the band, not the dampers.".into(),
+        panels: vec![panel],
+    };
+    (table, figure)
 }
 
 /// The compliance over each band of the bare structure, the best layout and the cases (the

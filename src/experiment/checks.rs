@@ -31,6 +31,73 @@ fn case_ref(path: &Path, key: String, v: &Option<String>, case_ids: &[String]) -
     }
 }
 
+/// The check kinds of files (`[[checks]] kind`), for messages.
+const CHECK_KINDS: &[&str] = &[
+    "natural_frequency",
+    "mode_shape",
+    "paper_parameters",
+    "curve",
+    "tube",
+    "peak",
+    "peak_ratio",
+    "ratio_order",
+    "motion_types",
+    "impulse_history",
+    "decay_time",
+    "decay_ratio",
+    "orbit_vs_simulation",
+    "sdof_vs_simulation",
+    "design_conclusion",
+];
+
+/// Where a check is read: its file, its index, and what it may name.
+struct At<'a> {
+    path: &'a Path,
+    i: usize,
+    n: usize,
+    case_ids: &'a [String],
+    analysis: &'a Analysis,
+}
+
+impl At<'_> {
+    fn key(&self, k: &str) -> String {
+        format!("checks[{}].{k}", self.i)
+    }
+
+    fn case(&self, field: &str, v: &Option<String>) -> Result<String> {
+        case_ref(self.path, self.key(field), v, self.case_ids)
+    }
+
+    fn mode(&self, m: Option<i64>) -> Result<usize> {
+        let n = self.n;
+        let Some(m) = m else {
+            return Err(Error::invalid(
+                self.path,
+                self.key("mode"),
+                "(missing)",
+                format!("this check needs mode = 1..{n}"),
+            ));
+        };
+        if m < 1 || m as usize > n {
+            return Err(Error::invalid(self.path, self.key("mode"), m, format!("modes are numbered 1 to {n}")));
+        }
+        Ok(m as usize - 1)
+    }
+
+    /// An input error unless `ok`: check `kind` needs an analysis that `has` (what it reads).
+    fn only(&self, ok: bool, kind: &str, has: &str) -> Result<()> {
+        if ok {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            self.path,
+            self.key("kind"),
+            format!("\"{kind}\""),
+            format!("only {has} (this one is \"{}\")", self.analysis.kind()),
+        ))
+    }
+}
+
 /// Validates one check; reference files and ids must exist.
 pub fn check(
     path: &Path,
@@ -41,26 +108,43 @@ pub fn check(
     analysis: &Analysis,
     files: &Files,
 ) -> Result<CheckSpec> {
-    let key = |k: &str| format!("checks[{i}].{k}");
+    let at = At { path, i, n, case_ids, analysis };
     if let Some(id) = &c.id {
         if !super::fields::is_identifier(id) {
-            return Err(Error::invalid(path, key("id"), format!("\"{id}\""), "letters, digits, '_' and '-' only"));
+            return Err(Error::invalid(path, at.key("id"), format!("\"{id}\""), "letters, digits, '_' and '-' only"));
         }
     }
-    let mode = |m: Option<i64>| -> Result<usize> {
-        let Some(m) = m else {
-            return Err(Error::invalid(path, key("mode"), "(missing)", format!("this check needs mode = 1..{n}")));
-        };
-        if m < 1 || m as usize > n {
-            return Err(Error::invalid(path, key("mode"), m, format!("modes are numbered 1 to {n}")));
-        }
-        Ok(m as usize - 1)
-    };
-    let case = |field: &str, v: &Option<String>| case_ref(path, key(field), v, case_ids);
+    tolerances(&at, &c)?;
+    let (kind, loaded) = kind_of(&at, &c, files)?;
+    // Tolerances in pixels, or none at all (a set of motion types).
+    let own_tolerance = matches!(kind, CheckKind::Tube { .. } | CheckKind::Peak { .. } | CheckKind::MotionTypes { .. });
+    if c.rel_tol.is_none() && c.abs_tol.is_none() && !own_tolerance {
+        return Err(Error::invalid(
+            path,
+            at.key("rel_tol"),
+            "(missing)",
+            "a check needs a tolerance: rel_tol and/or abs_tol",
+        ));
+    }
+    let tolerance = Tolerance { rel: c.rel_tol.unwrap_or(0.0), abs: c.abs_tol.unwrap_or(0.0) };
+    let (reference_file, reference_id, loaded) = reference_of(&at, &c, &kind, loaded, files)?;
+    Ok(CheckSpec {
+        kind,
+        id: c.id,
+        reference_file,
+        reference_id,
+        tolerance,
+        known_deviation: c.known_deviation,
+        loaded,
+    })
+}
+
+/// Tolerances are finite and >= 0, relative ones at most [`MAX_REL_TOL`].
+fn tolerances(at: &At, c: &RawCheck) -> Result<()> {
     for (k, v) in [("rel_tol", c.rel_tol), ("abs_tol", c.abs_tol), ("rel_tol_all", c.rel_tol_all)] {
         if let Some(v) = v {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::invalid(path, key(k), v, "a tolerance must be >= 0 and finite"));
+                return Err(Error::invalid(at.path, at.key(k), v, "a tolerance must be >= 0 and finite"));
             }
         }
     }
@@ -69,188 +153,175 @@ pub fn check(
     for (k, v) in [("rel_tol", c.rel_tol), ("rel_tol_all", c.rel_tol_all)] {
         if let Some(v) = v.filter(|v| *v > MAX_REL_TOL) {
             return Err(Error::invalid(
-                path,
-                key(k),
+                at.path,
+                at.key(k),
                 crate::number::fmt_num(v),
                 format!("a relative tolerance lies in [0, {MAX_REL_TOL}] (1000 %); to drop a check, delete it"),
             ));
         }
     }
-    // The reference file validation parsed, kept for the checks (parsed once).
-    let mut loaded: Option<Loaded> = None;
-    let kind =
-        match c.kind.as_str() {
-            "natural_frequency" => CheckKind::NaturalFrequency { mode: mode(c.mode)? },
-            "mode_shape" => CheckKind::ModeShape {
-                mode: mode(c.mode)?,
-                elements: match &c.elements {
-                    Some(list) => list
-                        .iter()
-                        .enumerate()
-                        .map(|(j, &m)| mass_index(path, &format!("checks[{i}].elements[{j}]"), m, n))
-                        .collect::<Result<Vec<_>>>()?,
-                    None => (0..n).collect(),
-                },
+    Ok(())
+}
+
+/// What the check compares, by its kind, and the reference file parsed for it (a digitised
+/// file: parsed once, kept for the checks).
+fn kind_of(at: &At, c: &RawCheck, files: &Files) -> Result<(CheckKind, Option<Loaded>)> {
+    let (path, i, n, analysis) = (at.path, at.i, at.n, at.analysis);
+    let kind = match c.kind.as_str() {
+        "natural_frequency" => CheckKind::NaturalFrequency { mode: at.mode(c.mode)? },
+        "mode_shape" => CheckKind::ModeShape {
+            mode: at.mode(c.mode)?,
+            elements: match &c.elements {
+                Some(list) => list
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &m)| mass_index(path, &format!("checks[{i}].elements[{j}]"), m, n))
+                    .collect::<Result<Vec<_>>>()?,
+                None => (0..n).collect(),
             },
-            "paper_parameters" => CheckKind::PaperParameters,
-            "curve" => {
-                let fraction = c.fraction.unwrap_or(1.0);
-                if !(fraction > 0.0 && fraction <= 1.0) {
-                    return Err(Error::invalid(path, key("fraction"), fraction, "a fraction of the points in (0, 1]"));
-                }
-                let rel = c.rel_tol.unwrap_or(0.0);
-                let id = case("case", &c.case)?;
-                let curve = match (analysis, c.direction.as_deref(), c.clearance_mm) {
-                    (Analysis::Sweep { start: Start::Continuation, .. }, Some("up"), None) => {
-                        CurveId::continued(&id, Direction::Up)
-                    }
-                    (Analysis::Sweep { start: Start::Continuation, .. }, Some("down"), None) => {
-                        CurveId::continued(&id, Direction::Down)
-                    }
-                    (Analysis::Sweep { start: Start::Continuation, .. }, _, _) => {
-                        return Err(Error::invalid(
-                            path,
-                            key("direction"),
-                            c.direction.as_deref().map_or_else(|| "(missing)".to_string(), |d| format!("\"{d}\"")),
-                            "a continuation sweep has an \"up\" and a \"down\" curve: give direction",
-                        ));
-                    }
-                    (Analysis::ClearanceStudy { clearances_mm: Some(list), .. }, None, Some(mm))
-                        if list.iter().any(|x| (x - mm).abs() < 1e-12) =>
-                    {
-                        CurveId::clearance(&id, mm)
-                    }
-                    (Analysis::ClearanceStudy { .. }, _, _) => {
-                        return Err(Error::invalid(
-                            path,
-                            key("clearance_mm"),
-                            c.clearance_mm.map_or_else(|| "(missing)".to_string(), crate::number::fmt_num),
-                            "name one of the clearances the study scans (analysis.clearances_mm)",
-                        ));
-                    }
-                    (_, None, None) => CurveId::whole(&id),
-                    _ => {
-                        return Err(Error::invalid(
-                            path,
-                            key("direction"),
-                            "(given)",
-                            "direction and clearance_mm only apply to continuation sweeps and clearance studies",
-                        ))
-                    }
-                };
-                CheckKind::Curve {
-                    curve,
-                    columns: c.columns.clone().unwrap_or_default(),
-                    fraction,
-                    rel_tol_all: c.rel_tol_all.unwrap_or(rel),
-                }
-            }
-            "peak_ratio" | "ratio_order" => claim(path, i, &c, n, case_ids)?,
-            "tube" | "peak" => {
-                let (kind, file) = digitised(path, i, &c, n, case_ids, files)?;
-                loaded = Some(Loaded::Digitised(file));
-                kind
-            }
-            "motion_types" => {
-                if !matches!(analysis, Analysis::Waveform { .. }) {
-                    return Err(Error::invalid(
-                        path,
-                        key("kind"),
-                        "\"motion_types\"",
-                        format!("only a waveform analysis reads motion types (this one is \"{}\")", analysis.kind()),
-                    ));
-                }
-                let list = |field: &str, v: &Option<Vec<String>>| -> Result<Vec<String>> {
-                    let v = v.clone().unwrap_or_default();
-                    for (j, t) in v.iter().enumerate() {
-                        if !["I", "II", "III", "rests"].contains(&t.as_str()) {
-                            return Err(Error::invalid(
-                                path,
-                                format!("checks[{i}].{field}[{j}]"),
-                                format!("\"{t}\""),
-                                "allowed: \"I\", \"II\", \"III\", \"rests\"",
-                            ));
-                        }
-                    }
-                    Ok(v)
-                };
-                CheckKind::MotionTypes {
-                    case: case_ref(path, key("case"), &c.case, case_ids)?,
-                    present: list("present", &c.present)?,
-                    absent: list("absent", &c.absent)?,
-                }
-            }
-            "orbit_vs_simulation" | "sdof_vs_simulation" => {
-                if !matches!(analysis, Analysis::SdofPeriodic { .. }) {
-                    return Err(Error::invalid(
-                        path,
-                        key("kind"),
-                        format!("\"{}\"", c.kind),
-                        format!("only an sdof_periodic analysis has periodic orbits (this one is \"{}\")", analysis.kind()),
-                    ));
-                }
-                if c.kind == "orbit_vs_simulation" {
-                    CheckKind::OrbitVsSimulation
-                } else {
-                    CheckKind::SdofVsSimulation
-                }
-            }
-            "impulse_history" | "decay_time" | "decay_ratio" => {
-                let Analysis::Impulse { levels, .. } = analysis else {
-                    return Err(Error::invalid(
-                        path,
-                        key("kind"),
-                        format!("\"{}\"", c.kind),
-                        format!("only an impulse analysis has decay histories (this one is \"{}\")", analysis.kind()),
-                    ));
-                };
-                impulse_check(path, i, &c, n, case_ids, levels)?
-            }
-            "design_conclusion" => {
-                if !matches!(analysis, Analysis::Design { .. }) {
-                    return Err(Error::invalid(
-                        path,
-                        key("kind"),
-                        format!("\"{}\"", c.kind),
-                        format!("only a design analysis has layouts to read the conclusion on (this one is \"{}\")", analysis.kind()),
-                    ));
-                }
-                CheckKind::DesignConclusion
-            }
-            other => return Err(Error::invalid(
-                path,
-                key("kind"),
-                format!("\"{other}\""),
-                "allowed kinds: \"natural_frequency\", \"mode_shape\", \"paper_parameters\", \"curve\", \"tube\", \"peak\", \"peak_ratio\", \"ratio_order\", \"motion_types\", \"impulse_history\", \"decay_time\", \"decay_ratio\", \"orbit_vs_simulation\", \"sdof_vs_simulation\", \"design_conclusion\"",
-            )),
-        };
-    // Tolerances in pixels, or none at all (a set of motion types).
-    let own_tolerance = matches!(kind, CheckKind::Tube { .. } | CheckKind::Peak { .. } | CheckKind::MotionTypes { .. });
-    if c.rel_tol.is_none() && c.abs_tol.is_none() && !own_tolerance {
-        return Err(Error::invalid(
-            path,
-            key("rel_tol"),
-            "(missing)",
-            "a check needs a tolerance: rel_tol and/or abs_tol",
-        ));
-    }
-    let tolerance = Tolerance { rel: c.rel_tol.unwrap_or(0.0), abs: c.abs_tol.unwrap_or(0.0) };
-    let reference = match (&kind, &c.reference) {
-        (CheckKind::OrbitVsSimulation, None) => {
-            return Ok(CheckSpec {
-                kind,
-                id: c.id,
-                reference_file: String::new(),
-                reference_id: None,
-                tolerance,
-                known_deviation: c.known_deviation,
-                loaded: None,
-            })
+        },
+        "paper_parameters" => CheckKind::PaperParameters,
+        "curve" => curve(at, c)?,
+        "peak_ratio" | "ratio_order" => claim(path, i, c, n, at.case_ids)?,
+        "tube" | "peak" => {
+            let (kind, file) = digitised(path, i, c, n, at.case_ids, files)?;
+            return Ok((kind, Some(Loaded::Digitised(file))));
         }
+        "motion_types" => {
+            at.only(matches!(analysis, Analysis::Waveform { .. }), &c.kind, "a waveform analysis reads motion types")?;
+            motion_types(at, c)?
+        }
+        "orbit_vs_simulation" | "sdof_vs_simulation" => {
+            let has = "an sdof_periodic analysis has periodic orbits";
+            at.only(matches!(analysis, Analysis::SdofPeriodic { .. }), &c.kind, has)?;
+            if c.kind == "orbit_vs_simulation" {
+                CheckKind::OrbitVsSimulation
+            } else {
+                CheckKind::SdofVsSimulation
+            }
+        }
+        "impulse_history" | "decay_time" | "decay_ratio" => {
+            let levels = match analysis {
+                Analysis::Impulse { levels, .. } => &levels[..],
+                _ => &[],
+            };
+            at.only(matches!(analysis, Analysis::Impulse { .. }), &c.kind, "an impulse analysis has decay histories")?;
+            impulse_check(path, i, c, n, at.case_ids, levels)?
+        }
+        "design_conclusion" => {
+            let has = "a design analysis has layouts to read the conclusion on";
+            at.only(matches!(analysis, Analysis::Design { .. }), &c.kind, has)?;
+            CheckKind::DesignConclusion
+        }
+        other => {
+            let allowed = CHECK_KINDS.iter().map(|k| format!("\"{k}\"")).collect::<Vec<_>>().join(", ");
+            return Err(Error::invalid(
+                path,
+                at.key("kind"),
+                format!("\"{other}\""),
+                format!("allowed kinds: {allowed}"),
+            ));
+        }
+    };
+    Ok((kind, None))
+}
+
+/// A curve check: the case's curve the analysis computes (a continuation's direction, a
+/// clearance study's clearance).
+fn curve(at: &At, c: &RawCheck) -> Result<CheckKind> {
+    let path = at.path;
+    let fraction = c.fraction.unwrap_or(1.0);
+    if !(fraction > 0.0 && fraction <= 1.0) {
+        return Err(Error::invalid(path, at.key("fraction"), fraction, "a fraction of the points in (0, 1]"));
+    }
+    let rel = c.rel_tol.unwrap_or(0.0);
+    let id = at.case("case", &c.case)?;
+    let curve = match (at.analysis, c.direction.as_deref(), c.clearance_mm) {
+        (Analysis::Sweep { start: Start::Continuation, .. }, Some("up"), None) => {
+            CurveId::continued(&id, Direction::Up)
+        }
+        (Analysis::Sweep { start: Start::Continuation, .. }, Some("down"), None) => {
+            CurveId::continued(&id, Direction::Down)
+        }
+        (Analysis::Sweep { start: Start::Continuation, .. }, _, _) => {
+            return Err(Error::invalid(
+                path,
+                at.key("direction"),
+                c.direction.as_deref().map_or_else(|| "(missing)".to_string(), |d| format!("\"{d}\"")),
+                "a continuation sweep has an \"up\" and a \"down\" curve: give direction",
+            ));
+        }
+        (Analysis::ClearanceStudy { clearances_mm: Some(list), .. }, None, Some(mm))
+            if list.iter().any(|x| (x - mm).abs() < 1e-12) =>
+        {
+            CurveId::clearance(&id, mm)
+        }
+        (Analysis::ClearanceStudy { .. }, _, _) => {
+            return Err(Error::invalid(
+                path,
+                at.key("clearance_mm"),
+                c.clearance_mm.map_or_else(|| "(missing)".to_string(), crate::number::fmt_num),
+                "name one of the clearances the study scans (analysis.clearances_mm)",
+            ));
+        }
+        (_, None, None) => CurveId::whole(&id),
+        _ => {
+            return Err(Error::invalid(
+                path,
+                at.key("direction"),
+                "(given)",
+                "direction and clearance_mm only apply to continuation sweeps and clearance studies",
+            ))
+        }
+    };
+    Ok(CheckKind::Curve {
+        curve,
+        columns: c.columns.clone().unwrap_or_default(),
+        fraction,
+        rel_tol_all: c.rel_tol_all.unwrap_or(rel),
+    })
+}
+
+/// A motion-type check: the types a case's beds show and do not show.
+fn motion_types(at: &At, c: &RawCheck) -> Result<CheckKind> {
+    let list = |field: &str, v: &Option<Vec<String>>| -> Result<Vec<String>> {
+        let v = v.clone().unwrap_or_default();
+        for (j, t) in v.iter().enumerate() {
+            if !["I", "II", "III", "rests"].contains(&t.as_str()) {
+                return Err(Error::invalid(
+                    at.path,
+                    format!("checks[{}].{field}[{j}]", at.i),
+                    format!("\"{t}\""),
+                    "allowed: \"I\", \"II\", \"III\", \"rests\"",
+                ));
+            }
+        }
+        Ok(v)
+    };
+    Ok(CheckKind::MotionTypes {
+        case: at.case("case", &c.case)?,
+        present: list("present", &c.present)?,
+        absent: list("absent", &c.absent)?,
+    })
+}
+
+/// The check's reference: its file and id (which must exist), and the file parsed (a value
+/// file is parsed here whether or not the check names a value in it; a digitised one arrives
+/// parsed). A check of two computations of one run takes none.
+fn reference_of(
+    at: &At,
+    c: &RawCheck,
+    kind: &CheckKind,
+    mut loaded: Option<Loaded>,
+    files: &Files,
+) -> Result<(String, Option<String>, Option<Loaded>)> {
+    let path = at.path;
+    let reference = match (kind, &c.reference) {
+        (CheckKind::OrbitVsSimulation, None) => return Ok((String::new(), None, None)),
         (CheckKind::OrbitVsSimulation, Some(r)) => {
             return Err(Error::invalid(
                 path,
-                key("reference"),
+                at.key("reference"),
                 format!("\"{r}\""),
                 "this check compares two computations of the same run: it takes no reference",
             ))
@@ -258,7 +329,7 @@ pub fn check(
         (_, None) => {
             return Err(Error::invalid(
                 path,
-                key("reference"),
+                at.key("reference"),
                 "(missing)",
                 "name the reference: FILE or FILE#ID under reference/",
             ))
@@ -273,13 +344,13 @@ pub fn check(
     if !ref_path.is_file() {
         return Err(Error::invalid(
             path,
-            key("reference"),
+            at.key("reference"),
             format!("\"{reference}\""),
             format!("no such reference file: {}", ref_path.display()),
         ));
     }
     // Checks of values name one (a range: two) in the file: FILE#ID.
-    let what = match &kind {
+    let what = match kind {
         CheckKind::NaturalFrequency { .. } | CheckKind::ModeShape { .. } => Some("the value"),
         CheckKind::PeakRatio { bound: super::Bound::Within { .. }, .. } => Some("the lower bound"),
         CheckKind::PeakRatio { .. } | CheckKind::DecayRatio { .. } | CheckKind::DesignConclusion => Some("the bound"),
@@ -291,13 +362,13 @@ pub fn check(
         let Some(id) = &id else {
             return Err(Error::invalid(
                 path,
-                key("reference"),
+                at.key("reference"),
                 format!("\"{reference}\""),
                 format!("name {what}: FILE#ID"),
             ));
         };
         ids.push(id);
-        if let CheckKind::PeakRatio { bound: super::Bound::Within { upper_id }, .. } = &kind {
+        if let CheckKind::PeakRatio { bound: super::Bound::Within { upper_id }, .. } = kind {
             ids.push(upper_id);
         }
     }
@@ -306,13 +377,11 @@ pub fn check(
     if curve && !file.ends_with(".csv") {
         return Err(Error::invalid(
             path,
-            key("reference"),
+            at.key("reference"),
             format!("\"{reference}\""),
             "a curve reference is a CSV file",
         ));
     }
-    // A value file is parsed here whether or not the check names a value in it (the checks
-    // take it from here); a digitised file was parsed above.
     if !ids.is_empty() || (loaded.is_none() && file.ends_with(".toml")) {
         let values = files.values(&file)?;
         loaded = Some(Loaded::Values(Arc::clone(&values)));
@@ -320,22 +389,14 @@ pub fn check(
             if values.get(id).is_none() {
                 return Err(Error::invalid(
                     path,
-                    key("reference"),
+                    at.key("reference"),
                     format!("\"{reference}\""),
                     format!("{} has no quantity with id \"{id}\"", ref_path.display()),
                 ));
             }
         }
     }
-    Ok(CheckSpec {
-        kind,
-        id: c.id,
-        reference_file: file,
-        reference_id: id,
-        tolerance,
-        known_deviation: c.known_deviation,
-        loaded,
-    })
+    Ok((file, id, loaded))
 }
 
 /// The checks of an impulse analysis: `impulse_history`, `decay_time`, `decay_ratio`.
@@ -523,4 +584,29 @@ fn digitised(
         ));
     };
     Ok((CheckKind::Peak { case, mass, curve: name, window, x_px, y_px }, file))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every kind the message lists is one the parser knows (its error, if any, is about
+    /// something else than the kind's name), and an unknown one lists them all.
+    #[test]
+    fn the_listed_check_kinds_are_the_parsed_ones() {
+        let dir = std::env::temp_dir();
+        let files = Files::new(&dir);
+        let at = At { path: Path::new("x.toml"), i: 0, n: 3, case_ids: &[], analysis: &Analysis::Modal };
+        let raw = |kind: &str| -> RawCheck {
+            let table: toml::Table = toml::from_str(&format!("kind = \"{kind}\"")).expect("toml");
+            table.try_into().expect("a raw check")
+        };
+        for k in CHECK_KINDS {
+            if let Err(e) = kind_of(&at, &raw(k), &files) {
+                assert!(!e.to_string().contains("allowed kinds"), "{k}: {e}");
+            }
+        }
+        let e = kind_of(&at, &raw("nope"), &files).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(CHECK_KINDS.iter().all(|k| e.contains(&format!("\"{k}\""))), "{e}");
+    }
 }
