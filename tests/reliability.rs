@@ -648,3 +648,46 @@ fn messages_quote_values_as_given() {
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(stderr(&out).starts_with("error: mine: is a folder that shotdamp did not write"), "{}", stderr(&out));
 }
+
+/// `freq_hz = [47.0, 48.0, 50]` is three frequencies (it was read as a table's fields in order:
+/// a grid of 50 points from 47 to 48 Hz, silently); a list out of order, or of one, is an input
+/// error naming the entry.
+#[test]
+fn a_list_of_frequencies_is_those_frequencies_not_a_grid() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps = extreme(dir.path(), "listed", "", "[47.0, 48.0, 50]", "mass_ratio = 0.1", "0.3");
+    let out_dir = dir.path().join("out");
+    let out = shotdamp()
+        .arg("--experiments")
+        .arg(&exps)
+        .arg("run")
+        .arg(exps.join("listed.toml"))
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let table = std::fs::read_to_string(out_dir.join("listed/stated/data/compliance.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let (f, case) =
+        (header.iter().position(|h| *h == "freq_hz").unwrap(), header.iter().position(|h| *h == "curve").unwrap());
+    let hz: Vec<f64> = table
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').nth(case) == Some("one"))
+        .map(|l| l.split(',').nth(f).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(hz, vec![47.0, 48.0, 50.0]);
+    for (list, key, words) in [
+        ("[48.0, 47.0]", "analysis.freq_hz[1]", "ascending"),
+        ("[48.0]", "analysis.freq_hz", "list 2 to"),
+        ("[48.0, \"x\"]", "analysis.freq_hz[1]", "expected a number"),
+    ] {
+        let d = tempfile::tempdir().unwrap();
+        let exps = extreme(d.path(), "bad", "", list, "mass_ratio = 0.1", "0.3");
+        let out = shotdamp().arg("--experiments").arg(&exps).arg("run").arg(exps.join("bad.toml")).output().unwrap();
+        let msg = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{list}: {msg}");
+        assert!(msg.contains(key) && msg.contains(words) && msg.contains("bad.toml"), "{list}: {msg}");
+    }
+}

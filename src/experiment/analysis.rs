@@ -15,6 +15,10 @@ const MAX_GRID_POINTS: usize = 100_000;
 
 /// A frequency grid in Hz, validated.
 pub fn grid(path: &Path, key: &str, g: &RawGrid) -> Result<Vec<f64>> {
+    let g = match g {
+        RawGrid::Range(r) => r,
+        RawGrid::List(list) => return listed(path, key, list),
+    };
     let bad = |k: &str, v: &dyn std::fmt::Display, msg: &str| Error::invalid(path, format!("{key}.{k}"), v, msg);
     if !(g.start.is_finite() && g.start > 0.0) {
         return Err(bad("start", &g.start, "frequencies must be positive and finite (Hz)"));
@@ -45,6 +49,33 @@ pub fn grid(path: &Path, key: &str, g: &RawGrid) -> Result<Vec<f64>> {
         }
         _ => Err(Error::invalid(path, key, "(grid)", "give exactly one of points and step")),
     }
+}
+
+/// Frequencies listed one by one: 2 to [`MAX_GRID_POINTS`] of them, positive, finite and
+/// ascending.
+fn listed(path: &Path, key: &str, list: &[f64]) -> Result<Vec<f64>> {
+    if list.len() < 2 || list.len() > MAX_GRID_POINTS {
+        return Err(Error::invalid(
+            path,
+            key,
+            format!("{} frequenc{}", list.len(), if list.len() == 1 { "y" } else { "ies" }),
+            format!("list 2 to {MAX_GRID_POINTS} frequencies (Hz), or give a grid {{ start, stop, points or step }}"),
+        ));
+    }
+    for (i, &f) in list.iter().enumerate() {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(Error::invalid(path, format!("{key}[{i}]"), f, "frequencies must be positive and finite (Hz)"));
+        }
+        if i > 0 && f <= list[i - 1] {
+            return Err(Error::invalid(
+                path,
+                format!("{key}[{i}]"),
+                f,
+                format!("list the frequencies in ascending order, each once (the one before is {})", list[i - 1]),
+            ));
+        }
+    }
+    Ok(list.to_vec())
 }
 
 /// Grid values from a step are rounded to 1e-9 Hz.

@@ -353,7 +353,10 @@ pub fn highest_analysed(a: &super::raw::RawAnalysis, d: Option<&super::raw::RawD
     let grids = a.freq_hz.iter().chain(d.into_iter().flat_map(|d| d.bands.iter().map(|b| &b.freq_hz)));
     let listed = a.frequencies_hz.iter().flatten().filter_map(toml::Value::as_float);
     grids
-        .flat_map(|g| [g.start, g.stop])
+        .flat_map(|g| match g {
+            super::raw::RawGrid::Range(r) => vec![r.start, r.stop],
+            super::raw::RawGrid::List(l) => l.clone(),
+        })
         .chain(listed)
         .filter(|f| f.is_finite() && *f > 0.0)
         .fold(None, |m: Option<f64>, f| Some(m.map_or(f, |m| m.max(f))))
