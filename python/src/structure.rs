@@ -69,8 +69,9 @@ impl Structure {
 
     /// How good a finite-element structure's reduction is: a dict of two `Table`s,
     /// `frequencies` (the full model's natural frequencies, the reduced model's, their relative
-    /// difference) and, with `freq_hz`, `compliance` (the undamped compliance at every point for
-    /// a unit force at `force_point`, 1-based: the full model's by a sparse direct solve, the
+    /// difference) and, with `freq_hz`, `compliance` (the damped compliance's magnitude at every
+    /// point for a unit force at `force_point`, 1-based, both models with the structure's
+    /// damping: the full model's by a sparse direct solve with its lowest modes deflated, the
     /// reduced model's, their difference relative to each point's peak), and `largest`, the
     /// largest of those differences (the report's reduction check). A ValueError for a
     /// structure that was not reduced.
