@@ -373,30 +373,31 @@ fn a_reduced_model_s_modes_are_read_at_its_points() {
     assert_eq!(modes[0].reference_mass, 2);
 }
 
-/// The plate design's structure (designs/plate.toml) over its three bands, the frequencies
-/// listed one by one: the reduced model's damped compliance is the full model's to the default
-/// tolerance at every point, resonances included (undamped, a grid point 0.011 Hz from the
-/// second bending mode compared two near-infinities and read as 55 % apart).
+/// The plate design's structure (designs/plate.toml) over each of its three bands: the reduced
+/// model's damped compliance is the full model's to the default tolerance relative to the
+/// band's own peak, resonances included (undamped, a grid point 0.011 Hz from the second
+/// bending mode compared two near-infinities and read as 55 % apart). The last band's
+/// frequencies are listed one by one.
 #[test]
-fn the_plate_design_s_reduction_holds_over_its_bands() {
+fn the_plate_design_s_reduction_holds_in_each_of_its_bands() {
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(repo().join("designs/plate.toml")).unwrap();
     let examples = repo().join("examples");
     let structure = &text[text.find("[structure]").unwrap()..text.find("[analysis]").unwrap()];
-    let mut freqs: Vec<String> = Vec::new();
-    for (start, stop, step) in [(33.0, 43.0, 0.25), (115.0, 140.0, 0.5), (215.0, 255.0, 1.0)] {
-        let n = ((stop - start) / step + 1e-9) as usize + 1;
-        freqs.extend((0..n).map(|i| format!("{}", start + step * i as f64)));
+    let listed: Vec<String> = (0..41).map(|i| format!("{}", 215.0 + i as f64)).collect();
+    let listed = format!("[{}]", listed.join(", "));
+    for (i, band) in
+        ["{ start = 33.0, stop = 43.0, step = 0.25 }", "{ start = 115.0, stop = 140.0, step = 0.5 }", &listed]
+            .into_iter()
+            .enumerate()
+    {
+        let file = format!(
+            "{HEAD}{}[analysis]\nkind = \"linear_frf\"\nfreq_hz = {band}\n[[cases]]\nid = \"bare\"\nlabel = \"bare\"\ndampers = []\n",
+            structure.replace("../examples", &examples.display().to_string()),
+        );
+        let (code, err, out) = run(dir.path(), &format!("plate_band{i}"), &file);
+        assert_eq!(code, Some(0), "band {i}: {err}");
+        let (status, worst) = reduction_check(&out);
+        assert!(status == "pass" && worst < 1e-3, "band {i}: {status} {worst}");
     }
-    let file = format!(
-        "{HEAD}{}[analysis]\nkind = \"linear_frf\"\nfreq_hz = [{}]\n[[cases]]\nid = \"bare\"\nlabel = \"bare\"\ndampers = []\n",
-        structure.replace("../examples", &examples.display().to_string()),
-        freqs.join(", ")
-    );
-    let (code, err, out) = run(dir.path(), "plate_bands", &file);
-    assert_eq!(code, Some(0), "{err}");
-    let (status, worst) = reduction_check(&out);
-    assert!(status == "pass" && worst < 1e-3, "{status} {worst}");
-    let rows = csv_rows(&std::fs::read_to_string(out.join("fe/data/reduction_compliance.csv")).unwrap());
-    assert_eq!(rows.len(), 1 + 4 * freqs.len(), "every listed frequency at every point");
 }

@@ -105,8 +105,14 @@ impl Structure {
         }
         f.sort_by(f64::total_cmp);
         f.dedup();
-        let out =
-            py.detach(|| shotdamp::analysis::reduction::compare(fe, (force_point - 1) as usize, &f, Some(&self.bare)));
+        let out = py.detach(|| {
+            shotdamp::analysis::reduction::compare(
+                fe,
+                (force_point - 1) as usize,
+                &[("freq_hz".to_string(), f)],
+                Some(&self.bare),
+            )
+        });
         let d = PyDict::new(py);
         for t in &out.tables {
             let key = t.name.trim_start_matches("reduction_");
