@@ -148,6 +148,12 @@ fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
     assert_eq!(rows.lines().count(), 1 + 3, "{rows}");
     let page = std::fs::read_to_string(root.join("d/design_five_storey/index.html")).unwrap();
     assert!(page.contains("stopped at its time limit"));
+    // Nothing that evaluates more layouts runs after a stopped search (a user who asked for a
+    // minute does not wait for the clearance profile and the drive levels), and the page says so.
+    assert!(page.contains("the clearance profile, the drive levels"), "the page says what it skipped");
+    for skipped in ["design_clearance.csv", "design_drive_levels.csv", "design_near_optimum.csv"] {
+        assert!(!root.join("d/design_five_storey/data").join(skipped).exists(), "{skipped}");
+    }
 
     let o = run("-1", "e");
     assert_eq!(o.status.code(), Some(2));
@@ -260,15 +266,16 @@ fn drive_levels_evaluate_the_best_layout_at_each_force_after_the_search() {
     assert!(err.contains("design.drive_levels_n[1] = -1"), "{err}");
 }
 
-/// The tiny five-storey design with `extra` added to `[design]`, run with its searches stopped
-/// at once (the coarse scans only) into `root/d`: its page folder and the design file.
+/// The tiny five-storey design with `extra` added to `[design]`, its searches a single
+/// iteration from one start, run into `root/d`: its page folder and the design file.
 fn coarse_design(root: &Path, extra: &str) -> (std::path::PathBuf, std::path::PathBuf) {
     std::fs::create_dir_all(root.join("reference")).unwrap();
     let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap())
+        .replace("max_iters = 8", "max_iters = 1")
         .replace("max_beds = 2", &format!("max_beds = 2\n{extra}"));
     let design = root.join("frame.toml");
     std::fs::write(&design, &text).unwrap();
-    let o = design_cmd(&design, root, "d").arg("--time-limit=0").output().unwrap();
+    let o = design_cmd(&design, root, "d").output().unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     (root.join("d/design_five_storey"), design)
 }

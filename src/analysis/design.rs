@@ -349,18 +349,24 @@ fn run(
     let mut figures = Vec::new();
     let mut warnings = Vec::new();
     let mut answer = None;
+    // A search the time limit or an interrupt stopped ends here too: what evaluates more
+    // layouts after it (the clearance profile, the drive levels, the near-optimum map, the SDOF
+    // method) is skipped, and the page says so.
+    let more = !stopped;
     if let Some(best) = &best {
         exports.insert("best_objective".into(), best.evaluation.objective);
         if spec.shared_clearance {
             exports.insert("best_clearance_mm".into(), best.layout.clearances_mm[0]);
         }
-        let (table, figure, robust) = clearance_profile(exp, spec, &p, &b, best);
-        if let Some((rlo, rhi)) = robust {
-            exports.insert("robust_clearance_min_mm".into(), rlo);
-            exports.insert("robust_clearance_max_mm".into(), rhi);
+        if more {
+            let (table, figure, robust) = clearance_profile(exp, spec, &p, &b, best);
+            if let Some((rlo, rhi)) = robust {
+                exports.insert("robust_clearance_min_mm".into(), rlo);
+                exports.insert("robust_clearance_max_mm".into(), rhi);
+            }
+            tables.push(table);
+            figures.push(figure);
         }
-        tables.push(table);
-        figures.push(figure);
         // The bare structure's curves (the first scenario's, as the evaluations' curves).
         let bare_sys = p.system(&p.cases()[0], Vec::new());
         let bare_curves: Vec<Vec<Vec<f64>>> =
@@ -376,7 +382,9 @@ fn run(
         warnings = w;
         // The reduction against the drive level: at the file's drive levels when it gives
         // them, else over the forces of its scenarios.
-        let levels = if spec.drive_levels_n.is_empty() {
+        let levels = if !more {
+            None
+        } else if spec.drive_levels_n.is_empty() {
             super::design_levels::drive_levels(&p, &rated, &exp.meta.figure)
         } else {
             let layouts: Vec<&Layout> = rated.iter().map(|r| r.1).collect();
@@ -399,14 +407,15 @@ fn run(
             levels: &at_levels,
         };
         answer = Some(super::design_drive::answer(&p, &rated[0], &answer_in, &bare_curves));
-        if let Some((table, figure)) =
-            super::design_near::near_optimum(spec, &p, &b, &best.layout, &best.evaluation, &exp.meta.figure)
+        if let Some((table, figure)) = more
+            .then(|| super::design_near::near_optimum(spec, &p, &b, &best.layout, &best.evaluation, &exp.meta.figure))
+            .flatten()
         {
             tables.push(table);
             figures.push(figure);
         }
     }
-    if let Some((mode, candidates)) = &spec.sdof {
+    if let Some((mode, candidates)) = spec.sdof.as_ref().filter(|_| more) {
         let (table, sdof_exports) = sdof_method(exp, steady, &p, &b, &found, *mode, candidates, &names, spec.replay);
         tables.push(table);
         exports.extend(sdof_exports);
@@ -425,7 +434,7 @@ fn run(
         };
         warnings.insert(
             0,
-            format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer"),
+            format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer; what would evaluate more layouts (the clearance profile, the drive levels, the near-optimum map, the SDOF method) is not computed"),
         );
     }
     Output {
