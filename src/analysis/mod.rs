@@ -3,10 +3,8 @@
 
 pub mod branches;
 mod checks;
-mod claim_checks;
 mod clearance;
 pub mod curves;
-mod decay_checks;
 pub mod design;
 mod design_conclusion;
 mod design_drive;
@@ -14,14 +12,12 @@ mod design_levels;
 mod design_near;
 mod design_problem;
 pub mod design_shards;
-mod digitised_checks;
 pub mod evidence;
 mod figures;
 pub mod impulse;
 mod kind;
 mod linear;
 pub mod models;
-mod orbit_checks;
 mod orbit_figures;
 pub mod orbits;
 mod overlays;

@@ -274,14 +274,16 @@ fn descend_to_end(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
 const COARSE: [f64; 7] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
 
 /// The first start of a placement: an even split and the best shared clearance of a coarse
-/// scan ([`COARSE`]).
+/// scan ([`COARSE`]), and the layouts it evaluated. After `halt` only the middle clearance is
+/// evaluated (each placement keeps one layout, the others are skipped).
 fn coarse_start(
     problem: &Problem,
     bare: &[Vec<f64>],
     hosts: &[usize],
     space: &Space,
     check: &(dyn Fn() + Sync),
-) -> Vec<f64> {
+    halt: &Halt,
+) -> (Vec<f64>, u64) {
     let d = dimension(hosts.len(), space);
     let k = hosts.len();
     let at = |z: f64| {
@@ -289,17 +291,20 @@ fn coarse_start(
         x[k - 1..].iter_mut().for_each(|c| *c = z);
         x
     };
-    let scored: Vec<(f64, f64)> = COARSE
+    let scored: Vec<Option<(f64, f64)>> = COARSE
         .par_iter()
         .map(|&z| {
+            if z != 0.0 && halt.reached() {
+                return None;
+            }
             check();
             let e = evaluate(problem, bare, &layout(hosts, &at(z), space));
-            (z, if e.objective.is_finite() { e.objective } else { f64::INFINITY })
+            Some((z, if e.objective.is_finite() { e.objective } else { f64::INFINITY }))
         })
         .collect();
     // The lowest; of equal ones the first (the smallest clearance).
-    let best = scored.iter().fold((0.0, f64::INFINITY), |b, &(z, o)| if o < b.1 { (z, o) } else { b });
-    at(best.0)
+    let best = scored.iter().flatten().fold((0.0, f64::INFINITY), |b, &(z, o)| if o < b.1 { (z, o) } else { b });
+    (at(best.0), scored.iter().flatten().count() as u64)
 }
 
 /// The best layout for each placement of `space`, in the order of `space.placements` (every
@@ -365,15 +370,15 @@ pub fn search_placements(
 ) -> (Vec<Option<Searched>>, bool) {
     let stopped = AtomicBool::new(false);
     let mine: Vec<usize> = (0..space.placements.len()).filter(|&p| owned(p)).collect();
-    let firsts: Vec<Vec<f64>> =
-        mine.par_iter().map(|&p| coarse_start(problem, bare, &space.placements[p], space, check)).collect();
+    let firsts: Vec<(Vec<f64>, u64)> =
+        mine.par_iter().map(|&p| coarse_start(problem, bare, &space.placements[p], space, check, halt)).collect();
     let runs: Vec<(usize, Vec<f64>)> = mine
         .iter()
         .zip(&firsts)
         .flat_map(|(&p, first)| {
             let hosts = &space.placements[p];
             let mut xs = starts(hosts, space, opts);
-            xs[0] = first.clone();
+            xs[0] = first.0.clone();
             xs.into_iter().map(move |x| (p, x))
         })
         .collect();
@@ -397,7 +402,8 @@ pub fn search_placements(
             (p, descend(cost, x0, opts))
         })
         .collect();
-    let stopped = stopped.load(Ordering::Relaxed);
+    let stopped = stopped.load(Ordering::Relaxed) || firsts.iter().any(|f| (f.1 as usize) < COARSE.len());
+    let mine_index = |p: usize| mine.iter().position(|&q| q == p);
     let searched = space
         .placements
         .iter()
@@ -407,7 +413,8 @@ pub fn search_placements(
                 return None;
             }
             let mine: Vec<&Descent> = results.iter().filter(|(q, _)| *q == p).filter_map(|(_, r)| r.as_ref()).collect();
-            let evaluations = mine.iter().map(|r| r.2).sum::<u64>() + COARSE.len() as u64;
+            let scanned = mine_index(p).map_or(0, |i| firsts[i].1);
+            let evaluations = mine.iter().map(|r| r.2).sum::<u64>() + scanned;
             // The lowest objective; of equal ones the first start's.
             let best = mine.iter().fold(None::<&&Descent>, |b, r| match b {
                 Some(b) if b.1 <= r.1 => Some(b),

@@ -7,7 +7,7 @@ use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
 use crate::reference::digitised::{DigitisedCurve, DigitisedFile};
 
-use super::curves::Curve;
+use super::super::curves::Curve;
 
 /// The tolerances of a check: `x_px` and `y_px` pixels, plus the check's tolerance on y.
 pub fn tolerances(file: &DigitisedFile, spec: &CheckSpec, x_px: f64, y_px: f64) -> (AxisTol, AxisTol) {
@@ -135,7 +135,7 @@ pub fn peak_check(
     // is higher.
     let settled = (0..c.freq_hz.len()).all(|i| {
         let f = c.freq_hz[i];
-        c.regular(i) || f < window.0 || f > window.1 || super::curves::not_above(c.compliance[i][mass], ours.1)
+        c.regular(i) || f < window.0 || f > window.1 || super::super::curves::not_above(c.compliance[i][mass], ours.1)
     });
     let one = |what: &str, o: f64, e: f64, t: &AxisTol, unit: &str| {
         let (lo, hi) = t.interval(e);

@@ -3,7 +3,7 @@
 //! `Q`, which the multipliers of an orbit do not need (it was about a third of the work).
 //! Every operation on `T` is nalgebra's own (its Hessenberg reduction, Householder reflections
 //! and Givens rotations, in the same order), so the eigenvalues read off `T` are those of
-//! `Schur::try_new(..).complex_eigenvalues()` bit for bit (tested in src/sim/eigen.rs).
+//! `Schur::try_new(..).complex_eigenvalues()` bit for bit (tested in src/sim/motion/eigen.rs).
 //!
 //! No I/O.
 

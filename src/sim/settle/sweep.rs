@@ -5,11 +5,11 @@ use std::f64::consts::PI;
 
 use rayon::prelude::*;
 
-use super::engine::{Bed, State};
 use super::orbit_search::{follow, Known, Moved};
 use super::steady::{run_to_whole_period, Steady, SteadyOptions};
 use super::steady_state;
-use super::system::{Dynamics, SetupError, System};
+use crate::sim::motion::engine::{Bed, State};
+use crate::sim::motion::system::{Dynamics, SetupError, System};
 
 /// Steady states a followed sweep extrapolates its next first guess from.
 const FOLLOWED: usize = 3;

@@ -7,8 +7,8 @@ use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::CheckSpec;
 use crate::reference::values::{Quantity, ValueFile};
 
-use super::evidence::Decay;
-use super::impulse::decay_times;
+use super::super::evidence::Decay;
+use super::super::impulse::decay_times;
 
 fn provenance(spec: &CheckSpec) -> String {
     format!("independent solver: {} (reference/independent-solver/PROVENANCE.md)", spec.reference_file)

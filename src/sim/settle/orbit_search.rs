@@ -16,16 +16,18 @@ use std::f64::consts::PI;
 use nalgebra::DVector;
 use num_complex::Complex64;
 
-use super::engine::{Engine, Event, Quiet, State};
-use super::observe::{EventLog, Extrema};
-use super::periodic::{quadratic_constant, signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section};
-use super::state::{Mark, Pattern};
 use super::steady::{
     amplitude_scale, finish, run_to_whole_period, torus_window, Certificate, NoSteady, Outcome, Recorder, Steady,
     SteadyMethod, SteadyOptions, TORUS_MARGIN, TORUS_TOL,
 };
-use super::strobe::{quiet_phase, Rest, Strobe};
-use super::system::Dynamics;
+use crate::sim::motion::engine::{Engine, Event, Quiet, State};
+use crate::sim::motion::observe::{EventLog, Extrema};
+use crate::sim::motion::state::{Mark, Pattern};
+use crate::sim::motion::system::Dynamics;
+use crate::sim::orbits::periodic::{
+    quadratic_constant, signature, solve, solve_with, NewtonOptions, Orbit, OrbitError, Section,
+};
+use crate::sim::orbits::strobe::{quiet_phase, Rest, Strobe};
 
 /// One forcing period of the transient.
 struct Period {
@@ -173,7 +175,7 @@ fn onto_torus(
     w: usize,
     simulated: &mut usize,
     max_periods: usize,
-) -> Result<bool, super::engine::Stop> {
+) -> Result<bool, crate::sim::motion::engine::Stop> {
     let d = engine.d;
     let period = 2.0 * PI / d.omega;
     let mut last: Option<Vec<f64>> = None;
@@ -234,7 +236,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         let wanted = counts(&cycle);
         let mut at = s.clone();
         let phase = quiet_phase(&cycle, t_start, d.omega, p);
-        if let Err(e) = engine.advance(&mut at, s.t + phase / d.omega, &mut super::engine::Quiet) {
+        if let Err(e) = engine.advance(&mut at, s.t + phase / d.omega, &mut crate::sim::motion::engine::Quiet) {
             stop = Some(e);
             break;
         }
@@ -338,7 +340,7 @@ pub fn certify(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
     }
     let phase = quiet_phase(&log.0, start.t, d.omega, p);
     let mut at = start.clone();
-    if engine.advance(&mut at, start.t + phase / d.omega, &mut super::engine::Quiet).is_err() {
+    if engine.advance(&mut at, start.t + phase / d.omega, &mut crate::sim::motion::engine::Quiet).is_err() {
         return st;
     }
     let length = st.amplitude.iter().copied().fold(0.0, f64::max).max(1e-12);

@@ -67,8 +67,8 @@ pub fn clear_level(
 mod tests {
     use super::*;
     use crate::model::{Clearance, Damper, Damping, Structure};
-    use crate::sim::system::STEP_FRACTION;
-    use crate::sim::System;
+    use crate::sim::motion::system::System;
+    use crate::sim::motion::system::STEP_FRACTION;
     use std::f64::consts::PI;
 
     fn chain(n: usize) -> Dynamics {

@@ -5,7 +5,7 @@ use crate::checks::{fmt_num, status, CheckOutcome, Source};
 use crate::experiment::{Bound, CheckSpec, Reading};
 use crate::reference::values::{Quantity, ValueFile};
 
-use super::curves::{not_above, Curves};
+use super::super::curves::{not_above, Curves};
 
 fn window_words(w: Option<(f64, f64)>) -> String {
     match w {

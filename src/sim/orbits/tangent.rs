@@ -22,9 +22,9 @@
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
-use super::engine::{Bed, Observer, State};
-use super::segment::{Segment, Watch};
-use super::system::Dynamics;
+use crate::sim::motion::engine::{Bed, Observer, State};
+use crate::sim::motion::segment::{Segment, Watch};
+use crate::sim::motion::system::Dynamics;
 
 /// Smallest relative impact speed, over `omega L`, below which an orbit counts as grazing
 /// (its map is not smooth: the derivative grows without bound as the speed goes to zero).
@@ -175,11 +175,11 @@ fn transition_into(d: &Dynamics, mask: usize, tau: f64, out: &mut DMatrix<f64>) 
     let cfg = d.config(mask);
     let n = d.system.dof();
     let len = cfg.modes.lambda.len();
-    let mut e = super::buf::Terms::<Complex64>::zeros(len);
+    let mut e = crate::sim::motion::buf::Terms::<Complex64>::zeros(len);
     for (e, l) in e.iter_mut().zip(&cfg.modes.lambda) {
         *e = (l * tau).exp();
     }
-    let mut scaled = super::buf::Terms::<Complex64>::zeros(len);
+    let mut scaled = crate::sim::motion::buf::Terms::<Complex64>::zeros(len);
     // The inverse's column `j` holds the terms' coefficients of start coordinate `j`, in order
     // (column-major storage: a contiguous run).
     let (inverse, stride) = (cfg.modes.inverse.as_slice(), cfg.modes.inverse.nrows());
@@ -315,8 +315,8 @@ impl Observer for Tangent {
             self.simultaneous += 1;
         }
         let n = self.n;
-        // The bed model's part (src/sim/single.rs): G and the event function h.
-        let jump = super::single::ImpactJump::new(d, before, j, top, n, |k| bed_row(n, k));
+        // The bed model's part (src/sim/motion/single.rs): G and the event function h.
+        let jump = crate::sim::motion::single::ImpactJump::new(d, before, j, top, n, |k| bed_row(n, k));
         self.min_impact_speed = self.min_impact_speed.min(jump.rel.abs());
         Tangent::field(d, before, &mut self.f_minus);
         Tangent::field(d, after, &mut self.f_plus);
@@ -357,7 +357,7 @@ impl Observer for Tangent {
 mod tests {
     use super::*;
     use crate::model::{Clearance, Damper, Damping, Structure};
-    use crate::sim::System;
+    use crate::sim::motion::system::System;
 
     /// The blocked transition is the plain one's number to rounding, on a structure large
     /// enough to take it, in every configuration, at a short and a long step.

@@ -28,7 +28,7 @@ use super::system::Dynamics;
 pub const MAX_COLLISIONS: usize = 100_000;
 
 /// The functions to watch for the grains of column `col` in state `s`, pushed onto `w`.
-pub(super) fn watches(d: &Dynamics, s: &State, col: Range<usize>, w: &mut Vec<Watch>) {
+pub(in crate::sim) fn watches(d: &Dynamics, s: &State, col: Range<usize>, w: &mut Vec<Watch>) {
     let dm = &d.system.dampers[col.start];
     let host = dm.host;
     if dm.clearance.is_zero() {
@@ -90,7 +90,7 @@ impl Bodies {
 /// module). On return the host's velocity includes the exchanges; grains joined to the host
 /// are marked in `side` (`Some(false)`: on the bottom, `Some(true)`: at the top) for the
 /// engine's contact settling; the other grains it touched fly from their common position.
-pub(super) fn resolve(
+pub(in crate::sim) fn resolve(
     d: &Dynamics,
     s: &mut State,
     col: Range<usize>,

@@ -15,11 +15,11 @@ use num_complex::Complex64;
 
 use nalgebra::DVector;
 
-use super::engine::{Bed, Engine, Event, Observer, State, Stop};
-use super::observe::{stored_energy, Energy, Extrema};
-use super::segment::{Segment, Watch};
-use super::strobe::Strobe;
-use super::system::Dynamics;
+use crate::sim::motion::engine::{Bed, Engine, Event, Observer, State, Stop};
+use crate::sim::motion::observe::{stored_energy, Energy, Extrema};
+use crate::sim::motion::segment::{Segment, Watch};
+use crate::sim::motion::system::Dynamics;
+use crate::sim::orbits::strobe::Strobe;
 
 /// How a steady state is found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -171,14 +171,14 @@ pub struct Certificate {
     pub iterations: usize,
     /// Attempts made.
     pub attempts: usize,
-    /// How fast Newton converged on this orbit ([`super::periodic::quadratic_constant`] of
+    /// How fast Newton converged on this orbit ([`crate::sim::orbits::periodic::quadratic_constant`] of
     /// its residuals): the next followed point predicts its last evaluation from it.
     pub quadratic: f64,
     /// Forcing phase of the section, rad.
     pub phase: f64,
     /// The orbit's events per cycle, counted per bed and kind (what a followed point must
     /// keep, [`SteadyOptions::follow`]).
-    pub pattern: super::state::Pattern,
+    pub pattern: crate::sim::motion::state::Pattern,
     /// The state on the orbit at the section (where a followed point starts from).
     pub section: State,
 }
@@ -410,7 +410,7 @@ impl Observer for Recorder {
 pub(crate) fn run_to_whole_period(d: &Dynamics, s: &mut State) -> Result<(), Stop> {
     let period = 2.0 * std::f64::consts::PI / d.omega;
     let whole = (s.t / period).ceil() * period;
-    Engine::new(d).advance(s, whole, &mut super::engine::Quiet)
+    Engine::new(d).advance(s, whole, &mut crate::sim::motion::engine::Quiet)
 }
 
 /// Records the motion from `s` to `t_end` (unless the search stopped early) and assembles

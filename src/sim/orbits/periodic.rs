@@ -20,12 +20,12 @@
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
-use super::eigen::{self, EigenError};
-use super::engine::{Bed, Engine, Event, EventKind, Observer, State, Stop};
-use super::observe::Both;
-use super::state::Mark;
-use super::system::{Dynamics, SetupError};
 use super::tangent::Tangent;
+use crate::sim::motion::eigen::{self, EigenError};
+use crate::sim::motion::engine::{Bed, Engine, Event, EventKind, Observer, State, Stop};
+use crate::sim::motion::observe::Both;
+use crate::sim::motion::state::Mark;
+use crate::sim::motion::system::{Dynamics, SetupError};
 
 /// Central-difference step in scaled units (see the module documentation).
 pub const FD_STEP: f64 = 1e-5;
@@ -299,7 +299,7 @@ impl Section for Problem {
     /// The image without the linearised flow (the tangent only observes: the motion and the
     /// return are the same).
     fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
-        let (at, _) = self.run_to_return(d, self.state(d, u), &mut crate::sim::engine::Quiet)?;
+        let (at, _) = self.run_to_return(d, self.state(d, u), &mut crate::sim::motion::engine::Quiet)?;
         Ok(self.coordinates(d, &at))
     }
 }
@@ -600,7 +600,7 @@ pub fn motion_type(events: &[Event], finite: bool, periods: usize) -> String {
 /// Amplitudes, phases and type of an orbit.
 pub fn summarize(d: &Dynamics, problem: &Problem, orbit: &Orbit) -> OrbitSummary {
     let n = d.system.dof();
-    let mut ext = super::observe::Extrema::new(n, 1);
+    let mut ext = crate::sim::motion::observe::Extrema::new(n, 1);
     let mut s = orbit.state.clone();
     let t0 = s.t;
     let period = 2.0 * std::f64::consts::PI / d.omega * problem.periods as f64;
@@ -680,7 +680,7 @@ mod tests {
             }
         }
         let structure = crate::model::Structure::chain(&[1.0], &[1e4], crate::model::Damping::ModalRatios(vec![0.01]));
-        let sys = crate::sim::system::System::plastic(structure, Vec::new(), 0, 1.0);
+        let sys = crate::sim::motion::system::System::plastic(structure, Vec::new(), 0, 1.0);
         let d = Dynamics::new(&sys, 100.0).expect("a one-mass chain decomposes");
         let guess = DVector::from_element(1, 1.8);
         let flags = |quadratic: f64| {

@@ -7,7 +7,7 @@ use crate::experiment::CheckSpec;
 use crate::model::modal::ModeSummary;
 use crate::reference::values::{Quantity, ValueFile};
 
-use super::evidence::OrbitsResult;
+use super::super::evidence::OrbitsResult;
 
 /// The exact orbits found through the simulated steady states: the largest relative
 /// difference of the compliances over the points whose orbit is stable.

@@ -5,10 +5,10 @@
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
-use super::engine::{Bed, Engine, Quiet, State};
-use super::observe::flat;
 use super::steady::{amplitude_scale, finish, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions};
-use super::system::Dynamics;
+use crate::sim::motion::engine::{Bed, Engine, Quiet, State};
+use crate::sim::motion::observe::flat;
+use crate::sim::motion::system::Dynamics;
 
 /// How much larger than the tolerance the period-1 change must stay for a subharmonic.
 const SUBHARMONIC_GAP: f64 = 1e3;

@@ -17,11 +17,11 @@ use std::f64::consts::PI;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::engine::{Bed, Engine, Event, Observer, Quiet, State};
-use super::observe::{Both, EventLog, Extrema};
 use super::periodic::{OrbitError, Return, Section};
-use super::system::Dynamics;
 use super::tangent::{Tangent, GRAZE};
+use crate::sim::motion::engine::{Bed, Engine, Event, Observer, Quiet, State};
+use crate::sim::motion::observe::{Both, EventLog, Extrema};
+use crate::sim::motion::system::Dynamics;
 
 /// Where a bed is on the section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -279,7 +279,7 @@ impl Section for Strobe {
     fn image(&self, d: &Dynamics, u: &DVector<f64>) -> Result<DVector<f64>, OrbitError> {
         let mut s = self.state(d, u);
         let t_end = self.end_time(d, s.t);
-        Engine::new(d).advance(&mut s, t_end, &mut crate::sim::engine::Quiet)?;
+        Engine::new(d).advance(&mut s, t_end, &mut crate::sim::motion::engine::Quiet)?;
         self.coordinates(d, &s)
     }
 }

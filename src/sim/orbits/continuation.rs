@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::periodic::{finish, signature, NewtonOptions, Orbit, OrbitError, Section, FD_STEP};
-use super::system::{Dynamics, SetupError};
+use crate::sim::motion::system::{Dynamics, SetupError};
 
 /// Steps across a change of the orbit's events are refined down to `ds_max / KINK_REFINEMENT`.
 const KINK_REFINEMENT: f64 = 64.0;

@@ -25,7 +25,7 @@ pub struct Forced {
 
 /// What drives a configuration at one frequency.
 #[derive(Debug, Clone, Copy)]
-pub(super) enum Drive<'a> {
+pub(in crate::sim) enum Drive<'a> {
     /// `F sin(omega t)` on one mass: the mass (0-based) and `F`, N.
     Point(usize, f64),
     /// A load `f(t) = Im(F e^{i omega t})` on every coordinate: the phasors `F` and their
@@ -37,7 +37,7 @@ pub(super) enum Drive<'a> {
 /// and its frequency derivative (`Z dX/domega = dF/domega - (dZ/domega) X`, `dZ/domega = -2
 /// omega M + i C`), written into `out`: on the stack up to [`INLINE_MASSES`] masses, by
 /// nalgebra's LU above; `None` when `Z` is singular.
-pub(super) fn forced_into(
+pub(in crate::sim) fn forced_into(
     k: &DMatrix<f64>,
     c: &DMatrix<f64>,
     mass: &DMatrix<f64>,

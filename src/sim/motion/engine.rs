@@ -469,9 +469,9 @@ impl<'a> Engine<'a> {
         for (sd, b) in side.iter_mut().zip(&s.beds) {
             *sd = b.end();
         }
-        // Single beds: their impacts (src/sim/single.rs).
+        // Single beds: their impacts (src/sim/motion/single.rs).
         super::single::impacts(d, s, hits, side, events);
-        // Columns: the collisions the hits started, in sequence (src/sim/column.rs).
+        // Columns: the collisions the hits started, in sequence (src/sim/motion/column.rs).
         for col in &sys.columns {
             let touched = hits.iter().any(|w| match w.impact() {
                 Some((j, _)) => col.contains(&j),

@@ -1,6 +1,6 @@
 //! Eigendecomposition of a real, non-symmetric matrix with complex eigenvalues and
 //! eigenvectors: eigenvalues from nalgebra's Schur form (its factor `T` alone,
-//! src/sim/schur.rs), eigenvectors by inverse iteration,
+//! src/sim/motion/schur.rs), eigenvectors by inverse iteration,
 //! each eigenpair refined and its residual measured.
 //!
 //! Every call is bounded. nalgebra's implicit double-shift QR has no exceptional shifts and,

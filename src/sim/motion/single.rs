@@ -11,7 +11,7 @@ use super::system::{Dynamics, MAX_GRAINS};
 
 /// The functions to watch for single bed `j` in state `s`, pushed onto `w`: the contact force
 /// of a resting bed, the gaps to the bottom and the top of a flying one.
-pub(super) fn watches(d: &Dynamics, s: &State, j: usize, w: &mut Vec<Watch>) {
+pub(in crate::sim) fn watches(d: &Dynamics, s: &State, j: usize, w: &mut Vec<Watch>) {
     let dm = &d.system.dampers[j];
     let host = dm.host;
     match s.beds[j] {
@@ -31,7 +31,7 @@ pub(super) fn watches(d: &Dynamics, s: &State, j: usize, w: &mut Vec<Watch>) {
 
 /// What an impact on a host meets: the host's effective mass, the beds riding with it, and
 /// (for a mass matrix that is not diagonal) how the other degrees of freedom follow it.
-pub(super) struct HostSide {
+pub(in crate::sim) struct HostSide {
     /// The effective mass `1 / (M_S^-1)_pp` of the host with the riders attached (lumped:
     /// its mass plus the beds resting on it), kg.
     pub mass: f64,
@@ -61,7 +61,7 @@ impl HostSide {
 /// excludes the beds taking part in the impact): docs/model.md sections 2 and 5. Lumped
 /// masses: the host's mass with the beds resting on it, added in bed order. A coupled mass
 /// matrix: the effective mass of configuration `M_S`'s degree of freedom `p`.
-pub(super) fn host_side(d: &Dynamics, p: usize, resting: impl Fn(usize) -> bool) -> HostSide {
+pub(in crate::sim) fn host_side(d: &Dynamics, p: usize, resting: impl Fn(usize) -> bool) -> HostSide {
     let sys = &d.system;
     let beds = sys.dampers.len();
     if sys.structure.is_lumped() {
@@ -81,7 +81,13 @@ pub(super) fn host_side(d: &Dynamics, p: usize, resting: impl Fn(usize) -> bool)
 /// exchanges momentum with its host by its law and sticks to the end it hit (`side[j]`, a
 /// candidate for the contacts the engine settles next) or flies off again. The events are
 /// pushed onto `events`.
-pub(super) fn impacts(d: &Dynamics, s: &mut State, hits: &[Watch], side: &mut [Option<bool>], events: &mut Vec<Event>) {
+pub(in crate::sim) fn impacts(
+    d: &Dynamics,
+    s: &mut State,
+    hits: &[Watch],
+    side: &mut [Option<bool>],
+    events: &mut Vec<Event>,
+) {
     let sys = &d.system;
     let in_column = |j: usize| !sys.columns.is_empty() && sys.column_of(j).is_some();
     // The hit beds in bed order (on the stack: at most two watches per bed).
@@ -123,10 +129,10 @@ pub(super) fn impacts(d: &Dynamics, s: &mut State, hits: &[Watch], side: &mut [O
 }
 
 /// What an impact of a single bed contributes to the saltation matrix of the linearised flow
-/// (src/sim/tangent.rs), in the rows of the full state (`row(j)`: the row of bed `j`'s
+/// (src/sim/orbits/tangent.rs), in the rows of the full state (`row(j)`: the row of bed `j`'s
 /// position, its velocity the next): the derivative `G` of the momentum exchange, and the
 /// event function `h` (`y_j - x_p` at the bottom, `x_p + d - y_j` at the top).
-pub(super) struct ImpactJump {
+pub(in crate::sim) struct ImpactJump {
     /// The exchange's derivative: `v_p' = (1 - a) v_p + a u`, `u' = b v_p + (1 - b) u`.
     a: f64,
     b: f64,
@@ -150,7 +156,7 @@ pub(super) struct ImpactJump {
 impl ImpactJump {
     /// The jump of bed `j` hitting its top (`top`) or bottom in state `before`; `n` masses,
     /// `row(k)` the row of bed `k`'s position.
-    pub(super) fn new(
+    pub(in crate::sim) fn new(
         d: &Dynamics,
         before: &State,
         j: usize,
@@ -186,7 +192,7 @@ impl ImpactJump {
     /// Applies `G` to the rows of `m` (plastic: both velocities the common one; a coupled
     /// mass matrix carries the host's change to every degree of freedom; riding beds take
     /// their hosts' new velocities), column by column in place.
-    pub(super) fn apply_g<C: Dim, S: StorageMut<f64, Dyn, C>>(&self, m: &mut Matrix<f64, Dyn, C, S>) {
+    pub(in crate::sim) fn apply_g<C: Dim, S: StorageMut<f64, Dyn, C>>(&self, m: &mut Matrix<f64, Dyn, C, S>) {
         for c in 0..m.ncols() {
             let (vp, uj) = (m[(self.host_v, c)], m[(self.bed_u, c)]);
             let new_v = vp * (1.0 - self.a) + uj * self.a;
@@ -203,12 +209,12 @@ impl ImpactJump {
     }
 
     /// The rate of `h` under the vector field `f`.
-    pub(super) fn rate(&self, f: &DVector<f64>) -> f64 {
+    pub(in crate::sim) fn rate(&self, f: &DVector<f64>) -> f64 {
         self.sign * (f[self.bed_y] - f[self.host_x])
     }
 
     /// The gradient of `h` carried by the derivative `m`: `grad(h)^T m`, into `out`.
-    pub(super) fn gradient_into(&self, m: &DMatrix<f64>, out: &mut RowDVector<f64>) {
+    pub(in crate::sim) fn gradient_into(&self, m: &DMatrix<f64>, out: &mut RowDVector<f64>) {
         for c in 0..m.ncols() {
             out[c] = (m[(self.bed_y, c)] - m[(self.host_x, c)]) * self.sign;
         }

@@ -1,17 +1,18 @@
 //! Evaluates an experiment's checks against pre-loaded references.
 
+mod claim;
+mod decay;
+mod digitised;
+mod orbit;
+
 use crate::checks::reference::{Curve as RefCurve, ReferenceStore};
 use crate::checks::{compare_scalar, fmt_num, status, CheckOutcome, Source, Subject};
 use crate::reference::values::ValueFile;
 
 use std::collections::BTreeMap;
 
-use super::claim_checks;
 use super::curves::{Curve, Curves};
-use super::decay_checks;
-use super::digitised_checks;
 use super::evidence::{Decay, MotionTypes, OrbitsResult};
-use super::orbit_checks;
 use crate::experiment::{CheckKind, CheckSpec, Experiment};
 use crate::model::modal::ModeSummary;
 
@@ -58,14 +59,14 @@ fn evaluate_one(
     match &spec.kind {
         CheckKind::ImpulseHistory { case, window } => {
             out.push(match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
-                (Some(r), Some(d)) => decay_checks::history(spec, r, d, *window),
+                (Some(r), Some(d)) => decay::history(spec, r, d, *window),
                 _ => CheckOutcome::missing(spec, "reference or impulse run missing"),
             });
             return;
         }
         CheckKind::OrbitVsSimulation => {
             out.push(match computed.orbits {
-                Some(r) => orbit_checks::orbit_vs_simulation(spec, r),
+                Some(r) => orbit::orbit_vs_simulation(spec, r),
                 None => CheckOutcome::missing(spec, "no periodic orbits computed"),
             });
             return;
@@ -75,9 +76,9 @@ fn evaluate_one(
             match (file, file.and_then(|f| f.get(curve)), curves.of_case(case)) {
                 (Some(f), Some(d), Some(c)) => match &spec.kind {
                     CheckKind::Peak { window, .. } => {
-                        out.extend(digitised_checks::peak_check(spec, f, d, c, *mass, *window, *x_px, *y_px))
+                        out.extend(digitised::peak_check(spec, f, d, c, *mass, *window, *x_px, *y_px))
                     }
-                    _ => out.push(digitised_checks::tube_check(spec, f, d, c, *mass, *x_px, *y_px)),
+                    _ => out.push(digitised::tube_check(spec, f, d, c, *mass, *x_px, *y_px)),
                 },
                 _ => out.push(CheckOutcome::missing(spec, "digitised curve or computed curve missing")),
             }
@@ -85,7 +86,7 @@ fn evaluate_one(
         }
         CheckKind::DecayTime { case, mass, levels } => {
             match (refs.curve(&spec.reference_file), computed.decays.get(case)) {
-                (Some(r), Some(d)) => out.extend(decay_checks::decay_time(spec, r, d, *mass, levels)),
+                (Some(r), Some(d)) => out.extend(decay::decay_time(spec, r, d, *mass, levels)),
                 _ => out.push(CheckOutcome::missing(spec, "reference or impulse run missing")),
             }
             return;
@@ -141,31 +142,25 @@ fn evaluate_one(
         }
         CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
         CheckKind::PeakRatio { case, over_case, mass, bound, window, reading } => {
-            out.push(claim_checks::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window, *reading));
+            out.push(claim::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window, *reading));
         }
         CheckKind::MotionTypes { case, present, absent } => match spec.quantity(file) {
-            Some(q) => out.push(claim_checks::motion_types(
-                spec,
-                file,
-                q,
-                case,
-                computed.motion_types.get(case),
-                present,
-                absent,
-            )),
+            Some(q) => {
+                out.push(claim::motion_types(spec, file, q, case, computed.motion_types.get(case), present, absent))
+            }
             None => out.push(CheckOutcome::missing(spec, "claim not found")),
         },
         CheckKind::RatioOrder { case, over_case, mass, window, than_window } => {
-            out.push(claim_checks::ratio_order(spec, file, curves, (case, over_case), *mass, *window, *than_window));
+            out.push(claim::ratio_order(spec, file, curves, (case, over_case), *mass, *window, *than_window));
         }
         CheckKind::DecayRatio { case, over_case, mass, level } => {
             match (spec.quantity(file), computed.decays.get(case), computed.decays.get(over_case)) {
-                (Some(q), Some(a), Some(b)) => out.push(decay_checks::ratio(spec, file, q, a, b, *mass, *level)),
+                (Some(q), Some(a), Some(b)) => out.push(decay::ratio(spec, file, q, a, b, *mass, *level)),
                 _ => out.push(CheckOutcome::missing(spec, "bound or impulse runs missing")),
             }
         }
         CheckKind::SdofVsSimulation => match (spec.quantity(file), computed.orbits) {
-            (Some(q), Some(r)) => out.push(orbit_checks::sdof_vs_simulation(spec, file, q, r, modes)),
+            (Some(q), Some(r)) => out.push(orbit::sdof_vs_simulation(spec, file, q, r, modes)),
             _ => out.push(CheckOutcome::missing(spec, "claim or periodic orbits missing")),
         },
         CheckKind::Curve { .. }

@@ -5,8 +5,8 @@
 
 use super::engine::{Bed, Engine, Stop};
 use super::observe::{energy_of, stored_energy, Both, Energy, Sampler};
+use super::state::State;
 use super::system::{Dynamics, SetupError, System};
-use super::State;
 
 /// What is given to the struck mass.
 #[derive(Debug, Clone, Copy, PartialEq)]

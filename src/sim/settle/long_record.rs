@@ -8,10 +8,10 @@
 
 use std::f64::consts::PI;
 
-use super::engine::Engine;
-use super::observe::{stored_energy, Both, Energy, Extrema};
 use super::steady::{EnergyBalance, NoSteady, Steady};
-use super::system::Dynamics;
+use crate::sim::motion::engine::Engine;
+use crate::sim::motion::observe::{stored_energy, Both, Energy, Extrema};
+use crate::sim::motion::system::Dynamics;
 
 pub use super::steady::{LONG_RECORD_PERIODS, LONG_RECORD_TOL};
 

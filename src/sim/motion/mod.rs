@@ -1,0 +1,21 @@
+//! The motion between and at events: the structure and its beds (`system`, `bed`, `state`),
+//! the closed form of each configuration (`eigen`, `schur`, `forced`, `segment`), the certified
+//! event search (`roots`, `coarse`, `single`), contact resolution (`column`, `soft`), and the
+//! engine that runs them (`engine`, `observe`, `impulse`). Imports nothing else of `sim`.
+
+pub mod bed;
+pub mod buf;
+pub mod coarse;
+pub mod column;
+pub mod eigen;
+pub mod engine;
+pub mod forced;
+pub mod impulse;
+pub mod observe;
+pub mod roots;
+pub mod schur;
+pub mod segment;
+pub(in crate::sim) mod single;
+pub mod soft;
+pub mod state;
+pub mod system;
