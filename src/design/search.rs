@@ -326,9 +326,9 @@ pub fn optimise_checked(
     optimise_until(problem, bare, space, opts, check, &Halt::default()).0
 }
 
-/// [`optimise_checked`] that stops at its first evaluation after `halt` is reached: the
-/// coarse scans (7 evaluations a placement) always finish, every Nelder-Mead run keeps the best
-/// point it evaluated. Returns the layouts and whether the halt stopped the search (then they
+/// [`optimise_checked`] that stops at its first evaluation after `halt` is reached: a coarse
+/// scan not yet done evaluates only its middle clearance (each placement keeps one layout),
+/// every Nelder-Mead run keeps the best point it evaluated. Returns the layouts and whether the halt stopped the search (then they
 /// are the best found so far, not converged optima).
 pub fn optimise_until(
     problem: &Problem,
