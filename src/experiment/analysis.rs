@@ -260,118 +260,15 @@ pub fn analysis(
     match a.kind.as_str() {
         "modal" => Ok(Analysis::Modal),
         "linear_frf" => Ok(Analysis::LinearFrf { freq_hz: require_grid(path, &a)? }),
-        "sweep" => {
-            let start = match a.start.as_deref() {
-                None | Some("rest") => Start::Rest,
-                Some("continuation") => Start::Continuation,
-                Some(other) => {
-                    return Err(Error::invalid(
-                        path,
-                        "analysis.start",
-                        format!("\"{other}\""),
-                        "allowed: \"rest\", \"continuation\"",
-                    ));
-                }
-            };
-            Ok(Analysis::Sweep { freq_hz: require_grid(path, &a)?, start, steady })
-        }
-        "clearance_study" => {
-            let clearances_mm = clearance_list(path, a.clearances_mm.as_deref())?;
-            let points = positive_int(path, "analysis.clearance_points", a.clearance_points, 12, 200)?;
-            let objective_mass = match a.objective_mass {
-                Some(m) if m >= 1 && m as usize <= n => m as usize - 1,
-                Some(m) => {
-                    return Err(Error::invalid(
-                        path,
-                        "analysis.objective_mass",
-                        m,
-                        format!("masses are numbered 1 to {n}"),
-                    ))
-                }
-                None => {
-                    return Err(Error::invalid(
-                        path,
-                        "analysis.objective_mass",
-                        "(missing)",
-                        "name the mass whose peak compliance is compared (1-based)",
-                    ))
-                }
-            };
-            let objective_case = match &a.objective_case {
-                Some(c) if case_ids.contains(c) => c.clone(),
-                Some(c) => {
-                    return Err(Error::invalid(
-                        path,
-                        "analysis.objective_case",
-                        format!("\"{c}\""),
-                        format!("no such case; the cases are {case_ids:?}"),
-                    ))
-                }
-                None => {
-                    return Err(Error::invalid(
-                        path,
-                        "analysis.objective_case",
-                        "(missing)",
-                        "name the case whose peak decides the best clearance",
-                    ))
-                }
-            };
-            Ok(Analysis::ClearanceStudy {
-                freq_hz: require_grid(path, &a)?,
-                clearances_mm,
-                points,
-                objective_mass,
-                objective_case,
-                steady,
-            })
-        }
-        "waveform" => {
-            let Some(list) = &a.frequencies_hz else {
-                return Err(Error::invalid(
-                    path,
-                    "analysis.frequencies_hz",
-                    "(missing)",
-                    "list the forcing frequencies (Hz)",
-                ));
-            };
-            let frequencies = list
-                .iter()
-                .enumerate()
-                .map(|(i, v)| number(path, &format!("analysis.frequencies_hz[{i}]"), v))
-                .collect::<Result<Vec<_>>>()?;
-            let labels = match &a.labels {
-                Some(l) if l.len() == frequencies.len() => l.clone(),
-                Some(l) => {
-                    return Err(Error::invalid(
-                        path,
-                        "analysis.labels",
-                        format!("{} labels", l.len()),
-                        format!("give one label per frequency ({})", frequencies.len()),
-                    ));
-                }
-                None => (1..=frequencies.len()).map(|i| i.to_string()).collect(),
-            };
-            let periods = positive_int(path, "analysis.periods", a.periods, 2, 100)?;
-            Ok(Analysis::Waveform { frequencies, labels, periods, steady })
-        }
+        "sweep" => sweep(path, &a, steady),
+        "clearance_study" => clearance_study(path, &a, n, case_ids, steady),
+        "waveform" => waveform(path, &a, steady),
         "impulse" => impulse(path, &a, n),
         "design" => match design {
             Some(spec) => Ok(Analysis::Design { spec: Box::new(spec), steady }),
             None => Err(Error::invalid(path, "design", "(missing)", "analysis kind \"design\" needs a [design] table")),
         },
-        "sdof_periodic" => {
-            let mode = match a.mode {
-                Some(m) if m >= 1 && m as usize <= n => m as usize - 1,
-                Some(m) => {
-                    return Err(Error::invalid(path, "analysis.mode", m, format!("modes are numbered 1 to {n}")))
-                }
-                None => {
-                    return Err(Error::invalid(path, "analysis.mode", "(missing)", format!("name the mode (1 to {n})")))
-                }
-            };
-            let clearances_mm = clearance_list(path, a.clearances_mm.as_deref())?;
-            Ok(Analysis::SdofPeriodic { mode, freq_hz: require_grid(path, &a)?, clearances_mm, steady })
-        }
+        "sdof_periodic" => sdof_periodic(path, &a, n, steady),
         other => Err(Error::invalid(
             path,
             "analysis.kind",
@@ -379,6 +276,113 @@ pub fn analysis(
             format!("allowed kinds: {}", super::kind::kind_names()),
         )),
     }
+}
+
+/// `kind = "sweep"`: the grid and its start.
+fn sweep(path: &Path, a: &RawAnalysis, steady: SteadyOptions) -> Result<Analysis> {
+    let start = match a.start.as_deref() {
+        None | Some("rest") => Start::Rest,
+        Some("continuation") => Start::Continuation,
+        Some(other) => {
+            return Err(Error::invalid(
+                path,
+                "analysis.start",
+                format!("\"{other}\""),
+                "allowed: \"rest\", \"continuation\"",
+            ));
+        }
+    };
+    Ok(Analysis::Sweep { freq_hz: require_grid(path, a)?, start, steady })
+}
+
+/// `kind = "clearance_study"`: the grid, the clearances, the mass and the case compared.
+fn clearance_study(
+    path: &Path,
+    a: &RawAnalysis,
+    n: usize,
+    case_ids: &[String],
+    steady: SteadyOptions,
+) -> Result<Analysis> {
+    let clearances_mm = clearance_list(path, a.clearances_mm.as_deref())?;
+    let points = positive_int(path, "analysis.clearance_points", a.clearance_points, 12, 200)?;
+    let objective_mass = match a.objective_mass {
+        Some(m) if m >= 1 && m as usize <= n => m as usize - 1,
+        Some(m) => {
+            return Err(Error::invalid(path, "analysis.objective_mass", m, format!("masses are numbered 1 to {n}")))
+        }
+        None => {
+            return Err(Error::invalid(
+                path,
+                "analysis.objective_mass",
+                "(missing)",
+                "name the mass whose peak compliance is compared (1-based)",
+            ))
+        }
+    };
+    let objective_case = match &a.objective_case {
+        Some(c) if case_ids.contains(c) => c.clone(),
+        Some(c) => {
+            return Err(Error::invalid(
+                path,
+                "analysis.objective_case",
+                format!("\"{c}\""),
+                format!("no such case; the cases are {case_ids:?}"),
+            ))
+        }
+        None => {
+            return Err(Error::invalid(
+                path,
+                "analysis.objective_case",
+                "(missing)",
+                "name the case whose peak decides the best clearance",
+            ))
+        }
+    };
+    Ok(Analysis::ClearanceStudy {
+        freq_hz: require_grid(path, a)?,
+        clearances_mm,
+        points,
+        objective_mass,
+        objective_case,
+        steady,
+    })
+}
+
+/// `kind = "waveform"`: the frequencies, their labels and the periods drawn.
+fn waveform(path: &Path, a: &RawAnalysis, steady: SteadyOptions) -> Result<Analysis> {
+    let Some(list) = &a.frequencies_hz else {
+        return Err(Error::invalid(path, "analysis.frequencies_hz", "(missing)", "list the forcing frequencies (Hz)"));
+    };
+    let frequencies = list
+        .iter()
+        .enumerate()
+        .map(|(i, v)| number(path, &format!("analysis.frequencies_hz[{i}]"), v))
+        .collect::<Result<Vec<_>>>()?;
+    let labels = match &a.labels {
+        Some(l) if l.len() == frequencies.len() => l.clone(),
+        Some(l) => {
+            return Err(Error::invalid(
+                path,
+                "analysis.labels",
+                format!("{} labels", l.len()),
+                format!("give one label per frequency ({})", frequencies.len()),
+            ));
+        }
+        None => (1..=frequencies.len()).map(|i| i.to_string()).collect(),
+    };
+    let periods = positive_int(path, "analysis.periods", a.periods, 2, 100)?;
+    Ok(Analysis::Waveform { frequencies, labels, periods, steady })
+}
+
+/// `kind = "sdof_periodic"`: the mode, its band and the candidate clearances.
+fn sdof_periodic(path: &Path, a: &RawAnalysis, n: usize, steady: SteadyOptions) -> Result<Analysis> {
+    let mode = match a.mode {
+        Some(m) if m >= 1 && m as usize <= n => m as usize - 1,
+        Some(m) => return Err(Error::invalid(path, "analysis.mode", m, format!("modes are numbered 1 to {n}"))),
+        None => return Err(Error::invalid(path, "analysis.mode", "(missing)", format!("name the mode (1 to {n})"))),
+    };
+    let clearances_mm = clearance_list(path, a.clearances_mm.as_deref())?;
+    Ok(Analysis::SdofPeriodic { mode, freq_hz: require_grid(path, a)?, clearances_mm, steady })
 }
 
 /// The range of the struck mass's initial speed, m/s (given, or an impulse shared by the
