@@ -89,6 +89,136 @@ fn whole(path: &Path, key: &str, v: Option<i64>, default: usize, max: usize) -> 
     }
 }
 
+/// An input error at `design.KEY` of `path`.
+fn bad_at(path: &Path) -> impl Fn(&str, &dyn std::fmt::Display, &str) -> Error + '_ {
+    move |key, v, msg| Error::invalid(path, format!("design.{key}"), v, msg)
+}
+
+/// The total shot mass, kg: `shot_kg`, or `shot_mass_ratio` of the structure's mass.
+fn shot(path: &Path, raw: &RawDesign, total_mass: Option<f64>) -> Result<f64> {
+    let bad = bad_at(path);
+    let kg = match (raw.shot_mass_ratio, raw.shot_kg) {
+        (Some(r), None) if total_mass.is_none() => {
+            return Err(bad(
+                "shot_mass_ratio",
+                &r,
+                "a structure given by a full mass matrix (structure.mass_matrix_kg) has no total mass to take a ratio of: give design.shot_kg",
+            ))
+        }
+        (Some(r), None) if r.is_finite() && r > 0.0 && r <= 10.0 => r * total_mass.unwrap_or(0.0),
+        (Some(r), None) => return Err(bad("shot_mass_ratio", &r, "a total shot mass ratio in (0, 10]")),
+        (None, Some(kg)) if kg.is_finite() && kg > 0.0 => kg,
+        (None, Some(kg)) => return Err(bad("shot_kg", &kg, "a shot mass in kg, positive and finite")),
+        _ => {
+            return Err(bad("shot_mass_ratio", &"(missing or both)", "give exactly one of shot_mass_ratio and shot_kg"))
+        }
+    };
+    Ok(kg)
+}
+
+/// The sweeps of each band (`up` and `down` by default).
+fn sweeps(path: &Path, raw: &RawDesign) -> Result<Vec<Sweep>> {
+    let bad = bad_at(path);
+    let sweeps: Vec<Sweep> = match &raw.sweeps {
+        None => vec![Sweep::Up, Sweep::Down],
+        Some(list) if !list.is_empty() => list
+            .iter()
+            .enumerate()
+            .map(|(i, s)| match s.as_str() {
+                "rest" => Ok(Sweep::Rest),
+                "up" => Ok(Sweep::Up),
+                "down" => Ok(Sweep::Down),
+                other => Err(bad(&format!("sweeps[{i}]"), &format!("\"{other}\""), "\"rest\", \"up\" or \"down\"")),
+            })
+            .collect::<Result<_>>()?,
+        Some(_) => return Err(bad("sweeps", &"[]", "at least one of \"rest\", \"up\", \"down\"")),
+    };
+    Ok(sweeps)
+}
+
+/// The bands: each a name, a grid of at most `limits::BAND_POINTS` and the masses it measures.
+fn bands(path: &Path, raw: &RawDesign, n: usize) -> Result<Vec<Band>> {
+    let bad = bad_at(path);
+    if raw.bands.is_empty() {
+        return Err(bad("bands", &"[]", "give at least one [[design.bands]] (name, freq_hz, masses)"));
+    }
+    raw
+        .bands
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let key = format!("design.bands[{i}].freq_hz");
+            let freq_hz = grid(path, &key, &b.freq_hz)?;
+            if freq_hz.len() > limits::BAND_POINTS {
+                return Err(Error::invalid(
+                    path,
+                    key,
+                    format!("{} frequencies", freq_hz.len()),
+                    format!("a design band has at most {} frequencies (each is a steady state in every layout the search evaluates)", limits::BAND_POINTS),
+                ));
+            }
+            Ok(Band { name: b.name.clone(), freq_hz, masses: masses(path, &format!("design.bands[{i}].masses"), &b.masses, n)? })
+        })
+        .collect::<Result<Vec<_>>>()
+}
+
+/// The scenarios: damping ratios, forces and how their objectives combine.
+fn scenarios(path: &Path, raw: &RawDesign, scenario_models: bool) -> Result<(Vec<f64>, Vec<f64>, Combine)> {
+    let bad = bad_at(path);
+    Ok(match &raw.scenarios {
+        None => (Vec::new(), Vec::new(), Combine::Worst),
+        Some(sc) => {
+            let damping = sc.damping.clone().unwrap_or_default();
+            if let Some((i, z)) = damping.iter().enumerate().find(|(_, z)| !(z.is_finite() && **z >= 0.0 && **z < 1.0))
+            {
+                return Err(bad(&format!("scenarios.damping[{i}]"), z, "a modal damping ratio in [0, 1)"));
+            }
+            distinct(path, "design.scenarios.damping", &damping, limits::SCENARIO_VALUES, "damping scenarios")?;
+            let force = sc.force_n.clone().unwrap_or_default();
+            if let Some((i, f)) = force.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
+                return Err(bad(&format!("scenarios.force_n[{i}]"), f, "a force amplitude in N, positive and finite"));
+            }
+            distinct(path, "design.scenarios.force_n", &force, limits::SCENARIO_VALUES, "force scenarios")?;
+            if damping.is_empty() && force.is_empty() && !scenario_models {
+                return Err(bad("scenarios", &"(empty)", "give damping = [...], force_n = [...] and/or models = true"));
+            }
+            let combine = match sc.combine.as_deref() {
+                None | Some("worst") => Combine::Worst,
+                Some("mean") => Combine::Mean,
+                Some(other) => return Err(bad("scenarios.combine", &format!("\"{other}\""), "\"worst\" or \"mean\"")),
+            };
+            (damping, force, combine)
+        }
+    })
+}
+
+/// The paper's SDOF technique beside the search: its mode (0-based) and candidate clearances.
+fn sdof(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<(usize, Vec<f64>)>> {
+    let bad = bad_at(path);
+    Ok(match &raw.sdof {
+        None => None,
+        Some(sd) => {
+            if sd.mode < 1 || sd.mode as usize > n {
+                return Err(bad("sdof.mode", &sd.mode, &format!("modes are numbered 1 to {n}")));
+            }
+            if sd.clearances_mm.is_empty() {
+                return Err(bad("sdof.clearances_mm", &"[]", "the candidate clearances of the SDOF rule, mm"));
+            }
+            if let Some((i, d)) = sd.clearances_mm.iter().enumerate().find(|(_, d)| !(d.is_finite() && **d > 0.0)) {
+                return Err(bad(&format!("sdof.clearances_mm[{i}]"), d, "a clearance in mm, positive and finite"));
+            }
+            distinct(
+                path,
+                "design.sdof.clearances_mm",
+                &sd.clearances_mm,
+                limits::SDOF_CLEARANCES,
+                "candidate clearances",
+            )?;
+            Some((sd.mode as usize - 1, sd.clearances_mm.clone()))
+        }
+    })
+}
+
 /// The design of an experiment: required by kind "design", refused by every other kind.
 /// `total_mass`: the structure's total mass, kg (for a shot mass ratio; `None` for a full mass
 /// matrix, whose total mass the file does not give).
@@ -114,7 +244,7 @@ pub fn design(
         }
         (Some(r), _) => r,
     };
-    let bad = |key: &str, v: &dyn std::fmt::Display, msg: &str| Error::invalid(path, format!("design.{key}"), v, msg);
+    let bad = bad_at(path);
     let candidates = masses(path, "design.candidates", &raw.candidates, n)?;
     let max_beds = whole(path, "design.max_beds", raw.max_beds, candidates.len(), candidates.len())?;
     let most = crate::sim::system::config_limit(n).ilog2() as usize;
@@ -127,22 +257,7 @@ pub fn design(
             ),
         ));
     }
-    let shot_kg = match (raw.shot_mass_ratio, raw.shot_kg) {
-        (Some(r), None) if total_mass.is_none() => {
-            return Err(bad(
-                "shot_mass_ratio",
-                &r,
-                "a structure given by a full mass matrix (structure.mass_matrix_kg) has no total mass to take a ratio of: give design.shot_kg",
-            ))
-        }
-        (Some(r), None) if r.is_finite() && r > 0.0 && r <= 10.0 => r * total_mass.unwrap_or(0.0),
-        (Some(r), None) => return Err(bad("shot_mass_ratio", &r, "a total shot mass ratio in (0, 10]")),
-        (None, Some(kg)) if kg.is_finite() && kg > 0.0 => kg,
-        (None, Some(kg)) => return Err(bad("shot_kg", &kg, "a shot mass in kg, positive and finite")),
-        _ => {
-            return Err(bad("shot_mass_ratio", &"(missing or both)", "give exactly one of shot_mass_ratio and shot_kg"))
-        }
-    };
+    let shot_kg = shot(path, &raw, total_mass)?;
     let clearance_mm = match raw.clearance_mm.as_slice() {
         &[lo, hi] if lo.is_finite() && hi.is_finite() && 0.0 < lo && lo < hi => (lo, hi),
         other => {
@@ -154,41 +269,8 @@ pub fn design(
         Some("rms") => Measure::Rms,
         Some(other) => return Err(bad("measure", &format!("\"{other}\""), "\"peak\" or \"rms\"")),
     };
-    let sweeps = match &raw.sweeps {
-        None => vec![Sweep::Up, Sweep::Down],
-        Some(list) if !list.is_empty() => list
-            .iter()
-            .enumerate()
-            .map(|(i, s)| match s.as_str() {
-                "rest" => Ok(Sweep::Rest),
-                "up" => Ok(Sweep::Up),
-                "down" => Ok(Sweep::Down),
-                other => Err(bad(&format!("sweeps[{i}]"), &format!("\"{other}\""), "\"rest\", \"up\" or \"down\"")),
-            })
-            .collect::<Result<_>>()?,
-        Some(_) => return Err(bad("sweeps", &"[]", "at least one of \"rest\", \"up\", \"down\"")),
-    };
-    if raw.bands.is_empty() {
-        return Err(bad("bands", &"[]", "give at least one [[design.bands]] (name, freq_hz, masses)"));
-    }
-    let bands = raw
-        .bands
-        .iter()
-        .enumerate()
-        .map(|(i, b)| {
-            let key = format!("design.bands[{i}].freq_hz");
-            let freq_hz = grid(path, &key, &b.freq_hz)?;
-            if freq_hz.len() > limits::BAND_POINTS {
-                return Err(Error::invalid(
-                    path,
-                    key,
-                    format!("{} frequencies", freq_hz.len()),
-                    format!("a design band has at most {} frequencies (each is a steady state in every layout the search evaluates)", limits::BAND_POINTS),
-                ));
-            }
-            Ok(Band { name: b.name.clone(), freq_hz, masses: masses(path, &format!("design.bands[{i}].masses"), &b.masses, n)? })
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let sweeps = sweeps(path, &raw)?;
+    let bands = bands(path, &raw, n)?;
     let pareto_mass_ratios = raw.pareto_mass_ratios.clone().unwrap_or_default();
     if let Some((i, r)) =
         pareto_mass_ratios.iter().enumerate().find(|(_, r)| !(r.is_finite() && **r > 0.0 && **r <= 10.0))
@@ -203,53 +285,8 @@ pub fn design(
         "Pareto ratios (each is a search of its own)",
     )?;
     let scenario_models = raw.scenarios.as_ref().and_then(|sc| sc.models).unwrap_or(false);
-    let (scenario_damping, scenario_force_n, combine) = match &raw.scenarios {
-        None => (Vec::new(), Vec::new(), Combine::Worst),
-        Some(sc) => {
-            let damping = sc.damping.clone().unwrap_or_default();
-            if let Some((i, z)) = damping.iter().enumerate().find(|(_, z)| !(z.is_finite() && **z >= 0.0 && **z < 1.0))
-            {
-                return Err(bad(&format!("scenarios.damping[{i}]"), z, "a modal damping ratio in [0, 1)"));
-            }
-            distinct(path, "design.scenarios.damping", &damping, limits::SCENARIO_VALUES, "damping scenarios")?;
-            let force = sc.force_n.clone().unwrap_or_default();
-            if let Some((i, f)) = force.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
-                return Err(bad(&format!("scenarios.force_n[{i}]"), f, "a force amplitude in N, positive and finite"));
-            }
-            distinct(path, "design.scenarios.force_n", &force, limits::SCENARIO_VALUES, "force scenarios")?;
-            if damping.is_empty() && force.is_empty() && !scenario_models {
-                return Err(bad("scenarios", &"(empty)", "give damping = [...], force_n = [...] and/or models = true"));
-            }
-            let combine = match sc.combine.as_deref() {
-                None | Some("worst") => Combine::Worst,
-                Some("mean") => Combine::Mean,
-                Some(other) => return Err(bad("scenarios.combine", &format!("\"{other}\""), "\"worst\" or \"mean\"")),
-            };
-            (damping, force, combine)
-        }
-    };
-    let sdof = match &raw.sdof {
-        None => None,
-        Some(sd) => {
-            if sd.mode < 1 || sd.mode as usize > n {
-                return Err(bad("sdof.mode", &sd.mode, &format!("modes are numbered 1 to {n}")));
-            }
-            if sd.clearances_mm.is_empty() {
-                return Err(bad("sdof.clearances_mm", &"[]", "the candidate clearances of the SDOF rule, mm"));
-            }
-            if let Some((i, d)) = sd.clearances_mm.iter().enumerate().find(|(_, d)| !(d.is_finite() && **d > 0.0)) {
-                return Err(bad(&format!("sdof.clearances_mm[{i}]"), d, "a clearance in mm, positive and finite"));
-            }
-            distinct(
-                path,
-                "design.sdof.clearances_mm",
-                &sd.clearances_mm,
-                limits::SDOF_CLEARANCES,
-                "candidate clearances",
-            )?;
-            Some((sd.mode as usize - 1, sd.clearances_mm.clone()))
-        }
-    };
+    let (scenario_damping, scenario_force_n, combine) = scenarios(path, &raw, scenario_models)?;
+    let sdof = sdof(path, &raw, n)?;
     let defaults = Options::default();
     let search = Options {
         starts: whole(path, "design.starts", raw.starts, defaults.starts, limits::STARTS)?,
