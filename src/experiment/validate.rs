@@ -83,12 +83,58 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     let total_mass = structure.is_lumped().then(|| structure.mass_matrix().trace());
     let design = super::design::design(path, raw.design, &raw.analysis.kind, responses, total_mass)?;
     let analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
-    if let (Analysis::Design { spec, .. }, Some(f)) = (&analysis, &fe) {
+    design_fits(path, &analysis, fe.as_ref(), &excitation, &structure)?;
+    if excitation.supports {
+        super::excitation::supports_fit(path, &analysis)?;
+    }
+    cases_fit(path, &analysis, &cases, &structure)?;
+    let plots = raw
+        .plots
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| plot(path, i, p, responses, &case_ids, &analysis))
+        .collect::<Result<Vec<_>>>()?;
+    let checks = raw
+        .checks
+        .into_iter()
+        .enumerate()
+        .map(|(i, c)| check(path, i, c, responses, &case_ids, &analysis, files))
+        .collect::<Result<Vec<_>>>()?;
+    super::texts::validate(path, &meta, &checks)?;
+
+    Ok(Experiment {
+        path: path.to_path_buf(),
+        meta,
+        model,
+        models: Vec::new(),
+        structure,
+        fit,
+        structure_source: source,
+        finite_element: fe.map(std::sync::Arc::new),
+        damping_assumption,
+        excitation,
+        analysis,
+        cases,
+        plots,
+        checks,
+    })
+}
+
+/// A design's candidates on a finite-element structure, and its force levels (scenarios, drive
+/// levels) within the ranges the excitation allows.
+fn design_fits(
+    path: &Path,
+    analysis: &Analysis,
+    fe: Option<&crate::model::fe::FeStructure>,
+    excitation: &super::Excitation,
+    structure: &Structure,
+) -> Result<()> {
+    if let (Analysis::Design { spec, .. }, Some(f)) = (analysis, fe) {
         for (i, &c) in spec.candidates.iter().enumerate() {
             super::fe::host_fits(path, f, &format!("design.candidates[{i}]"), c, spec.direction)?;
         }
     }
-    if let Analysis::Design { spec, .. } = &analysis {
+    if let Analysis::Design { spec, .. } = analysis {
         let levels = spec.scenario_force_n.iter().map(|f| ("design.scenarios.force_n", f));
         for (i, (key, &f)) in levels.chain(spec.drive_levels_n.iter().map(|f| ("design.drive_levels_n", f))).enumerate()
         {
@@ -102,9 +148,14 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
             }
         }
     }
-    if excitation.supports {
-        super::excitation::supports_fit(path, &analysis)?;
-    }
+    Ok(())
+}
+
+/// The cases against what the analysis runs: scanned clearances, the simulator's size and
+/// configurations, kicks, frequencies, and the bed models, directions, columns and counts of
+/// dampers the analysis takes.
+fn cases_fit(path: &Path, analysis: &Analysis, cases: &[Case], structure: &Structure) -> Result<()> {
+    let n = structure.dof();
     let (scanning, may_scan) = (analysis.scans_clearances(), analysis.may_scan_clearances());
     for (ci, case) in cases.iter().enumerate() {
         for (di, bed) in case.beds.iter().enumerate() {
@@ -126,15 +177,15 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
             configurations_fit(path, &format!("cases[{ci}].dampers"), &case.grains(), n, &who)?;
         }
     }
-    if let Analysis::Impulse { options, .. } = &analysis {
-        for case in &cases {
-            kick_fits(path, options, &structure, case)?;
+    if let Analysis::Impulse { options, .. } = analysis {
+        for case in cases {
+            kick_fits(path, options, structure, case)?;
         }
     }
     let simulated = analysis.simulated_frequencies();
     if matches!(analysis, Analysis::Design { .. }) || cases.iter().any(|c| !c.beds.is_empty()) {
         for (key, freq_hz) in &simulated {
-            super::fields::check_frequencies(&path.display().to_string(), key, freq_hz, &structure)?;
+            super::fields::check_frequencies(&path.display().to_string(), key, freq_hz, structure)?;
         }
     }
     if analysis.plastic_only() {
@@ -192,36 +243,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
             }
         }
     }
-    let plots = raw
-        .plots
-        .into_iter()
-        .enumerate()
-        .map(|(i, p)| plot(path, i, p, responses, &case_ids, &analysis))
-        .collect::<Result<Vec<_>>>()?;
-    let checks = raw
-        .checks
-        .into_iter()
-        .enumerate()
-        .map(|(i, c)| check(path, i, c, responses, &case_ids, &analysis, files))
-        .collect::<Result<Vec<_>>>()?;
-    super::texts::validate(path, &meta, &checks)?;
-
-    Ok(Experiment {
-        path: path.to_path_buf(),
-        meta,
-        model,
-        models: Vec::new(),
-        structure,
-        fit,
-        structure_source: source,
-        finite_element: fe.map(std::sync::Arc::new),
-        damping_assumption,
-        excitation,
-        analysis,
-        cases,
-        plots,
-        checks,
-    })
+    Ok(())
 }
 
 fn positive_list(path: &Path, key: &str, values: &[f64], what: &str) -> Result<()> {
