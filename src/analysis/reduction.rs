@@ -147,16 +147,15 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
     let mut worst = (0.0_f64, 0, 0);
     let mut shown: Vec<Option<Vec<f64>>> = vec![None; freqs.len()];
     for (bi, (name, band)) in bands.iter().enumerate() {
-        let pairs: Vec<(usize, CompliancePair)> =
-            band.iter().filter_map(|&x| index(x)).filter_map(|k| at[k].clone().map(|p| (k, p))).collect();
-        let only: Vec<CompliancePair> = pairs.iter().map(|(_, p)| p.clone()).collect();
+        let (ks, only): (Vec<usize>, Vec<CompliancePair>) =
+            band.iter().filter_map(|&x| index(x)).filter_map(|k| at[k].clone().map(|p| (k, p))).unzip();
         let peak = peaks(&only);
         for (i, d) in largest_difference(&only).into_iter().enumerate() {
             if d > worst.0 {
                 worst = (d, bi, i);
             }
         }
-        for (k, p) in &pairs {
+        for (k, p) in ks.iter().zip(&only) {
             let mut row = Vec::with_capacity(fe.points.len());
             for (i, pt) in fe.points.iter().enumerate() {
                 let r = if peak[i] > 0.0 { (p.reduced[i] - p.full[i]).norm() / peak[i] } else { 0.0 };
