@@ -98,6 +98,7 @@ pub mod cli;
 pub mod design;
 pub mod error;
 pub mod experiment;
+pub mod explore;
 pub mod figure;
 pub mod model;
 pub mod number;

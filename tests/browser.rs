@@ -7,6 +7,8 @@
 //! ignored by default; `.ci/run` installs Chromium and runs it:
 //! `cargo test --release --locked --test all -- --ignored browser::`.
 
+mod explore;
+
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};

@@ -16,6 +16,7 @@ mod column;
 mod contract;
 mod design;
 mod design_store;
+mod explore;
 mod fe;
 mod follow;
 mod fuzz;

@@ -28,6 +28,7 @@ pub mod study_adaptive;
 pub mod study_samples;
 mod sweep;
 mod waveform;
+pub use waveform::event_words;
 
 use crate::checks::baseline;
 use crate::checks::reference::{BaselineMode, ReferenceStore};

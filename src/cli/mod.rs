@@ -24,6 +24,7 @@ macro_rules! say_part {
 }
 
 mod design;
+mod explore;
 mod progress;
 mod study;
 
@@ -146,6 +147,10 @@ pub enum Command {
     /// split and clearances, the reference layouts, the clearance profile and the Pareto front,
     /// written as a report.
     Design(design::DesignArgs),
+    /// Explore an experiment live: a local page whose controls (clearance, shot, damping,
+    /// force, bed model, model of the structure, band) recompute and redraw its curves
+    /// (docs/explore.md)
+    Explore(explore::ExploreArgs),
     /// Run every experiment and regenerate the whole report.
     Report {
         /// Report folder.
@@ -278,6 +283,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             .0)
         }
         Command::Design(args) => design::dispatch(args, cli),
+        Command::Explore(args) => explore::run(args, cli),
         Command::Reference { command: ReferenceCommand::Import { .. } } => {
             import(&cli.command, &cli.reference)?;
             Ok(true)

@@ -32,7 +32,7 @@ pub use analysis::round_hz;
 pub use curve_id::CurveId;
 pub use excitation::{Excitation, MAX_FORCE_G};
 pub use kind::Analysis;
-pub use load::{parse_table, read_merged};
+pub use load::{parse_table, read_merged, read_models};
 pub use validate::validate;
 
 /// Titles and texts that describe an experiment.
@@ -639,6 +639,13 @@ pub fn dependency_graph(exps: &[Experiment]) -> Result<Vec<Vec<usize>>> {
 /// lists no models); references are looked up in `reference_dir`.
 pub fn load(path: &Path, reference_dir: &Path) -> Result<Vec<Experiment>> {
     load_with(path, &Files::new(reference_dir))
+}
+
+/// An experiment from a table (one model's, as [`read_models`] gives it, possibly changed by a
+/// caller such as a study or the explorer): read and validated as a file's would be, its
+/// errors naming `path`.
+pub fn from_table(path: &Path, table: toml::Table, files: &Files) -> Result<Experiment> {
+    load::read_raw(path, table).and_then(|raw| validate(path, raw, files))
 }
 
 /// [`load`] with the reference files parsed so far (each parsed once, [`Files`]).

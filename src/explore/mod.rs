@@ -1,0 +1,568 @@
+//! The live explorer (`shotdamp explore FILE`, docs/explore.md): one experiment file's cases
+//! and models, the values the paper leaves unstated and the design variables as controls, and
+//! every change recomputed by the library and answered as data for the page to draw.
+//!
+//! A request is a set of values at key paths of the experiment file (the study files' paths,
+//! [`KeyPath`]), a model, a band and how the sweep starts. Only the paths of
+//! [`ALLOWED`] may be set and only to numbers (or a bed law's name), so no request reaches
+//! the file system; the experiment is then read and validated by the same code as a file, so
+//! a bad value gets a file's message. No I/O here but reading the file at the start
+//! ([`Session::open`]); the server is [`http`].
+
+pub mod http;
+mod page;
+mod point;
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use serde::Deserialize;
+use serde_json::{json, Value};
+
+use crate::analysis::{self, curves};
+use crate::checks::reference::{BaselineMode, ReferenceStore};
+use crate::error::{Error, Result};
+use crate::experiment::study::KeyPath;
+use crate::experiment::{self, Case, CurveId, Experiment, Exports, Linear};
+use crate::reference::files::Files;
+
+pub use point::PointRequest;
+
+/// Most frequencies one request may simulate (a band of 0.01 Hz steps over 20 Hz).
+pub const MAX_POINTS: usize = 2001;
+
+/// Longest time one request may compute before it is abandoned.
+pub const MAX_TIME: Duration = Duration::from_secs(30);
+
+/// The key paths a request may set (a selector `[...]` after `cases` or `dampers` picks one
+/// case or container), what each takes and the range the page's control spans. The
+/// experiment's validation has the last word on every value.
+pub const ALLOWED: &[Allowed] = &[
+    Allowed { path: "cases[*].dampers[*].clearance_mm", label: "clearance, mm", min: 0.01, max: 20.0, log: true },
+    Allowed { path: "cases[*].dampers[*].mass_ratio", label: "mass ratio", min: 0.005, max: 0.5, log: true },
+    Allowed { path: "cases[*].dampers[*].restitution", label: "restitution", min: 0.0, max: 0.95, log: false },
+    Allowed { path: "structure.damping.modal_ratios", label: "modal damping ratio", min: 0.0005, max: 0.1, log: true },
+    Allowed { path: "excitation.force_n", label: "force, N", min: 0.05, max: 50.0, log: true },
+];
+
+/// One settable key path and its control's range.
+#[derive(Debug, Clone, Copy)]
+pub struct Allowed {
+    /// The path with `[*]` where a request may also name one element.
+    pub path: &'static str,
+    /// The control's label.
+    pub label: &'static str,
+    /// The control's range (the validation's is wider or equal).
+    pub min: f64,
+    /// Upper end of the control's range.
+    pub max: f64,
+    /// Whether the control moves on a logarithmic scale.
+    pub log: bool,
+}
+
+/// The bed laws a request may choose (`cases[*].dampers[*].bed`).
+const LAWS: &[&str] = &["plastic", "restitution"];
+
+/// One model of the file: its id, label and merged table.
+#[derive(Debug, Clone)]
+struct Model {
+    id: String,
+    label: String,
+    table: toml::Table,
+}
+
+/// An open experiment file: its models, the values its export references take (computed once
+/// by running the experiments they come from) and the page's controls.
+#[derive(Debug)]
+pub struct Session {
+    path: PathBuf,
+    models: Vec<Model>,
+    exports: Exports,
+    files: Files,
+    refs: ReferenceStore,
+    setup: Value,
+}
+
+/// A sweep asked for by the page.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Request {
+    /// Index of the model (0 when the file has none).
+    #[serde(default)]
+    pub model: usize,
+    /// Values set in order: `[path, value]`.
+    #[serde(default)]
+    pub set: Vec<(String, Value)>,
+    /// The band, Hz.
+    pub band: Band,
+    /// `"rest"` or `"continuation"`.
+    pub start: String,
+    /// The page's number for the request, increasing (0: none): a sweep stops when one with a
+    /// higher number arrives, and one lower than the highest seen is refused.
+    #[serde(default)]
+    pub seq: u64,
+}
+
+/// A band of frequencies.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Band {
+    /// First frequency, Hz.
+    pub start: f64,
+    /// Last frequency, Hz.
+    pub stop: f64,
+    /// Step, Hz.
+    pub step: f64,
+}
+
+/// An input error of a request (the page shows the message).
+fn bad(key: impl Into<String>, value: impl std::fmt::Display, message: impl Into<String>) -> Error {
+    Error::invalid(Path::new("request"), key.into(), value, message.into())
+}
+
+impl Session {
+    /// Reads `path` (and the experiments in its folder whose values it uses, which are run
+    /// once here) with the reference data in `reference`.
+    pub fn open(path: &Path, reference: &Path) -> Result<Session> {
+        let files = Files::new(reference);
+        let exps = experiment::load_with(path, &files)?;
+        let Some(first) = exps.first() else {
+            return Err(Error::invalid(path, "(file)", "", "the file defines no experiment"));
+        };
+        if matches!(first.analysis, experiment::Analysis::Design { .. }) {
+            return Err(Error::invalid(
+                path,
+                "analysis.kind",
+                "\"design\"",
+                "the explorer takes an experiment file (a sweep, a clearance study, ...): open a design's layout as an experiment file",
+            ));
+        }
+        let exports = dependencies(path, &exps, &files, reference)?;
+        let models = experiment::read_models(path)?
+            .into_iter()
+            .zip(&exps)
+            .map(|((_, table), e)| Model {
+                id: e.model.as_ref().map_or_else(|| "structure".to_string(), |m| m.id.clone()),
+                label: e.model.as_ref().map_or_else(|| "the file's structure".to_string(), |m| m.label.clone()),
+                table,
+            })
+            .collect();
+        let mut refs = ReferenceStore::default();
+        refs.baseline_mode = BaselineMode::Off;
+        let mut s = Session { path: path.to_path_buf(), models, exports, files, refs, setup: Value::Null };
+        let resolved = first.resolve(&s.exports)?;
+        s.setup = setup(&resolved, &s.models);
+        Ok(s)
+    }
+
+    /// What the page needs to draw its controls: the experiment's title, models, cases (with
+    /// each container), the controls with their ranges and starting values, the band.
+    pub fn setup(&self) -> &Value {
+        &self.setup
+    }
+
+    /// The experiment a request describes: the model's table with the request's values set,
+    /// run as a sweep over its band without the file's checks and plots, read and validated as
+    /// a file, its export references resolved.
+    pub fn experiment(&self, req: &Request) -> Result<Experiment> {
+        let table = self.table(req)?;
+        experiment::from_table(&self.path, table, &self.files)?.resolve(&self.exports)
+    }
+
+    /// The experiment file of a request: the model's table with its values set, standalone
+    /// (the model merged in, files it names made absolute), as TOML text. `shotdamp run` on it
+    /// computes the curves the page shows.
+    pub fn export(&self, req: &Request) -> Result<String> {
+        let mut table = self.table(req)?;
+        experiment::from_table(&self.path, table.clone(), &self.files)?.resolve(&self.exports)?;
+        resolve_exports(&mut table, &self.experiment(req)?);
+        absolute_files(&mut table, &self.path);
+        let text = toml::to_string(&table).map_err(|e| bad("(export)", "", e.to_string()))?;
+        Ok(format!(
+            "# Exported by `shotdamp explore {}`: the setup shown on the page.\n# Run it with `shotdamp run THIS_FILE`.\n{text}",
+            self.path.display()
+        ))
+    }
+
+    fn table(&self, req: &Request) -> Result<toml::Table> {
+        let model = self.models.get(req.model).ok_or_else(|| {
+            bad("model", req.model, format!("a model index from 0 to {}", self.models.len().saturating_sub(1)))
+        })?;
+        let mut table = model.table.clone();
+        as_sweep(&mut table, req)?;
+        for (i, (key, value)) in req.set.iter().enumerate() {
+            let (path, value) = allowed(key, value).map_err(|m| bad(format!("set[{i}] \"{key}\""), value, m))?;
+            path.set(&mut table, &value).map_err(|m| bad(format!("set[{i}] \"{key}\""), &value, m))?;
+        }
+        Ok(table)
+    }
+
+    /// Runs a request: the curves of every case (sweeps; the bare structure and each case with
+    /// its shot stuck as exact linear curves), as data for the page. `stop` is called at every
+    /// simulated point and may unwind out of the computation (a newer request, the time limit).
+    pub fn run(&self, req: &Request, stop: &(dyn Fn() + Sync)) -> Result<Value> {
+        let t0 = Instant::now();
+        let exp = self.experiment(req)?;
+        let result = analysis::run(&exp, &self.refs, stop)?;
+        let freqs = band(req)?;
+        let mut out: Vec<Value> = Vec::new();
+        for case in &exp.cases {
+            for c in result.curves.iter().filter(|c| c.id.drawn_for(&case.id)) {
+                out.push(curve_json(c, "sweep"));
+            }
+        }
+        // Continuation's orbit branches, through folds: stable and unstable parts.
+        out.extend(result.tables.iter().filter(|t| t.name == "branches").flat_map(branch_curves));
+        let bare_id = CurveId::linear("bare", Linear::Bare);
+        let bare = curves::linear(&exp, &Case::bare(), bare_id, "no damper (linear)", &freqs, false);
+        out.push(curve_json(&bare, "linear"));
+        for case in exp.cases.iter().filter(|c| !c.is_bare()) {
+            let id = CurveId::linear(&case.id, Linear::Stuck);
+            let label = format!("{}, shot stuck (linear)", case.label);
+            out.push(curve_json(&curves::linear(&exp, case, id, &label, &freqs, true), "stuck"));
+        }
+        Ok(json!({
+            "curves": out,
+            "unit": result.curves.unit(),
+            "masses": exp.structure.dof(),
+            "warnings": result.warnings,
+            "ms": t0.elapsed().as_secs_f64() * 1e3,
+        }))
+    }
+
+    /// One frequency of one case: its steady motion over a period or more, its events, period
+    /// and Floquet multipliers (from rest, as the waveform analysis).
+    pub fn point(&self, req: &PointRequest) -> Result<Value> {
+        let exp = self.experiment(&req.setup)?;
+        point::run(&exp, req)
+    }
+}
+
+/// The frequencies of a request's band (at most [`MAX_POINTS`]).
+fn band(req: &Request) -> Result<Vec<f64>> {
+    let Band { start, stop, step } = req.band;
+    if !(start.is_finite() && stop.is_finite() && step.is_finite() && start > 0.0 && stop > start && step > 0.0) {
+        return Err(bad("band", format!("{start} to {stop} step {step}"), "0 < start < stop and a positive step"));
+    }
+    let n = ((stop - start) / step + 1e-9).floor() as usize + 1;
+    if n > MAX_POINTS {
+        return Err(bad("band", format!("{n} points"), format!("at most {MAX_POINTS} points: a wider step")));
+    }
+    Ok((0..n).map(|i| experiment::round_hz(start + step * i as f64)).collect())
+}
+
+/// Makes a model's table a sweep over the request's band, starting as it asks: the file's own
+/// analysis settings but its steady-state options go, and so do its checks, plots, words
+/// that cite them and the experiment it continues.
+fn as_sweep(table: &mut toml::Table, req: &Request) -> Result<()> {
+    band(req)?;
+    if req.start != "rest" && req.start != "continuation" {
+        return Err(bad("start", format!("\"{}\"", req.start), "\"rest\" or \"continuation\""));
+    }
+    let steady = table.get("analysis").and_then(|a| a.get("steady")).cloned();
+    let mut analysis = toml::Table::new();
+    analysis.insert("kind".into(), "sweep".into());
+    let mut f = toml::Table::new();
+    f.insert("start".into(), req.band.start.into());
+    f.insert("stop".into(), req.band.stop.into());
+    f.insert("step".into(), req.band.step.into());
+    analysis.insert("freq_hz".into(), f.into());
+    analysis.insert("start".into(), req.start.clone().into());
+    if let Some(s) = steady {
+        analysis.insert("steady".into(), s);
+    }
+    table.insert("analysis".into(), analysis.into());
+    // `extends` was merged in already (and names a file relative to this one).
+    for key in ["checks", "plots", "outputs", "exports", "study", "extends"] {
+        table.remove(key);
+    }
+    if let Some(toml::Value::Table(meta)) = table.get_mut("experiment") {
+        meta.retain(|k, _| matches!(k, "id" | "title" | "figure" | "caption" | "claim" | "assumptions"));
+        if let Some(toml::Value::String(title)) = meta.get_mut("title") {
+            title.push_str(" (explored)");
+        }
+        // Its own id: not compared with the file's blessed results.
+        if let Some(toml::Value::String(id)) = meta.get_mut("id") {
+            id.push_str("_explored");
+        }
+    }
+    // Clearances to scan have no value outside a clearance study: the page sets one.
+    if let Some(toml::Value::Array(cases)) = table.get_mut("cases") {
+        for d in cases.iter_mut().filter_map(|c| c.get_mut("dampers")).filter_map(|d| d.as_array_mut()).flatten() {
+            if d.get("clearance_mm").and_then(|v| v.as_str()) == Some("scan") {
+                if let Some(t) = d.as_table_mut() {
+                    t.insert("clearance_mm".into(), "inf".into());
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The path and value of one `[path, value]` of a request, when [`ALLOWED`] (or a bed law).
+fn allowed(key: &str, value: &Value) -> std::result::Result<(KeyPath, toml::Value), String> {
+    let path = KeyPath::parse(key)?;
+    let general = generalise(key);
+    if general == "cases[*].dampers[*].bed" {
+        let law = value.as_str().filter(|s| LAWS.contains(s));
+        let law = law.ok_or_else(|| format!("a bed law: one of {LAWS:?}"))?;
+        return Ok((path, toml::Value::String(law.to_string())));
+    }
+    if !ALLOWED.iter().any(|a| a.path == general || format!("{}[*]", a.path) == general) {
+        let paths: Vec<&str> = ALLOWED.iter().map(|a| a.path).chain(["cases[*].dampers[*].bed"]).collect();
+        return Err(format!(
+            "not a key the explorer sets; these are (a selector [INDEX] or [ID] may replace [*]): {paths:?}"
+        ));
+    };
+    let x = value.as_f64().filter(|x| x.is_finite()).ok_or("a finite number")?;
+    Ok((path, toml::Value::Float(x)))
+}
+
+/// `cases[single].dampers[0].clearance_mm` -> `cases[*].dampers[*].clearance_mm`: every
+/// selector replaced by `[*]`.
+fn generalise(key: &str) -> String {
+    let mut out = String::with_capacity(key.len());
+    let mut inside = false;
+    for ch in key.chars() {
+        match ch {
+            '[' => {
+                inside = true;
+                out.push_str("[*]");
+            }
+            ']' => inside = false,
+            _ if inside => {}
+            _ => out.push(ch),
+        }
+    }
+    out
+}
+
+/// The values of export references (`"@EXPERIMENT.KEY"`) written into an exported table, so
+/// that it runs alone: the clearances the request's experiment resolved them to.
+fn resolve_exports(table: &mut toml::Table, exp: &Experiment) {
+    let Some(toml::Value::Array(cases)) = table.get_mut("cases") else { return };
+    for (c, case) in cases.iter_mut().zip(&exp.cases) {
+        let Some(toml::Value::Array(dampers)) = c.get_mut("dampers") else { continue };
+        for (d, bed) in dampers.iter_mut().zip(case.beds.iter()) {
+            let Some(t) = d.as_table_mut() else { continue };
+            if t.get("clearance_mm").and_then(|v| v.as_str()).is_some_and(|s| s.starts_with('@')) {
+                t.insert("clearance_mm".into(), toml::Value::Float(bed.damper.clearance.mm()));
+            }
+        }
+    }
+}
+
+/// Files a finite-element structure names, made absolute (they are relative to the file).
+fn absolute_files(table: &mut toml::Table, path: &Path) {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let dir = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    let Some(toml::Value::Table(fe)) = table.get_mut("structure").and_then(|s| s.get_mut("finite_element")) else {
+        return;
+    };
+    for key in ["stiffness", "mass", "dofs", "file"] {
+        if let Some(toml::Value::String(p)) = fe.get_mut(key) {
+            if Path::new(p.as_str()).is_relative() {
+                *p = dir.join(&*p).to_string_lossy().into_owned();
+            }
+        }
+    }
+}
+
+/// A curve as the page draws it.
+fn curve_json(c: &curves::Curve, kind: &str) -> Value {
+    let masses = c.compliance.first().map_or(0, Vec::len);
+    let per_mass: Vec<Vec<f64>> = (0..masses).map(|m| c.compliance.iter().map(|row| row[m]).collect()).collect();
+    json!({
+        "id": c.id.to_string(),
+        "label": c.label,
+        "kind": kind,
+        "freq_hz": c.freq_hz,
+        "compliance": per_mass,
+        "converged": c.converged,
+        "period": c.period,
+        "radius": c.radius.iter().map(|r| if r.is_finite() { Some(*r) } else { None }).collect::<Vec<_>>(),
+        "stop": c.stop,
+    })
+}
+
+/// The orbit branches of a continuation (the `branches` table: points in the order continued,
+/// through folds), one curve each, with each point's stability.
+fn branch_curves(t: &crate::table::Table) -> Vec<Value> {
+    use crate::table::ColumnData;
+    let column = |name: &str| t.columns.iter().find(|(n, _)| n == name).map(|(_, c)| c);
+    let (Some(ColumnData::Str(ids)), Some(freq), Some(ColumnData::I64(stable)), Some(radius)) =
+        (column("branch"), t.column_f64("freq_hz"), column("stable"), t.column_f64("max_multiplier"))
+    else {
+        return Vec::new();
+    };
+    let masses: Vec<&[f64]> = (1..).map_while(|m| t.column_f64(&format!("c{m}"))).collect();
+    let mut order: Vec<&String> = Vec::new();
+    for id in ids {
+        if !order.contains(&id) {
+            order.push(id);
+        }
+    }
+    order
+        .into_iter()
+        .map(|id| {
+            let rows: Vec<usize> = (0..ids.len()).filter(|&i| &ids[i] == id).collect();
+            json!({
+                "id": id,
+                "label": format!("{id}: orbit branch"),
+                "kind": "orbits",
+                "freq_hz": rows.iter().map(|&i| freq[i]).collect::<Vec<_>>(),
+                "compliance": masses.iter().map(|c| rows.iter().map(|&i| c[i]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+                "stable": rows.iter().map(|&i| stable[i] == 1).collect::<Vec<_>>(),
+                "radius": rows.iter().map(|&i| radius[i]).collect::<Vec<_>>(),
+                "converged": rows.iter().map(|_| true).collect::<Vec<_>>(),
+            })
+        })
+        .collect()
+}
+
+/// The page's controls for an experiment (resolved, on the first model) and the models.
+fn setup(exp: &Experiment, models: &[Model]) -> Value {
+    let beds: Vec<&experiment::Bed> = exp.cases.iter().flat_map(|c| c.beds.iter()).collect();
+    let first_model = &models[0].table;
+    let has = |path: &str| KeyPath::parse(path).is_ok_and(|p| !p.get(first_model).is_empty());
+    let start_value = |a: &Allowed| -> Option<f64> {
+        match a.path {
+            "cases[*].dampers[*].clearance_mm" => {
+                beds.first().map(|b| b.damper.clearance.mm()).map(|d| if d.is_finite() { d } else { a.max })
+            }
+            "cases[*].dampers[*].mass_ratio" => has(a.path).then(|| {
+                KeyPath::parse(a.path).ok().and_then(|p| p.get(first_model).first().and_then(|v| v.as_float()))
+            })?,
+            "cases[*].dampers[*].restitution" => (!beds.is_empty()).then_some(0.0),
+            "structure.damping.modal_ratios" => {
+                KeyPath::parse(a.path).ok().and_then(|p| p.get(first_model).first().and_then(|v| v.as_float()))
+            }
+            "excitation.force_n" => Some(exp.excitation.force),
+            _ => None,
+        }
+    };
+    let controls: Vec<Value> = ALLOWED
+        .iter()
+        .filter_map(|a| {
+            let v = start_value(a)?;
+            Some(json!({ "path": a.path, "label": a.label, "min": a.min, "max": a.max, "log": a.log, "value": v }))
+        })
+        .collect();
+    let cases: Vec<Value> = exp
+        .cases
+        .iter()
+        .map(|c| {
+            let dampers: Vec<Value> = c
+                .beds
+                .iter()
+                .map(|b| json!({ "host": b.damper.host + 1, "mass_kg": b.damper.mass, "clearance_mm": finite(b.damper.clearance.mm()) }))
+                .collect();
+            json!({ "id": c.id, "label": c.label, "dampers": dampers })
+        })
+        .collect();
+    let grid = exp.analysis.simulated_frequencies().into_iter().next().map(|(_, f)| f).unwrap_or_default();
+    let (start, stop, step) = match grid.as_slice() {
+        [first, .., last] => (*first, *last, experiment::round_hz((last - first) / (grid.len() - 1) as f64)),
+        _ => (1.0, 60.0, 0.5),
+    };
+    let continuation =
+        matches!(exp.analysis, experiment::Analysis::Sweep { start: experiment::Start::Continuation, .. });
+    json!({
+        "title": exp.meta.title,
+        "figure": exp.meta.figure,
+        "masses": exp.structure.dof(),
+        "models": models.iter().map(|m| json!({ "id": m.id, "label": m.label })).collect::<Vec<_>>(),
+        "cases": cases,
+        "controls": controls,
+        "laws": LAWS,
+        "band": { "start": start, "stop": stop, "step": step },
+        "start": if continuation { "continuation" } else { "rest" },
+        "max_points": MAX_POINTS,
+    })
+}
+
+fn finite(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        json!("inf")
+    }
+}
+
+/// The exports an experiment file uses: the experiments of its folder it names (and those
+/// they name) run once, in order.
+fn dependencies(path: &Path, exps: &[Experiment], files: &Files, reference: &Path) -> Result<Exports> {
+    let mut wanted: Vec<String> = exps.iter().flat_map(Experiment::dependencies).collect();
+    if wanted.is_empty() {
+        return Ok(Exports::new());
+    }
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let mut pool: Vec<Experiment> = Vec::new();
+    for file in experiment::discover(dir)? {
+        if file != path {
+            pool.extend(experiment::load_with(&file, files)?);
+        }
+    }
+    let mut chosen: Vec<Experiment> = Vec::new();
+    while let Some(id) = wanted.pop() {
+        if chosen.iter().any(|e| e.meta.id == id) {
+            continue;
+        }
+        let found: Vec<Experiment> = pool.iter().filter(|e| e.meta.id == id).cloned().collect();
+        if found.is_empty() {
+            return Err(Error::invalid(
+                path,
+                "(export reference)",
+                format!("@{id}"),
+                format!("no experiment with id \"{id}\" in {}: the explorer runs it first", dir.display()),
+            ));
+        }
+        wanted.extend(found.iter().flat_map(Experiment::dependencies));
+        chosen.extend(found);
+    }
+    let graph = experiment::dependency_graph(&chosen)?;
+    let mut refs = ReferenceStore::load(reference, &chosen)?;
+    refs.baseline_mode = BaselineMode::Off;
+    let mut exports = Exports::new();
+    let mut done = vec![false; chosen.len()];
+    while done.iter().any(|d| !d) {
+        let Some(i) = (0..chosen.len()).find(|&i| !done[i] && graph[i].iter().all(|&d| done[d])) else { break };
+        let exp = chosen[i].resolve(&exports)?;
+        let r = analysis::run(&exp, &refs, &|| {})?;
+        exports.insert(exp.key(), r.exports);
+        done[i] = true;
+    }
+    Ok(exports)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn req(start: f64, stop: f64, step: f64) -> Request {
+        Request { model: 0, set: Vec::new(), band: Band { start, stop, step }, start: "rest".into(), seq: 0 }
+    }
+
+    #[test]
+    fn a_selector_is_read_as_any_element() {
+        assert_eq!(generalise("cases[single].dampers[0].clearance_mm"), "cases[*].dampers[*].clearance_mm");
+        assert_eq!(generalise("structure.damping.modal_ratios[2]"), "structure.damping.modal_ratios[*]");
+        assert!(allowed("cases[triple].dampers[2].clearance_mm", &json!(0.4)).is_ok());
+        assert!(allowed("structure.damping.modal_ratios[1]", &json!(0.02)).is_ok());
+        assert!(allowed("cases[*].dampers[*].bed", &json!("restitution")).is_ok());
+        assert!(allowed("cases[*].dampers[*].bed", &json!("column")).is_err());
+        assert!(allowed("structure.finite_element.mass", &json!("/etc/passwd")).is_err());
+        assert!(allowed("cases[*].dampers[*].clearance_mm", &json!("inf")).is_err());
+        assert!(allowed("cases[*].dampers[*].clearance_mm", &json!(null)).is_err());
+    }
+
+    #[test]
+    fn a_band_has_at_most_max_points() {
+        assert_eq!(band(&req(44.0, 56.0, 0.1)).unwrap().len(), 121);
+        assert_eq!(band(&req(1.0, 21.0, 0.01)).unwrap().len(), MAX_POINTS);
+        assert!(band(&req(1.0, 21.01, 0.01)).is_err());
+        assert!(band(&req(50.0, 44.0, 0.1)).is_err());
+        assert!(band(&req(44.0, 56.0, 0.0)).is_err());
+        assert!(band(&req(f64::NAN, 56.0, 0.1)).is_err());
+    }
+}
