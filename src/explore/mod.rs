@@ -69,6 +69,9 @@ struct Model {
     id: String,
     label: String,
     table: toml::Table,
+    /// The curves the file's checks compare with on this model (independent solver,
+    /// digitised), as markers.
+    references: Vec<Value>,
 }
 
 /// An open experiment file: its models, the values its export references take (computed once
@@ -138,6 +141,7 @@ impl Session {
             ));
         }
         let exports = dependencies(path, &exps, &files, reference)?;
+        let store = ReferenceStore::load(reference, &exps)?;
         let models = experiment::read_models(path)?
             .into_iter()
             .zip(&exps)
@@ -145,6 +149,7 @@ impl Session {
                 id: e.model.as_ref().map_or_else(|| "structure".to_string(), |m| m.id.clone()),
                 label: e.model.as_ref().map_or_else(|| "the file's structure".to_string(), |m| m.label.clone()),
                 table,
+                references: references(e, &store),
             })
             .collect();
         let mut refs = ReferenceStore::default();
@@ -221,8 +226,10 @@ impl Session {
             let label = format!("{}, shot stuck (linear)", case.label);
             out.push(curve_json(&curves::linear(&exp, case, id, &label, &freqs, true), "stuck"));
         }
+        let model = &self.models[req.model];
         Ok(json!({
             "curves": out,
+            "references": model.references,
             "unit": result.curves.unit(),
             "masses": exp.structure.dof(),
             "warnings": result.warnings,
@@ -385,6 +392,28 @@ fn curve_json(c: &curves::Curve, kind: &str) -> Value {
     })
 }
 
+/// The reference curves an experiment's `curve` checks compare with, as markers: the file,
+/// the case and curve it is compared with, its frequencies and compliance per mass.
+fn references(exp: &Experiment, store: &ReferenceStore) -> Vec<Value> {
+    exp.checks
+        .iter()
+        .filter_map(|c| {
+            let experiment::CheckKind::Curve { curve, columns, .. } = &c.kind else { return None };
+            let r = store.curve(&c.reference_file)?;
+            let freq = r.columns.get("freq_hz")?;
+            let masses: Vec<&Vec<f64>> = (1..).map_while(|m| r.columns.get(&format!("{columns}c{m}"))).collect();
+            (!masses.is_empty()).then(|| {
+                json!({
+                    "label": format!("{} (reference for {curve}, at the file's setup)", c.reference_file),
+                    "curve": curve.to_string(),
+                    "freq_hz": freq,
+                    "compliance": masses,
+                })
+            })
+        })
+        .collect()
+}
+
 /// The orbit branches of a continuation (the `branches` table: points in the order continued,
 /// through folds), one curve each, with each point's stability.
 fn branch_curves(t: &crate::table::Table) -> Vec<Value> {
@@ -475,6 +504,8 @@ fn setup(exp: &Experiment, models: &[Model]) -> Value {
         "cases": cases,
         "controls": controls,
         "laws": LAWS,
+        "damping_modes": KeyPath::parse("structure.damping.modal_ratios").map_or(0, |p| p.get(first_model).len()),
+        "mass_ratios": has("cases[*].dampers[*].mass_ratio"),
         "band": { "start": start, "stop": stop, "step": step },
         "start": if continuation { "continuation" } else { "rest" },
         "max_points": MAX_POINTS,

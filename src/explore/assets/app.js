@@ -49,8 +49,9 @@ function request() {
   }
   const law = $("law") ? $("law").value : "plastic";
   if (touched.has("law")) set.push(["cases[*].dampers[*].bed", law]);
+  // One container's or one mode's value after the shared ones (a later value wins).
   for (const [path, v] of touched) {
-    if (path.startsWith("cases[") && !path.includes("[*]")) set.push([path, v]);
+    if (path !== "law" && !s.controls.some((c) => c.path === path)) set.push([path, v]);
   }
   return {
     seq: 0,
@@ -149,14 +150,20 @@ function build(s) {
     select(values, "law", "bed model", s.laws.map((l) => [l, l]), "plastic").addEventListener("change", () => changed("law", $("law").value));
   }
   const each = $("container-controls");
+  const one = (id, label, path, value) => {
+    const input = number(each, id, label, value);
+    input.dataset.path = path;
+    input.addEventListener("change", () => changed(path, Number(input.value)));
+  };
   for (const c of s.cases) {
     c.dampers.forEach((d, j) => {
-      const path = `cases[${c.id}].dampers[${j}].clearance_mm`;
-      const v = d.clearance_mm === "inf" ? "" : d.clearance_mm;
-      const input = number(each, `each-${c.id}-${j}`, `${c.label}: container ${j + 1} on m${d.host}, clearance mm`, v);
-      input.dataset.path = path;
-      input.addEventListener("change", () => changed(path, Number(input.value)));
+      const at = `${c.label}: container ${j + 1} on m${d.host}`;
+      one(`each-${c.id}-${j}`, `${at}, clearance mm`, `cases[${c.id}].dampers[${j}].clearance_mm`, d.clearance_mm === "inf" ? "" : d.clearance_mm);
+      if (s.mass_ratios) one(`ratio-${c.id}-${j}`, `${at}, mass ratio`, `cases[${c.id}].dampers[${j}].mass_ratio`, "");
     });
+  }
+  for (let i = 0; i < s.damping_modes; i++) {
+    one(`zeta-${i}`, `modal damping ratio of mode ${i + 1}`, `structure.damping.modal_ratios[${i}]`, "");
   }
   const cases = s.cases.filter((c) => c.dampers.length > 0).map((c) => [c.id, c.label]);
   if (cases.length) select(setupDiv, "point-case", "motion shown on click", cases, cases[0][0]);
@@ -201,7 +208,8 @@ function grid(curves) {
 }
 
 function series(body, mass) {
-  const xs = grid(body.curves);
+  const refs = body.references || [];
+  const xs = grid([...body.curves, ...refs]);
   const index = new Map(xs.map((f, i) => [f, i]));
   const data = [xs];
   const specs = [{ label: "Hz" }];
@@ -241,6 +249,15 @@ function series(body, mass) {
       data.push(bad);
       specs.push({ label: `${c.label}: unsettled`, value: sci, stroke: col, paths: () => null, points: { show: true, size: 9, fill: "#fff", width: 2 } });
     }
+  }
+  for (const r of refs) {
+    if (!r.compliance[mass]) continue;
+    const ys = new Array(xs.length).fill(null);
+    r.freq_hz.forEach((f, i) => { ys[index.get(f)] = r.compliance[mass][i]; });
+    data.push(ys);
+    // Shown when the page draws the curve it belongs to (click the legend for the others).
+    const show = body.curves.some((c) => c.id === r.curve);
+    specs.push({ label: r.label, show, value: sci, stroke: "#000", paths: () => null, points: { show: true, size: 5, fill: "#000" } });
   }
   return { data, specs };
 }
