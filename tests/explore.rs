@@ -284,3 +284,30 @@ fn the_server_survives_a_thousand_malformed_and_oversized_requests() {
     println!("answers to 1000 bad requests: {codes:?}; resident memory {rss_before} kB before, {rss_after} kB after 200 more sweeps");
     assert!(rss_after < rss_before + 20_000, "{rss_before} -> {rss_after} kB");
 }
+
+#[test]
+fn a_newer_sweep_stops_the_one_in_flight() {
+    let s = std::sync::Arc::new(Served::start("experiments/fig05_third_mode.toml"));
+    // 2,001 frequencies from rest on both cases: seconds of work.
+    let long = json!({ "seq": 10, "set": [], "band": { "start": 40.0, "stop": 60.0, "step": 0.01 }, "start": "rest" });
+    let first = {
+        let s = std::sync::Arc::clone(&s);
+        std::thread::spawn(move || {
+            let t0 = std::time::Instant::now();
+            let (code, body) = s.call("POST", "/api/sweep", &long.to_string());
+            (code, body, t0.elapsed())
+        })
+    };
+    std::thread::sleep(Duration::from_millis(300));
+    let short = json!({ "seq": 11, "set": [], "band": { "start": 47.0, "stop": 48.0, "step": 0.5 }, "start": "rest" });
+    let (code, body) = s.call("POST", "/api/sweep", &short.to_string());
+    assert_eq!(code, 200, "{body}");
+    let (code, body, took) = first.join().unwrap();
+    assert_eq!(code, 409, "{body}");
+    assert!(body.contains("superseded"), "{body}");
+    // An older request arriving late is refused at once.
+    let late = json!({ "seq": 9, "set": [], "band": { "start": 47.0, "stop": 48.0, "step": 0.5 }, "start": "rest" });
+    let (code, _) = s.call("POST", "/api/sweep", &late.to_string());
+    assert_eq!(code, 409);
+    println!("the long sweep stopped after {took:?}");
+}
