@@ -26,10 +26,16 @@ impl Served {
     /// Starts `shotdamp explore FILE --port 0` in the repository and reads the address it
     /// prints.
     pub fn start(file: &str) -> Served {
-        let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+        Served::start_with(&PathBuf::from(env!("CARGO_MANIFEST_DIR")), &[file])
+    }
+
+    /// `shotdamp ARGS explore --port 0` (ARGS: global options and the file) in `dir`.
+    pub fn start_with(dir: &Path, args: &[&str]) -> Served {
         let mut child = Command::new(env!("CARGO_BIN_EXE_shotdamp"))
-            .current_dir(&repo)
-            .args(["explore", file, "--port", "0"])
+            .current_dir(dir)
+            .arg("explore")
+            .args(args)
+            .args(["--port", "0"])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -310,4 +316,45 @@ fn a_newer_sweep_stops_the_one_in_flight() {
     let (code, _) = s.call("POST", "/api/sweep", &late.to_string());
     assert_eq!(code, 409);
     println!("the long sweep stopped after {took:?}");
+}
+
+#[test]
+fn the_file_s_reference_curves_are_markers() {
+    let dir = tempfile::tempdir().unwrap();
+    let exps = crate::common::experiments(dir.path(), &["fig04b_no_damper.toml"]);
+    let refs = dir.path().join("reference");
+    std::fs::create_dir_all(refs.join("independent-solver")).unwrap();
+    std::fs::create_dir_all(refs.join("digitised")).unwrap();
+    let repo = crate::common::repo();
+    std::fs::copy(repo.join("reference/paper-text.toml"), refs.join("paper-text.toml")).unwrap();
+    std::fs::copy(repo.join("reference/independent-solver/P_bare.csv"), refs.join("independent-solver/P_bare.csv"))
+        .unwrap();
+    std::fs::write(
+        refs.join("digitised/fig4b.toml"),
+        "[meta]\nprovenance = \"digitised figure\"\nfigure = \"Fig. 4(b)\"\nsource = \"a test\"\ndigitised_by = \"test\"\ntool = \"hand\"\nimported_from = \"none\"\nx_unit = \"Hz\"\ny_unit = \"m/N\"\nx_log = false\ny_log = true\nx_pixel = 0.05\ny_pixel = 0.01\n\n[[curve]]\nname = \"m1\"\ncase = \"bare\"\nmass = 1\nx = [10.0, 13.0, 20.0]\ny = [1e-4, 1e-3, 2e-5]\n",
+    )
+    .unwrap();
+    let file = exps.join("fig04b_no_damper.toml");
+    let text = std::fs::read_to_string(&file).unwrap()
+        + "\n[[checks]]\nkind = \"tube\"\nmodels = [\"stated\"]\nreference = \"digitised/fig4b.toml\"\ncurve = \"m1\"\nx_tol_px = 2\ny_tol_px = 2\n";
+    std::fs::write(&file, text).unwrap();
+    let (file, refs) = (file.to_string_lossy().into_owned(), refs.to_string_lossy().into_owned());
+    let s = Served::start_with(dir.path(), &["--reference", &refs, &file]);
+    let req = json!({ "model": 0, "set": [], "band": { "start": 5.0, "stop": 25.0, "step": 0.5 }, "start": "rest" });
+    let (code, body) = s.call("POST", "/api/sweep", &req.to_string());
+    assert_eq!(code, 200, "{body}");
+    let answer: Value = serde_json::from_str(&body).unwrap();
+    let refs = answer["references"].as_array().unwrap();
+    let digitised = refs
+        .iter()
+        .find(|r| r["label"].as_str().is_some_and(|l| l.contains("digitised")))
+        .expect("the digitised curve");
+    assert_eq!(digitised["freq_hz"], json!([10.0, 13.0, 20.0]));
+    assert_eq!(digitised["compliance"][0], json!([1e-4, 1e-3, 2e-5]));
+    assert!(digitised["compliance"][1].as_array().unwrap().iter().all(Value::is_null), "only its mass");
+    let solver = refs
+        .iter()
+        .find(|r| r["label"].as_str().is_some_and(|l| l.contains("P_bare.csv")))
+        .expect("the solver's curve");
+    assert_eq!(solver["compliance"].as_array().map(Vec::len), Some(3));
 }

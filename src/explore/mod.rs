@@ -392,26 +392,43 @@ fn curve_json(c: &curves::Curve, kind: &str) -> Value {
     })
 }
 
-/// The reference curves an experiment's `curve` checks compare with, as markers: the file,
-/// the case and curve it is compared with, its frequencies and compliance per mass.
+/// The reference curves an experiment's checks compare with, as markers: an independent
+/// solver's curve (`curve` checks: every mass) and digitised curves (`tube` and `peak` checks:
+/// their mass), with the computed curve each belongs to.
 fn references(exp: &Experiment, store: &ReferenceStore) -> Vec<Value> {
-    exp.checks
-        .iter()
-        .filter_map(|c| {
-            let experiment::CheckKind::Curve { curve, columns, .. } = &c.kind else { return None };
-            let r = store.curve(&c.reference_file)?;
-            let freq = r.columns.get("freq_hz")?;
-            let masses: Vec<&Vec<f64>> = (1..).map_while(|m| r.columns.get(&format!("{columns}c{m}"))).collect();
-            (!masses.is_empty()).then(|| {
-                json!({
-                    "label": format!("{} (reference for {curve}, at the file's setup)", c.reference_file),
-                    "curve": curve.to_string(),
-                    "freq_hz": freq,
-                    "compliance": masses,
-                })
-            })
-        })
-        .collect()
+    use experiment::CheckKind;
+    let n = exp.structure.dof();
+    let mut out: Vec<Value> = Vec::new();
+    for c in &exp.checks {
+        let file = &c.reference_file;
+        match &c.kind {
+            CheckKind::Curve { curve, columns, .. } => {
+                let Some(r) = store.curve(file) else { continue };
+                let Some(freq) = r.columns.get("freq_hz") else { continue };
+                let masses: Vec<&Vec<f64>> = (1..).map_while(|m| r.columns.get(&format!("{columns}c{m}"))).collect();
+                if !masses.is_empty() {
+                    out.push(json!({
+                        "label": format!("{file} (reference for {curve}, at the file's setup)"),
+                        "curve": curve.to_string(),
+                        "freq_hz": freq,
+                        "compliance": masses,
+                    }));
+                }
+            }
+            CheckKind::Tube { case, mass, curve, .. } | CheckKind::Peak { case, mass, curve, .. } => {
+                let Some(d) = store.digitised(file).and_then(|f| f.get(curve)) else { continue };
+                let label = format!("{file}: \"{curve}\" (digitised, m{}, at the file's setup)", mass + 1);
+                if out.iter().any(|r| r["label"] == label.as_str()) {
+                    continue;
+                }
+                let compliance: Vec<Value> =
+                    (0..n).map(|m| if m == *mass { json!(d.y) } else { json!(vec![Value::Null; d.y.len()]) }).collect();
+                out.push(json!({ "label": label, "curve": case, "freq_hz": d.x, "compliance": compliance }));
+            }
+            _ => {}
+        }
+    }
+    out
 }
 
 /// The orbit branches of a continuation (the `branches` table: points in the order continued,

@@ -251,7 +251,7 @@ function series(body, mass) {
     }
   }
   for (const r of refs) {
-    if (!r.compliance[mass]) continue;
+    if (!r.compliance[mass] || r.compliance[mass].every((v) => v === null)) continue;
     const ys = new Array(xs.length).fill(null);
     r.freq_hz.forEach((f, i) => { ys[index.get(f)] = r.compliance[mass][i]; });
     data.push(ys);
