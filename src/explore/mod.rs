@@ -179,8 +179,8 @@ impl Session {
     /// computes the curves the page shows.
     pub fn export(&self, req: &Request) -> Result<String> {
         let mut table = self.table(req)?;
-        experiment::from_table(&self.path, table.clone(), &self.files)?.resolve(&self.exports)?;
-        resolve_exports(&mut table, &self.experiment(req)?);
+        let exp = experiment::from_table(&self.path, table.clone(), &self.files)?.resolve(&self.exports)?;
+        resolve_exports(&mut table, &exp);
         absolute_files(&mut table, &self.path);
         let text = toml::to_string(&table).map_err(|e| bad("(export)", "", e.to_string()))?;
         Ok(format!(
