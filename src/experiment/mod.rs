@@ -652,11 +652,7 @@ pub fn from_table(path: &Path, table: toml::Table, files: &Files) -> Result<Expe
 pub fn load_with(path: &Path, files: &Files) -> Result<Vec<Experiment>> {
     let mut exps = load::read_models(path)?
         .into_iter()
-        .map(|(model_file, table)| {
-            load::read_raw(path, table)
-                .and_then(|raw| validate(path, raw, files))
-                .map_err(|e| on_model(e, model_file.as_deref()))
-        })
+        .map(|(model_file, table)| from_table(path, table, files).map_err(|e| on_model(e, model_file.as_deref())))
         .collect::<Result<Vec<_>>>()?;
     let models: Vec<ModelInfo> = exps.iter().filter_map(|e| e.model.clone()).collect();
     for e in &mut exps {

@@ -20,7 +20,7 @@ use serde::Deserialize;
 use crate::error::{read_to_string, Error, Result};
 use crate::reference::files::Files;
 
-use super::{load as loader, validate, CheckKind, Experiment};
+use super::{load as loader, CheckKind, Experiment};
 pub use design::{Design, Domain, Refine};
 pub use overrides::KeyPath;
 
@@ -657,8 +657,7 @@ impl Study {
                     .map_err(|m| on(format!("vary[{i}].key (\"{}\")", v.key.as_str()), x, m))?;
             }
         }
-        let raw = loader::read_raw(file, table).map_err(|e| self.at_sample(e, sample))?;
-        let mut exp = validate(file, raw, &self.files).map_err(|e| self.at_sample(e, sample))?;
+        let mut exp = super::from_table(file, table, &self.files).map_err(|e| self.at_sample(e, sample))?;
         exp.models = self.base.iter().filter_map(|e| e.model.clone()).collect();
         Ok(exp)
     }
