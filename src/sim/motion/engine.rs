@@ -573,20 +573,25 @@ impl<'a> Engine<'a> {
             units.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(locked, |acc, (_, u)| acc | u.1)
         };
         let sigma = |j: usize| if side[j] == Some(true) { -1.0 } else { 1.0 };
-        let at = d.at_state(s.t, &s.x, &s.v);
         let big = d.dof > ROUNDED_CONTACTS_ABOVE;
+        // Up to ROUNDED_CONTACTS_ABOVE every mass's accelerations and jerks in each subset
+        // (the paper's structures' numbers, bit for bit); above it the hosts' own derivatives
+        // from their rows ([`Dynamics::host_derivs`]).
+        let at = (!big).then(|| d.at_state(s.t, &s.x, &s.v));
+        let host = |mask: usize, j: usize| d.host_derivs(mask, j, s.t, &s.x, &s.v);
         decided.t = f64::NAN;
         // Above ROUNDED_CONTACTS_ABOVE: the derivative that decides each unit.
         let mut order_buf = [0u8; MAX_GRAINS];
         let orders = &mut order_buf[..m];
         if big {
-            let (a, jerk) = d.accelerations_in(mask_of((1 << m) - 1), &at);
+            let all = mask_of((1 << m) - 1);
             for (o, &(j, _)) in orders.iter_mut().zip(units) {
                 let p = sys.dampers[j].host;
                 let [tol, rate_tol, _] = zero(p, j);
-                *o = if (sigma(j) * (a[p] + sys.dampers[j].gravity())).abs() > tol {
+                let [a, jerk, _] = host(all, j);
+                *o = if (sigma(j) * (a + sys.dampers[j].gravity())).abs() > tol {
                     0
-                } else if (sigma(j) * jerk[p]).abs() > rate_tol {
+                } else if (sigma(j) * jerk).abs() > rate_tol {
                     1
                 } else {
                     2
@@ -596,25 +601,31 @@ impl<'a> Engine<'a> {
         let orders = &*orders;
         for bits in subsets_largest_first(m) {
             let mask = mask_of(bits);
-            let (a, jerk) = d.accelerations_in(mask, &at);
-            let snap = (big && orders.contains(&2)).then(|| d.snaps_in(mask, &at, &a, &jerk));
+            let small = at.as_ref().map(|at| d.accelerations_in(mask, at));
             let ok = units.iter().enumerate().all(|(i, &(j, _))| {
                 let p = sys.dampers[j].host;
-                let n = sigma(j) * (a[p] + sys.dampers[j].gravity());
-                let dn = sigma(j) * jerk[p];
-                let sign = if big {
-                    match (orders[i], &snap) {
-                        (0, _) => n.signum(),
-                        (1, _) => dn.signum(),
-                        (_, Some(snap)) if (sigma(j) * snap[p]).abs() > zero(p, j)[2] => (sigma(j) * snap[p]).signum(),
-                        _ => 0.0,
+                let sign = match &small {
+                    Some((a, jerk)) => {
+                        let n = sigma(j) * (a[p] + sys.dampers[j].gravity());
+                        let dn = sigma(j) * jerk[p];
+                        if n.abs() > ACCEL_TOL {
+                            n.signum()
+                        } else if dn.abs() > ACCEL_TOL * d.omega {
+                            dn.signum()
+                        } else {
+                            0.0
+                        }
                     }
-                } else if n.abs() > ACCEL_TOL {
-                    n.signum()
-                } else if dn.abs() > ACCEL_TOL * d.omega {
-                    dn.signum()
-                } else {
-                    0.0
+                    None => {
+                        let [a, jerk, snap] = host(mask, j);
+                        let n = sigma(j) * (a + sys.dampers[j].gravity());
+                        match orders[i] {
+                            0 => n.signum(),
+                            1 => (sigma(j) * jerk).signum(),
+                            _ if (sigma(j) * snap).abs() > zero(p, j)[2] => (sigma(j) * snap).signum(),
+                            _ => 0.0,
+                        }
+                    }
                 };
                 if bits & (1 << i) != 0 {
                     sign >= 0.0

@@ -1,12 +1,13 @@
 //! The motion between and at events: the structure and its beds (`system`, `bed`, `state`),
 //! the closed form of each configuration (`eigen`, `schur`, `forced`, `segment`), the certified
-//! event search (`roots`, `coarse`, `single`), contact resolution (`column`, `soft`), and the
+//! event search (`roots`, `coarse`, `single`), accelerations at a state (`contact`), contact resolution (`column`, `soft`), and the
 //! engine that runs them (`engine`, `observe`, `impulse`). Imports nothing else of `sim`.
 
 pub mod bed;
 pub mod buf;
 pub mod coarse;
 pub mod column;
+pub mod contact;
 pub mod eigen;
 pub mod engine;
 pub mod forced;

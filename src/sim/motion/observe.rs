@@ -27,6 +27,9 @@ pub struct Extrema {
     times: Vec<f64>,
     points: Vec<Point>,
     at: Vec<f64>,
+    /// Every mass's velocity at every sample (`k * n + i`), and a point's displacements.
+    all: Vec<f64>,
+    one: Vec<f64>,
 }
 
 impl Extrema {
@@ -41,6 +44,8 @@ impl Extrema {
             max_flight: vec![0.0; beds],
             times: Vec::new(),
             points: Vec::new(),
+            all: Vec::new(),
+            one: Vec::new(),
             at: Vec::new(),
         }
     }
@@ -151,16 +156,57 @@ impl Observer for Extrema {
             None => seg.deriv(d, pt, i, order),
             Some(_) => seg.deriv(d, pt, i, order) - d.support_motion(i, order, pt.sin, pt.cos),
         };
+        // The samples' displacements (ends) and velocities of all masses at once: the numbers
+        // `Segment::deriv` gives one by one ([`Segment::all_into`]), less the supports' motion.
+        let (mut all, mut one) = (std::mem::take(&mut self.all), std::mem::take(&mut self.one));
+        all.resize((m + 1) * n, 0.0);
+        one.resize(n, 0.0);
+        let less_supports = |pt: &Point, order: usize, out: &mut [f64]| {
+            if d.system.base.is_some() {
+                out.iter_mut().enumerate().for_each(|(i, o)| *o -= d.support_motion(i, order, pt.sin, pt.cos));
+            }
+        };
+        for (pt, out) in points.iter().zip(all.chunks_exact_mut(n)) {
+            seg.all_into(d, pt, 1, out);
+            less_supports(pt, 1, out);
+        }
+        for k in [0, m] {
+            seg.all_into(d, &points[k], 0, &mut one);
+            less_supports(&points[k], 0, &mut one);
+            one.iter().enumerate().for_each(|(i, &x)| self.take(i, x));
+        }
+        // A window whose velocity changes sign is refined only when its extremum could pass
+        // the lowest or highest displacement so far: from its start `t_k` the displacement
+        // stays within `x_k + max(v_k, 0) dt + A dt^2 / 2` and `x_k + min(v_k, 0) dt - A dt^2
+        // / 2`, `A` a bound on the acceleration from `t_k` on ([`Segment::bound`], with the
+        // supports' when they move), less a margin far above the sums' rounding: the
+        // extremes found are those every window's refinement would give, to the bit.
+        let supports = |i: usize| {
+            let s = |sin: f64, cos: f64| d.support_motion(i, 2, sin, cos);
+            s(1.0, 0.0).hypot(s(0.0, 1.0))
+        };
         for i in 0..n {
-            self.take(i, shown(&points[0], i, 0));
-            self.take(i, shown(&points[m], i, 0));
             let v = |t: f64| {
                 let pt = seg.point(d, t);
                 (shown(&pt, i, 1), shown(&pt, i, 2), shown(&pt, i, 0))
             };
-            at.iter_mut().zip(&points).for_each(|(a, pt)| *a = shown(pt, i, 1));
-            each_root(&v, &times, &at, |k| shown(&points[k], i, 0), |_| true, |x| self.take(i, x));
+            at.iter_mut().enumerate().for_each(|(k, a)| *a = all[k * n + i]);
+            let (lo, hi) = (std::cell::Cell::new(self.min[i]), std::cell::Cell::new(self.max[i]));
+            let wanted = |k: usize| {
+                let (pt, vk, dt) = (&points[k], at[k], times[k + 1] - times[k]);
+                let (x, a) = (shown(pt, i, 0), seg.bound(d, pt, i, 2) + supports(i));
+                let margin = 1e-9 * (lo.get().abs() + hi.get().abs()) + 1e-12 * seg.bound(d, pt, i, 0);
+                x + vk.max(0.0) * dt + 0.5 * a * dt * dt + margin >= hi.get()
+                    || x + vk.min(0.0) * dt - 0.5 * a * dt * dt - margin <= lo.get()
+            };
+            let found = |x: f64| {
+                lo.set(lo.get().min(x));
+                hi.set(hi.get().max(x));
+            };
+            each_root(&v, &times, &at, |k| shown(&points[k], i, 0), wanted, found);
+            (self.min[i], self.max[i]) = (lo.get(), hi.get());
         }
+        (self.all, self.one) = (all, one);
         // Highest flight: the apex of y - x_p, at a root of the relative velocity. A window
         // whose gap cannot exceed the highest one so far is not refined: from its start
         // `t_k` the gap is at most `gap_k + max(rel_v, 0) dt + max(rel_a, 0) dt^2 / 2 + J

@@ -85,8 +85,16 @@ impl Segment {
         // Built in place and filled (moving filled buffers into it would copy them).
         let mut seg =
             Segment { t0, mask, slot, len, c: Terms::zeros(len), c_abs: Terms::zeros(len), sin_cos0: (sn, cs) };
-        for (r, (c, c_abs)) in seg.c.iter_mut().zip(seg.c_abs.iter_mut()).enumerate() {
-            *c = (0..2 * n).map(|j| cfg.modes.inverse[(r, j)] * z[j]).sum();
+        // `c = V^-1 z` column by column (contiguous), each coefficient summed over the start
+        // coordinates in order from zero, as `Sum` adds.
+        let (inverse, stride) = (cfg.modes.inverse.as_slice(), cfg.modes.inverse.nrows());
+        for (j, zj) in z.iter().enumerate() {
+            let column = &inverse[j * stride..j * stride + len];
+            for (c, w) in seg.c.iter_mut().zip(column) {
+                *c += w * zj;
+            }
+        }
+        for (c, c_abs) in seg.c.iter().zip(seg.c_abs.iter_mut()) {
             // Only bounds use the modulus: the square root of the sum of squares (no `hypot`:
             // the coefficients are far from overflow).
             *c_abs = (c.re * c.re + c.im * c.im).sqrt();
@@ -173,6 +181,14 @@ impl Segment {
         let cfg = &d.configs[self.slot];
         let row = &cfg.modes.vl[p][order];
         let hom: f64 = row[..self.len].iter().zip(&pt.e[..]).map(|(a, e)| a.re * e.re - a.im * e.im).sum();
+        self.with_forced(d, pt, p, order, hom)
+    }
+
+    /// The homogeneous terms' sum `hom` of derivative `order` of mass `p` plus the forced
+    /// response's and (displacements) the static offset.
+    #[inline(always)]
+    fn with_forced(&self, d: &Dynamics, pt: &Point, p: usize, order: usize, hom: f64) -> f64 {
+        let cfg = &d.configs[self.slot];
         let f = &d.forced(self.slot)[p];
         let (pp, qq) = (f.p, f.q);
         let w = d.omega_pow[order];
@@ -280,11 +296,29 @@ impl Segment {
         (DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 0)), DVector::from_fn(n, |i, _| self.deriv(d, pt, i, 1)))
     }
 
-    /// The same as [`Segment::state`], written into `x` and `v` (of the right length).
+    /// The same as [`Segment::state`], written into `x` and `v` (of the right length): the
+    /// same sums, term by term for all masses at once.
     pub fn state_into(&self, d: &Dynamics, pt: &Point, x: &mut DVector<f64>, v: &mut DVector<f64>) {
-        for i in 0..x.len() {
-            x[i] = self.deriv(d, pt, i, 0);
-            v[i] = self.deriv(d, pt, i, 1);
+        self.all_into(d, pt, 0, x.as_mut_slice());
+        self.all_into(d, pt, 1, v.as_mut_slice());
+    }
+
+    /// [`Segment::deriv`] of order 0 or 1 of every mass, into `out` (one per mass): the
+    /// terms summed for all masses at once (contiguous rows, [`super::system::Modes::by_term`]),
+    /// each mass's sum in [`Segment::deriv`]'s order, so the same numbers.
+    pub fn all_into(&self, d: &Dynamics, pt: &Point, order: usize, out: &mut [f64]) {
+        let n = out.len();
+        let cfg = &d.configs[self.slot];
+        let [re, im] = &cfg.modes.by_term[order];
+        out.fill(-0.0);
+        for (r, e) in pt.e[..self.len].iter().enumerate() {
+            let (rows_re, rows_im) = (&re[r * n..r * n + n], &im[r * n..r * n + n]);
+            for ((o, a_re), a_im) in out.iter_mut().zip(rows_re).zip(rows_im) {
+                *o += a_re * e.re - a_im * e.im;
+            }
+        }
+        for (p, o) in out.iter_mut().enumerate() {
+            *o = self.with_forced(d, pt, p, order, *o);
         }
     }
 }

@@ -8,7 +8,7 @@ use num_complex::Complex64;
 
 use crate::model::{BaseMotion, Damper, Structure};
 
-use super::buf::{PerMass, Terms};
+use super::buf::Terms;
 use super::eigen;
 use super::forced::{forced_into, Drive, Forced};
 
@@ -279,6 +279,11 @@ pub struct Modes {
     pub vl: Vec<[Vec<Complex64>; ORDERS]>,
     /// `|vl|`, for derivative bounds.
     pub vl_abs: Vec<[Vec<f64>; ORDERS]>,
+    /// The displacement and velocity rows of `vl` by term: `by_term[order][part][r * n + p]`
+    /// is the real (`part` 0) or imaginary (1) part of `vl[p][order][r]`, so that a point's
+    /// every displacement or velocity is summed term by term for all masses at once
+    /// ([`super::segment::Segment::state_into`]), each in the order [`super::segment::Segment::deriv`] sums.
+    pub by_term: [[Vec<f64>; 2]; 2],
     /// The rows of `V^-1` of the representatives.
     pub inverse: DMatrix<Complex64>,
     /// Static offset under the attached beds' weights.
@@ -294,6 +299,9 @@ pub struct Modes {
     /// `max |V| max |V^-1|` of the eigenvectors: how much rounding a round trip from a state
     /// to the terms' coefficients and back may grow by.
     pub condition: f64,
+    /// Above [`LARGE_ABOVE`] degrees of freedom, each bed's host's rows of the state matrix's
+    /// powers (contact decisions, [`super::contact`]); empty up to it.
+    pub host_rows: Vec<super::contact::HostRow>,
 }
 
 /// Closed-form dynamics of one configuration (its forced part at the dynamics' frequency is
@@ -380,24 +388,6 @@ impl Levels {
     }
 }
 
-/// The parts of the accelerations at one state that do not depend on the configuration
-/// ([`Dynamics::at_state`]).
-#[derive(Debug, Clone)]
-pub struct AtState {
-    f: f64,
-    fdot: f64,
-    sin: f64,
-    cos: f64,
-    cv: PerMass,
-    kx: PerMass,
-    kv: PerMass,
-}
-
-/// Row `i` of `m` times `z`, accumulated column by column; `sign` -1 negates `m`.
-fn row(m: &DMatrix<f64>, i: usize, z: &[f64], sign: f64) -> f64 {
-    (1..m.ncols()).fold(sign * m[(i, 0)] * z[0], |acc, j| sign * m[(i, j)] * z[j] + acc)
-}
-
 /// All configurations of a system at one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct Dynamics {
@@ -415,7 +405,7 @@ pub struct Dynamics {
     forced: Vec<Forced>,
     /// Moving supports: the load's phasor on every coordinate (`f(t) = Im(F e^{i omega t})`,
     /// [`BaseMotion::load_phasor`]); empty under a force.
-    load: Vec<Complex64>,
+    pub(super) load: Vec<Complex64>,
     /// Moving supports: the amplitude `X_g` of their displacement `X_g sin(omega t)`, m (0
     /// under a force).
     pub support: f64,
@@ -461,8 +451,12 @@ impl Dynamics {
         };
         if let Some(drive) = drive {
             for (cfg, out) in configs.iter().zip(forced.chunks_exact_mut(n.max(1))) {
-                forced_into(&self.k, &self.c, &cfg.modes.mass, omega, drive, out)
-                    .ok_or(SetupError::Singular { mask: cfg.mask })?;
+                // Large structures from the decomposition (O(n^2)); the paper's by elimination.
+                let done = match n > LARGE_ABOVE {
+                    true => super::forced::forced_modal((&self.k, &self.c), &cfg.modes, omega, drive, out),
+                    false => forced_into(&self.k, &self.c, &cfg.modes.mass, omega, drive, out),
+                };
+                done.ok_or(SetupError::Singular { mask: cfg.mask })?;
             }
         }
         let support = self.system.base.as_ref().map_or(0.0, |b| b.displacement(omega));
@@ -556,8 +550,24 @@ impl Dynamics {
             // is added by `at_omega`.
             let offset = &k_inv * system.weight_load(mask);
             let max_rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+            let host_rows = match n > LARGE_ABOVE {
+                true => super::contact::host_rows(&a, &m_inv, system.dampers.iter().map(|d| d.host)),
+                false => Vec::new(),
+            };
+            let by_term = std::array::from_fn(|order| {
+                std::array::from_fn(|part| {
+                    let mut out = vec![0.0; reps.len() * n];
+                    for (p, rows) in vl.iter().enumerate() {
+                        for (r, z) in rows[order].iter().enumerate() {
+                            out[r * n + p] = if part == 0 { z.re } else { z.im };
+                        }
+                    }
+                    out
+                })
+            });
             let modes = Modes {
                 lambda,
+                by_term,
                 vl,
                 vl_abs,
                 inverse,
@@ -567,6 +577,7 @@ impl Dynamics {
                 max_rate,
                 residual: eig.residual,
                 condition,
+                host_rows,
             };
             configs.push(Config { mask, modes: Arc::new(modes) });
         }
@@ -714,87 +725,5 @@ impl Dynamics {
             _ => -cos,
         };
         b.follow[i] * self.support * self.omega_pow[order] * phase
-    }
-
-    /// Accelerations and jerks of all masses in configuration `mask` at state `(x, v)`, time
-    /// `t` (the first `n` entries): `a = M^-1 (w - C v - K x + f)`, `j = M^-1 (-C a - K v + f')`,
-    /// each product summed over the columns in order, without allocating.
-    pub fn accelerations(&self, mask: usize, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> (PerMass, PerMass) {
-        self.accelerations_in(mask, &self.at_state(t, x, v))
-    }
-
-    /// What [`Dynamics::accelerations`] shares between configurations at one state: the force
-    /// and its rate, `C v`, `K x` and `K v`.
-    pub fn at_state(&self, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> AtState {
-        let n = self.system.dof();
-        let (sin, cos) = (self.omega * t).sin_cos();
-        let (f, fdot) = (self.system.force * sin, self.system.force * self.omega * cos);
-        let (mut cv, mut kx, mut kv) = (PerMass::zeros(n), PerMass::zeros(n), PerMass::zeros(n));
-        for (i, ((cv, kx), kv)) in cv.iter_mut().zip(kx.iter_mut()).zip(kv.iter_mut()).enumerate() {
-            *cv = row(&self.c, i, v.as_slice(), 1.0);
-            *kx = row(&self.k, i, x.as_slice(), 1.0);
-            *kv = row(&self.k, i, v.as_slice(), 1.0);
-        }
-        AtState { f, fdot, sin, cos, cv, kx, kv }
-    }
-
-    /// [`Dynamics::accelerations`] in configuration `mask` at a state prepared by
-    /// [`Dynamics::at_state`] (the same numbers: the same sums in the same order).
-    pub fn accelerations_in(&self, mask: usize, st: &AtState) -> (PerMass, PerMass) {
-        let n = self.system.dof();
-        let cfg = self.config(mask);
-        let mut rhs_buf = PerMass::zeros(n);
-        let rhs = &mut rhs_buf[..];
-        for (j, d) in self.system.dampers.iter().enumerate() {
-            if mask & (1 << j) != 0 {
-                rhs[d.host] -= d.mass * d.gravity();
-            }
-        }
-        for (r, (cv, kx)) in rhs.iter_mut().zip(st.cv.iter().zip(&st.kx[..])) {
-            *r = *r - cv - kx;
-        }
-        rhs[self.system.driven] += st.f;
-        for (i, r) in rhs.iter_mut().enumerate().take(self.load.len()) {
-            *r += self.load_at(i, st.sin, st.cos).0;
-        }
-        let mut a = PerMass::zeros(n);
-        for (i, ai) in a.iter_mut().enumerate() {
-            *ai = row(&cfg.modes.mass_inv, i, rhs, 1.0);
-        }
-        // `rhs` is spent: it holds the right-hand side of the jerks.
-        let rhs_dot = rhs;
-        for (i, (r, kv)) in rhs_dot.iter_mut().zip(&st.kv[..]).enumerate() {
-            *r = row(&self.c, i, &a, -1.0) - kv;
-        }
-        rhs_dot[self.system.driven] += st.fdot;
-        for (i, r) in rhs_dot.iter_mut().enumerate().take(self.load.len()) {
-            *r += self.load_at(i, st.sin, st.cos).1;
-        }
-        let mut jerk = PerMass::zeros(n);
-        for (i, ji) in jerk.iter_mut().enumerate() {
-            *ji = row(&cfg.modes.mass_inv, i, rhs_dot, 1.0);
-        }
-        (a, jerk)
-    }
-
-    /// The fourth derivatives of the displacements in configuration `mask`, given the state's
-    /// accelerations `a` and jerks `jerk` there ([`Dynamics::accelerations_in`]):
-    /// `M^-1 (-C jerk - K a + f'')`, `f'' = -omega^2 f` (gravity is constant).
-    pub fn snaps_in(&self, mask: usize, st: &AtState, a: &[f64], jerk: &[f64]) -> PerMass {
-        let n = self.system.dof();
-        let cfg = self.config(mask);
-        let mut rhs = PerMass::zeros(n);
-        for (i, r) in rhs.iter_mut().enumerate() {
-            *r = row(&self.c, i, jerk, -1.0) - row(&self.k, i, a, 1.0);
-        }
-        rhs[self.system.driven] -= self.omega * self.omega * st.f;
-        for (i, r) in rhs.iter_mut().enumerate().take(self.load.len()) {
-            *r -= self.omega * self.omega * self.load_at(i, st.sin, st.cos).0;
-        }
-        let mut snap = PerMass::zeros(n);
-        for (i, s) in snap.iter_mut().enumerate() {
-            *s = row(&cfg.modes.mass_inv, i, &rhs, 1.0);
-        }
-        snap
     }
 }
