@@ -156,6 +156,12 @@ pub trait Section {
         Ok((g, r))
     }
 
+    /// The multipliers of a fixed point whose return `ret` ran without an event, when the
+    /// section knows them in closed form; `None`: from the Jacobian's eigenvalues.
+    fn closed_multipliers(&self, _d: &Dynamics, _ret: &Return) -> Option<Vec<Complex64>> {
+        None
+    }
+
     /// The Jacobian of `P` at `u` (`base` is `P(u)`): exact when the map provides it,
     /// otherwise by central differences.
     fn jacobian(&self, d: &Dynamics, u: &DVector<f64>, base: &Return) -> Result<(DMatrix<f64>, bool), OrbitError> {
@@ -502,7 +508,10 @@ pub fn finish<S: Section + ?Sized>(
     jacobian: DMatrix<f64>,
     smooth: bool,
 ) -> Result<Orbit, OrbitError> {
-    let multipliers = multipliers(&jacobian)?;
+    let multipliers = match problem.closed_multipliers(d, &ret) {
+        Some(m) => m,
+        None => multipliers(&jacobian)?,
+    };
     let stable = multipliers.iter().all(|z| z.norm() < 1.0);
     Ok(Orbit {
         state: problem.state(d, &u),

@@ -16,12 +16,13 @@
 use std::f64::consts::PI;
 
 use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
 
 use super::periodic::{OrbitError, Return, Section};
 use super::tangent::{Tangent, GRAZE};
 use crate::sim::motion::engine::{Bed, Engine, Event, Observer, Quiet, State};
 use crate::sim::motion::observe::{Both, EventLog, Extrema};
-use crate::sim::motion::system::Dynamics;
+use crate::sim::motion::system::{Dynamics, LARGE_ABOVE};
 
 /// Where a bed is on the section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -246,6 +247,31 @@ impl Section for Strobe {
         DVector::zeros(dim)
     }
 
+    /// Above [`LARGE_ABOVE`] degrees of freedom, an orbit on which every bed rides its host
+    /// without an event is the forced response of one configuration: its map's Jacobian is
+    /// that configuration's transition over the orbit, `V e^(Lambda T) V^-1` scaled, so its
+    /// multipliers are `e^(lambda T)` for every eigenvalue `lambda` of that configuration
+    /// (each representative and, for a pair, its conjugate), `T` the orbit's duration. No
+    /// eigenvalue problem of the Jacobian (a third of a followed point's time on a 32-mass
+    /// chain); the paper's structures keep theirs, bit for bit.
+    fn closed_multipliers(&self, d: &Dynamics, ret: &Return) -> Option<Vec<Complex64>> {
+        let riding = self.beds.iter().all(|r| *r != Rest::Free);
+        if d.system.dof() <= LARGE_ABOVE || !ret.events.is_empty() || !riding || !d.system.columns.is_empty() {
+            return None;
+        }
+        let mask = (0..self.beds.len()).fold(0, |m, j| m | (1 << j));
+        let duration = self.periods as f64 * 2.0 * PI / d.omega;
+        let mut out: Vec<Complex64> = Vec::with_capacity(2 * d.system.dof());
+        for l in &d.config(mask).modes.lambda {
+            out.push((l * duration).exp());
+            if l.im != 0.0 {
+                out.push((l.conj() * duration).exp());
+            }
+        }
+        out.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
+        Some(out)
+    }
+
     fn state(&self, d: &Dynamics, u: &DVector<f64>) -> State {
         let n = d.system.dof();
         let (l, w) = (self.length, self.rate(d));
@@ -281,5 +307,41 @@ impl Section for Strobe {
         let t_end = self.end_time(d, s.t);
         Engine::new(d).advance(&mut s, t_end, &mut crate::sim::motion::engine::Quiet)?;
         self.coordinates(d, &s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Clearance, Damper, Damping, Structure};
+    use crate::sim::motion::system::System;
+    use crate::sim::orbits::periodic::multipliers;
+
+    /// On a 12-mass chain whose three beds ride through the orbit (a weak force), the
+    /// multipliers in closed form are the eigenvalues of the map's Jacobian.
+    #[test]
+    fn a_riding_orbits_multipliers_are_its_configurations_exponentials() {
+        let n = 12;
+        let s = Structure::chain(&vec![0.2; n], &vec![8e4; n], Damping::ModalRatios(vec![0.02; n]));
+        let dampers = (n - 3..n).map(|h| Damper::new(h, 0.02, Clearance::from_m(5e-3))).collect();
+        let d = Dynamics::new(&System::plastic(s, dampers, 0, 0.05), 2.0 * PI * 20.0).unwrap();
+        let strobe = Strobe { phase: 0.3, periods: 1, beds: vec![Rest::Bottom; 3], length: 1e-4 };
+        let t = strobe.time(&d);
+        let (x, v) = d.particular(7, t);
+        let st = State { t, x, v, beds: vec![Bed::on_end(false); 3] };
+        let u = strobe.coordinates(&d, &st).unwrap();
+        let ret = strobe.map(&d, &u).unwrap();
+        assert!(ret.events.is_empty(), "the beds ride");
+        let (j, _) = ret.jacobian.clone().unwrap();
+        let schur = multipliers(&j).unwrap();
+        let closed = strobe.closed_multipliers(&d, &ret).unwrap();
+        assert_eq!(closed.len(), schur.len());
+        for z in &closed {
+            let nearest = schur.iter().map(|w| (w - z).norm()).fold(f64::INFINITY, f64::min);
+            assert!(nearest <= 1e-12, "{z}: nearest {nearest:e}");
+        }
+        for (a, b) in closed.iter().zip(&schur) {
+            assert!((a.norm() - b.norm()).abs() <= 1e-12);
+        }
     }
 }
