@@ -22,6 +22,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::buf::PerMass;
+use super::host_rows::HostRow;
 use super::system::Dynamics;
 
 /// The parts of the accelerations at one state that do not depend on the configuration
@@ -40,36 +41,6 @@ pub struct AtState {
 /// Row `i` of `m` times `z`, accumulated column by column; `sign` -1 negates `m`.
 fn row(m: &DMatrix<f64>, i: usize, z: &[f64], sign: f64) -> f64 {
     (1..m.ncols()).fold(sign * m[(i, 0)] * z[0], |acc, j| sign * m[(i, j)] * z[j] + acc)
-}
-
-/// The rows of one host (`h_1..h_3`, length `2n`; `g_0..g_2`, length `n`).
-#[derive(Debug, Clone)]
-pub struct HostRow {
-    /// The host's coordinate.
-    pub host: usize,
-    h: [Vec<f64>; 3],
-    g: [Vec<f64>; 3],
-}
-
-/// The rows of every bed's host in a configuration of state matrix `a` and inverse mass
-/// `m_inv` (of `n` coordinates), one per bed, in the beds' order.
-pub fn host_rows(a: &DMatrix<f64>, m_inv: &DMatrix<f64>, hosts: impl Iterator<Item = usize>) -> Vec<HostRow> {
-    let n = m_inv.nrows();
-    hosts
-        .map(|p| {
-            let h1: Vec<f64> = a.row(n + p).iter().copied().collect();
-            let times_a =
-                |h: &[f64]| -> Vec<f64> { (0..2 * n).map(|j| (0..2 * n).map(|i| h[i] * a[(i, j)]).sum()).collect() };
-            let h2 = times_a(&h1);
-            let h3 = times_a(&h2);
-            // `h B`: the velocity half of `h` times `M^-1`.
-            let times_b =
-                |h: &[f64]| -> Vec<f64> { (0..n).map(|j| (0..n).map(|i| h[n + i] * m_inv[(i, j)]).sum()).collect() };
-            let g0: Vec<f64> = m_inv.row(p).iter().copied().collect();
-            let (g1, g2) = (times_b(&h1), times_b(&h2));
-            HostRow { host: p, h: [h1, h2, h3], g: [g0, g1, g2] }
-        })
-        .collect()
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -164,7 +135,7 @@ impl Dynamics {
     /// rows above [`LARGE_ABOVE`](super::system::LARGE_ABOVE) degrees of freedom, from every mass's accelerations
     /// ([`Dynamics::accelerations_in`], [`Dynamics::snaps_in`]) up to it.
     pub fn host_derivs(&self, mask: usize, j: usize, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> [f64; 3] {
-        let Some(row) = self.config(mask).modes.host_rows.get(j) else {
+        let Some(row): Option<&HostRow> = self.config(mask).modes.host_rows.get(j) else {
             let (p, at) = (self.system.dampers[j].host, self.at_state(t, x, v));
             let (a, jerk) = self.accelerations_in(mask, &at);
             let snap = self.snaps_in(mask, &at, &a, &jerk);

@@ -91,6 +91,20 @@ fn forced_large(
     Some((x, dx))
 }
 
+/// What [`forced_modal`] reads of a configuration's decomposition (`super::system::Modes`).
+pub(in crate::sim) struct ModalParts<'a> {
+    /// The representative eigenvalues.
+    pub lambda: &'a [Complex64],
+    /// Their rows of `V^-1`.
+    pub inverse: &'a DMatrix<Complex64>,
+    /// The displacement rows of the eigenvectors by term, real and imaginary parts.
+    pub rows: &'a [Vec<f64>; 2],
+    /// `M` and `M^-1` of the configuration.
+    pub mass: &'a DMatrix<f64>,
+    /// `M^-1`.
+    pub mass_inv: &'a DMatrix<f64>,
+}
+
 /// [`forced_into`] of a configuration from its decomposition (`A = V Lambda V^-1`), for
 /// structures above [`super::system::LARGE_ABOVE`] degrees of freedom (the paper's keep
 /// [`forced_into`]): `Z^-1 F = sum_k V_k (V^-1 B F)_k / (i omega - lambda_k)` over every
@@ -103,7 +117,7 @@ fn forced_large(
 /// eigenvalue (an undamped resonance).
 pub(in crate::sim) fn forced_modal(
     (k, c): (&DMatrix<f64>, &DMatrix<f64>),
-    modes: &super::system::Modes,
+    modes: &ModalParts,
     omega: f64,
     drive: Drive,
     out: &mut [Forced],
@@ -114,7 +128,7 @@ pub(in crate::sim) fn forced_modal(
     // `1 / (i omega - lambda)` of each representative (the conjugate's is the conjugate of
     // `1 / (-i omega - lambda)`).
     let mut poles = Vec::with_capacity(2 * modes.lambda.len());
-    for &l in &modes.lambda {
+    for &l in modes.lambda {
         let (s, t) = ((iw - l).inv(), (iw - l.conj()).inv());
         if !(s.re.is_finite() && s.im.is_finite() && t.re.is_finite() && t.im.is_finite()) {
             return None;
@@ -123,7 +137,7 @@ pub(in crate::sim) fn forced_modal(
     }
     let len = modes.lambda.len();
     let (inverse, stride) = (modes.inverse.as_slice(), modes.inverse.nrows());
-    let [v_re, v_im] = &modes.by_term[0];
+    let [v_re, v_im] = modes.rows;
     // A real matrix times a complex vector, as two real products.
     let times = |a: &DMatrix<f64>, x: &[Complex64]| -> (DVector<f64>, DVector<f64>) {
         let (re, im) =
@@ -134,7 +148,7 @@ pub(in crate::sim) fn forced_modal(
     // velocity columns of `V^-1` (contiguous) times `g`, then the eigenvectors' rows by term
     // ([`super::system::Modes::by_term`], contiguous).
     let modal = |f: &[Complex64], x: &mut [Complex64]| {
-        let (g_re, g_im) = times(&modes.mass_inv, f);
+        let (g_re, g_im) = times(modes.mass_inv, f);
         let (mut b, mut b_conj) = (vec![zero; len], vec![zero; len]);
         for j in 0..n {
             let (g, column) = (Complex64::new(g_re[j], g_im[j]), &inverse[(n + j) * stride..(n + j) * stride + len]);
@@ -160,7 +174,7 @@ pub(in crate::sim) fn forced_modal(
     };
     // `Z x`, `Z = K - omega^2 M + i omega C`, by real products.
     let z_times = |x: &[Complex64]| -> Vec<Complex64> {
-        let ((kr, ki), (mr, mi), (cr, ci)) = (times(k, x), times(&modes.mass, x), times(c, x));
+        let ((kr, ki), (mr, mi), (cr, ci)) = (times(k, x), times(modes.mass, x), times(c, x));
         (0..n)
             .map(|i| {
                 Complex64::new(
@@ -189,7 +203,7 @@ pub(in crate::sim) fn forced_modal(
     };
     let x = solve(&f);
     // `dF - (dZ/domega) X`, `dZ/domega = -2 omega M + i C`.
-    let ((mr, mi), (cr, ci)) = (times(&modes.mass, &x), times(c, &x));
+    let ((mr, mi), (cr, ci)) = (times(modes.mass, &x), times(c, &x));
     let rhs: Vec<Complex64> =
         (0..n).map(|i| df[i] - Complex64::new(-2.0 * omega * mr[i] - ci[i], -2.0 * omega * mi[i] + cr[i])).collect();
     let dx = solve(&rhs);
@@ -346,45 +360,5 @@ mod tests {
         // A singular dynamic stiffness (no damping, at a natural frequency of a single mass).
         let one = DMatrix::from_element(1, 1, 4.0);
         assert!(forced_response(&one, &DMatrix::zeros(1, 1), &DMatrix::from_element(1, 1, 1.0), 2.0, 0, 1.0).is_none());
-    }
-
-    /// The response from the decomposition is the factorisation's, for a point force and a
-    /// complex load, in every configuration of a 12-mass chain with non-proportional damping
-    /// (Rayleigh plus a dashpot) and three beds, at frequencies below, between and above its
-    /// modes, with the frequency derivatives.
-    #[test]
-    fn the_modal_response_is_the_factorised_one() {
-        use crate::model::{Clearance, Damper, Damping, Structure};
-        use crate::sim::motion::system::{Dynamics, System};
-        let n = 12;
-        let masses: Vec<f64> = (0..n).map(|i| 0.2 + 0.03 * i as f64).collect();
-        let mut s = Structure::chain(&masses, &vec![8e4; n], Damping::Rayleigh { alpha: 3.0, beta: 2e-5 });
-        s.damping[(4, 4)] += 7.0;
-        let dampers = (n - 3..n).map(|h| Damper::new(h, 0.05, Clearance::from_m(5e-4))).collect();
-        let d = Dynamics::unforced(&System::plastic(s, dampers, 0, 2.0)).unwrap();
-        let load: Vec<Complex64> = (0..n).map(|i| Complex64::new((i as f64).sin(), 0.3 * (i as f64).cos())).collect();
-        let d_load: Vec<Complex64> = load.iter().map(|z| z * 1e-3).collect();
-        for cfg in &d.configs {
-            for omega in [20.0, 333.0, 1500.0, 9000.0] {
-                for drive in [Drive::Point(2, 2.6), Drive::Load(&load, &d_load)] {
-                    let (x, dx) = forced_large(&d.k, &d.c, &cfg.modes.mass, omega, drive).unwrap();
-                    let mut out = vec![Forced::default(); n];
-                    forced_modal((&d.k, &d.c), &cfg.modes, omega, drive, &mut out).unwrap();
-                    let (sx, sdx) = (
-                        x.iter().map(|z| z.norm()).fold(0.0, f64::max),
-                        dx.iter().map(|z| z.norm()).fold(0.0, f64::max),
-                    );
-                    for i in 0..n {
-                        let (p, q) = (x[i].im, x[i].re);
-                        let (dp, dq) = (dx[i].im, dx[i].re);
-                        assert!((out[i].p - p).abs().max((out[i].q - q).abs()) <= 1e-13 * sx, "omega {omega}: {i}");
-                        assert!(
-                            (out[i].dp - dp).abs().max((out[i].dq - dq).abs()) <= 1e-13 * sdx,
-                            "omega {omega}: d{i}"
-                        );
-                    }
-                }
-            }
-        }
     }
 }

@@ -1,6 +1,7 @@
 //! The motion between and at events: the structure and its beds (`system`, `bed`, `state`),
 //! the closed form of each configuration (`eigen`, `schur`, `forced`, `segment`), the certified
-//! event search (`roots`, `coarse`, `single`), accelerations at a state (`contact`), contact resolution (`column`, `soft`), and the
+//! event search (`roots`, `coarse`, `single`), accelerations at a state (`contact`, with the
+//! rows per host it reads in `host_rows`), contact resolution (`column`, `soft`), and the
 //! engine that runs them (`engine`, `observe`, `impulse`). Imports nothing else of `sim`.
 
 pub mod bed;
@@ -11,6 +12,7 @@ pub mod contact;
 pub mod eigen;
 pub mod engine;
 pub mod forced;
+pub mod host_rows;
 pub mod impulse;
 pub mod observe;
 pub mod roots;
