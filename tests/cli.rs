@@ -256,6 +256,33 @@ fn an_export_of_an_experiment_that_does_not_run_is_named() {
     );
 }
 
+/// `shotdamp run` of one file (Fig. 6's, whose markers and clearance come from the Fig. 5
+/// third-mode sweep, which takes its clearance from the clearance scan) runs those two first,
+/// from its folder, and says so.
+#[test]
+fn run_of_one_file_runs_the_experiments_whose_exports_it_uses() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let exps = dir.path().join("experiments");
+    common::copy_shared(&exps);
+    for name in ["fig05_clearance_scan", "fig05_third_mode", "fig06_waveforms"] {
+        let text = std::fs::read_to_string(repo().join(format!("experiments/{name}.toml"))).unwrap();
+        std::fs::write(exps.join(format!("{name}.toml")), text).unwrap();
+    }
+    let out_dir = dir.path().join("r");
+    let out = shotdamp().arg("run").arg(exps.join("fig06_waveforms.toml")).arg("--out").arg(&out_dir).output().unwrap();
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_ne!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stdout.contains("also running")
+            && stdout.contains("fig05_third_mode (")
+            && stdout.contains("fig05_clearance_scan ("),
+        "{stdout}"
+    );
+    for id in ["fig05_clearance_scan", "fig05_third_mode", "fig06_waveforms"] {
+        assert!(out_dir.join(id).is_dir(), "{id} in the report: {stdout}");
+    }
+}
+
 /// A matrix as a TOML array of rows (every digit kept).
 fn toml_rows(a: &nalgebra::DMatrix<f64>) -> String {
     let row = |i: usize| format!("[{}]", a.row(i).iter().map(|v| format!("{v:e}")).collect::<Vec<_>>().join(", "));

@@ -269,7 +269,16 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         }
         Command::Run { files, out, jobs, writing } => {
             cli.project().refuse_overlap(out)?;
-            let exps = experiment::load_all(files, &cli.reference)?;
+            let mut exps = experiment::load_all(files, &cli.reference)?;
+            // Experiments whose exports these use run too, from the same folders.
+            let needed = experiment::missing_dependencies(&exps, &crate::reference::files::Files::new(&cli.reference))?;
+            if !needed.is_empty() {
+                let mut ids: Vec<String> =
+                    needed.iter().map(|e| format!("{} ({})", e.meta.id, e.path.display())).collect();
+                ids.dedup();
+                say!("also running, for the exports the files use: {}", ids.join(", "));
+            }
+            exps.extend(needed);
             Ok(run_and_write(
                 &exps,
                 &[],

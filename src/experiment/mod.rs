@@ -11,6 +11,7 @@ pub mod fe;
 mod fields;
 mod kind;
 mod load;
+mod needed;
 pub use fe::matrix_market;
 mod outputs;
 pub mod parts;
@@ -33,6 +34,7 @@ pub use curve_id::CurveId;
 pub use excitation::{Excitation, MAX_FORCE_G};
 pub use kind::Analysis;
 pub use load::{parse_table, read_merged, read_models};
+pub use needed::missing_dependencies;
 pub use validate::validate;
 
 /// Titles and texts that describe an experiment.

@@ -140,7 +140,7 @@ impl Session {
                 "the explorer takes an experiment file (a sweep, a clearance study, ...): open a design's layout as an experiment file",
             ));
         }
-        let exports = dependencies(path, &exps, &files, reference)?;
+        let exports = dependencies(&exps, &files, reference)?;
         let store = ReferenceStore::load(reference, &exps)?;
         let models = experiment::read_models(path)?
             .into_iter()
@@ -539,34 +539,10 @@ fn finite(x: f64) -> Value {
 
 /// The exports an experiment file uses: the experiments of its folder it names (and those
 /// they name) run once, in order.
-fn dependencies(path: &Path, exps: &[Experiment], files: &Files, reference: &Path) -> Result<Exports> {
-    let mut wanted: Vec<String> = exps.iter().flat_map(Experiment::dependencies).collect();
-    if wanted.is_empty() {
+fn dependencies(exps: &[Experiment], files: &Files, reference: &Path) -> Result<Exports> {
+    let chosen = experiment::missing_dependencies(exps, files)?;
+    if chosen.is_empty() {
         return Ok(Exports::new());
-    }
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut pool: Vec<Experiment> = Vec::new();
-    for file in experiment::discover(dir)? {
-        if file != path {
-            pool.extend(experiment::load_with(&file, files)?);
-        }
-    }
-    let mut chosen: Vec<Experiment> = Vec::new();
-    while let Some(id) = wanted.pop() {
-        if chosen.iter().any(|e| e.meta.id == id) {
-            continue;
-        }
-        let found: Vec<Experiment> = pool.iter().filter(|e| e.meta.id == id).cloned().collect();
-        if found.is_empty() {
-            return Err(Error::invalid(
-                path,
-                "(export reference)",
-                format!("@{id}"),
-                format!("no experiment with id \"{id}\" in {}: the explorer runs it first", dir.display()),
-            ));
-        }
-        wanted.extend(found.iter().flat_map(Experiment::dependencies));
-        chosen.extend(found);
     }
     let graph = experiment::dependency_graph(&chosen)?;
     let mut refs = ReferenceStore::load(reference, &chosen)?;
