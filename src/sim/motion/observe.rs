@@ -119,37 +119,34 @@ fn refine(f: &impl Fn(f64) -> (f64, f64, f64), mut lo: f64, mut hi: f64, mut flo
     extra
 }
 
-impl Observer for Extrema {
-    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
-        if t_b <= t_a {
-            return;
-        }
-        let n = d.system.dof();
-        let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
-        // The closed form is evaluated at every sample time for every mass and bed; sign
-        // changes of the velocities (and relative velocities of flying beds) are then refined
-        // one by one. The ends are evaluated directly, the samples between carried from the
-        // start by one step's factors (a step costs what one evaluation does).
-        let (mut times, mut points, mut at) =
-            (std::mem::take(&mut self.times), std::mem::take(&mut self.points), std::mem::take(&mut self.at));
-        times.clear();
-        times.extend((0..=m).map(|k| if k == m { t_b } else { t_a + (t_b - t_a) * k as f64 / m as f64 }));
-        points.clear();
-        points.push(seg.point(d, t_a));
-        let step = (m > 2).then(|| seg.step(d, (t_b - t_a) / m as f64));
-        for k in 1..m {
-            match &step {
-                Some(step) => {
-                    let mut next = points[k - 1].clone();
-                    next.advance(step, times[k]);
-                    points.push(next);
-                }
-                None => points.push(seg.point(d, times[k])),
+/// Sample times every sixteenth of the shortest period from `t_a` to `t_b` (both ends) and
+/// the segment's points there: the ends evaluated directly, the samples between carried from
+/// the start by one step's factors (a step costs what one evaluation does).
+fn samples(d: &Dynamics, seg: &Segment, t_a: f64, t_b: f64, times: &mut Vec<f64>, points: &mut Vec<Point>) {
+    let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
+    times.clear();
+    times.extend((0..=m).map(|k| if k == m { t_b } else { t_a + (t_b - t_a) * k as f64 / m as f64 }));
+    points.clear();
+    points.push(seg.point(d, t_a));
+    let step = (m > 2).then(|| seg.step(d, (t_b - t_a) / m as f64));
+    for k in 1..m {
+        match &step {
+            Some(step) => {
+                let mut next = points[k - 1].clone();
+                next.advance(step, times[k]);
+                points.push(next);
             }
+            None => points.push(seg.point(d, times[k])),
         }
-        points.push(seg.point(d, t_b));
-        at.clear();
-        at.resize(m + 1, 0.0);
+    }
+    points.push(seg.point(d, t_b));
+}
+
+impl Extrema {
+    /// Every mass's lowest and highest displacement over the samples (`at` a buffer of their
+    /// length).
+    fn masses(&mut self, d: &Dynamics, seg: &Segment, times: &[f64], points: &[Point], at: &mut [f64]) {
+        let (n, m) = (d.system.dof(), times.len() - 1);
         // Displacements relative to the supports: the simulator's own under a force; less the
         // supports' motion when they move.
         let shown = |pt: &Point, i: usize, order: usize| match d.system.base {
@@ -203,10 +200,15 @@ impl Observer for Extrema {
                 lo.set(lo.get().min(x));
                 hi.set(hi.get().max(x));
             };
-            each_root(&v, &times, &at, |k| shown(&points[k], i, 0), wanted, found);
+            each_root(&v, times, at, |k| shown(&points[k], i, 0), wanted, found);
             (self.min[i], self.max[i]) = (lo.get(), hi.get());
         }
         (self.all, self.one) = (all, one);
+    }
+
+    /// Each flying bed's highest flight above its bottom over the samples.
+    fn flights(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], times: &[f64], points: &[Point], at: &mut [f64]) {
+        let (m, t_a, t_b) = (times.len() - 1, times[0], times[times.len() - 1]);
         // Highest flight: the apex of y - x_p, at a root of the relative velocity. A window
         // whose gap cannot exceed the highest one so far is not refined: from its start
         // `t_k` the gap is at most `gap_k + max(rel_v, 0) dt + max(rel_a, 0) dt^2 / 2 + J
@@ -221,7 +223,7 @@ impl Observer for Extrema {
                     (u - seg.deriv(d, &pt, p, 1), -g - seg.deriv(d, &pt, p, 2), gap(t, &pt))
                 };
                 at.iter_mut()
-                    .zip(&points)
+                    .zip(points)
                     .for_each(|(a, pt)| *a = Bed::flight(g, t0, y0, u0, pt.t).1 - seg.deriv(d, pt, p, 1));
                 let best = std::cell::Cell::new(gap(t_a, &points[0]).max(gap(t_b, &points[m])));
                 let ceiling = |k: usize| {
@@ -232,8 +234,8 @@ impl Observer for Extrema {
                 };
                 each_root(
                     &rel,
-                    &times,
-                    &at,
+                    times,
+                    at,
                     |k| gap(times[k], &points[k]),
                     // With a margin far above rounding and far below any flight (1e-15 m).
                     |k| ceiling(k) * (1.0 + 1e-6) + 1e-15 >= best.get(),
@@ -242,6 +244,24 @@ impl Observer for Extrema {
                 self.max_flight[j] = self.max_flight[j].max(best.get());
             }
         }
+    }
+}
+
+impl Observer for Extrema {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        if t_b <= t_a {
+            return;
+        }
+        // The closed form is evaluated at every sample time for every mass and bed; sign
+        // changes of the velocities (and relative velocities of flying beds) are then refined
+        // one by one.
+        let (mut times, mut points, mut at) =
+            (std::mem::take(&mut self.times), std::mem::take(&mut self.points), std::mem::take(&mut self.at));
+        samples(d, seg, t_a, t_b, &mut times, &mut points);
+        at.clear();
+        at.resize(times.len(), 0.0);
+        self.masses(d, seg, &times, &points, &mut at);
+        self.flights(d, seg, beds, &times, &points, &mut at);
         (self.times, self.points, self.at) = (times, points, at);
     }
 
