@@ -153,6 +153,12 @@ fn bad_design_files_are_named() {
         ("kind = \"design\"", "kind = \"modal\"", "design"),
         ("[[design.bands]]", "[design.sdof]\nmode = 9\nclearances_mm = [0.3]\n\n[[design.bands]]", "design.sdof.mode"),
         ("[[design.bands]]", "[design.scenarios]\ndamping = [1.5]\n\n[[design.bands]]", "design.scenarios.damping[0]"),
+        ("sweeps = [\"up\", \"down\"]", "sweeps = [\"up\", \"down\"]\ntolerance = 0.0", "design.tolerance = 0"),
+        (
+            "[[design.bands]]",
+            "[design.screen]\nmodes = 4\n\n[[design.bands]]",
+            "design.screen = (given): a search on a coarser reduction needs a finite-element structure",
+        ),
     ] {
         assert!(text.contains(from), "{from}");
         let bad = dir.path().join("bad.toml");

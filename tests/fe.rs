@@ -401,3 +401,99 @@ fn the_plate_design_s_reduction_holds_in_each_of_its_bands() {
         assert!(status == "pass" && worst < 1e-3, "band {i}: {status} {worst}");
     }
 }
+
+/// A design on the plate (designs/plate.toml's structure, two candidates, one band, few
+/// evaluations) with `screen` as its `[design.screen]` table (empty: none) and the file's
+/// model reduced below `cutoff_hz`.
+fn small_plate_design(cutoff_hz: f64, screen: &str) -> String {
+    let text = std::fs::read_to_string(repo().join("designs/plate.toml")).unwrap();
+    let structure = &text[text.find("[structure]").unwrap()..text.find("[excitation]").unwrap()];
+    let structure = structure
+        .replace("../examples", &repo().join("examples").display().to_string())
+        .replace("cutoff_hz = 8000.0", &format!("cutoff_hz = {cutoff_hz:?}"));
+    format!(
+        "{HEAD}{structure}[excitation]\nmass = 1\nforce_n = 0.2\n[analysis]\nkind = \"design\"\n[design]\ncandidates = [1, 2]\nmax_beds = 1\nshot_kg = 0.0942\nclearance_mm = [0.5, 50.0]\nsweeps = [\"up\"]\nstarts = 1\nmax_iters = 3\n{screen}\n[[design.bands]]\nname = \"first bending\"\nfreq_hz = {{ start = 36.0, stop = 40.0, step = 1.0 }}\nmasses = [1]\n[[cases]]\nid = \"bare\"\nlabel = \"bare\"\ndampers = []\n"
+    )
+}
+
+/// The placements table of a design's output folder: each row's named columns.
+fn placements(out: &Path, columns: &[&str]) -> Vec<Vec<f64>> {
+    let rows = csv_rows(&std::fs::read_to_string(out.join("fe/data/design_placements.csv")).unwrap());
+    let head = &rows[0];
+    let at: Vec<usize> = columns.iter().map(|c| head.iter().position(|h| h == c).unwrap_or(usize::MAX)).collect();
+    rows[1..]
+        .iter()
+        .map(|r| at.iter().map(|&i| r.get(i).map_or(f64::NAN, |v| v.parse().unwrap_or(f64::NAN))).collect())
+        .collect()
+}
+
+/// `[design.screen]`: the searches run on a coarser reduction and each placement's best is
+/// judged on the file's model. A screen that keeps the file's own modes is the unscreened
+/// search, layout for layout and bit for bit; a coarser one judges its layouts on the file's
+/// model (both objectives in the table, a finding in the warnings); bad keys are input errors.
+#[test]
+fn a_screened_design_searches_the_coarse_model_and_judges_on_the_file_s() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let design = |name: &str, text: &str| {
+        let path = d.join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let out_dir = d.join(format!("out_{name}"));
+        let out = shotdamp().arg("design").arg(&path).arg("--out").arg(&out_dir).output().unwrap();
+        (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned(), out_dir)
+    };
+    let cols = ["objective", "bed_kg", "clearance_mm", "screened_objective"];
+    let (code, err, plain) = design("plain", &small_plate_design(2500.0, ""));
+    assert_eq!(code, Some(0), "{err}");
+    let plain = placements(&plain, &cols);
+    assert!(plain.iter().all(|r| r[3].is_nan()), "no screen, no screened column: {plain:?}");
+    let (code, err, same) = design("same", &small_plate_design(2500.0, "[design.screen]\ncutoff_hz = 2500.0\n"));
+    assert_eq!(code, Some(0), "{err}");
+    let same = placements(&same, &cols);
+    assert_eq!(same.len(), 2);
+    for (s, p) in same.iter().zip(&plain) {
+        assert_eq!(s[..3], p[..3], "the same model screened is the unscreened search");
+        assert_eq!(s[3].to_bits(), s[0].to_bits(), "its screened objective is the judged one");
+    }
+    let coarse_text = small_plate_design(2500.0, "[design.screen]\nmodes = 0\n");
+    let (code, err, coarse) = design("coarse", &coarse_text);
+    assert_eq!(code, Some(0), "{err}");
+    // Sharded, the shards search on the screen as the whole run does: the merge is its report.
+    let file = d.join("coarse.toml");
+    let parts = d.join("parts");
+    for i in 0..2 {
+        let o = shotdamp()
+            .arg("design")
+            .arg(&file)
+            .arg(format!("--shard={i}/2"))
+            .arg("--parts")
+            .arg(&parts)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let merged = d.join("out_merged");
+    let o = shotdamp().arg("design").arg(&file).arg("--merge").arg(&parts).arg("--out").arg(&merged).output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["design_placements.csv", "design_clearance.csv", "design_compliance.csv"] {
+        let read = |root: &Path| std::fs::read(root.join("fe/data").join(f)).unwrap();
+        assert_eq!(read(&coarse), read(&merged), "{f}");
+    }
+    let report = std::fs::read_to_string(coarse.join("fe/index.html")).unwrap_or_default()
+        + &std::fs::read_to_string(coarse.join("index.html")).unwrap_or_default();
+    let coarse = placements(&coarse, &cols);
+    assert!(coarse.iter().all(|r| r[0].is_finite() && r[3].is_finite() && r[0] != r[3]), "{coarse:?}");
+    assert!(report.contains("searched on a coarser reduction (the lowest 0 fixed-interface modes: 4 coordinates)"));
+    for (text, said) in [
+        (
+            small_plate_design(2500.0, "[design.screen]\nmodes = 2\ncutoff_hz = 300.0\n"),
+            "design.screen = modes / cutoff_hz",
+        ),
+        (small_plate_design(2500.0, "[design.screen]\ncutoff_hz = -3.0\n"), "design.screen.cutoff_hz = -3"),
+        (small_plate_design(2500.0, "[design.screen]\nmodes = 0\nwidth = 1\n"), "unknown field `width`"),
+    ] {
+        let (code, err, _) = design("bad", &text);
+        assert_eq!(code, Some(2), "{err}");
+        assert!(err.contains(said), "expected \"{said}\" in: {err}");
+    }
+}

@@ -20,7 +20,7 @@ use crate::table::Table;
 
 use super::kind::{Input, Kind, Output};
 
-pub use super::design_problem::problem;
+pub use super::design_problem::{problem, screen};
 
 /// A clearance is in the robust band when its objective is within this factor of the best.
 pub const ROBUST: f64 = 1.05;
@@ -117,7 +117,7 @@ fn replay(
     let again = |s: &StoredLayout| {
         let layout = s.layout();
         let evaluation = evaluate(p, b, &layout);
-        Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations }
+        Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations, screened: None }
     };
     let found: Vec<Found> = stored.placements.par_iter().map(again).collect();
     let front: Vec<(f64, Found)> = stored.pareto.par_iter().map(|q| (q.mass_ratio, again(&q.best))).collect();
@@ -250,6 +250,12 @@ fn run(
 ) -> Output {
     let p = problem(exp, spec, steady);
     let b = bare(&p);
+    // The searches' model, where the design screens on a coarser one (its bare measures too:
+    // each model's objective is against its own bare structure); a replay draws its maps near
+    // the optimum on it, as the search did.
+    let sp = super::design_problem::screen(exp, spec, steady);
+    let sb = sp.as_ref().map(bare);
+    let screen = sp.as_ref().zip(sb.as_deref());
     let total_mass = exp.structure.mass_matrix().trace();
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
     // The main search, then one per Pareto budget (every placement searched again for each).
@@ -260,9 +266,10 @@ fn run(
     } else {
         let mut search = |k: usize| match &spec.merged {
             // Gathered from a sharded search's parts.
-            Some(merged) => search::found(&p, &b, &spaces[k], &merged[k]),
+            Some(merged) => search::found((&p, &b), screen, &spaces[k], &merged[k]),
             None => {
-                let (found, stopped_here) = optimise_until(&p, &b, &spaces[k], &spec.search, tick, &spec.halt);
+                let (found, stopped_here) =
+                    optimise_until((&p, &b), screen, &spaces[k], &spec.search, tick, &spec.halt);
                 stopped |= stopped_here;
                 found
             }
@@ -310,6 +317,7 @@ fn run(
     let best = lowest(found.clone());
     let mut exports = BTreeMap::new();
     let mut tables = Vec::new();
+    let mut warnings = Vec::new();
     let rows: Vec<(String, Layout, Evaluation, u64)> =
         found.iter().map(|f| (hosts_words(&f.layout), f.layout.clone(), f.evaluation.clone(), f.evaluations)).collect();
     tables.push(layouts_table(
@@ -325,6 +333,17 @@ fn run(
         &names,
         &rows,
     ));
+    if let Some(sc) = spec.screen.as_ref().filter(|_| found.iter().any(|f| f.screened.is_some())) {
+        if let Some(t) = tables.last_mut() {
+            t.description += &format!(
+                "; searched on a coarser reduction ({}): screened_objective is the layout's objective there, objective on the file's model",
+                sc.kept
+            );
+            *t = std::mem::replace(t, Table::new("", ""))
+                .f64("screened_objective", found.iter().map(|f| f.screened.unwrap_or(f64::NAN)).collect());
+        }
+        warnings.extend(super::design_problem::screen_words(sc, &found));
+    }
     // The experiment's cases as reference layouts (the paper's, one container on the loop
     // point, ...), evaluated with the same objective.
     let case_rows: Vec<(String, Layout, Evaluation, u64)> = exp
@@ -347,19 +366,34 @@ fn run(
         &case_rows,
     ));
     let mut figures = Vec::new();
-    let mut warnings = Vec::new();
     let mut answer = None;
     // A search the time limit or an interrupt stopped ends here too: what evaluates more
     // layouts after it (the clearance profile, the drive levels, the near-optimum map, the SDOF
     // method) is skipped, and the page says so.
     let more = !stopped;
+    // The maps near the optimum (the clearance profile, each variable's) are drawn on the
+    // searched model: on a screened design, its coarser one, and their words say so.
+    let screened = |best: &Found| {
+        screen.map(|(sp, sb)| {
+            let kept = spec.screen.as_ref().map_or("", |sc| sc.kept.as_str());
+            let on = format!(" (on the model searched, {kept}: a map for the search, not the judged model)");
+            ((sp, sb), Found { evaluation: evaluate(sp, sb, &best.layout), ..best.clone() }, on)
+        })
+    };
     if let Some(best) = &best {
+        let near = if more { screened(best) } else { None };
+        let (map_on, map_best, map_note) = match &near {
+            Some((on, found, note)) => (*on, found, note.as_str()),
+            None => ((&p, b.as_slice()), best, ""),
+        };
         exports.insert("best_objective".into(), best.evaluation.objective);
         if spec.shared_clearance {
             exports.insert("best_clearance_mm".into(), best.layout.clearances_mm[0]);
         }
         if more {
-            let (table, figure, robust) = clearance_profile(exp, spec, &p, &b, best);
+            let (mut table, mut figure, robust) = clearance_profile(exp, spec, map_on.0, map_on.1, map_best);
+            table.description += map_note;
+            figure.caption += map_note;
             if let Some((rlo, rhi)) = robust {
                 exports.insert("robust_clearance_min_mm".into(), rlo);
                 exports.insert("robust_clearance_max_mm".into(), rhi);
@@ -379,7 +413,7 @@ fn run(
         rated.extend(case_rows.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.1, &c.2)));
         let (table, w) = super::design_drive::drive(&p, &bare_curves, &rated);
         tables.push(table);
-        warnings = w;
+        warnings.extend(w);
         // The reduction against the drive level: at the file's drive levels when it gives
         // them, else over the forces of its scenarios.
         let levels = if !more {
@@ -407,10 +441,15 @@ fn run(
             levels: &at_levels,
         };
         answer = Some(super::design_drive::answer(&p, &rated[0], &answer_in, &bare_curves));
-        if let Some((table, figure)) = more
-            .then(|| super::design_near::near_optimum(spec, &p, &b, &best.layout, &best.evaluation, &exp.meta.figure))
+        if let Some((mut table, mut figure)) = more
+            .then(|| {
+                let (layout, evaluation) = (&map_best.layout, &map_best.evaluation);
+                super::design_near::near_optimum(spec, map_on.0, map_on.1, layout, evaluation, &exp.meta.figure)
+            })
             .flatten()
         {
+            table.description += map_note;
+            figure.caption += map_note;
             tables.push(table);
             figures.push(figure);
         }
@@ -725,7 +764,7 @@ mod tests {
     fn found(objective: f64, unsettled: usize) -> Found {
         let layout = Layout { hosts: vec![1], masses_kg: vec![0.1], clearances_mm: vec![0.4] };
         let evaluation = Evaluation::with_objective(objective, unsettled, 10);
-        Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1 }
+        Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1, screened: None }
     }
 
     #[test]

@@ -100,6 +100,7 @@ mod tests {
             x: Vec::new(),
             starts: 1,
             evaluations: 1,
+            screened: None,
         }
     }
 

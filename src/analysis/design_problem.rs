@@ -2,7 +2,8 @@
 //! `[design.scenarios]` (damping ratios, forces, models), what the search and its shards
 //! evaluate layouts on.
 
-use crate::design::{Problem, Scenario, Spec};
+use crate::design::search::Found;
+use crate::design::{Problem, Scenario, Screen, Spec};
 use crate::experiment::Experiment;
 use crate::model::{Damping, Structure};
 use crate::number::fmt_num;
@@ -12,7 +13,16 @@ use crate::sim::SteadyOptions;
 /// damping ratios and forces of `[design.scenarios]`, the experiment's own value where a list
 /// is not given).
 pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem {
-    let s = &exp.structure;
+    problem_on(&exp.structure, exp, spec, steady)
+}
+
+/// The problem the searches evaluate layouts on: the structure of `[design.screen]` (its
+/// scenarios built on it as on the file's), or `None` when the design has none.
+pub fn screen(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Option<Problem> {
+    spec.screen.as_ref().map(|sc| problem_on(&sc.structure, exp, spec, steady))
+}
+
+fn problem_on(s: &Structure, exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem {
     let mut scenarios = Vec::new();
     let any = !(spec.scenario_damping.is_empty() && spec.scenario_force_n.is_empty());
     if any || !spec.model_structures.is_empty() {
@@ -67,4 +77,39 @@ pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem
         combine: spec.combine,
         direction: spec.direction,
     }
+}
+
+/// What a screened search says of itself: which model it searched, and where the file's model
+/// ranks the placements otherwise than the searched one.
+pub fn screen_words(sc: &Screen, found: &[Found]) -> Vec<String> {
+    let lowest = |key: &dyn Fn(&Found) -> f64| {
+        found.iter().enumerate().fold(None::<(usize, f64)>, |b, (i, f)| match b {
+            Some((_, v)) if v <= key(f) => b,
+            _ => Some((i, key(f))),
+        })
+    };
+    let words = |f: &Found| f.layout.hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" ");
+    let judged = lowest(&|f| f.evaluation.objective);
+    let searched = lowest(&|f| f.screened.unwrap_or(f64::INFINITY));
+    let largest = found
+        .iter()
+        .filter_map(|f| {
+            f.screened.map(|s| (s - f.evaluation.objective).abs() / f.evaluation.objective.abs().max(1e-300))
+        })
+        .fold(0.0f64, f64::max);
+    let mut out = vec![format!(
+        "searched on a coarser reduction ({}); each placement's best layout was then evaluated on the file's model, which ranks them: their objectives differ between the two models by up to {:.1} %; the clearance profile and the near-optimum map are drawn on the searched model",
+        sc.kept,
+        100.0 * largest
+    )];
+    if let (Some((j, _)), Some((s, _))) = (judged, searched) {
+        if j != s {
+            out.push(format!(
+                "the searched model's best placement ({}) is not the file's model's ({}): the coarser reduction misranks them; a finer screen (more modes) would search nearer the judged optimum",
+                words(&found[s]),
+                words(&found[j])
+            ));
+        }
+    }
+    out
 }

@@ -49,7 +49,10 @@ pub fn share(
     tick: &(dyn Fn() + Sync),
 ) -> Share {
     let p = super::design_problem::problem(exp, spec, steady);
-    let b = bare(&p);
+    // The searches run on the screen's model where the design has one (as unsharded).
+    let sp = super::design_problem::screen(exp, spec, steady);
+    let on = sp.as_ref().unwrap_or(&p);
+    let b = bare(on);
     let mut first = 0;
     let searches = spaces(exp, spec)
         .iter()
@@ -57,7 +60,7 @@ pub fn share(
             let offset = first;
             first += space.placements.len();
             let mine = |placement: usize| owned(offset + placement);
-            search_placements(&p, &b, space, &spec.search, tick, &spec.halt, &mine).0
+            search_placements(on, &b, space, &spec.search, tick, &spec.halt, &mine).0
         })
         .collect();
     Share { fingerprint: crate::design::stored::fingerprint(&p, spec), searches }

@@ -81,7 +81,7 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
             String::new()
         };
         say!(
-                "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {} a steady state{fast} (a search usually stops far sooner, when its simplex agrees to 1e-6; points of violent motion cost more)",
+                "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {} a steady state{fast} (a search usually stops far sooner, when its simplex agrees to its tolerance; points of violent motion cost more)",
                 b.placements,
                 b.searches,
                 b.evaluations,
@@ -96,14 +96,29 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         // structure and its beds.
         let budgets = runner::designs::budgets(files, &cli.reference)?;
         for (probe, (_, _, b)) in runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets) {
-            let runner::designs::Probe { key, hosts, clearance_mm: d, seconds_per_point: point } = probe;
+            let runner::designs::Probe {
+                key,
+                hosts,
+                clearance_mm: d,
+                seconds_per_point: point,
+                screen_seconds_per_point,
+            } = probe;
             let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
+            let ms = |p: f64| if p < 1e-3 { format!("{:.0} us", p * 1e6) } else { format!("{:.1} ms", p * 1e3) };
+            let screen = screen_seconds_per_point.map_or(String::new(), |s| {
+                format!(
+                    " ({} on the searched model of [design.screen], {} of the {} evaluations)",
+                    ms(s),
+                    b.screened.0,
+                    b.evaluations
+                )
+            });
             say!(
-                    "design {key}: measured {} a steady state (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
-                    if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.1} ms", point * 1e3) },
+                    "design {key}: measured {} a steady state{screen} (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
+                    ms(point),
                     on.join(" "),
                     crate::number::fmt_sig(d, 2),
-                    super::study::duration(b.evaluations as f64 * b.points as f64 * point / threads.max(1) as f64),
+                    super::study::duration(b.seconds_at(point, screen_seconds_per_point.unwrap_or(point), threads)),
                     if threads == 1 { "" } else { "s" },
                 );
         }

@@ -72,6 +72,20 @@ pub struct Spec {
     /// placement. The design then searches nothing and reports the unsharded answer.
     /// `None`: search.
     pub merged: Option<std::sync::Arc<Vec<Vec<search::Searched>>>>,
+    /// `[design.screen]`: the searches evaluate layouts on this coarser model of the
+    /// structure; each placement's best, and everything after the search, is evaluated on the
+    /// file's own (`None`: everything on the file's).
+    pub screen: Option<Screen>,
+}
+
+/// A coarser model of a finite-element structure that a design searches on (fewer
+/// fixed-interface modes: every steady state cheaper).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Screen {
+    /// The structure reduced with the screen's modes.
+    pub structure: Structure,
+    /// What was kept, in words (e.g. "fixed-interface modes below 1000 Hz").
+    pub kept: String,
 }
 
 /// Stated limits of a design file, so that every search it can ask for ends in a time its
@@ -113,6 +127,9 @@ pub struct Budget {
     /// each): the highest natural frequency over the lowest band frequency, over
     /// [`Budget::FAST_RATIO`], at least 1.
     pub fast: f64,
+    /// Of `evaluations`, those on the coarser model of `[design.screen]` (the searches and
+    /// the maps near the optimum; 0 without a screen), that model's `fast` and its size.
+    pub screened: (u64, f64, usize),
 }
 
 impl Budget {
@@ -133,7 +150,17 @@ impl Budget {
     /// violent motion (many impacts a period, a transient that settles late) costs more, so
     /// this is an estimate, not a bound; the number of evaluations is a bound.
     pub fn nominal_seconds(&self, n: usize, threads: usize) -> f64 {
-        self.evaluations as f64 * self.points as f64 * Self::seconds_per_point(n) * self.fast / threads.max(1) as f64
+        let screen = Self::seconds_per_point(self.screened.2) * self.screened.1;
+        self.seconds_at(Self::seconds_per_point(n) * self.fast, screen, threads)
+    }
+
+    /// Wall seconds of the most evaluations on `threads` threads at `point` seconds a steady
+    /// state on the file's model and `screen_point` on the screen's (the searches of a
+    /// screened design).
+    pub fn seconds_at(&self, point: f64, screen_point: f64, threads: usize) -> f64 {
+        let screened = self.screened.0;
+        let judged = self.evaluations.saturating_sub(screened);
+        (judged as f64 * point + screened as f64 * screen_point) * self.points as f64 / threads.max(1) as f64
     }
 }
 
@@ -167,12 +194,30 @@ impl Spec {
         // The drive levels evaluate the best layout and the cases once at each force.
         let levels = (self.drive_levels_n.len() * (1 + cases)) as u64;
         let after = cases as u64 + PROFILE_POINTS as u64 + sdof + levels;
+        let searched = search.saturating_mul(searches as u64);
+        let fast = |hz: f64| (hz / lowest / Budget::FAST_RATIO).max(1.0);
+        // A screened design searches (and maps the optimum) on the screen's model, then
+        // evaluates each placement's best on the file's as well; its replay maps the optimum
+        // on the screen's model too.
+        let screened = match &self.screen {
+            Some(_) if !self.replay => {
+                let judged = (placements.len() * searches) as u64;
+                (searched.saturating_add(PROFILE_POINTS as u64 + 1), judged)
+            }
+            Some(_) => (PROFILE_POINTS as u64 + 1, 0),
+            None => (0, 0),
+        };
         Budget {
             placements: placements.len(),
             searches,
-            evaluations: search.saturating_mul(searches as u64).saturating_add(after),
+            evaluations: searched.saturating_add(after).saturating_add(screened.1 + u64::from(screened.0 > 0)),
             points: self.evaluation_points(),
-            fast: (highest_hz / lowest / Budget::FAST_RATIO).max(1.0),
+            fast: fast(highest_hz),
+            screened: (
+                screened.0,
+                fast(self.screen.as_ref().map_or(highest_hz, |sc| sc.structure.highest_natural_frequency_hz())),
+                self.screen.as_ref().map_or(0, |sc| sc.structure.dof()),
+            ),
         }
     }
 }

@@ -210,7 +210,13 @@ pub struct Found {
     pub starts: usize,
     /// Objective evaluations made.
     pub evaluations: u64,
+    /// The layout's objective on the model the search ran on, where that was a coarser one
+    /// (`[design.screen]`; `None`: the search ran on the judged model).
+    pub screened: Option<f64>,
 }
+
+/// A design problem with its bare structure's measures: what a layout is evaluated against.
+pub type On<'a> = (&'a Problem, &'a [Vec<f64>]);
 
 /// SplitMix64: the seeded perturbations of the starts.
 fn splitmix(state: &mut u64) -> f64 {
@@ -323,24 +329,27 @@ pub fn optimise_checked(
     opts: &Options,
     check: &(dyn Fn() + Sync),
 ) -> Vec<Found> {
-    optimise_until(problem, bare, space, opts, check, &Halt::default()).0
+    optimise_until((problem, bare), None, space, opts, check, &Halt::default()).0
 }
 
 /// [`optimise_checked`] that stops at its first evaluation after `halt` is reached: a coarse
 /// scan not yet done evaluates only its middle clearance (each placement keeps one layout),
-/// every Nelder-Mead run keeps the best point it evaluated. Returns the layouts and whether the halt stopped the search (then they
-/// are the best found so far, not converged optima).
+/// every Nelder-Mead run keeps the best point it evaluated. The searches run on `screen`
+/// where given (a coarser model of the structure), each placement's best is then evaluated on
+/// `judged`. Returns the layouts and whether the halt stopped the search (then they are the
+/// best found so far, not converged optima).
 pub fn optimise_until(
-    problem: &Problem,
-    bare: &[Vec<f64>],
+    judged: On,
+    screen: Option<On>,
     space: &Space,
     opts: &Options,
     check: &(dyn Fn() + Sync),
     halt: &Halt,
 ) -> (Vec<Found>, bool) {
+    let (problem, bare) = screen.unwrap_or(judged);
     let (searched, stopped) = search_placements(problem, bare, space, opts, check, halt, &|_| true);
     let searched: Vec<Searched> = searched.into_iter().flatten().collect();
-    (found(problem, bare, space, &searched), stopped)
+    (found(judged, screen, space, &searched), stopped)
 }
 
 /// What the search of one placement ended with: its best point, the starts run and the
@@ -428,16 +437,20 @@ pub fn search_placements(
 }
 
 /// The best layout of each placement of `space` from what its search ended with (`searched`,
-/// one per placement in order): the layout at its best point, evaluated again.
-pub fn found(problem: &Problem, bare: &[Vec<f64>], space: &Space, searched: &[Searched]) -> Vec<Found> {
+/// one per placement in order): the layout at its best point, evaluated again on `judged`
+/// (and on `screen`, the model searched, where that was a coarser one). In parallel, gathered
+/// in order.
+pub fn found(judged: On, screen: Option<On>, space: &Space, searched: &[Searched]) -> Vec<Found> {
+    let (problem, bare) = judged;
     space
         .placements
-        .iter()
+        .par_iter()
         .zip(searched)
         .map(|(hosts, s)| {
             let layout = layout(hosts, &s.x, space);
             let evaluation = evaluate(problem, bare, &layout);
-            Found { layout, evaluation, x: s.x.clone(), starts: s.starts, evaluations: s.evaluations }
+            let screened = screen.map(|(p, b)| evaluate(p, b, &layout).objective);
+            Found { layout, evaluation, x: s.x.clone(), starts: s.starts, evaluations: s.evaluations, screened }
         })
         .collect()
 }

@@ -92,7 +92,9 @@ pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
     let direction = match problem.direction {
         crate::model::Direction::Vertical => String::new(),
         other => format!("|{}", other.name()),
-    } + if problem.supports { "|supports" } else { "" };
+    } + if problem.supports { "|supports" } else { "" }
+        // A design searched on a coarser model adds it (the others' texts are unchanged).
+        + &spec.screen.as_ref().map_or(String::new(), |sc| format!("|screen {:?}", sc.structure));
     let text = format!(
         "{:?}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
         problem.structure,

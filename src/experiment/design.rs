@@ -4,13 +4,13 @@
 use std::path::Path;
 
 use crate::design::search::Options;
-use crate::design::{limits, Band, Combine, Measure, Spec, Sweep};
+use crate::design::{limits, Band, Combine, Measure, Screen, Spec, Sweep};
 use crate::error::{Error, Result};
 use crate::model::Direction;
 use crate::number::{fmt_list as fmt_num_list, fmt_num};
 
 use super::analysis::grid;
-use super::raw::RawDesign;
+use super::raw::{RawDesign, RawScreen, RawStructure};
 
 /// A 1-based mass list as 0-based indices, each in range and distinct.
 fn masses(path: &Path, key: &str, list: &[i64], n: usize) -> Result<Vec<usize>> {
@@ -292,7 +292,17 @@ pub fn design(
         starts: whole(path, "design.starts", raw.starts, defaults.starts, limits::STARTS)?,
         max_iters: whole(path, "design.max_iters", raw.max_iters, defaults.max_iters as usize, limits::MAX_ITERS)?
             as u64,
-        tolerance: defaults.tolerance,
+        tolerance: match raw.tolerance {
+            None => defaults.tolerance,
+            Some(t) if t.is_finite() && t > 0.0 && t < 1.0 => t,
+            Some(t) => {
+                return Err(bad(
+                    "tolerance",
+                    &t,
+                    "the spread of a simplex's objectives at which a start ends: between 0 and 1 (default 1e-6)",
+                ))
+            }
+        },
         seed: match raw.seed {
             None => defaults.seed,
             Some(s) if s >= 0 => s as u64,
@@ -341,7 +351,55 @@ pub fn design(
         report: raw.report.unwrap_or(false),
         scenario_models,
         model_structures: Vec::new(),
+        screen: None,
     };
     sized(path, &spec)?;
     Ok(Some(spec))
+}
+
+/// `[design.screen]`: the finite-element structure `structure` reduced again with the
+/// screen's modes, for the searches (docs/design.md, "Searching on a coarser reduction").
+pub(super) fn screen(
+    path: &Path,
+    raw: Option<&RawScreen>,
+    structure: &RawStructure,
+    models_as_scenarios: bool,
+) -> Result<Option<Screen>> {
+    let Some(raw) = raw else { return Ok(None) };
+    let bad = bad_at(path);
+    let Some(fe) = structure.finite_element.as_ref() else {
+        return Err(bad(
+            "screen",
+            &"(given)",
+            "a search on a coarser reduction needs a finite-element structure ([structure.finite_element]): leave [design.screen] out",
+        ));
+    };
+    if models_as_scenarios {
+        return Err(bad(
+            "screen",
+            &"(given)",
+            "the models of [design.scenarios] models = true are not reduced again: leave [design.screen] or models out",
+        ));
+    }
+    let kept = match (raw.modes, raw.cutoff_hz) {
+        (Some(m), None) if (0..=10_000).contains(&m) => format!("the lowest {m} fixed-interface modes"),
+        (Some(m), None) => {
+            return Err(bad("screen.modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000"))
+        }
+        (None, Some(f)) if f.is_finite() && f > 0.0 => format!("fixed-interface modes below {} Hz", fmt_num(f)),
+        (None, Some(f)) => return Err(bad("screen.cutoff_hz", &f, "a positive frequency, Hz")),
+        _ => {
+            return Err(bad(
+                "screen",
+                &"modes / cutoff_hz (both or neither)",
+                "give one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F)",
+            ))
+        }
+    };
+    let mut coarse = structure.clone();
+    coarse.finite_element =
+        Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
+    let built = super::validate::structure(path, coarse)?;
+    let n = built.structure.dof();
+    Ok(Some(Screen { structure: built.structure, kept: format!("{kept}: {n} coordinates") }))
 }

@@ -75,7 +75,7 @@ pub struct RawModel {
     pub description: String,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 /// `[structure]`: masses, stiffness, damping.
 pub struct RawStructure {
@@ -109,7 +109,7 @@ pub struct RawStructure {
 }
 
 /// `[structure.finite_element]`: files written by a finite-element program.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawFiniteElement {
     /// `"calculix"`, `"matrix-market"` or `"abaqus"`.
@@ -148,7 +148,7 @@ pub struct RawFiniteElement {
 
 /// A point of a finite-element model: a node and direction, or (a Matrix Market model
 /// without names) a row.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPoint {
     /// Its name in reports.
@@ -166,7 +166,7 @@ pub struct RawPoint {
 }
 
 /// Measured natural frequencies and mode shapes (model updating).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawFit {
     /// Measured natural frequencies, rad/s.
@@ -184,7 +184,7 @@ pub struct RawFit {
     pub source: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 /// `[structure.damping]`: modal ratios, or Rayleigh coefficients.
 pub struct RawDamping {
@@ -361,6 +361,10 @@ pub struct RawDesign {
     #[serde(default)]
     /// Nelder-Mead iterations per start (default 100).
     pub max_iters: Option<i64>,
+    /// A start ends when the standard deviation of its simplex's objectives falls below this
+    /// (default 1e-6).
+    #[serde(default)]
+    pub tolerance: Option<f64>,
     #[serde(default)]
     /// Seed of the starts (default 1).
     pub seed: Option<i64>,
@@ -378,6 +382,23 @@ pub struct RawDesign {
     /// The paper's SDOF technique beside the search.
     #[serde(default)]
     pub sdof: Option<RawDesignSdof>,
+    /// `[design.screen]`: search on a coarser reduction of a finite-element structure.
+    #[serde(default)]
+    pub screen: Option<RawScreen>,
+}
+
+/// `[design.screen]`: the reduction the search runs on (fixed-interface modes kept, as
+/// `[structure.finite_element]`'s keys); each placement's best is then evaluated on the
+/// file's own.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScreen {
+    /// Fixed-interface modes kept (instead of `cutoff_hz`).
+    #[serde(default)]
+    pub modes: Option<i64>,
+    /// Keep every fixed-interface mode below this, Hz (instead of `modes`).
+    #[serde(default)]
+    pub cutoff_hz: Option<f64>,
 }
 
 /// `[design.sdof]`: the mode and the candidate clearances of the SDOF rule (Fig. 9).

@@ -52,6 +52,13 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
             fe.cutoff_hz = super::fe::highest_analysed(&raw.analysis, raw.design.as_ref()).map(|f| 2.0 * f);
         }
     }
+    let models_as_scenarios = raw.design.as_ref().and_then(|d| d.scenarios.as_ref()).and_then(|s| s.models);
+    let screen = super::design::screen(
+        path,
+        raw.design.as_ref().and_then(|d| d.screen.as_ref()),
+        &raw_structure,
+        models_as_scenarios.unwrap_or(false),
+    )?;
     let Built { structure, source, damping_assumption, fit, fe } = structure(path, raw_structure)?;
     let n = structure.dof();
     // A finite-element structure reports its points only (its other coordinates are modal).
@@ -82,7 +89,10 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     // A full mass matrix's coordinates are not all displacements: its trace is no mass.
     let total_mass = structure.is_lumped().then(|| structure.mass_matrix().trace());
     let design = super::design::design(path, raw.design, &raw.analysis.kind, responses, total_mass)?;
-    let analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
+    let mut analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
+    if let Analysis::Design { spec, .. } = &mut analysis {
+        spec.screen = screen;
+    }
     design_fits(path, &analysis, fe.as_ref(), &excitation, &structure)?;
     if excitation.supports {
         super::excitation::supports_fit(path, &analysis)?;

@@ -184,6 +184,8 @@ pub struct Probe {
     pub clearance_mm: f64,
     /// Seconds one steady state took on one thread.
     pub seconds_per_point: f64,
+    /// The same on the model of `[design.screen]` (the searches'), where the design has one.
+    pub screen_seconds_per_point: Option<f64>,
 }
 
 /// What one steady state of a design costs, measured: one layout evaluated on one thread (the
@@ -205,13 +207,18 @@ pub fn probe(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<Probe>> {
             clearances_mm: vec![d; hosts.len()],
             hosts: hosts.clone(),
         };
-        let (seconds, points) = one.install(|| {
-            let bare = crate::design::bare(&problem);
-            let start = std::time::Instant::now();
-            let ev = crate::design::evaluate(&problem, &bare, &layout);
-            (start.elapsed().as_secs_f64(), ev.points)
-        });
-        out.push(Probe { key: e.key(), hosts, clearance_mm: d, seconds_per_point: seconds / points.max(1) as f64 });
+        let measure = |problem: &crate::design::Problem| {
+            one.install(|| {
+                let bare = crate::design::bare(problem);
+                let start = std::time::Instant::now();
+                let ev = crate::design::evaluate(problem, &bare, &layout);
+                start.elapsed().as_secs_f64() / ev.points.max(1) as f64
+            })
+        };
+        let seconds_per_point = measure(&problem);
+        let screen = crate::analysis::design::screen(e, spec, steady);
+        let screen_seconds_per_point = screen.as_ref().map(measure);
+        out.push(Probe { key: e.key(), hosts, clearance_mm: d, seconds_per_point, screen_seconds_per_point });
     }
     Ok(out)
 }
