@@ -4,13 +4,13 @@
 use std::path::Path;
 
 use crate::design::search::Options;
-use crate::design::{limits, Band, Combine, Measure, Screen, Spec, Sweep};
+use crate::design::{limits, Band, Combine, Measure, Spec, Sweep};
 use crate::error::{Error, Result};
 use crate::model::Direction;
 use crate::number::{fmt_list as fmt_num_list, fmt_num};
 
 use super::analysis::grid;
-use super::raw::{RawDesign, RawScreen, RawStructure};
+use super::raw::RawDesign;
 
 /// A 1-based mass list as 0-based indices, each in range and distinct.
 fn masses(path: &Path, key: &str, list: &[i64], n: usize) -> Result<Vec<usize>> {
@@ -90,7 +90,7 @@ fn whole(path: &Path, key: &str, v: Option<i64>, default: usize, max: usize) -> 
 }
 
 /// An input error at `design.KEY` of `path`.
-fn bad_at(path: &Path) -> impl Fn(&str, &dyn std::fmt::Display, &str) -> Error + '_ {
+pub(super) fn bad_at(path: &Path) -> impl Fn(&str, &dyn std::fmt::Display, &str) -> Error + '_ {
     move |key, v, msg| Error::invalid(path, format!("design.{key}"), v, msg)
 }
 
@@ -355,51 +355,4 @@ pub fn design(
     };
     sized(path, &spec)?;
     Ok(Some(spec))
-}
-
-/// `[design.screen]`: the finite-element structure `structure` reduced again with the
-/// screen's modes, for the searches (docs/design.md, "Searching on a coarser reduction").
-pub(super) fn screen(
-    path: &Path,
-    raw: Option<&RawScreen>,
-    structure: &RawStructure,
-    models_as_scenarios: bool,
-) -> Result<Option<Screen>> {
-    let Some(raw) = raw else { return Ok(None) };
-    let bad = bad_at(path);
-    let Some(fe) = structure.finite_element.as_ref() else {
-        return Err(bad(
-            "screen",
-            &"(given)",
-            "a search on a coarser reduction needs a finite-element structure ([structure.finite_element]): leave [design.screen] out",
-        ));
-    };
-    if models_as_scenarios {
-        return Err(bad(
-            "screen",
-            &"(given)",
-            "the models of [design.scenarios] models = true are not reduced again: leave [design.screen] or models out",
-        ));
-    }
-    let kept = match (raw.modes, raw.cutoff_hz) {
-        (Some(m), None) if (0..=10_000).contains(&m) => format!("the lowest {m} fixed-interface modes"),
-        (Some(m), None) => {
-            return Err(bad("screen.modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000"))
-        }
-        (None, Some(f)) if f.is_finite() && f > 0.0 => format!("fixed-interface modes below {} Hz", fmt_num(f)),
-        (None, Some(f)) => return Err(bad("screen.cutoff_hz", &f, "a positive frequency, Hz")),
-        _ => {
-            return Err(bad(
-                "screen",
-                &"modes / cutoff_hz (both or neither)",
-                "give one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F)",
-            ))
-        }
-    };
-    let mut coarse = structure.clone();
-    coarse.finite_element =
-        Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
-    let built = super::validate::structure(path, coarse)?;
-    let n = built.structure.dof();
-    Ok(Some(Screen { structure: built.structure, kept: format!("{kept}: {n} coordinates") }))
 }

@@ -18,7 +18,7 @@ use super::dampers::dampers;
 use super::excitation::{accel_fits, excitation, force_fits};
 use super::fields::is_identifier;
 use super::outputs::plot;
-use super::raw::{RawCase, RawExperiment, RawFit, RawStructure};
+use super::raw::{RawCase, RawExperiment, RawFit, RawScreen, RawStructure};
 use super::{Analysis, Case, ClearanceSource, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
@@ -53,7 +53,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         }
     }
     let models_as_scenarios = raw.design.as_ref().and_then(|d| d.scenarios.as_ref()).and_then(|s| s.models);
-    let screen = super::design::screen(
+    let screen = screen(
         path,
         raw.design.as_ref().and_then(|d| d.screen.as_ref()),
         &raw_structure,
@@ -571,4 +571,53 @@ pub(super) fn configurations_fit(path: &Path, key: &str, grains: &[usize], n: us
             "{who} the exact simulator, which decomposes every configuration up front: at most {limit} configurations on {n} degrees of freedom (the product over the dampers of grains + 1; a single bed counts 2; docs/simulator.md, \"Cost per degree of freedom\")"
         ),
     ))
+}
+
+/// `[design.screen]`: the finite-element structure `given` reduced again with the
+/// screen's modes, for the searches (docs/design.md, "Searching on a coarser reduction").
+fn screen(
+    path: &Path,
+    raw: Option<&RawScreen>,
+    given: &RawStructure,
+    models_as_scenarios: bool,
+) -> Result<Option<crate::design::Screen>> {
+    let Some(raw) = raw else { return Ok(None) };
+    let bad = super::design::bad_at(path);
+    let Some(fe) = given.finite_element.as_ref() else {
+        return Err(bad(
+            "screen",
+            &"(given)",
+            "a search on a coarser reduction needs a finite-element structure ([structure.finite_element]): leave [design.screen] out",
+        ));
+    };
+    if models_as_scenarios {
+        return Err(bad(
+            "screen",
+            &"(given)",
+            "the models of [design.scenarios] models = true are not reduced again: leave [design.screen] or models out",
+        ));
+    }
+    let kept = match (raw.modes, raw.cutoff_hz) {
+        (Some(m), None) if (0..=10_000).contains(&m) => format!("the lowest {m} fixed-interface modes"),
+        (Some(m), None) => {
+            return Err(bad("screen.modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000"))
+        }
+        (None, Some(f)) if f.is_finite() && f > 0.0 => {
+            format!("fixed-interface modes below {} Hz", crate::number::fmt_num(f))
+        }
+        (None, Some(f)) => return Err(bad("screen.cutoff_hz", &f, "a positive frequency, Hz")),
+        _ => {
+            return Err(bad(
+                "screen",
+                &"modes / cutoff_hz (both or neither)",
+                "give one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F)",
+            ))
+        }
+    };
+    let mut coarse = given.clone();
+    coarse.finite_element =
+        Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
+    let built = structure(path, coarse)?;
+    let n = built.structure.dof();
+    Ok(Some(crate::design::Screen { structure: built.structure, kept: format!("{kept}: {n} coordinates") }))
 }
