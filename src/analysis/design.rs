@@ -262,7 +262,12 @@ fn run(
     let spaces = super::design_shards::spaces(exp, spec);
     let mut stopped = false;
     let (found, front, checks) = if spec.replay {
-        replay(exp, spec, &p, &b, refs)
+        let (mut found, front, checks) = replay(exp, spec, &p, &b, refs);
+        // A screened design's page shows what the search saw, as the search's own run does.
+        if let Some((sp, sb)) = screen {
+            found.par_iter_mut().for_each(|f| f.screened = Some(evaluate(sp, sb, &f.layout).objective));
+        }
+        (found, front, checks)
     } else {
         let mut search = |k: usize| match &spec.merged {
             // Gathered from a sharded search's parts.

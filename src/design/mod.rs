@@ -197,20 +197,19 @@ impl Spec {
         let searched = search.saturating_mul(searches as u64);
         let fast = |hz: f64| (hz / lowest / Budget::FAST_RATIO).max(1.0);
         // A screened design searches (and maps the optimum) on the screen's model, then
-        // evaluates each placement's best on the file's as well; its replay maps the optimum
-        // on the screen's model too.
+        // evaluates each placement's best on the file's as well; its replay evaluates the
+        // stored placements on the screen's model too and maps the optimum there. Per case:
+        // the evaluations on the screen's model, and those added to the unscreened count.
+        let map = PROFILE_POINTS as u64 + 1;
         let screened = match &self.screen {
-            Some(_) if !self.replay => {
-                let judged = (placements.len() * searches) as u64;
-                (searched.saturating_add(PROFILE_POINTS as u64 + 1), judged)
-            }
-            Some(_) => (PROFILE_POINTS as u64 + 1, 0),
+            Some(_) if !self.replay => (searched.saturating_add(map), (placements.len() * searches) as u64 + 1),
+            Some(_) => (placements.len() as u64 + map, placements.len() as u64 + 1),
             None => (0, 0),
         };
         Budget {
             placements: placements.len(),
             searches,
-            evaluations: searched.saturating_add(after).saturating_add(screened.1 + u64::from(screened.0 > 0)),
+            evaluations: searched.saturating_add(after).saturating_add(screened.1),
             points: self.evaluation_points(),
             fast: fast(highest_hz),
             screened: (
