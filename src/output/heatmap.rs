@@ -166,7 +166,7 @@ pub fn write(map: &HeatMap, dir: &Path) -> Result<()> {
     let (w, h) = size(map);
     let mut rgb = vec![0u8; 3 * w as usize * h as usize];
     draw(map, BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area())?;
-    let png = super::plot::encode_png(&rgb, w, h).map_err(|e| err(map, e))?;
+    let png = super::plot::encode_png(&rgb, w, h, png::Compression::Default).map_err(|e| err(map, e))?;
     super::study::write_atomic(&dir.join(format!("{}.png", map.id)), &png)?;
     let mut svg = String::new();
     draw(map, SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area())?;

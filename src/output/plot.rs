@@ -68,9 +68,10 @@ pub fn height(fig: &Figure) -> u32 {
 
 /// The figure as PNG bytes: drawn into an RGB buffer, then encoded with an indexed palette when
 /// it has at most 256 colours (plots drawn with the palette above and antialiased text usually
-/// do: the pixels are the same, the file about a third), else as RGB; the best compression either way
-/// (9 % smaller than the default over the report's figures).
-pub fn to_png(fig: &Figure) -> Result<Vec<u8>> {
+/// do: the pixels are the same, the file about a third), else as RGB. `smallest`: the
+/// encoder's best compression (11 % smaller over the report's figures, about 0.1 s more a
+/// figure: `shotdamp report`, whose folder has a size cap), else its default.
+pub fn to_png(fig: &Figure, smallest: bool) -> Result<Vec<u8>> {
     register_font()?;
     let (w, h) = (WIDTH, height(fig));
     let mut rgb = vec![0u8; 3 * w as usize * h as usize];
@@ -78,14 +79,20 @@ pub fn to_png(fig: &Figure) -> Result<Vec<u8>> {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
         draw(fig, root)?;
     }
-    encode_png(&rgb, w, h).map_err(|e| render_err(&format!("figure {} (PNG)", fig.id), e))
+    let level = if smallest { png::Compression::Best } else { png::Compression::Default };
+    encode_png(&rgb, w, h, level).map_err(|e| render_err(&format!("figure {} (PNG)", fig.id), e))
 }
 
 /// PNG bytes of an RGB image (`3 w h` bytes, rows top to bottom).
-pub fn encode_png(rgb: &[u8], w: u32, h: u32) -> std::result::Result<Vec<u8>, png::EncodingError> {
+pub fn encode_png(
+    rgb: &[u8],
+    w: u32,
+    h: u32,
+    level: png::Compression,
+) -> std::result::Result<Vec<u8>, png::EncodingError> {
     let mut out = Vec::new();
     let mut enc = png::Encoder::new(&mut out, w, h);
-    enc.set_compression(png::Compression::Best);
+    enc.set_compression(level);
     enc.set_depth(png::BitDepth::Eight);
     match palette_of(rgb) {
         Some((palette, indices)) => {
@@ -575,7 +582,7 @@ mod tests {
                     let fig =
                         Figure { id: "extreme".into(), title: "t".into(), caption: String::new(), panels: vec![panel] };
                     let what = format!("{name}, log x {x_log}, log y {y_log}, y range {y_range:?}");
-                    assert!(to_png(&fig).is_ok(), "{what}");
+                    assert!(to_png(&fig, false).is_ok(), "{what}");
                     assert!(to_svg(&fig).is_ok(), "{what}");
                 }
             }
@@ -614,7 +621,7 @@ mod tests {
             (0..w * h).flat_map(|i| if i % 3 == 0 { [255, 255, 255] } else { [31, 119, i as u8] }).collect();
         let many: Vec<u8> = (0..300u32).flat_map(|i| [(i % 256) as u8, (i / 256) as u8, 7]).collect();
         for (rgb, w, h, indexed) in [(few, w, h, true), (many, 300, 1, false)] {
-            let bytes = encode_png(&rgb, w, h).unwrap();
+            let bytes = encode_png(&rgb, w, h, png::Compression::Default).unwrap();
             let mut dec = png::Decoder::new(std::io::Cursor::new(bytes));
             dec.set_transformations(png::Transformations::EXPAND);
             let mut reader = dec.read_info().unwrap();

@@ -323,7 +323,7 @@ pub fn report(
         reference: reference.to_path_buf(),
         out: settings.out.clone(),
         jobs: settings.jobs,
-        writing: ReportOptions { complete: true, ..settings.writing.clone() },
+        writing: ReportOptions { complete: true, smallest_png: true, ..settings.writing.clone() },
         baseline_mode: if settings.bless { BaselineMode::Off } else { BaselineMode::Required },
         bless: settings.bless,
     };
