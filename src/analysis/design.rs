@@ -94,12 +94,13 @@ fn replayed(
 
 /// The stored answer of `exp` evaluated now: the placements' and the Pareto front's best
 /// layouts (as [`Found`], with the search's evaluation counts), and the checks that the stored
-/// objectives are what the layouts give now and that the problem is the one searched.
+/// objectives are what the layouts give now and that the problem is the one searched (the
+/// placements also on `screen`, the searched model, where the design has one).
 fn replay(
     exp: &Experiment,
     spec: &Spec,
-    p: &Problem,
-    b: &[Vec<f64>],
+    (p, b): search::On,
+    screen: Option<search::On>,
     refs: &ReferenceStore,
 ) -> (Vec<Found>, Vec<(f64, Found)>, Vec<CheckOutcome>) {
     let key = exp.key();
@@ -119,7 +120,11 @@ fn replay(
         let evaluation = evaluate(p, b, &layout);
         Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations, screened: None }
     };
-    let found: Vec<Found> = stored.placements.par_iter().map(again).collect();
+    let mut found: Vec<Found> = stored.placements.par_iter().map(again).collect();
+    // A screened design's page shows what its search saw, as the search's own run does.
+    if let Some((sp, sb)) = screen {
+        found.par_iter_mut().for_each(|f| f.screened = Some(evaluate(sp, sb, &f.layout).objective));
+    }
     let front: Vec<(f64, Found)> = stored.pareto.par_iter().map(|q| (q.mass_ratio, again(&q.best))).collect();
     let pairs: Vec<(&StoredLayout, &Found)> = stored
         .placements
@@ -262,12 +267,7 @@ fn run(
     let spaces = super::design_shards::spaces(exp, spec);
     let mut stopped = false;
     let (found, front, checks) = if spec.replay {
-        let (mut found, front, checks) = replay(exp, spec, &p, &b, refs);
-        // A screened design's page shows what the search saw, as the search's own run does.
-        if let Some((sp, sb)) = screen {
-            found.par_iter_mut().for_each(|f| f.screened = Some(evaluate(sp, sb, &f.layout).objective));
-        }
-        (found, front, checks)
+        replay(exp, spec, (&p, &b), screen, refs)
     } else {
         let mut search = |k: usize| match &spec.merged {
             // Gathered from a sharded search's parts.
@@ -338,16 +338,8 @@ fn run(
         &names,
         &rows,
     ));
-    if let Some(sc) = spec.screen.as_ref().filter(|_| found.iter().any(|f| f.screened.is_some())) {
-        if let Some(t) = tables.last_mut() {
-            t.description += &format!(
-                "; searched on a coarser reduction ({}): screened_objective is the layout's objective there, objective on the file's model",
-                sc.kept
-            );
-            *t = std::mem::replace(t, Table::new("", ""))
-                .f64("screened_objective", found.iter().map(|f| f.screened.unwrap_or(f64::NAN)).collect());
-        }
-        warnings.extend(super::design_problem::screen_words(sc, &found));
+    if let Some(t) = tables.last_mut() {
+        warnings.extend(super::design_problem::with_screened(spec, &found, t));
     }
     // The experiment's cases as reference layouts (the paper's, one container on the loop
     // point, ...), evaluated with the same objective.
@@ -376,21 +368,12 @@ fn run(
     // layouts after it (the clearance profile, the drive levels, the near-optimum map, the SDOF
     // method) is skipped, and the page says so.
     let more = !stopped;
-    // The maps near the optimum (the clearance profile, each variable's) are drawn on the
-    // searched model: on a screened design, its coarser one, and their words say so.
-    let screened = |best: &Found| {
-        screen.map(|(sp, sb)| {
-            let kept = spec.screen.as_ref().map_or("", |sc| sc.kept.as_str());
-            let on = format!(" (on the model searched, {kept}: a map for the search, not the judged model)");
-            ((sp, sb), Found { evaluation: evaluate(sp, sb, &best.layout), ..best.clone() }, on)
-        })
-    };
     if let Some(best) = &best {
-        let near = if more { screened(best) } else { None };
-        let (map_on, map_best, map_note) = match &near {
-            Some((on, found, note)) => (*on, found, note.as_str()),
-            None => ((&p, b.as_slice()), best, ""),
-        };
+        // The maps near the optimum are drawn on the searched model.
+        let (map_on, map_best, map_note) =
+            super::design_problem::map_model(spec, screen.filter(|_| more), (&p, &b), best);
+        let map_best = &map_best;
+        let map_note = map_note.as_str();
         exports.insert("best_objective".into(), best.evaluation.objective);
         if spec.shared_clearance {
             exports.insert("best_clearance_mm".into(), best.layout.clearances_mm[0]);

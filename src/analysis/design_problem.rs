@@ -2,8 +2,8 @@
 //! `[design.scenarios]` (damping ratios, forces, models), what the search and its shards
 //! evaluate layouts on.
 
-use crate::design::search::Found;
-use crate::design::{Problem, Scenario, Screen, Spec};
+use crate::design::search::{Found, On};
+use crate::design::{evaluate, Problem, Scenario, Screen, Spec};
 use crate::experiment::Experiment;
 use crate::model::{Damping, Structure};
 use crate::number::fmt_num;
@@ -112,4 +112,36 @@ pub fn screen_words(sc: &Screen, found: &[Found]) -> Vec<String> {
         }
     }
     out
+}
+
+/// A screened design's placements table (`t`, from `found`): the column `screened_objective`
+/// and the words on its description; the warnings [`screen_words`] gives. Nothing for a
+/// design searched on the file's model.
+pub fn with_screened(spec: &Spec, found: &[Found], t: &mut crate::table::Table) -> Vec<String> {
+    let Some(sc) = spec.screen.as_ref().filter(|_| found.iter().any(|f| f.screened.is_some())) else {
+        return Vec::new();
+    };
+    t.description += &format!(
+        "; searched on a coarser reduction ({}): screened_objective is the layout's objective there, objective on the file's model",
+        sc.kept
+    );
+    t.columns.push((
+        "screened_objective".into(),
+        crate::table::ColumnData::F64(found.iter().map(|f| f.screened.unwrap_or(f64::NAN)).collect()),
+    ));
+    screen_words(sc, found)
+}
+
+/// The model the maps near the optimum (the clearance profile, each variable's) are drawn on,
+/// the best layout evaluated there and the words their captions add: the screen's model where
+/// given (`screen`), else `judged` and `best` as they are.
+pub fn map_model<'a>(spec: &Spec, screen: Option<On<'a>>, judged: On<'a>, best: &Found) -> (On<'a>, Found, String) {
+    match screen {
+        Some((sp, sb)) => {
+            let kept = spec.screen.as_ref().map_or("", |sc| sc.kept.as_str());
+            let note = format!(" (on the model searched, {kept}: a map for the search, not the judged model)");
+            ((sp, sb), Found { evaluation: evaluate(sp, sb, &best.layout), ..best.clone() }, note)
+        }
+        None => (judged, best.clone(), String::new()),
+    }
 }
