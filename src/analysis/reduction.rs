@@ -174,7 +174,7 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
     }
     let pairs: Vec<CompliancePair> = at.iter().flatten().cloned().collect();
     let shown: Vec<Vec<f64>> = shown.into_iter().flatten().collect();
-    let figure = figure(fe, &pairs, &shown, &freqs, state);
+    let figure = figure(fe, &pairs, &shown, &freqs, bands, state);
     tables.push(
         Table::new(
             "reduction_compliance",
@@ -219,8 +219,37 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
 
 /// Two panels: the magnitude of each point's compliance, full model (solid) and reduced
 /// (dashed), and their difference relative to the full compliance's peak at that point.
-fn figure(fe: &FeStructure, pairs: &[CompliancePair], rel: &[Vec<f64>], freqs: &[f64], state: &str) -> Figure {
+/// The figure of the comparison; the curves are broken between bands (no line drawn across
+/// frequencies that were not computed).
+fn figure(
+    fe: &FeStructure,
+    pairs: &[CompliancePair],
+    rel: &[Vec<f64>],
+    freqs: &[f64],
+    bands: &[(String, Vec<f64>)],
+    state: &str,
+) -> Figure {
     let hz: Vec<f64> = pairs.iter().map(|p| p.omega / (2.0 * std::f64::consts::PI)).collect();
+    // Each curve's x and y with a gap (y NaN) between two frequencies no band spans (to the
+    // rounding of `omega / 2 pi`).
+    let spanned = |a: f64, b: f64| {
+        let slack = 1e-9 * b.abs();
+        bands
+            .iter()
+            .any(|(_, f)| f.first().is_some_and(|lo| *lo <= a + slack) && f.last().is_some_and(|hi| b <= *hi + slack))
+    };
+    let gapped = |y: Vec<f64>| -> (Vec<f64>, Vec<f64>) {
+        let (mut xs, mut ys) = (Vec::with_capacity(hz.len() + bands.len()), Vec::with_capacity(y.len() + bands.len()));
+        for (k, (&x, v)) in hz.iter().zip(y).enumerate() {
+            if k > 0 && !spanned(hz[k - 1], x) {
+                xs.push(0.5 * (hz[k - 1] + x));
+                ys.push(f64::NAN);
+            }
+            xs.push(x);
+            ys.push(v);
+        }
+        (xs, ys)
+    };
     let range = (freqs[0], freqs[freqs.len() - 1].max(freqs[0] * (1.0 + 1e-9)));
     let mut magnitude = Panel::new(
         "Compliance at each point: full model (solid) and reduced (dashed)",
@@ -237,11 +266,12 @@ fn figure(fe: &FeStructure, pairs: &[CompliancePair], rel: &[Vec<f64>], freqs: &
     )
     .log_y();
     for (i, pt) in fe.points.iter().enumerate() {
-        let full: Vec<f64> = pairs.iter().map(|p| p.full[i].norm()).collect();
-        let red: Vec<f64> = pairs.iter().map(|p| p.reduced[i].norm()).collect();
-        magnitude.series.push(Series::line(format!("{} (full)", pt.name), hz.clone(), full, i));
-        magnitude.series.push(Series::line("", hz.clone(), red, i).dashed(Dash::Dashed));
-        difference.series.push(Series::line(pt.name.clone(), hz.clone(), rel.iter().map(|r| r[i]).collect(), i));
+        let (x, full) = gapped(pairs.iter().map(|p| p.full[i].norm()).collect());
+        magnitude.series.push(Series::line(format!("{} (full)", pt.name), x, full, i));
+        let (x, red) = gapped(pairs.iter().map(|p| p.reduced[i].norm()).collect());
+        magnitude.series.push(Series::line("", x, red, i).dashed(Dash::Dashed));
+        let (x, r) = gapped(rel.iter().map(|r| r[i]).collect());
+        difference.series.push(Series::line(pt.name.clone(), x, r, i));
     }
     Figure {
         id: "reduction".into(),
