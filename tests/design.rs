@@ -155,6 +155,16 @@ fn bad_design_files_are_named() {
         ("[[design.bands]]", "[design.scenarios]\ndamping = [1.5]\n\n[[design.bands]]", "design.scenarios.damping[0]"),
         ("sweeps = [\"up\", \"down\"]", "sweeps = [\"up\", \"down\"]\ntolerance = 0.0", "design.tolerance = 0"),
         (
+            "sweeps = [\"up\", \"down\"]",
+            "sweeps = [\"up\", \"down\"]\nstep_tolerance = 1.5",
+            "design.step_tolerance = 1.5",
+        ),
+        (
+            "sweeps = [\"up\", \"down\"]",
+            "sweeps = [\"up\", \"down\"]\nstep_tolerance = -0.1",
+            "design.step_tolerance = -0.1",
+        ),
+        (
             "[[design.bands]]",
             "[design.screen]\nmodes = 4\n\n[[design.bands]]",
             "design.screen = (given): a search on a coarser reduction needs a finite-element structure",

@@ -455,6 +455,16 @@ fn a_screened_design_searches_the_coarse_model_and_judges_on_the_file_s() {
         assert_eq!(s[..3], p[..3], "the same model screened is the unscreened search");
         assert_eq!(s[3].to_bits(), s[0].to_bits(), "its screened objective is the judged one");
     }
+    // The screen's budget of periods at the design's own (500): the same search again.
+    let (code, err, budget) =
+        design("budget", &small_plate_design(2500.0, "[design.screen]\ncutoff_hz = 2500.0\nmax_periods = 500\n"));
+    assert_eq!(code, Some(0), "{err}");
+    for (b, s) in placements(&budget, &cols).iter().zip(&same) {
+        assert_eq!(
+            b.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            s.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+        );
+    }
     let coarse_text = small_plate_design(2500.0, "[design.screen]\nmodes = 0\n");
     let (code, err, coarse) = design("coarse", &coarse_text);
     assert_eq!(code, Some(0), "{err}");
@@ -490,6 +500,7 @@ fn a_screened_design_searches_the_coarse_model_and_judges_on_the_file_s() {
             "design.screen = modes / cutoff_hz",
         ),
         (small_plate_design(2500.0, "[design.screen]\ncutoff_hz = -3.0\n"), "design.screen.cutoff_hz = -3"),
+        (small_plate_design(2500.0, "[design.screen]\nmodes = 0\nmax_periods = 0\n"), "design.screen.max_periods = 0"),
         (small_plate_design(2500.0, "[design.screen]\nmodes = 0\nwidth = 1\n"), "unknown field `width`"),
     ] {
         let (code, err, _) = design("bad", &text);

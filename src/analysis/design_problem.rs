@@ -19,7 +19,13 @@ pub fn problem(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem
 /// The problem the searches evaluate layouts on: the structure of `[design.screen]` (its
 /// scenarios built on it as on the file's), or `None` when the design has none.
 pub fn screen(exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Option<Problem> {
-    spec.screen.as_ref().map(|sc| problem_on(&sc.structure, exp, spec, steady))
+    spec.screen.as_ref().map(|sc| {
+        let mut steady = *steady;
+        if let Some(m) = sc.max_periods {
+            steady.max_periods = m.max(steady.min_periods);
+        }
+        problem_on(&sc.structure, exp, spec, &steady)
+    })
 }
 
 fn problem_on(s: &Structure, exp: &Experiment, spec: &Spec, steady: &SteadyOptions) -> Problem {

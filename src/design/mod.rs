@@ -7,6 +7,7 @@
 //! [`evaluate`] computes the objective of one [`Layout`] with the exact simulator; the search
 //! over layouts is in [`search`]. No I/O.
 
+pub mod nelder_mead;
 pub mod search;
 pub mod stored;
 
@@ -86,6 +87,9 @@ pub struct Screen {
     pub structure: Structure,
     /// What was kept, in words (e.g. "fixed-interface modes below 1000 Hz").
     pub kept: String,
+    /// The forcing periods a steady state of the search may run, where not the design's
+    /// `steady.max_periods` (at least its `min_periods`).
+    pub max_periods: Option<usize>,
 }
 
 /// Stated limits of a design file, so that every search it can ask for ends in a time its
@@ -479,8 +483,10 @@ fn band_compliance_on(
                         motion.lifting += 1;
                     }
                     motion.flight_m = st.max_flight.iter().fold(motion.flight_m, |a, &f| a.max(f));
+                    // An amplitude that was never measured (a run stopped by chatter before
+                    // its record) counts as a point without a steady state at all.
                     for (w, a) in worst[i].iter_mut().zip(&st.amplitude) {
-                        *w = w.max(a / sys.force);
+                        *w = if a.is_nan() { f64::INFINITY } else { w.max(a / sys.force) };
                     }
                 }
                 Err(_) => {

@@ -1,5 +1,5 @@
 //! The search over layouts: every placement of containers (subsets of the candidate masses)
-//! enumerated; for each, the split of the shot and the clearances by Nelder-Mead (argmin) from
+//! enumerated; for each, the split of the shot and the clearances by Nelder-Mead from
 //! several seeded starts in an unconstrained space that maps onto the bounds; and a brute-force
 //! grid for checking it. Every run is sequential and independent, and results are gathered in
 //! a fixed order: the same bytes for any number of threads.
@@ -8,10 +8,9 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use argmin::core::{CostFunction, Executor, State};
-use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
 
+use super::nelder_mead::{minimise, Settings};
 use super::{evaluate, Evaluation, Layout, Problem};
 
 /// What may vary, and within which bounds.
@@ -58,7 +57,7 @@ impl Halt {
 }
 
 /// Search settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Clone, Copy, PartialEq)]
 pub struct Options {
     /// Starts per placement: the first at an even split and the best clearance of a coarse
     /// scan, the others seeded.
@@ -69,11 +68,30 @@ pub struct Options {
     pub tolerance: f64,
     /// Seed of the starts' perturbations (the same seed, the same answer).
     pub seed: u64,
+    /// Stop a start when every vertex of its simplex lies within this of the best one in each
+    /// free coordinate (0: never; [`super::nelder_mead`]).
+    pub step_tolerance: f64,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { starts: 3, max_iters: 100, tolerance: 1e-6, seed: 1 }
+        Options { starts: 3, max_iters: 100, tolerance: 1e-6, seed: 1, step_tolerance: 0.0 }
+    }
+}
+
+/// As derived, without `step_tolerance` when it is 0: the text is part of a stored design's
+/// fingerprint, and the answers stored before the key existed stay valid.
+impl std::fmt::Debug for Options {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut d = f.debug_struct("Options");
+        d.field("starts", &self.starts)
+            .field("max_iters", &self.max_iters)
+            .field("tolerance", &self.tolerance)
+            .field("seed", &self.seed);
+        if self.step_tolerance != 0.0 {
+            d.field("step_tolerance", &self.step_tolerance);
+        }
+        d.finish()
     }
 }
 
@@ -142,7 +160,7 @@ struct Cost<'a> {
     bare: &'a [Vec<f64>],
     hosts: &'a [usize],
     space: &'a Space,
-    /// Evaluations made (argmin's own count depends on how it wraps the problem).
+    /// Evaluations made.
     count: &'a AtomicU64,
     /// Called before every evaluation (a caller may stop the search there by unwinding).
     check: &'a (dyn Fn() + Sync),
@@ -152,9 +170,6 @@ struct Cost<'a> {
     best: &'a Mutex<Option<(Vec<f64>, f64)>>,
     /// Set when the deadline stopped a run.
     stopped: &'a AtomicBool,
-    /// Calls of [`CostFunction::cost`] in this run (the first `d + 1` build the initial
-    /// simplex, where the solver cannot take an error).
-    calls: AtomicU64,
 }
 
 /// A Nelder-Mead run ended by the deadline.
@@ -169,20 +184,11 @@ impl std::fmt::Display for TimeLimit {
 
 impl std::error::Error for TimeLimit {}
 
-impl CostFunction for Cost<'_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-
-    fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
-        let call = self.calls.fetch_add(1, Ordering::Relaxed);
+impl Cost<'_> {
+    fn cost(&self, x: &[f64]) -> Result<f64, TimeLimit> {
         if self.halt.reached() {
             self.stopped.store(true, Ordering::Relaxed);
-            // The initial simplex's vertices are not evaluated (the solver unwraps their
-            // costs): the worst value keeps them out of the best so far.
-            if call <= dimension(self.hosts.len(), self.space) as u64 {
-                return Ok(f64::INFINITY);
-            }
-            return Err(TimeLimit.into());
+            return Err(TimeLimit);
         }
         self.count.fetch_add(1, Ordering::Relaxed);
         (self.check)();
@@ -190,7 +196,7 @@ impl CostFunction for Cost<'_> {
         let objective = if e.objective.is_finite() { e.objective } else { 1e300 };
         if let Ok(mut best) = self.best.lock() {
             if best.as_ref().is_none_or(|b| objective < b.1) {
-                *best = Some((x.clone(), objective));
+                *best = Some((x.to_vec(), objective));
             }
         }
         Ok(objective)
@@ -267,11 +273,10 @@ fn descend_to_end(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
         v[i] += 1.0;
         simplex.push(v);
     }
-    let solver = NelderMead::new(simplex).with_sd_tolerance(opts.tolerance).ok()?;
-    let res = Executor::new(cost, solver).configure(|s| s.max_iters(opts.max_iters)).run().ok()?;
-    let evaluations = res.problem.problem.as_ref().map_or(0, |c| c.count.load(Ordering::Relaxed));
-    let state = res.state();
-    Some((state.get_best_param()?.clone(), state.get_best_cost(), evaluations))
+    let settings =
+        Settings { max_iters: opts.max_iters, sd_tolerance: opts.tolerance, step_tolerance: opts.step_tolerance };
+    let (x, objective) = minimise(|x| cost.cost(x), simplex, &settings).ok()?;
+    Some((x, objective, cost.count.load(Ordering::Relaxed)))
 }
 
 /// Clearance coordinates of the coarse scan that places the first start: the objective is
@@ -396,18 +401,7 @@ pub fn search_placements(
         .map(|(p, x0)| {
             let hosts = &space.placements[p];
             let (best, count) = (Mutex::new(None), AtomicU64::new(0));
-            let cost = Cost {
-                problem,
-                bare,
-                hosts,
-                space,
-                count: &count,
-                check,
-                halt,
-                best: &best,
-                stopped: &stopped,
-                calls: AtomicU64::new(0),
-            };
+            let cost = Cost { problem, bare, hosts, space, count: &count, check, halt, best: &best, stopped: &stopped };
             (p, descend(cost, x0, opts))
         })
         .collect();

@@ -94,7 +94,8 @@ pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
         other => format!("|{}", other.name()),
     } + if problem.supports { "|supports" } else { "" }
         // A design searched on a coarser model adds it (the others' texts are unchanged).
-        + &spec.screen.as_ref().map_or(String::new(), |sc| format!("|screen {:?}", sc.structure));
+        + &spec.screen.as_ref().map_or(String::new(), |sc| format!("|screen {:?}", sc.structure))
+        + &spec.screen.as_ref().and_then(|sc| sc.max_periods).map_or(String::new(), |m| format!("|screen max_periods {m}"));
     let text = format!(
         "{:?}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
         problem.structure,

@@ -308,6 +308,17 @@ pub fn design(
             Some(s) if s >= 0 => s as u64,
             Some(s) => return Err(bad("seed", &s, "a whole number >= 0")),
         },
+        step_tolerance: match raw.step_tolerance {
+            None => defaults.step_tolerance,
+            Some(t) if t.is_finite() && (0.0..1.0).contains(&t) => t,
+            Some(t) => {
+                return Err(bad(
+                    "step_tolerance",
+                    &t,
+                    "the size of a simplex (in the search's free coordinates, its first steps 1 long) at which a start ends: from 0 (never, the default) to below 1",
+                ))
+            }
+        },
     };
     let direction = match raw.direction.as_deref() {
         None => Direction::Vertical,

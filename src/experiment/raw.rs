@@ -365,6 +365,10 @@ pub struct RawDesign {
     /// (default 1e-6).
     #[serde(default)]
     pub tolerance: Option<f64>,
+    /// A start also ends when its simplex has shrunk below this in every free coordinate (the
+    /// search's coordinates; default 0: never).
+    #[serde(default)]
+    pub step_tolerance: Option<f64>,
     #[serde(default)]
     /// Seed of the starts (default 1).
     pub seed: Option<i64>,
@@ -399,6 +403,9 @@ pub struct RawScreen {
     /// Keep every fixed-interface mode below this, Hz (instead of `modes`).
     #[serde(default)]
     pub cutoff_hz: Option<f64>,
+    /// Forcing periods a steady state of the search may run (default: `steady.max_periods`).
+    #[serde(default)]
+    pub max_periods: Option<i64>,
 }
 
 /// `[design.sdof]`: the mode and the candidate clearances of the SDOF rule (Fig. 9).

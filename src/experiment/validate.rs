@@ -614,10 +614,28 @@ fn screen(
             ))
         }
     };
+    let max_periods = match raw.max_periods {
+        None => None,
+        Some(m) if (1..=1_000_000).contains(&m) => Some(m as usize),
+        Some(m) => {
+            return Err(bad(
+                "screen.max_periods",
+                &m,
+                "the forcing periods a steady state of the search may run: a whole number from 1 to 1000000 (default: steady.max_periods)",
+            ))
+        }
+    };
     let mut coarse = given.clone();
     coarse.finite_element =
         Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
     let built = structure(path, coarse)?;
     let n = built.structure.dof();
-    Ok(Some(crate::design::Screen { structure: built.structure, kept: format!("{kept}: {n} coordinates") }))
+    Ok(Some(crate::design::Screen {
+        structure: built.structure,
+        kept: format!(
+            "{kept}: {n} coordinates{}",
+            max_periods.map_or(String::new(), |m| format!(", steady states of at most {m} forcing periods"))
+        ),
+        max_periods,
+    }))
 }

@@ -10,11 +10,12 @@ use super::system::{Dynamics, MAX_GRAINS, STEP_FRACTION};
 /// Why a run stopped early.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Stop {
-    /// More events than allowed in one call: chatter (or a Zeno sequence with restitution).
+    /// More events than allowed within one forcing period: chatter (or a Zeno sequence with
+    /// restitution).
     Chatter {
         /// Time reached, s.
         t: f64,
-        /// Events in the call.
+        /// Events counted within the forcing period that ended the run.
         events: usize,
     },
 }
@@ -23,7 +24,7 @@ impl std::fmt::Display for Stop {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Stop::Chatter { t, events } => {
-                write!(f, "chatter: {events} events in one call, stopped at t = {t:.6} s")
+                write!(f, "chatter: {events} events within one forcing period, stopped at t = {t:.6} s")
             }
         }
     }
@@ -60,7 +61,10 @@ impl Observer for Quiet {}
 pub struct Settings {
     /// Search step as a fraction of the shortest period.
     pub step_fraction: f64,
-    /// Most events in one `advance` call before it stops with [`Stop::Chatter`].
+    /// Most events within one forcing period (counted from the first event of a window one
+    /// period long, in one `advance` call) before the call stops with [`Stop::Chatter`]. A call
+    /// of many periods (a record, a torus's window) is not stopped by the events of all its
+    /// periods together, only by a burst within one.
     pub max_events: usize,
     /// Whether the search skips coarse windows where no event can be (above
     /// [`LARGE_ABOVE`](super::system::LARGE_ABOVE) degrees of freedom, at the default step;
@@ -247,6 +251,10 @@ impl<'a> Engine<'a> {
         scratch: &mut Scratch,
     ) -> Result<(), Stop> {
         let mut events = 0;
+        // The events are counted in windows of one forcing period (no limit on the window in a
+        // free decay, omega = 0), the first starting with the call.
+        let period = if self.d.omega > 0.0 { 2.0 * std::f64::consts::PI / self.d.omega } else { f64::INFINITY };
+        let mut window = s.t;
         // Reused at every event: the watches, those that fire, the events applied, the state
         // before.
         let Scratch { watches, hits, applied, before, decided } = scratch;
@@ -290,6 +298,10 @@ impl<'a> Engine<'a> {
                     }
                     if obs.done() {
                         return Ok(());
+                    }
+                    if s.t >= window + period {
+                        window = s.t;
+                        events = 0;
                     }
                     events += 1;
                     if events > self.settings.max_events {

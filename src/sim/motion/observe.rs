@@ -50,9 +50,10 @@ impl Extrema {
         }
     }
 
-    /// Half the peak-to-peak displacement of each mass.
+    /// Half the peak-to-peak displacement of each mass; NaN for a mass never seen (a run that
+    /// stopped before anything was recorded: not measured, never an amplitude of -inf).
     pub fn amplitudes(&self) -> Vec<f64> {
-        self.min.iter().zip(&self.max).map(|(lo, hi)| 0.5 * (hi - lo)).collect()
+        self.min.iter().zip(&self.max).map(|(lo, hi)| if hi >= lo { 0.5 * (hi - lo) } else { f64::NAN }).collect()
     }
 
     fn take(&mut self, i: usize, x: f64) {
@@ -490,5 +491,16 @@ impl Observer for Sampler {
 
     fn event(&mut self, ev: &Event, _after: &State) {
         self.events.push(*ev);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Extrema;
+
+    #[test]
+    fn a_record_that_saw_nothing_has_no_amplitude() {
+        // A run stopped before its record: NaN (not measured), never -inf.
+        assert!(Extrema::new(3, 1).amplitudes().iter().all(|a| a.is_nan()));
     }
 }

@@ -211,11 +211,23 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     let mut stop = None;
     let mut torus = TorusRun::default();
     let mut record_periods = opts.record_periods;
+    // The start of the period being run and of the last one completed (and its end): what a
+    // point stopped by chatter records.
+    let (mut current, mut last_whole): (State, Option<(State, f64)>) = (s.clone(), None);
     while simulated < opts.max_periods {
         let mut log = EventLog::default();
-        if let Err(e) = engine.advance(&mut s, k as f64 * period, &mut log) {
+        current.clone_from(&s);
+        let end = k as f64 * period;
+        if let Err(e) = engine.advance(&mut s, end, &mut log) {
             stop = Some(e);
             break;
+        }
+        match &mut last_whole {
+            Some((l, t)) => {
+                std::mem::swap(l, &mut current);
+                *t = end;
+            }
+            None => last_whole = Some((current.clone(), end)),
         }
         let sig = counts(&log.0);
         history.push_front(Period { events: log.0, sig, scale: amplitude_scale(d, &s) });
@@ -308,6 +320,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         transient_periods: simulated,
         period: 0,
         record: record_periods,
+        last_whole: last_whole.filter(|_| stop.is_some()),
         stop,
     };
     // An unsettled point still reports what its motion does over the next periods.
@@ -604,6 +617,7 @@ fn record(
         period: p,
         record: p,
         stop: None,
+        last_whole: None,
     };
     match recorded {
         Some((rec, end)) => rec.steady(d, end, None, outcome),

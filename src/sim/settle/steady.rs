@@ -329,6 +329,9 @@ pub(crate) struct Outcome {
     /// Forcing periods to record.
     pub record: usize,
     pub stop: Option<Stop>,
+    /// Where the search stopped early (`stop`): the state at the start of the last whole
+    /// forcing period it ran, and that period's end time. The point's record is that period.
+    pub last_whole: Option<(State, f64)>,
 }
 
 /// What a steady state's record observes: the extrema (amplitudes, impacts, flights) and,
@@ -413,10 +416,68 @@ pub(crate) fn run_to_whole_period(d: &Dynamics, s: &mut State) -> Result<(), Sto
     Engine::new(d).advance(s, whole, &mut crate::sim::motion::engine::Quiet)
 }
 
-/// Records the motion from `s` to `t_end` (unless the search stopped early) and assembles
-/// the steady state.
-pub(crate) fn finish(d: &Dynamics, mut s: State, t_end: f64, energy_on: bool, o: Outcome) -> Steady {
+/// Records the motion from `s` to `t_end` and assembles the steady state. A search that
+/// stopped early (chatter) records instead the last whole period it ran, where it has one
+/// (run again from its start: the same events, so no stop), and keeps `s`, where it stopped,
+/// as its final state (a continuation sweep's next point starts there: on the reduced plate
+/// starting from the end of the recorded period instead, or from the start of a first period
+/// that stopped, repeated the same burst at every later frequency); with none its amplitudes
+/// are NaN (not measured).
+pub(crate) fn finish(d: &Dynamics, mut s: State, t_end: f64, energy_on: bool, mut o: Outcome) -> Steady {
+    if o.stop.is_some() {
+        if let Some((mut from, end)) = o.last_whole.take() {
+            let mut rec = Recorder::new(d, &from, energy_on);
+            let again = Engine::new(d).advance(&mut from, end, &mut rec).err();
+            o.record = 1;
+            return Steady { final_state: s, ..rec.steady(d, from, again, o) };
+        }
+    }
     let mut rec = Recorder::new(d, &s, energy_on);
     let stop = if o.stop.is_none() { Engine::new(d).advance(&mut s, t_end, &mut rec).err() } else { None };
     rec.steady(d, s, stop, o)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Clearance, Damper, Damping, Structure};
+    use crate::sim::System;
+
+    #[test]
+    fn a_point_stopped_early_records_its_last_whole_period_or_is_not_measured() {
+        let structure =
+            Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
+        let sys = System::plastic(structure, vec![Damper::new(1, 0.07, Clearance::from_m(5e-4))], 0, 2.6);
+        let d = Dynamics::new(&sys, 2.0 * std::f64::consts::PI * 50.0).unwrap();
+        let period = 2.0 * std::f64::consts::PI / d.omega;
+        let start = State::at_rest(&d);
+        // A stand-in for a run stopped in the period after the one from `start`.
+        let mut stopped = start.clone();
+        Engine::new(&d).advance(&mut stopped, 1.5 * period, &mut crate::sim::Quiet).unwrap();
+        let outcome = |last_whole| Outcome {
+            method: SteadyMethod::Orbit,
+            converged: false,
+            certificate: None,
+            failure: None,
+            transient_periods: 1,
+            period: 0,
+            record: 10,
+            stop: Some(Stop::Chatter { t: stopped.t, events: 2001 }),
+            last_whole,
+        };
+        let st = finish(&d, stopped.clone(), f64::NAN, false, outcome(Some((start.clone(), period))));
+        // The same numbers as a record of that period.
+        let mut rec = Recorder::new(&d, &start, false);
+        let mut s = start.clone();
+        Engine::new(&d).advance(&mut s, period, &mut rec).unwrap();
+        let direct = rec.steady(&d, s, None, outcome(None));
+        assert_eq!(st.amplitude, direct.amplitude);
+        assert!(st.amplitude.iter().all(|a| a.is_finite() && *a > 0.0), "{:?}", st.amplitude);
+        assert_eq!((st.recorded_periods, st.converged), (1, false));
+        assert!(st.stop.is_some());
+        assert_eq!(st.final_state, stopped);
+        // Without a whole period: not measured.
+        let none = finish(&d, stopped.clone(), f64::NAN, false, outcome(None));
+        assert!(none.amplitude.iter().all(|a| a.is_nan()));
+    }
 }

@@ -40,10 +40,22 @@ pub fn transient_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Ste
     let mut found = 0;
     let mut stop = None;
     let mut simulated = 0;
+    // The start of the period being run and of the last one completed (and its end): what a
+    // point stopped by chatter records.
+    let (mut current, mut last_whole): (State, Option<(State, f64)>) = (s.clone(), None);
     while simulated < opts.max_periods {
-        if let Err(e) = engine.advance(&mut s, k as f64 * period, &mut Quiet) {
+        current.clone_from(&s);
+        let end = k as f64 * period;
+        if let Err(e) = engine.advance(&mut s, end, &mut Quiet) {
             stop = Some(e);
             break;
+        }
+        match &mut last_whole {
+            Some((l, t)) => {
+                std::mem::swap(l, &mut current);
+                *t = end;
+            }
+            None => last_whole = Some((current.clone(), end)),
         }
         let z = flat(d, &s);
         let scale = amplitude_scale(d, &s);
@@ -84,6 +96,7 @@ pub fn transient_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Ste
         transient_periods: simulated,
         period: found,
         record,
+        last_whole: last_whole.filter(|_| stop.is_some()),
         stop,
     };
     finish(d, s, t_end, opts.energy, outcome)
