@@ -18,7 +18,7 @@ use num_complex::Complex64;
 
 use super::steady::{
     amplitude_scale, finish, run_to_whole_period, torus_window, Certificate, NoSteady, Outcome, Recorder, Steady,
-    SteadyMethod, SteadyOptions, TORUS_MARGIN, TORUS_TOL,
+    SteadyMethod, SteadyOptions, WholePeriods, TORUS_MARGIN, TORUS_TOL,
 };
 use crate::sim::motion::engine::{Engine, Event, Quiet, State};
 use crate::sim::motion::observe::{EventLog, Extrema};
@@ -211,24 +211,16 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     let mut stop = None;
     let mut torus = TorusRun::default();
     let mut record_periods = opts.record_periods;
-    // The start of the period being run and of the last one completed (and its end): what a
-    // point stopped by chatter records.
-    let (mut current, mut last_whole): (State, Option<(State, f64)>) = (s.clone(), None);
+    let mut whole = WholePeriods::new(&s);
     while simulated < opts.max_periods {
         let mut log = EventLog::default();
-        current.clone_from(&s);
+        whole.begin(&s);
         let end = k as f64 * period;
         if let Err(e) = engine.advance(&mut s, end, &mut log) {
             stop = Some(e);
             break;
         }
-        match &mut last_whole {
-            Some((l, t)) => {
-                std::mem::swap(l, &mut current);
-                *t = end;
-            }
-            None => last_whole = Some((current.clone(), end)),
-        }
+        whole.completed(end);
         let sig = counts(&log.0);
         history.push_front(Period { events: log.0, sig, scale: amplitude_scale(d, &s) });
         history.truncate(keep);
@@ -320,7 +312,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         transient_periods: simulated,
         period: 0,
         record: record_periods,
-        last_whole: last_whole.filter(|_| stop.is_some()),
+        last_whole: whole.last(stop.is_some()),
         stop,
     };
     // An unsettled point still reports what its motion does over the next periods.

@@ -416,6 +416,42 @@ pub(crate) fn run_to_whole_period(d: &Dynamics, s: &mut State) -> Result<(), Sto
     Engine::new(d).advance(s, whole, &mut crate::sim::motion::engine::Quiet)
 }
 
+/// The start of the forcing period a search is running and the last whole period it
+/// completed, with its end time: what a point stopped early records ([`finish`]). The states
+/// are copied into kept buffers (no allocation after the first period).
+pub(crate) struct WholePeriods {
+    current: State,
+    last: Option<(State, f64)>,
+}
+
+impl WholePeriods {
+    /// Before the first period, from `s`.
+    pub(crate) fn new(s: &State) -> WholePeriods {
+        WholePeriods { current: s.clone(), last: None }
+    }
+
+    /// A period starts at `s`.
+    pub(crate) fn begin(&mut self, s: &State) {
+        self.current.clone_from(s);
+    }
+
+    /// The period begun last ended, at `end`.
+    pub(crate) fn completed(&mut self, end: f64) {
+        match &mut self.last {
+            Some((l, t)) => {
+                std::mem::swap(l, &mut self.current);
+                *t = end;
+            }
+            None => self.last = Some((self.current.clone(), end)),
+        }
+    }
+
+    /// The last whole period, for [`Outcome::last_whole`] where the search `stopped`.
+    pub(crate) fn last(self, stopped: bool) -> Option<(State, f64)> {
+        self.last.filter(|_| stopped)
+    }
+}
+
 /// Records the motion from `s` to `t_end` and assembles the steady state. A search that
 /// stopped early (chatter) records instead the last whole period it ran, where it has one
 /// (run again from its start: the same events, so no stop), and keeps `s`, where it stopped,

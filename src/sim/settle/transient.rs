@@ -5,7 +5,7 @@
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
-use super::steady::{amplitude_scale, finish, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions};
+use super::steady::{amplitude_scale, finish, NoSteady, Outcome, Steady, SteadyMethod, SteadyOptions, WholePeriods};
 use crate::sim::motion::engine::{Bed, Engine, Quiet, State};
 use crate::sim::motion::observe::flat;
 use crate::sim::motion::system::Dynamics;
@@ -40,23 +40,15 @@ pub fn transient_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Ste
     let mut found = 0;
     let mut stop = None;
     let mut simulated = 0;
-    // The start of the period being run and of the last one completed (and its end): what a
-    // point stopped by chatter records.
-    let (mut current, mut last_whole): (State, Option<(State, f64)>) = (s.clone(), None);
+    let mut whole = WholePeriods::new(&s);
     while simulated < opts.max_periods {
-        current.clone_from(&s);
+        whole.begin(&s);
         let end = k as f64 * period;
         if let Err(e) = engine.advance(&mut s, end, &mut Quiet) {
             stop = Some(e);
             break;
         }
-        match &mut last_whole {
-            Some((l, t)) => {
-                std::mem::swap(l, &mut current);
-                *t = end;
-            }
-            None => last_whole = Some((current.clone(), end)),
-        }
+        whole.completed(end);
         let z = flat(d, &s);
         let scale = amplitude_scale(d, &s);
         history.push_front((s.beds.clone(), z));
@@ -96,7 +88,7 @@ pub fn transient_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Ste
         transient_periods: simulated,
         period: found,
         record,
-        last_whole: last_whole.filter(|_| stop.is_some()),
+        last_whole: whole.last(stop.is_some()),
         stop,
     };
     finish(d, s, t_end, opts.energy, outcome)
