@@ -485,8 +485,13 @@ fn band_compliance_on(
                     motion.flight_m = st.max_flight.iter().fold(motion.flight_m, |a, &f| a.max(f));
                     // An amplitude that was never measured (a run stopped by chatter before
                     // its record) counts as a point without a steady state at all.
-                    for (w, a) in worst[i].iter_mut().zip(&st.amplitude) {
-                        *w = if a.is_nan() { f64::INFINITY } else { w.max(a / sys.force) };
+                    // A mass not measured ([`SteadyOptions::observe`]) has no compliance.
+                    for (m, (w, a)) in worst[i].iter_mut().zip(&st.amplitude).enumerate() {
+                        *w = match steady.observe.contains(m) {
+                            false => f64::NAN,
+                            true if a.is_nan() => f64::INFINITY,
+                            true => w.max(a / sys.force),
+                        };
                     }
                 }
                 Err(_) => {

@@ -119,19 +119,35 @@ fn rounding(seg: &Segment, d: &Dynamics) -> f64 {
 /// the event search found was undone again and again by a contact force computed as 1.3e-8).
 const ROUNDED_CONTACTS_ABOVE: usize = super::system::LARGE_ABOVE;
 
-/// A bed that leaves its host at this instant (`tf` the state's time): its gap and the gap's
-/// rate from the state itself, exact (zero when it lifts off or sticks), not from the closed
-/// form, which carries the state to the terms' coefficients and back and leaves rounding
-/// (on a 64-mass chain 7e-11 m/s after a plastic impact on the lid, which counted as the next
-/// impact, again and again at one instant).
-fn exact_start(w: &Watch, s: &State, ta: &mut Taylor) {
-    let (h0, h1) = match *w {
-        Watch::GapBottom { host, y0, u0, tf, .. } if tf == s.t => (y0 - s.x[host], u0 - s.v[host]),
-        Watch::GapTop { host, d, y0, u0, tf, .. } if tf == s.t => (s.x[host] + d - y0, s.v[host] - u0),
-        _ => return,
-    };
-    ta.h[0] = h0;
-    ta.h[1] = h1;
+/// A watch's data at a segment's start from the state and the host's rows
+/// ([`Dynamics::host_derivs`], the source [`Engine::settle`] decides contacts from), not from
+/// the closed form. The closed form carries the state to the terms' coefficients and back and
+/// leaves rounding: a gap's value and rate after a plastic impact on the lid (7e-11 m/s on a
+/// 64-mass chain, which counted as the next impact, again and again at one instant), and a
+/// host's acceleration off by the coefficients' rounding times the fastest terms' rates squared
+/// (1.8e-3 m/s^2 on a reduced plate whose fastest fixed-interface modes are near 8 kHz, where
+/// the rows and the full products agree to 1e-9: a lift-off decided on -1.1e-3 m/s^2 met a gap
+/// curving down at once, and the bed landed and lifted off again at one instant, 2000 times).
+/// A bed that leaves its host at this instant (`tf` the state's time) gets its gap and rate
+/// from the state (zero when it lifts off or sticks) and their next two derivatives from the
+/// rows; a bed riding its host, its contact acceleration and next two derivatives.
+fn exact_start(w: &Watch, d: &Dynamics, s: &State, ta: &mut Taylor) {
+    let host = |bed: usize| d.host_derivs(s.mask(), bed, s.t, &s.x, &s.v);
+    match *w {
+        Watch::GapBottom { bed, host: p, y0, u0, tf } if tf == s.t => {
+            let [a, jerk, _] = host(bed);
+            ta.h = [y0 - s.x[p], u0 - s.v[p], -(a + d.system.dampers[bed].gravity()), -jerk];
+        }
+        Watch::GapTop { bed, host: p, d: clearance, y0, u0, tf } if tf == s.t => {
+            let [a, jerk, _] = host(bed);
+            ta.h = [s.x[p] + clearance - y0, s.v[p] - u0, a + d.system.dampers[bed].gravity(), jerk];
+        }
+        Watch::Contact { bed, sigma, .. } => {
+            let [a, jerk, snap] = host(bed);
+            ta.h[..3].copy_from_slice(&[sigma * (a + d.system.dampers[bed].gravity()), sigma * jerk, sigma * snap]);
+        }
+        _ => {}
+    }
 }
 
 /// What counts as a zero contact acceleration of host `host`, its rate and its second
@@ -346,7 +362,7 @@ impl<'a> Engine<'a> {
             let mut ta = w.taylor(seg, d, &first);
             let big = d.dof > ROUNDED_CONTACTS_ABOVE;
             if big {
-                exact_start(w, s, &mut ta);
+                exact_start(w, d, s, &mut ta);
             }
             let mut tol = fresh_tol(w, d.omega);
             if let Watch::Contact { host, .. } = *w {

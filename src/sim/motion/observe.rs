@@ -7,6 +7,59 @@ use super::engine::{Bed, Event, EventKind, Observer, State};
 use super::segment::{Point, Segment, Watch};
 use super::system::Dynamics;
 
+/// The masses whose extremes an [`Extrema`] follows: every one, or those of a set (an
+/// analysis of a structure of many coordinates that reads a few of them: a design on a
+/// reduced plate reads its bands' points and its containers' hosts, 5 of 47 coordinates, and
+/// following all of them took a sixth of its time). A mass not followed has no amplitude (NaN).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct Observe {
+    /// `None`: every mass; otherwise bit `i` of word `i / 64` set for mass `i`.
+    bits: Option<[u64; 4]>,
+}
+
+impl Observe {
+    /// Every mass.
+    pub const ALL: Observe = Observe { bits: None };
+
+    /// The masses of `masses` (0-based, below [`MAX_DOF`](super::system::MAX_DOF)).
+    pub fn only(masses: impl IntoIterator<Item = usize>) -> Observe {
+        let mut bits = [0u64; 4];
+        for i in masses {
+            debug_assert!(i < 256, "mass {i}");
+            if let Some(w) = bits.get_mut(i / 64) {
+                *w |= 1 << (i % 64);
+            }
+        }
+        Observe { bits: Some(bits) }
+    }
+
+    /// Whether every mass is followed.
+    pub fn is_all(&self) -> bool {
+        self.bits.is_none()
+    }
+
+    /// Whether mass `i` is followed.
+    #[inline]
+    pub fn contains(&self, i: usize) -> bool {
+        self.bits.is_none_or(|b| b.get(i / 64).is_some_and(|w| w & (1 << (i % 64)) != 0))
+    }
+}
+
+impl Default for Observe {
+    fn default() -> Self {
+        Observe::ALL
+    }
+}
+
+impl std::fmt::Debug for Observe {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.bits {
+            None => write!(f, "all"),
+            Some(_) => write!(f, "only {:?}", (0..256).filter(|&i| self.contains(i)).collect::<Vec<_>>()),
+        }
+    }
+}
+
 /// Extrema of every displacement relative to the supports (and bed states) over the observed
 /// time, found from the roots of the velocities in closed form, plus event counts.
 #[derive(Debug, Clone)]
@@ -23,6 +76,8 @@ pub struct Extrema {
     pub liftoffs: Vec<usize>,
     /// Highest flight of each bed above its container bottom, m.
     pub max_flight: Vec<f64>,
+    /// The masses followed (the others keep no extremes).
+    observe: Observe,
     /// Sample times, points and values of one segment (buffers reused from segment to segment).
     times: Vec<f64>,
     points: Vec<Point>,
@@ -35,7 +90,13 @@ pub struct Extrema {
 impl Extrema {
     /// Empty extrema for `n` masses and `beds` beds.
     pub fn new(n: usize, beds: usize) -> Extrema {
+        Extrema::observing(n, beds, Observe::ALL)
+    }
+
+    /// Empty extrema for `n` masses and `beds` beds, following the masses of `observe`.
+    pub fn observing(n: usize, beds: usize, observe: Observe) -> Extrema {
         Extrema {
+            observe,
             min: vec![f64::INFINITY; n],
             max: vec![f64::NEG_INFINITY; n],
             bottom_impacts: vec![0; beds],
@@ -51,7 +112,8 @@ impl Extrema {
     }
 
     /// Half the peak-to-peak displacement of each mass; NaN for a mass never seen (a run that
-    /// stopped before anything was recorded: not measured, never an amplitude of -inf).
+    /// stopped before anything was recorded: not measured, never an amplitude of -inf) or not
+    /// followed.
     pub fn amplitudes(&self) -> Vec<f64> {
         self.min.iter().zip(&self.max).map(|(lo, hi)| if hi >= lo { 0.5 * (hi - lo) } else { f64::NAN }).collect()
     }
@@ -164,11 +226,25 @@ impl Extrema {
                 out.iter_mut().enumerate().for_each(|(i, o)| *o -= d.support_motion(i, order, pt.sin, pt.cos));
             }
         };
+        // A few masses followed: each one's own numbers (the same, one by one).
+        let observe = self.observe;
+        let few = !observe.is_all();
         for (pt, out) in points.iter().zip(all.chunks_exact_mut(n)) {
-            seg.all_into(d, pt, 1, out);
-            less_supports(pt, 1, out);
+            if few {
+                out.iter_mut()
+                    .enumerate()
+                    .filter(|(i, _)| observe.contains(*i))
+                    .for_each(|(i, o)| *o = shown(pt, i, 1));
+            } else {
+                seg.all_into(d, pt, 1, out);
+                less_supports(pt, 1, out);
+            }
         }
         for k in [0, m] {
+            if few {
+                (0..n).filter(|&i| observe.contains(i)).for_each(|i| self.take(i, shown(&points[k], i, 0)));
+                continue;
+            }
             seg.all_into(d, &points[k], 0, &mut one);
             less_supports(&points[k], 0, &mut one);
             one.iter().enumerate().for_each(|(i, &x)| self.take(i, x));
@@ -183,7 +259,7 @@ impl Extrema {
             let s = |sin: f64, cos: f64| d.support_motion(i, 2, sin, cos);
             s(1.0, 0.0).hypot(s(0.0, 1.0))
         };
-        for i in 0..n {
+        for i in (0..n).filter(|&i| observe.contains(i)) {
             let v = |t: f64| {
                 let pt = seg.point(d, t);
                 (shown(&pt, i, 1), shown(&pt, i, 2), shown(&pt, i, 0))

@@ -521,7 +521,15 @@ impl Dynamics {
                     a[(n + i, n + j)] = mc[(i, j)];
                 }
             }
-            let eig = eigen::decompose(&a).ok_or(SetupError::Defective { mask })?;
+            // Above LARGE_ABOVE degrees of freedom the eigenpairs come from the second-order
+            // problem ([`eigen::decompose_second_order`]: a stiff structure's state matrix
+            // leaves the slow modes' vectors inconsistent); the paper's structures keep the
+            // state matrix's own, bit for bit.
+            let eig = match n > LARGE_ABOVE {
+                true => eigen::decompose_second_order(&a, &m, &c, &k),
+                false => eigen::decompose(&a),
+            }
+            .ok_or(SetupError::Defective { mask })?;
             // A passive structure has no growing mode; nearly dependent eigenvectors make the
             // closed form meaningless (e.g. one mass 1e20 times another).
             let rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);

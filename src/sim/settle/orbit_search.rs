@@ -118,7 +118,7 @@ fn solve_recorded(
         if !likely_last {
             return Ok((strobe.map(d, u)?, None));
         }
-        let mut rec = Recorder::new(d, &strobe.state(d, u), opts.energy);
+        let mut rec = Recorder::new(d, &strobe.state(d, u), opts);
         let (ret, end) = strobe.map_observed(d, u, &mut rec)?;
         Ok((ret, Some((rec, end))))
     })
@@ -174,19 +174,21 @@ fn onto_torus(
     s: &mut State,
     w: usize,
     simulated: &mut usize,
-    max_periods: usize,
+    opts: &SteadyOptions,
 ) -> Result<bool, crate::sim::motion::engine::Stop> {
     let d = engine.d;
     let period = 2.0 * PI / d.omega;
     let mut last: Option<Vec<f64>> = None;
-    while *simulated + w <= max_periods {
-        let mut ext = Extrema::new(d.system.dof(), d.system.dampers.len());
+    while *simulated + w <= opts.max_periods {
+        let mut ext = Extrema::observing(d.system.dof(), d.system.dampers.len(), opts.observe);
         engine.advance(s, s.t + w as f64 * period, &mut ext)?;
         *simulated += w;
         let amp = ext.amplitudes();
         if let Some(prev) = &last {
-            let scale = amp.iter().copied().fold(f64::MIN_POSITIVE, f64::max);
-            if amp.iter().zip(prev).all(|(a, b)| (a - b).abs() <= TORUS_TOL * scale) {
+            // The masses measured (a mass not followed has no amplitude).
+            let seen = || amp.iter().zip(prev).enumerate().filter(|(i, _)| opts.observe.contains(*i)).map(|(_, p)| p);
+            let scale = seen().map(|(a, _)| *a).fold(f64::MIN_POSITIVE, f64::max);
+            if seen().all(|(a, b)| (a - b).abs() <= TORUS_TOL * scale) {
                 return Ok(true);
             }
         }
@@ -280,7 +282,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         if opts.torus_attempts > 0 && torus.attempts >= opts.torus_attempts && torus.grown(simulated) {
             let TorusRun { attempts: run, radius, angle, p, .. } = torus;
             let w = torus_window(angle, p, opts.record_periods);
-            match onto_torus(&engine, &mut s, w, &mut simulated, opts.max_periods) {
+            match onto_torus(&engine, &mut s, w, &mut simulated, opts) {
                 Err(e) => {
                     stop = Some(e);
                     break;
@@ -317,7 +319,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     };
     // An unsettled point still reports what its motion does over the next periods.
     let t_end = s.t + record_periods as f64 * period;
-    finish(d, s, t_end, opts.energy, outcome)
+    finish(d, s, t_end, opts, outcome)
 }
 
 /// A settled motion (`st`, from the transient rule) certified as a periodic orbit, when it is
@@ -613,7 +615,7 @@ fn record(
     };
     match recorded {
         Some((rec, end)) => rec.steady(d, end, None, outcome),
-        None => finish(d, start, t_end, opts.energy, outcome),
+        None => finish(d, start, t_end, opts, outcome),
     }
 }
 

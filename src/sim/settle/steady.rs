@@ -16,6 +16,7 @@ use num_complex::Complex64;
 use nalgebra::DVector;
 
 use crate::sim::motion::engine::{Bed, Engine, Event, Observer, State, Stop};
+pub use crate::sim::motion::observe::Observe;
 use crate::sim::motion::observe::{stored_energy, Energy, Extrema};
 use crate::sim::motion::segment::{Segment, Watch};
 use crate::sim::motion::system::Dynamics;
@@ -47,7 +48,7 @@ impl SteadyMethod {
 }
 
 /// How a steady state is sought.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Clone, Copy, PartialEq)]
 pub struct SteadyOptions {
     /// How the steady state is found.
     pub method: SteadyMethod,
@@ -86,6 +87,33 @@ pub struct SteadyOptions {
     /// per cycle; otherwise (a fold, a bifurcation, a change of events) run the transient
     /// search from the previous final state as without this option.
     pub follow: bool,
+    /// The masses whose amplitudes are measured (default: all; the others' are NaN). The
+    /// torus test compares those only.
+    pub observe: Observe,
+}
+
+impl std::fmt::Debug for SteadyOptions {
+    /// The derived form; `observe` only when it is not every mass (a stored design answer
+    /// fingerprints this text: those stored before the field existed stay valid).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut d = f.debug_struct("SteadyOptions");
+        d.field("method", &self.method)
+            .field("tol", &self.tol)
+            .field("consecutive", &self.consecutive)
+            .field("min_periods", &self.min_periods)
+            .field("max_periods", &self.max_periods)
+            .field("record_periods", &self.record_periods)
+            .field("orbit_tol", &self.orbit_tol)
+            .field("max_newton", &self.max_newton)
+            .field("max_subharmonic", &self.max_subharmonic)
+            .field("energy", &self.energy)
+            .field("torus_attempts", &self.torus_attempts)
+            .field("follow", &self.follow);
+        if !self.observe.is_all() {
+            d.field("observe", &self.observe);
+        }
+        d.finish()
+    }
 }
 
 impl Default for SteadyOptions {
@@ -104,6 +132,7 @@ impl Default for SteadyOptions {
             orbit_tol: 1e-11,
             max_newton: 10,
             follow: false,
+            observe: Observe::ALL,
         }
     }
 }
@@ -345,9 +374,10 @@ pub(crate) struct Recorder {
 }
 
 impl Recorder {
-    /// A record starting at `s`.
-    pub(crate) fn new(d: &Dynamics, s: &State, energy_on: bool) -> Recorder {
-        let ext = Extrema::new(d.system.dof(), d.system.dampers.len());
+    /// A record starting at `s`, of the masses and the energy `opts` asks for.
+    pub(crate) fn new(d: &Dynamics, s: &State, opts: &SteadyOptions) -> Recorder {
+        let energy_on = opts.energy;
+        let ext = Extrema::observing(d.system.dof(), d.system.dampers.len(), opts.observe);
         let energy = energy_on.then(Energy::default);
         Recorder { ext, energy, e0: if energy_on { stored_energy(d, s) } else { 0.0 } }
     }
@@ -459,16 +489,16 @@ impl WholePeriods {
 /// starting from the end of the recorded period instead, or from the start of a first period
 /// that stopped, repeated the same burst at every later frequency); with none its amplitudes
 /// are NaN (not measured).
-pub(crate) fn finish(d: &Dynamics, mut s: State, t_end: f64, energy_on: bool, mut o: Outcome) -> Steady {
+pub(crate) fn finish(d: &Dynamics, mut s: State, t_end: f64, opts: &SteadyOptions, mut o: Outcome) -> Steady {
     if o.stop.is_some() {
         if let Some((mut from, end)) = o.last_whole.take() {
-            let mut rec = Recorder::new(d, &from, energy_on);
+            let mut rec = Recorder::new(d, &from, opts);
             let again = Engine::new(d).advance(&mut from, end, &mut rec).err();
             o.record = 1;
             return Steady { final_state: s, ..rec.steady(d, from, again, o) };
         }
     }
-    let mut rec = Recorder::new(d, &s, energy_on);
+    let mut rec = Recorder::new(d, &s, opts);
     let stop = if o.stop.is_none() { Engine::new(d).advance(&mut s, t_end, &mut rec).err() } else { None };
     rec.steady(d, s, stop, o)
 }
@@ -501,9 +531,10 @@ mod tests {
             stop: Some(Stop::Chatter { t: stopped.t, events: 2001 }),
             last_whole,
         };
-        let st = finish(&d, stopped.clone(), f64::NAN, false, outcome(Some((start.clone(), period))));
+        let st =
+            finish(&d, stopped.clone(), f64::NAN, &SteadyOptions::default(), outcome(Some((start.clone(), period))));
         // The same numbers as a record of that period.
-        let mut rec = Recorder::new(&d, &start, false);
+        let mut rec = Recorder::new(&d, &start, &SteadyOptions::default());
         let mut s = start.clone();
         Engine::new(&d).advance(&mut s, period, &mut rec).unwrap();
         let direct = rec.steady(&d, s, None, outcome(None));
@@ -513,7 +544,7 @@ mod tests {
         assert!(st.stop.is_some());
         assert_eq!(st.final_state, stopped);
         // Without a whole period: not measured.
-        let none = finish(&d, stopped.clone(), f64::NAN, false, outcome(None));
+        let none = finish(&d, stopped.clone(), f64::NAN, &SteadyOptions::default(), outcome(None));
         assert!(none.amplitude.iter().all(|a| a.is_nan()));
     }
 }

@@ -91,5 +91,5 @@ pub fn transient_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Ste
         last_whole: whole.last(stop.is_some()),
         stop,
     };
-    finish(d, s, t_end, opts.energy, outcome)
+    finish(d, s, t_end, opts, outcome)
 }
