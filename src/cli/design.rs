@@ -71,8 +71,9 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     // A merge searches nothing: no budget to print.
     let budgets = if merge.is_some() { Vec::new() } else { runner::designs::budgets(files, &cli.reference)? };
     for (key, n, b) in budgets {
-        let point = crate::design::Budget::seconds_per_point(n) * b.fast;
-        let fast = if b.fast > 1.0 {
+        let stepping = crate::design::Budget::stepping(b.fast, n);
+        let point = crate::design::Budget::seconds_per_point(n) * stepping;
+        let fast = if stepping > 1.0 {
             format!(
                 ", the structure's fastest mode oscillating {:.0} times a period of the lowest forcing frequency",
                 b.fast * crate::design::Budget::FAST_RATIO
