@@ -119,12 +119,24 @@ fn eigenpair(ac: &DMatrix<Complex64>, lambda: Complex64, norm_a: f64) -> Option<
     let av = ac * &v;
     let lambda = v.dotc(&av) / v.dotc(&v);
     let r = (&av - &v * lambda).norm() / norm_a;
-    // Phase: largest element real and positive (reproducible vectors).
+    unit_phase(&mut v);
+    Some((lambda, v, r))
+}
+
+/// Turns `v` so that its largest element is real and positive (reproducible vectors).
+fn unit_phase(v: &mut DVector<Complex64>) {
     let (imax, _) =
         v.iter().enumerate().fold((0, 0.0), |acc, (i, c)| if c.norm() > acc.1 { (i, c.norm()) } else { acc });
     let phase = v[imax] / v[imax].norm();
-    v /= phase;
-    Some((lambda, v, r))
+    *v /= phase;
+}
+
+/// The eigenvalues of `a` ([`eigenvalues`]) in a deterministic order: by imaginary part
+/// (descending), then real part.
+fn ordered_eigenvalues(a: &DMatrix<f64>) -> Option<Vec<Complex64>> {
+    let mut values = eigenvalues(a).ok()?;
+    values.sort_by(|x, y| y.im.total_cmp(&x.im).then(x.re.total_cmp(&y.re)));
+    Some(values)
 }
 
 /// Decomposes `a`. Returns `None` when `a` is defective (eigenvectors not independent), which
@@ -134,9 +146,7 @@ pub fn decompose(a: &DMatrix<f64>) -> Option<Eigen> {
     let n = a.nrows();
     let ac: DMatrix<Complex64> = a.map(|v| Complex64::new(v, 0.0));
     let norm_a = a.norm().max(f64::MIN_POSITIVE);
-    let mut schur: Vec<Complex64> = eigenvalues(a).ok()?;
-    // Deterministic order: by imaginary part (descending), then real part.
-    schur.sort_by(|x, y| y.im.total_cmp(&x.im).then(x.re.total_cmp(&y.re)));
+    let schur = ordered_eigenvalues(a)?;
     let mut values = Vec::with_capacity(n);
     let mut columns: Vec<DVector<Complex64>> = Vec::with_capacity(n);
     let mut representatives = Vec::new();
@@ -191,8 +201,7 @@ pub fn decompose_second_order(a: &DMatrix<f64>, m: &DMatrix<f64>, c: &DMatrix<f6
     let cx = |a: &DMatrix<f64>| a.map(|v| Complex64::new(v, 0.0));
     let (mc, cc, kc) = (cx(m), cx(c), cx(k));
     let form = |v: &DVector<Complex64>, a: &DMatrix<Complex64>| v.dotc(&(a * v));
-    let mut schur: Vec<Complex64> = eigenvalues(a).ok()?;
-    schur.sort_by(|x, y| y.im.total_cmp(&x.im).then(x.re.total_cmp(&y.re)));
+    let schur = ordered_eigenvalues(a)?;
     let mut values = Vec::with_capacity(2 * n);
     let mut columns: Vec<DVector<Complex64>> = Vec::with_capacity(2 * n);
     let mut representatives = Vec::new();
@@ -228,11 +237,7 @@ pub fn decompose_second_order(a: &DMatrix<f64>, m: &DMatrix<f64>, c: &DMatrix<f6
         let mut v = DVector::<Complex64>::from_fn(2 * n, |i, _| if i < n { x[i] } else { l * x[i - n] });
         let norm = v.norm();
         v /= Complex64::new(norm, 0.0);
-        // Phase: largest element real and positive (reproducible vectors).
-        let (imax, _) =
-            v.iter().enumerate().fold((0, 0.0), |acc, (i, z)| if z.norm() > acc.1 { (i, z.norm()) } else { acc });
-        let phase = v[imax] / v[imax].norm();
-        v /= phase;
+        unit_phase(&mut v);
         representatives.push((values.len(), if real { 1.0 } else { 2.0 }));
         values.push(l);
         columns.push(v.clone());
