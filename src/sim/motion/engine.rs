@@ -124,10 +124,12 @@ const ROUNDED_CONTACTS_ABOVE: usize = super::system::LARGE_ABOVE;
 /// the closed form. The closed form carries the state to the terms' coefficients and back and
 /// leaves rounding: a gap's value and rate after a plastic impact on the lid (7e-11 m/s on a
 /// 64-mass chain, which counted as the next impact, again and again at one instant), and a
-/// host's acceleration off by the coefficients' rounding times the fastest terms' rates squared
-/// (1.8e-3 m/s^2 on a reduced plate whose fastest fixed-interface modes are near 8 kHz, where
-/// the rows and the full products agree to 1e-9: a lift-off decided on -1.1e-3 m/s^2 met a gap
-/// curving down at once, and the bed landed and lifted off again at one instant, 2000 times).
+/// host's acceleration off by whatever the eigenvectors carry (1.8e-3 m/s^2 on a reduced plate
+/// whose fastest fixed-interface modes are near 8 kHz while its eigenvectors came from the
+/// state matrix, where the rows and the full products agree to 1e-9: a lift-off decided on
+/// -1.1e-3 m/s^2 met a gap curving down at once, and the bed landed and lifted off again at one
+/// instant, 2000 times; [`super::eigen::decompose_second_order`] removed most of it, this the
+/// rest: the decision and the search read one number).
 /// A bed that leaves its host at this instant (`tf` the state's time) gets its gap and rate
 /// from the state (zero when it lifts off or sticks) and their next two derivatives from the
 /// rows; a bed riding its host, its contact acceleration and next two derivatives.
