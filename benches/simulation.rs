@@ -51,6 +51,20 @@ fn low_damping(c: &mut Criterion) {
     group.finish();
 }
 
+/// The paper's three beds without lids (N = 3, d = inf) over 44-56 Hz, every point from rest
+/// (121 points) on one thread: the cost of an independent point.
+fn from_rest_band(c: &mut Criterion) {
+    let sys = three_dampers();
+    let freqs: Vec<f64> = (0..=120).map(|i| ((440.0 + i as f64) / 10.0 * 1e9).round() / 1e9).collect();
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool of one thread");
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    group.bench_function("N=3 d=inf 44-56 Hz from rest, one thread (121 points)", |b| {
+        b.iter(|| one.install(|| sweep::from_rest(&sys, &freqs, &SteadyOptions::default(), &|| {})))
+    });
+    group.finish();
+}
+
 fn fig08_sweep(c: &mut Criterion) {
     let sys = three_dampers();
     let freqs: Vec<f64> = (0..=520).map(|i| ((80.0 + i as f64) / 10.0 * 1e9).round() / 1e9).collect();
@@ -148,6 +162,6 @@ criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = point, fig08_sweep, low_damping, column_sweep, fig09_branch, dynamics_setup, stiffness_fit
+    targets = point, from_rest_band, fig08_sweep, low_damping, column_sweep, fig09_branch, dynamics_setup, stiffness_fit
 }
 criterion_main!(benches);

@@ -16,7 +16,7 @@ use crate::model::{Clearance, Damper};
 use crate::sim::continuation::{continue_branch, BranchEnd, BranchPoint, ContinuationOptions, Parameter};
 use crate::sim::periodic::{seed, solve, summarize, NewtonOptions};
 use crate::sim::sweep::{self, SweepPoint};
-use crate::sim::{steady_state, Dynamics, State, SteadyOptions, System};
+use crate::sim::{steady_from_rest, Dynamics, SteadyOptions, System};
 
 use super::curves;
 use super::kind::{Input, Kind, Output};
@@ -119,7 +119,7 @@ fn branch(
         }
         tried += 1;
         let Ok(d) = family(f) else { continue };
-        let st = steady_state(&d, State::at_rest(&d), steady);
+        let st = steady_from_rest(&d, steady);
         if !(st.converged && st.period == 1) || st.bottom_impacts.first().is_none_or(|b| *b == 0.0) {
             continue;
         }

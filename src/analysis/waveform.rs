@@ -8,7 +8,7 @@ use crate::checks::reference::ReferenceStore;
 use crate::experiment::{Experiment, Number, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Panel, Series};
 use crate::sim::observe::Sampler;
-use crate::sim::{steady_state, Dynamics, Engine, EventKind, State, SteadyOptions};
+use crate::sim::{steady_from_rest, Dynamics, Engine, EventKind, SteadyOptions};
 use crate::table::Table;
 
 use super::curves;
@@ -181,7 +181,7 @@ fn run(
                     continue;
                 }
             };
-            let st = steady_state(&d, State::at_rest(&d), steady);
+            let st = steady_from_rest(&d, steady);
             let mut s = st.final_state.clone();
             let t0 = s.t;
             let period = 2.0 * PI / omega;

@@ -13,7 +13,7 @@ use crate::analysis::event_words;
 use crate::error::Result;
 use crate::experiment::{Analysis, Experiment};
 use crate::sim::observe::Sampler;
-use crate::sim::{steady_state, Dynamics, Engine, State, SteadyOptions};
+use crate::sim::{steady_from_rest, Dynamics, Engine, SteadyOptions};
 
 /// Samples per forcing period.
 const SAMPLES: usize = 120;
@@ -63,7 +63,7 @@ pub fn run(exp: &Experiment, req: &PointRequest) -> Result<Value> {
     let sys = curves::system(exp, case);
     let omega = 2.0 * PI * f;
     let d = Dynamics::new(&sys, omega).map_err(|e| bad("case", &req.case, format!("cannot be simulated: {e}")))?;
-    let st = steady_state(&d, State::at_rest(&d), &opts);
+    let st = steady_from_rest(&d, &opts);
     let mut s = st.final_state.clone();
     let t0 = s.t;
     let period = 2.0 * PI / omega;

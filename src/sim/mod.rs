@@ -12,7 +12,8 @@ pub use motion::{
     bed, buf, coarse, column, eigen, engine, forced, impulse, observe, roots, schur, segment, soft, state, system,
 };
 pub use orbits::{continuation, periodic, strobe, tangent};
-pub use settle::{long_record, orbit_search, steady, steady_state, sweep, transient};
+pub use rest::steady_from_rest;
+pub use settle::{long_record, orbit_search, rest, steady, steady_state, sweep, transient};
 
 pub use engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};
 pub use steady::{Steady, SteadyMethod, SteadyOptions};

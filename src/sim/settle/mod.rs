@@ -5,6 +5,7 @@
 
 pub mod long_record;
 pub mod orbit_search;
+pub mod rest;
 pub mod steady;
 pub mod sweep;
 pub mod transient;

@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 
 use super::orbit_search::{follow, Known, Moved};
+use super::rest::steady_from_rest;
 use super::steady::{run_to_whole_period, Steady, SteadyOptions};
 use super::steady_state;
 use crate::sim::motion::engine::{Bed, State};
@@ -54,7 +55,7 @@ pub fn from_rest_on(
                 .as_ref()
                 .map_err(Clone::clone)
                 .and_then(|b| b.at_omega(2.0 * PI * f))
-                .map(|d| steady_state(&d, State::at_rest(&d), opts));
+                .map(|d| steady_from_rest(&d, opts));
             tick();
             SweepPoint { freq_hz: f, result }
         })
@@ -158,7 +159,7 @@ pub fn continued_at(
                     steady_state(d, start(s), &near)
                 }
                 Some(s) => steady_state(d, start(s), opts),
-                None => steady_state(d, State::at_rest(d), opts),
+                None => steady_from_rest(d, opts),
             });
             (st, was_followed.then_some(d))
         });
