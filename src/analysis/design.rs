@@ -8,9 +8,7 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 
 use crate::checks::reference::ReferenceStore;
-use crate::checks::{CheckOutcome, Source, Status};
-use crate::design::search::{self, optimise_until, Found};
-use crate::design::stored::{fingerprint, StoredDesign, StoredLayout, StoredPareto};
+use crate::design::search::{self, Found};
 use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Spec, PROFILE_POINTS};
 use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
@@ -21,6 +19,8 @@ use crate::table::Table;
 use super::kind::{Input, Kind, Output};
 
 pub use super::design_problem::{problem, screen};
+use super::design_search::{hosts_words, lowest, searched, stored};
+pub use super::design_search::{REPLAY_TOL, REPLAY_TOL_UNSETTLED};
 
 /// A clearance is in the robust band when its objective is within this factor of the best.
 pub const ROBUST: f64 = 1.05;
@@ -38,149 +38,6 @@ impl Kind for Design<'_> {
     fn run(&self, i: &Input<'_>) -> Output {
         run(i.exp, self.spec, self.steady, i.refs, i.tick)
     }
-}
-
-/// A replayed objective must equal the stored one to this relative difference, when every
-/// point of the layout is a settled steady state.
-pub const REPLAY_TOL: f64 = 1e-9;
-
-/// ... and to this one when some point never settles: its value is the amplitude of a record of
-/// a motion that does not repeat, which carries the rounding of every step (a change of the
-/// last bit of a single observed extremum moved such objectives by up to 1.7 %: docs/design.md,
-/// "Reproducibility"), so a machine with another `sin`/`cos` cannot reproduce it to 1e-9.
-pub const REPLAY_TOL_UNSETTLED: f64 = 0.05;
-
-/// The check that the stored objectives of `pairs` (stored, evaluated now) are what their
-/// layouts give now, to `tol` relative.
-fn replayed(
-    name: &str,
-    what: &str,
-    pairs: &[(&StoredLayout, &Found)],
-    tol: f64,
-    provenance: &str,
-    rerun: &str,
-) -> CheckOutcome {
-    let (mut worst, mut which) = (0.0f64, String::new());
-    for (s, f) in pairs {
-        let rel = (f.evaluation.objective - s.objective).abs() / s.objective.abs().max(f64::MIN_POSITIVE);
-        if rel > worst || rel.is_nan() {
-            worst = rel;
-            which = s.label.clone();
-        }
-    }
-    let ok = worst <= tol;
-    CheckOutcome {
-        settled: None,
-        id: None,
-        values: Vec::new(),
-        name: name.into(),
-        description: format!(
-            "the {} {what}: largest relative difference from the objective the search stored",
-            pairs.len()
-        ),
-        computed: worst,
-        expected: 0.0,
-        unit: String::new(),
-        abs_diff: worst,
-        rel_diff: worst,
-        tolerance: format!("<= {tol:e}"),
-        status: if ok { Status::Pass } else { Status::Fail },
-        provenance: provenance.into(),
-        source: Source::Internal,
-        reason: None,
-        detail: (!which.is_empty()).then(|| format!("largest at {which}; if the model changed on purpose, {rerun}")),
-    }
-}
-
-/// The stored answer of `exp` evaluated now: the placements' and the Pareto front's best
-/// layouts (as [`Found`], with the search's evaluation counts), and the checks that the stored
-/// objectives are what the layouts give now and that the problem is the one searched (the
-/// placements also on `screen`, the searched model, where the design has one).
-fn replay(
-    exp: &Experiment,
-    spec: &Spec,
-    (p, b): search::On,
-    screen: Option<search::On>,
-    refs: &ReferenceStore,
-) -> (Vec<Found>, Vec<(f64, Found)>, Vec<CheckOutcome>) {
-    let key = exp.key();
-    let rerun = format!("run `shotdamp design {} --store`", exp.path.display());
-    let Some(stored) = refs.design(&key) else {
-        let check = CheckOutcome::unavailable(
-            "stored_design".into(),
-            "the design search's stored answer, evaluated again".into(),
-            format!("reference/designs/{key}.json"),
-            Source::Internal,
-            Some(format!("no stored answer for {key}: {rerun}")),
-        );
-        return (Vec::new(), Vec::new(), vec![check]);
-    };
-    let again = |s: &StoredLayout| {
-        let layout = s.layout();
-        let evaluation = evaluate(p, b, &layout);
-        Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations, screened: None }
-    };
-    let mut found: Vec<Found> = stored.placements.par_iter().map(again).collect();
-    // A screened design's page shows what its search saw, as the search's own run does.
-    if let Some((sp, sb)) = screen {
-        found.par_iter_mut().for_each(|f| f.screened = Some(evaluate(sp, sb, &f.layout).objective));
-    }
-    let front: Vec<(f64, Found)> = stored.pareto.par_iter().map(|q| (q.mass_ratio, again(&q.best))).collect();
-    let pairs: Vec<(&StoredLayout, &Found)> = stored
-        .placements
-        .iter()
-        .zip(&found)
-        .chain(stored.pareto.iter().map(|q| &q.best).zip(front.iter().map(|f| &f.1)))
-        .collect();
-    let (settled, unsettled): (Vec<_>, Vec<_>) = pairs.into_iter().partition(|(_, f)| f.evaluation.unsettled == 0);
-    let mut checks = vec![replayed(
-        "stored_objectives",
-        "stored layouts (best of each placement and of each Pareto point) whose every point is a settled steady state, evaluated now",
-        &settled,
-        REPLAY_TOL,
-        &stored.provenance,
-        &rerun,
-    )];
-    if !unsettled.is_empty() {
-        checks.push(replayed(
-            "stored_objectives_unsettled",
-            "stored layouts with points that never settle (their value is the amplitude of a record of a motion that does not repeat, which carries the rounding of every step: docs/design.md), evaluated now",
-            &unsettled,
-            REPLAY_TOL_UNSETTLED,
-            &stored.provenance,
-            &rerun,
-        ));
-    }
-    let status = |ok: bool| if ok { Status::Pass } else { Status::Fail };
-    let fp = fingerprint(p, spec);
-    let same = fp == stored.fingerprint;
-    checks.push(CheckOutcome {
-        settled: None,
-        id: None,
-        values: Vec::new(),
-        name: "stored_problem".into(),
-        description: "the design problem (structure, bands, sweeps, steady settings, search space and settings) is the one the stored search solved: fingerprint".into(),
-        computed: if same { 0.0 } else { 1.0 },
-        expected: 0.0,
-        unit: String::new(),
-        abs_diff: if same { 0.0 } else { 1.0 },
-        rel_diff: if same { 0.0 } else { 1.0 },
-        tolerance: "equal".into(),
-        status: status(same),
-        provenance: stored.provenance.clone(),
-        source: Source::Internal,
-        reason: None,
-        detail: Some(if same {
-            format!("fingerprint {fp}")
-        } else {
-            format!("now {fp}, stored {}: the file changed since the search; {rerun}", stored.fingerprint)
-        }),
-    });
-    (found, front, checks)
-}
-
-fn hosts_words(l: &Layout) -> String {
-    l.hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" ")
 }
 
 fn joined(v: &[f64]) -> String {
@@ -238,9 +95,13 @@ fn case_layout(case: &crate::experiment::Case) -> Layout {
     }
 }
 
-/// The placement with the lowest objective; of equal ones the first.
-fn lowest(found: Vec<Found>) -> Option<Found> {
-    found.into_iter().reduce(|a, x| if a.evaluation.objective <= x.evaluation.objective { a } else { x })
+/// A page's tables, figures, exported numbers and warnings, as they are added.
+#[derive(Default)]
+struct Page {
+    tables: Vec<Table>,
+    figures: Vec<Figure>,
+    exports: BTreeMap<String, f64>,
+    warnings: Vec<String>,
 }
 
 /// Runs the design of `exp`: its tables, figures and exports, the replay's checks, the
@@ -263,69 +124,14 @@ fn run(
     let screen = sp.as_ref().zip(sb.as_deref());
     let total_mass = exp.structure.mass_matrix().trace();
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
-    // The main search, then one per Pareto budget (every placement searched again for each).
-    let spaces = super::design_shards::spaces(exp, spec);
-    let mut stopped = false;
-    let (found, front, checks) = if spec.replay {
-        replay(exp, spec, (&p, &b), screen, refs)
-    } else {
-        let mut search = |k: usize| match &spec.merged {
-            // Gathered from a sharded search's parts.
-            Some(merged) => search::found((&p, &b), screen, &spaces[k], &merged[k]),
-            None => {
-                let (found, stopped_here) =
-                    optimise_until((&p, &b), screen, &spaces[k], &spec.search, tick, &spec.halt);
-                stopped |= stopped_here;
-                found
-            }
-        };
-        let found = search(0);
-        let front: Vec<(f64, Found)> = spec
-            .pareto_mass_ratios
-            .iter()
-            .enumerate()
-            .filter_map(|(k, &r)| lowest(search(k + 1)).map(|f| (r, f)))
-            .collect();
-        (found, front, Vec::new())
-    };
-    let mut checks = checks;
-    for c in exp.checks.iter().filter(|c| matches!(c.kind, crate::experiment::CheckKind::DesignConclusion)) {
-        let mut o = match refs.values(&c.reference_file) {
-            Some(file) => super::design_conclusion::check(c, file, &found),
-            None => CheckOutcome::missing(c, "reference file not loaded"),
-        };
-        o.id = c.id.clone();
-        checks.push(o);
-    }
+    let (found, front, checks, stopped) = searched(exp, spec, (&p, &b), screen, refs, tick);
     tick();
-    let stored = StoredDesign {
-        experiment: exp.key(),
-        fingerprint: fingerprint(&p, spec),
-        provenance: String::new(),
-        placements: found
-            .iter()
-            .map(|f| StoredLayout::of(hosts_words(&f.layout), &f.layout, f.evaluation.objective, f.evaluations))
-            .collect(),
-        pareto: front
-            .iter()
-            .map(|(r, f)| StoredPareto {
-                mass_ratio: *r,
-                best: StoredLayout::of(
-                    format!("mass ratio {}", fmt_num(*r)),
-                    &f.layout,
-                    f.evaluation.objective,
-                    f.evaluations,
-                ),
-            })
-            .collect(),
-    };
+    let stored = stored(exp, &p, spec, &found, &front);
     let best = lowest(found.clone());
-    let mut exports = BTreeMap::new();
-    let mut tables = Vec::new();
-    let mut warnings = Vec::new();
+    let mut page = Page::default();
     let rows: Vec<(String, Layout, Evaluation, u64)> =
         found.iter().map(|f| (hosts_words(&f.layout), f.layout.clone(), f.evaluation.clone(), f.evaluations)).collect();
-    tables.push(layouts_table(
+    page.tables.push(layouts_table(
         ("design_placements", exp.excitation.per_unit()),
         &format!(
             "The best layout found for each placement of containers: {} kg of shot ({} of the structure's mass) split among them, clearances in {}-{} mm; objective: the worst band's measure over the bare structure's (1 = no gain)",
@@ -338,8 +144,8 @@ fn run(
         &names,
         &rows,
     ));
-    if let Some(t) = tables.last_mut() {
-        warnings.extend(super::design_problem::with_screened(spec, &found, t));
+    if let Some(t) = page.tables.last_mut() {
+        page.warnings.extend(super::design_problem::with_screened(spec, &found, t));
     }
     // The experiment's cases as reference layouts (the paper's, one container on the loop
     // point, ...), evaluated with the same objective.
@@ -353,105 +159,33 @@ fn run(
         })
         .collect();
     for (id, _, e, _) in &case_rows {
-        exports.insert(format!("objective_{id}"), e.objective);
+        page.exports.insert(format!("objective_{id}"), e.objective);
     }
-    tables.push(layouts_table(
+    page.tables.push(layouts_table(
         ("design_cases", exp.excitation.per_unit()),
         "The experiment's cases as reference layouts, with the same objective",
         spec,
         &names,
         &case_rows,
     ));
-    let mut figures = Vec::new();
-    let mut answer = None;
     // A search the time limit or an interrupt stopped ends here too: what evaluates more
     // layouts after it (the clearance profile, the drive levels, the near-optimum map, the SDOF
     // method) is skipped, and the page says so.
     let more = !stopped;
-    if let Some(best) = &best {
-        // The maps near the optimum are drawn on the searched model.
-        let (map_on, map_best, map_note) =
-            super::design_problem::map_model(spec, screen.filter(|_| more), (&p, &b), best);
-        let map_best = &map_best;
-        let map_note = map_note.as_str();
-        exports.insert("best_objective".into(), best.evaluation.objective);
-        if spec.shared_clearance {
-            exports.insert("best_clearance_mm".into(), best.layout.clearances_mm[0]);
-        }
-        if more {
-            let (mut table, mut figure, robust) = clearance_profile(exp, spec, map_on.0, map_on.1, map_best);
-            table.description += map_note;
-            figure.caption += map_note;
-            if let Some((rlo, rhi)) = robust {
-                exports.insert("robust_clearance_min_mm".into(), rlo);
-                exports.insert("robust_clearance_max_mm".into(), rhi);
-            }
-            tables.push(table);
-            figures.push(figure);
-        }
-        // The bare structure's curves (the first scenario's, as the evaluations' curves).
-        let bare_sys = p.system(&p.cases()[0], Vec::new());
-        let bare_curves: Vec<Vec<Vec<f64>>> =
-            spec.bands.iter().map(|band| band_compliance(&bare_sys, band, &p.sweeps, &p.steady).0).collect();
-        let (table, figure) = compliance_figure(exp, spec, &p, best, &case_rows, &bare_curves);
-        tables.push(table);
-        figures.push(figure);
-        let mut rated: Vec<super::design_drive::Rated<'_>> =
-            vec![(format!("best: {}", hosts_words(&best.layout)), &best.layout, &best.evaluation)];
-        rated.extend(case_rows.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.1, &c.2)));
-        let (table, w) = super::design_drive::drive(&p, &bare_curves, &rated);
-        tables.push(table);
-        warnings.extend(w);
-        // The reduction against the drive level: at the file's drive levels when it gives
-        // them, else over the forces of its scenarios.
-        let levels = if !more {
-            None
-        } else if spec.drive_levels_n.is_empty() {
-            super::design_levels::drive_levels(&p, &rated, &exp.meta.figure)
-        } else {
-            let layouts: Vec<&Layout> = rated.iter().map(|r| r.1).collect();
-            let (at, evals) = super::design_levels::at_forces(&p, &spec.drive_levels_n, &layouts);
-            let rated_at: Vec<super::design_drive::Rated<'_>> =
-                rated.iter().zip(&evals).map(|(r, e)| (r.0.clone(), r.1, e)).collect();
-            super::design_levels::drive_levels(&at, &rated_at, &exp.meta.figure)
-        };
-        let mut at_levels = Vec::new();
-        if let Some((table, figure, best_at)) = levels {
-            tables.push(table);
-            figures.push(figure);
-            at_levels = best_at;
-        }
-        let robust = exports.get("robust_clearance_min_mm").zip(exports.get("robust_clearance_max_mm"));
-        let answer_in = super::design_drive::AnswerIn {
-            total_mass,
-            robust: robust.map(|(a, b)| (*a, *b)),
-            sampled: spec.clearance_mm,
-            levels: &at_levels,
-        };
-        answer = Some(super::design_drive::answer(&p, &rated[0], &answer_in, &bare_curves));
-        if let Some((mut table, mut figure)) = more
-            .then(|| {
-                let (layout, evaluation) = (&map_best.layout, &map_best.evaluation);
-                super::design_near::near_optimum(spec, map_on.0, map_on.1, layout, evaluation, &exp.meta.figure)
-            })
-            .flatten()
-        {
-            table.description += map_note;
-            figure.caption += map_note;
-            tables.push(table);
-            figures.push(figure);
-        }
-    }
+    let answer = best.as_ref().map(|best| {
+        let best_in = BestIn { p: &p, judged: (&p, &b), screen, best, case_rows: &case_rows, total_mass, more };
+        about_the_best(exp, spec, &best_in, &mut page)
+    });
     if let Some((mode, candidates)) = spec.sdof.as_ref().filter(|_| more) {
         let (table, sdof_exports) = sdof_method(exp, steady, &p, &b, &found, *mode, candidates, &names, spec.replay);
-        tables.push(table);
-        exports.extend(sdof_exports);
+        page.tables.push(table);
+        page.exports.extend(sdof_exports);
     }
     tick();
     if !front.is_empty() {
         let (table, figure) = pareto(exp, spec, &names, &front);
-        tables.push(table);
-        figures.push(figure);
+        page.tables.push(table);
+        page.figures.push(figure);
     }
     if stopped {
         let why = if spec.halt.interrupted() {
@@ -459,21 +193,113 @@ fn run(
         } else {
             "the search stopped at its time limit (--time-limit)"
         };
-        warnings.insert(
+        page.warnings.insert(
             0,
             format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer; what would evaluate more layouts (the clearance profile, the drive levels, the near-optimum map, the SDOF method) is not computed"),
         );
     }
     Output {
-        tables,
-        figures,
-        exports,
+        tables: page.tables,
+        figures: page.figures,
+        exports: page.exports,
         checks,
-        warnings,
+        warnings: page.warnings,
         design: (!stopped).then_some(stored),
         answer,
         ..Output::default()
     }
+}
+
+/// What [`about_the_best`] reads: the judged problem and its bare measures, the screen's,
+/// the best layout, the cases' rows, the structure's mass and whether more layouts may be
+/// evaluated (the search was not stopped).
+struct BestIn<'a> {
+    p: &'a Problem,
+    judged: search::On<'a>,
+    screen: Option<search::On<'a>>,
+    best: &'a Found,
+    case_rows: &'a [(String, Layout, Evaluation, u64)],
+    total_mass: f64,
+    more: bool,
+}
+
+/// The best layout's pages: its clearance profile, its compliance against the bare structure's
+/// and the cases', its drive levels, the map near the optimum; and the design's answer in words.
+fn about_the_best(exp: &Experiment, spec: &Spec, i: &BestIn<'_>, page: &mut Page) -> String {
+    let (p, best, more) = (i.p, i.best, i.more);
+    // The maps near the optimum are drawn on the searched model.
+    let (map_on, map_best, map_note) =
+        super::design_problem::map_model(spec, i.screen.filter(|_| more), i.judged, best);
+    let map_best = &map_best;
+    let map_note = map_note.as_str();
+    page.exports.insert("best_objective".into(), best.evaluation.objective);
+    if spec.shared_clearance {
+        page.exports.insert("best_clearance_mm".into(), best.layout.clearances_mm[0]);
+    }
+    if more {
+        let (mut table, mut figure, robust) = clearance_profile(exp, spec, map_on.0, map_on.1, map_best);
+        table.description += map_note;
+        figure.caption += map_note;
+        if let Some((rlo, rhi)) = robust {
+            page.exports.insert("robust_clearance_min_mm".into(), rlo);
+            page.exports.insert("robust_clearance_max_mm".into(), rhi);
+        }
+        page.tables.push(table);
+        page.figures.push(figure);
+    }
+    // The bare structure's curves (the first scenario's, as the evaluations' curves).
+    let bare_sys = p.system(&p.cases()[0], Vec::new());
+    let bare_curves: Vec<Vec<Vec<f64>>> =
+        spec.bands.iter().map(|band| band_compliance(&bare_sys, band, &p.sweeps, &p.steady).0).collect();
+    let (table, figure) = compliance_figure(exp, spec, p, best, i.case_rows, &bare_curves);
+    page.tables.push(table);
+    page.figures.push(figure);
+    let mut rated: Vec<super::design_drive::Rated<'_>> =
+        vec![(format!("best: {}", hosts_words(&best.layout)), &best.layout, &best.evaluation)];
+    rated.extend(i.case_rows.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.1, &c.2)));
+    let (table, w) = super::design_drive::drive(p, &bare_curves, &rated);
+    page.tables.push(table);
+    page.warnings.extend(w);
+    // The reduction against the drive level: at the file's drive levels when it gives them,
+    // else over the forces of its scenarios.
+    let levels = if !more {
+        None
+    } else if spec.drive_levels_n.is_empty() {
+        super::design_levels::drive_levels(p, &rated, &exp.meta.figure)
+    } else {
+        let layouts: Vec<&Layout> = rated.iter().map(|r| r.1).collect();
+        let (at, evals) = super::design_levels::at_forces(p, &spec.drive_levels_n, &layouts);
+        let rated_at: Vec<super::design_drive::Rated<'_>> =
+            rated.iter().zip(&evals).map(|(r, e)| (r.0.clone(), r.1, e)).collect();
+        super::design_levels::drive_levels(&at, &rated_at, &exp.meta.figure)
+    };
+    let mut at_levels = Vec::new();
+    if let Some((table, figure, best_at)) = levels {
+        page.tables.push(table);
+        page.figures.push(figure);
+        at_levels = best_at;
+    }
+    let robust = page.exports.get("robust_clearance_min_mm").zip(page.exports.get("robust_clearance_max_mm"));
+    let answer_in = super::design_drive::AnswerIn {
+        total_mass: i.total_mass,
+        robust: robust.map(|(a, b)| (*a, *b)),
+        sampled: spec.clearance_mm,
+        levels: &at_levels,
+    };
+    let answer = super::design_drive::answer(p, &rated[0], &answer_in, &bare_curves);
+    if let Some((mut table, mut figure)) = more
+        .then(|| {
+            let (layout, evaluation) = (&map_best.layout, &map_best.evaluation);
+            super::design_near::near_optimum(spec, map_on.0, map_on.1, layout, evaluation, &exp.meta.figure)
+        })
+        .flatten()
+    {
+        table.description += map_note;
+        figure.caption += map_note;
+        page.tables.push(table);
+        page.figures.push(figure);
+    }
+    answer
 }
 
 /// How the objective of the best layout varies with one clearance for every container, its
@@ -743,33 +569,4 @@ fn sdof_method(
     .str("scenario", rows.iter().map(|r| names.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
     .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect());
     (table, exports)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn found(objective: f64, unsettled: usize) -> Found {
-        let layout = Layout { hosts: vec![1], masses_kg: vec![0.1], clearances_mm: vec![0.4] };
-        let evaluation = Evaluation::with_objective(objective, unsettled, 10);
-        Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1, screened: None }
-    }
-
-    #[test]
-    fn a_replayed_objective_fails_beyond_its_tolerance_and_names_the_layout() {
-        let stored = |label: &str, objective: f64| StoredLayout::of(label.into(), &found(0.0, 0).layout, objective, 1);
-        let (a, b) = (stored("m1", 0.5), stored("m2", 0.4));
-        // Settled layouts: 1e-9.
-        let (fa, fb) = (found(0.5, 0), found(0.4 * (1.0 + 2e-9), 0));
-        let c = replayed("stored_objectives", "x", &[(&a, &fa), (&b, &fb)], REPLAY_TOL, "p", "rerun");
-        assert_eq!(c.status, Status::Fail);
-        assert!(c.detail.as_deref().is_some_and(|d| d.contains("m2")), "{:?}", c.detail);
-        // A layout with unsettled points moved by 1.7 % (a last-bit change, docs/design.md)
-        // passes its rule; by 6 % it fails.
-        for (moved, status) in [(1.017, Status::Pass), (1.06, Status::Fail)] {
-            let f = found(0.4 * moved, 3);
-            let c = replayed("stored_objectives_unsettled", "x", &[(&b, &f)], REPLAY_TOL_UNSETTLED, "p", "rerun");
-            assert_eq!(c.status, status, "{moved}");
-        }
-    }
 }
