@@ -1,8 +1,9 @@
 //! Finite-element structures (docs/fe-models.md): loading and reducing the plate CalculiX
 //! meshed (examples/plate, 1410 degrees of freedom, four points, fixed-interface modes below
 //! 2.5 kHz: a reduced model of 20 coordinates), and a followed band of its first bending
-//! mode with shot at both free corners (12 points, one thread). Results and the machine they
-//! ran on are recorded in BENCHMARKS.md.
+//! mode with shot at both free corners (12 points, one thread); the plate design's answer
+//! (three containers) followed where it settles, on two reductions. Results and the machine
+//! they ran on are recorded in BENCHMARKS.md.
 
 use std::path::Path;
 
@@ -34,10 +35,57 @@ fn fe(c: &mut Criterion) {
     group.finish();
 }
 
+/// The plate design's stored answer (examples/plate/modes.toml: three containers) on the
+/// design's five points, 20 fixed-interface modes (25 coordinates) and modes to 8 kHz (the
+/// design's judged model, 46 coordinates), followed up over 33-35.5 Hz (11 points, one thread),
+/// where every point is a certified orbit (the beds ride; beyond 35.5 Hz their motion does not
+/// settle within 1500 periods).
+fn plate_answer(c: &mut Criterion) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("examples/plate/modes.toml")).expect("examples/plate/modes.toml");
+    let data = root.join("examples/plate/data");
+    let text = text.replace("\"data/", &format!("\"{}/", data.display()));
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut group = c.benchmark_group("fe");
+    group.sample_size(10);
+    for (name, reduction) in
+        [("20 modes, 25 coordinates", "modes = 20"), ("modes to 8 kHz, 46 coordinates", "cutoff_hz = 8000.0")]
+    {
+        let path = dir.path().join("answer.toml");
+        let file: String = text
+            .lines()
+            .map(|l| if l.starts_with("modes = ") { reduction.to_string() } else { l.to_string() })
+            .collect::<Vec<_>>()
+            .join("\n");
+        std::fs::write(&path, file).expect("written");
+        let exp = shotdamp::experiment::load(&path, &root.join("reference")).expect("the answer loads").remove(0);
+        let case = &exp.cases[0];
+        let sys = System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force);
+        let base = Dynamics::unforced(&sys);
+        assert!(base.is_ok(), "decomposed");
+        let freqs: Vec<f64> = (0..11).map(|i| 33.0 + 0.25 * i as f64).collect();
+        let forced = sweep::forced_at(&base, &freqs);
+        let follow = SteadyOptions { follow: true, ..SteadyOptions::default() };
+        let points = sweep::continued_at(&forced, Direction::Up, &follow, &|| {});
+        assert!(points.iter().all(|p| p.result.as_ref().is_ok_and(|s| s.converged)), "every point certified");
+        group.bench_function(format!("plate answer, 3 containers, {name}: 11 points followed 33-35.5 Hz"), |b| {
+            b.iter(|| sweep::continued_at(&forced, Direction::Up, &follow, &|| {}))
+        });
+        // Measuring only the masses a design reads (the driven point and the hosts), as the
+        // design does on a structure of more than 8 coordinates.
+        let read = std::iter::once(exp.excitation.mass).chain(sys.dampers.iter().map(|b| b.host));
+        let design = SteadyOptions { observe: shotdamp::sim::observe::Observe::only(read), ..follow };
+        group.bench_function(format!("the same, {name}, measuring the 4 masses a design reads"), |b| {
+            b.iter(|| sweep::continued_at(&forced, Direction::Up, &design, &|| {}))
+        });
+    }
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = fe
+    targets = fe, plate_answer
 }
 criterion_main!(benches);
