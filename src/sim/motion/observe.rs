@@ -324,11 +324,70 @@ impl Extrema {
     }
 }
 
-impl Observer for Extrema {
-    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
-        if t_b <= t_a {
-            return;
+/// Fine sample steps in a coarse window of the record ([`Extrema::coarse`]).
+const COARSE_STEPS: usize = 16;
+
+impl Extrema {
+    /// Above 8 degrees of freedom, on a segment on which no bed flies and the supports stand
+    /// still: the parts of `[t_a, t_b]` where some followed mass could reach a new extreme,
+    /// after every followed mass's displacement at the start of each window of
+    /// [`COARSE_STEPS`] fine steps has been taken (a value the motion reaches, so a lower
+    /// bound of its highest displacement and an upper bound of its lowest). A window is left
+    /// out when from its start `t_k` the displacement stays within `x_k + max(v_k, 0) dt + A
+    /// dt^2 / 2` and `x_k + min(v_k, 0) dt - A dt^2 / 2` (`A` the bound on the acceleration
+    /// from `t_k` on) of those bounds, less the margin of the fine search: it holds no new
+    /// extreme. `None` where the fine samples are few or the rule does not apply: the whole
+    /// segment is sampled finely.
+    fn coarse(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) -> Option<Vec<(f64, f64)>> {
+        let n = d.system.dof();
+        let m = ((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize;
+        let flying = beds.iter().any(|b| matches!(b, Bed::Free { .. }));
+        if n <= super::buf::INLINE_MASSES || d.system.base.is_some() || flying || m < 4 * COARSE_STEPS {
+            return None;
         }
+        let windows = m.div_ceil(COARSE_STEPS);
+        let h = (t_b - t_a) / windows as f64;
+        let edge = |k: usize| if k == windows { t_b } else { t_a + h * k as f64 };
+        let followed: Vec<usize> = (0..n).filter(|&i| self.observe.contains(i)).collect();
+        // Each window's start: displacement, velocity and acceleration bound of each followed
+        // mass; the displacements taken as reached.
+        let step = seg.step(d, h);
+        let mut pt = seg.point(d, t_a);
+        let mut starts: Vec<(f64, f64, f64, f64)> = Vec::with_capacity(windows * followed.len());
+        for k in 0..windows {
+            if k > 0 {
+                pt.advance(&step, edge(k));
+            }
+            for &i in &followed {
+                let (x, v) = (seg.deriv(d, &pt, i, 0), seg.deriv(d, &pt, i, 1));
+                starts.push((x, v, seg.bound(d, &pt, i, 2), seg.bound(d, &pt, i, 0)));
+                self.take(i, x);
+            }
+        }
+        let end = seg.point(d, t_b);
+        followed.iter().for_each(|&i| self.take(i, seg.deriv(d, &end, i, 0)));
+        let mut out: Vec<(f64, f64)> = Vec::new();
+        for k in 0..windows {
+            let dt = edge(k + 1) - edge(k);
+            let open = followed.iter().enumerate().any(|(r, &i)| {
+                let (x, v, a, scale) = starts[k * followed.len() + r];
+                let (lo, hi) = (self.min[i], self.max[i]);
+                let margin = 1e-9 * (lo.abs() + hi.abs()) + 1e-12 * scale;
+                x + v.max(0.0) * dt + 0.5 * a * dt * dt + margin >= hi
+                    || x + v.min(0.0) * dt - 0.5 * a * dt * dt - margin <= lo
+            });
+            if open {
+                match out.last_mut() {
+                    Some(last) if last.1 == edge(k) => last.1 = edge(k + 1),
+                    _ => out.push((edge(k), edge(k + 1))),
+                }
+            }
+        }
+        Some(out)
+    }
+
+    /// The record of `[t_a, t_b]` of one segment sampled every sixteenth of the shortest period.
+    fn fine(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
         // The closed form is evaluated at every sample time for every mass and bed; sign
         // changes of the velocities (and relative velocities of flying beds) are then refined
         // one by one.
@@ -340,6 +399,18 @@ impl Observer for Extrema {
         self.masses(d, seg, &times, &points, &mut at);
         self.flights(d, seg, beds, &times, &points, &mut at);
         (self.times, self.points, self.at) = (times, points, at);
+    }
+}
+
+impl Observer for Extrema {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        if t_b <= t_a {
+            return;
+        }
+        match self.coarse(d, seg, beds, t_a, t_b) {
+            Some(windows) => windows.into_iter().for_each(|(a, b)| self.fine(d, seg, beds, a, b)),
+            None => self.fine(d, seg, beds, t_a, t_b),
+        }
     }
 
     fn event(&mut self, ev: &Event, _after: &State) {

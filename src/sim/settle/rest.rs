@@ -101,6 +101,32 @@ mod tests {
     }
 
     #[test]
+    fn a_large_structure_s_riding_record_finds_the_exact_amplitudes() {
+        // 16 masses (the record's coarse windows apply above 8), beds on the last three.
+        let n = 16;
+        let s = Structure::chain(&vec![0.13; n], &vec![1.2e5; n], Damping::ModalRatios(vec![0.01; n]));
+        let beds = (n - 3..n).map(|j| Damper::new(j, 0.013, Clearance::from_m(f64::INFINITY))).collect();
+        let sys = System::plastic(s, beds, 0, 0.5);
+        for f in [20.0, 45.0] {
+            let omega = 2.0 * PI * f;
+            let d = Dynamics::new(&sys, omega).unwrap();
+            let st = steady_from_rest(&d, &SteadyOptions::default());
+            assert!(st.converged && st.transient_periods == 3, "{f} Hz: the beds ride");
+            let x = receptance(&sys.structure, &sys.mass_matrix(7), 0, omega).unwrap();
+            let top = x.iter().map(|c| c.norm()).fold(0.0, f64::max) * 0.5;
+            for i in 0..n {
+                let exact = 0.5 * x[i].norm();
+                assert!(
+                    (st.amplitude[i] - exact).abs() <= 1e-9 * top,
+                    "{f} Hz m{}: {} vs {exact}",
+                    i + 1,
+                    st.amplitude[i]
+                );
+            }
+        }
+    }
+
+    #[test]
     fn where_a_bed_leaves_its_floor_the_point_is_run_from_rest() {
         let sys = three_beds();
         let opts = SteadyOptions::default();
