@@ -643,11 +643,86 @@ impl Observer for Sampler {
 
 #[cfg(test)]
 mod tests {
-    use super::Extrema;
+    use super::*;
+    use std::f64::consts::PI;
+
+    use crate::model::{Clearance, Damper, Damping, Structure};
+    use crate::sim::motion::engine::Engine;
+    use crate::sim::motion::system::System;
 
     #[test]
     fn a_record_that_saw_nothing_has_no_amplitude() {
         // A run stopped before its record: NaN (not measured), never -inf.
         assert!(Extrema::new(3, 1).amplitudes().iter().all(|a| a.is_nan()));
+    }
+
+    /// The record sampled finely over every segment, as up to 8 degrees of freedom.
+    struct Fine(Extrema);
+    impl Observer for Fine {
+        fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+            if t_b > t_a {
+                self.0.fine(d, seg, beds, t_a, t_b);
+            }
+        }
+    }
+
+    /// The record as [`Extrema`] takes it, and the share of the time it sampled finely.
+    struct Windows(Extrema, f64, f64);
+    impl Observer for Windows {
+        fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+            let windows = self.0.coarse(d, seg, beds, t_a, t_b).unwrap_or_else(|| vec![(t_a, t_b)]);
+            self.1 += windows.iter().map(|(a, b)| b - a).sum::<f64>();
+            self.2 += t_b - t_a;
+            windows.into_iter().for_each(|(a, b)| self.0.fine(d, seg, beds, a, b));
+        }
+    }
+
+    #[test]
+    fn coarse_windows_find_the_extremes_of_the_fine_record() {
+        // 16 masses whose modes lie far above the forcing (230 Hz to 4.8 kHz, as a finely
+        // meshed plate's kept modes lie above its first band), the beds on the last three
+        // riding their floors (a weak force): the coarse windows' case. Started at rest, so
+        // that the free vibration of every mode puts extremes inside many windows, and on the
+        // periodic motion, where only the windows near its extremes open.
+        let n = 16;
+        let s = Structure::chain(&vec![0.13; n], &vec![3e7; n], Damping::ModalRatios(vec![0.01; n]));
+        let beds = (n - 3..n).map(|j| Damper::new(j, 0.013, Clearance::from_m(f64::INFINITY))).collect();
+        let sys = System::plastic(s, beds, 0, 0.05);
+        for (f, from_rest) in [(20.0, true), (20.0, false), (45.0, true), (45.0, false)] {
+            let d = Dynamics::new(&sys, 2.0 * PI * f).unwrap();
+            let start = if from_rest {
+                State::at_rest(&d)
+            } else {
+                let (x, v) = d.particular(7, 0.0);
+                State { t: 0.0, x, v, beds: vec![Bed::Bottom; 3] }
+            };
+            let t_end = 3.0 / f;
+            let (mut coarse, mut fine) = (start.clone(), start);
+            let mut windows = Windows(Extrema::new(n, 3), 0.0, 0.0);
+            Engine::new(&d).advance(&mut coarse, t_end, &mut windows).unwrap();
+            let share = windows.1 / windows.2;
+            // On the periodic motion the stiff modes are quiet: windows far from its extremes
+            // stay closed.
+            assert!(from_rest || share < 0.25, "{f} Hz: {share} of the time sampled finely");
+            let ext = windows.0;
+            // The record itself takes the same windows.
+            let mut record = Extrema::new(n, 3);
+            let mut again = fine.clone();
+            Engine::new(&d).advance(&mut again, t_end, &mut record).unwrap();
+            assert!(record.max == ext.max && record.min == ext.min, "{f} Hz: the record's own windows");
+            let mut reference = Fine(Extrema::new(n, 3));
+            Engine::new(&d).advance(&mut fine, t_end, &mut reference).unwrap();
+            assert!(ext.liftoffs.iter().chain(&reference.0.liftoffs).all(|&k| k == 0), "{f} Hz: the beds ride");
+            let scale = reference.0.max.iter().chain(&reference.0.min).fold(0.0f64, |a, x| a.max(x.abs()));
+            for i in 0..n {
+                for (a, b, what) in [(ext.max[i], reference.0.max[i], "max"), (ext.min[i], reference.0.min[i], "min")] {
+                    assert!(
+                        (a - b).abs() <= 1e-12 * scale,
+                        "{f} Hz from rest {from_rest}: m{} {what} {a:e} vs {b:e}",
+                        i + 1
+                    );
+                }
+            }
+        }
     }
 }
