@@ -181,22 +181,19 @@ pub(super) fn searched(
     let (found, front, mut checks) = if spec.replay {
         replay(exp, spec, judged, screen, refs)
     } else {
-        let mut search = |k: usize| match &spec.merged {
+        let search = |k: usize| match &spec.merged {
             // Gathered from a sharded search's parts.
-            Some(merged) => search::found(judged, screen, &spaces[k], &merged[k]),
-            None => {
-                let (found, stopped_here) = optimise_until(judged, screen, &spaces[k], &spec.search, tick, &spec.halt);
-                stopped |= stopped_here;
-                found
-            }
+            Some(merged) => (search::found(judged, screen, &spaces[k], &merged[k]), false),
+            None => optimise_until(judged, screen, &spaces[k], &spec.search, tick, &spec.halt),
         };
-        let found = search(0);
-        let front: Vec<(f64, Found)> = spec
-            .pareto_mass_ratios
-            .iter()
-            .enumerate()
-            .filter_map(|(k, &r)| lowest(search(k + 1)).map(|f| (r, f)))
-            .collect();
+        // The main search first (under a time limit it has the machine to itself), then the
+        // Pareto budgets' searches side by side, gathered in order.
+        let (found, stopped_main) = search(0);
+        let budgets: Vec<(Vec<Found>, bool)> =
+            (1..=spec.pareto_mass_ratios.len()).into_par_iter().map(search).collect();
+        stopped = stopped_main || budgets.iter().any(|b| b.1);
+        let front: Vec<(f64, Found)> =
+            spec.pareto_mass_ratios.iter().zip(budgets).filter_map(|(&r, (f, _))| lowest(f).map(|f| (r, f))).collect();
         (found, front, Vec::new())
     };
     for c in exp.checks.iter().filter(|c| matches!(c.kind, crate::experiment::CheckKind::DesignConclusion)) {

@@ -11,6 +11,8 @@ pub mod nelder_mead;
 pub mod search;
 pub mod stored;
 
+use rayon::prelude::*;
+
 use crate::model::{Clearance, Damper, Structure};
 use crate::sim::sweep::{self, Direction, SweepPoint};
 use crate::sim::system::{Dynamics, SetupError};
@@ -474,18 +476,21 @@ fn band_compliance_on(
     let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
     let mut unsettled = 0;
     let mut motion = Motion::default();
-    // The dynamics at each frequency, shared by the continued sweeps.
-    let mut forced = None;
-    for s in sweeps {
-        let mut continued = |dir| {
-            let forced = forced.get_or_insert_with(|| sweep::forced_at(base, &band.freq_hz));
-            sweep::continued_at(forced, dir, steady, &|| {})
-        };
-        let points: Vec<SweepPoint> = match s {
-            Sweep::Rest => sweep::from_rest_on(base, &band.freq_hz, steady, &|| {}),
-            Sweep::Up => continued(Direction::Up),
-            Sweep::Down => continued(Direction::Down),
-        };
+    // The dynamics at each frequency, shared by the continued sweeps; the sweeps run side by
+    // side and are gathered in order.
+    let forced = sweeps.iter().any(|s| *s != Sweep::Rest).then(|| sweep::forced_at(base, &band.freq_hz));
+    let swept: Vec<Vec<SweepPoint>> = sweeps
+        .par_iter()
+        .map(|s| {
+            let continued = |dir| sweep::continued_at(forced.as_deref().unwrap_or_default(), dir, steady, &|| {});
+            match s {
+                Sweep::Rest => sweep::from_rest_on(base, &band.freq_hz, steady, &|| {}),
+                Sweep::Up => continued(Direction::Up),
+                Sweep::Down => continued(Direction::Down),
+            }
+        })
+        .collect();
+    for points in swept {
         for p in points {
             let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
             motion.points += 1;
@@ -585,8 +590,13 @@ fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> 
     let mut curves = Vec::with_capacity(problem.bands.len());
     let mut motion = Vec::with_capacity(problem.bands.len());
     let base = Dynamics::unforced(&sys);
-    for (k, band) in problem.bands.iter().enumerate() {
-        let (c, u, m) = band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady);
+    // The bands side by side, gathered in order.
+    let swept: Vec<_> = problem
+        .bands
+        .par_iter()
+        .map(|band| band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady))
+        .collect();
+    for ((k, band), (c, u, m)) in problem.bands.iter().enumerate().zip(swept) {
         unsettled += u;
         motion.push(m);
         points += band.freq_hz.len() * problem.sweeps.len();
@@ -604,7 +614,9 @@ fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> 
 /// Evaluates one layout (`bare`: per scenario, the bands' measures without dampers, from
 /// [`bare`]).
 pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evaluation {
-    let mut runs: Vec<_> = problem.cases().iter().zip(bare).map(|(sc, b)| scenario(problem, sc, b, layout)).collect();
+    // The scenarios side by side, gathered in order: the same numbers for any thread count.
+    let mut runs: Vec<_> =
+        problem.cases().par_iter().zip(bare).map(|(sc, b)| scenario(problem, sc, b, layout)).collect();
     let objectives: Vec<f64> = runs.iter().map(|r| r.relative).collect();
     let worst_scenario =
         objectives.iter().enumerate().fold(0, |w, (i, o)| if *o > objectives[w] || o.is_nan() { i } else { w });
