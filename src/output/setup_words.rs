@@ -10,28 +10,42 @@ fn list(v: &[f64]) -> String {
     v.iter().map(|x| fmt_num(*x)).collect::<Vec<_>>().join(", ")
 }
 
+/// Rows of a matrix the parameter table lists in full; a larger one (a reduced finite-element
+/// model's) is given by its size and diagonal.
+const LISTED_ROWS: usize = 12;
+
+/// A matrix of the structure as the parameter table gives it: its rows, or above
+/// [`LISTED_ROWS`] its size and diagonal.
+fn matrix(m: &nalgebra::DMatrix<f64>) -> String {
+    if m.nrows() > LISTED_ROWS {
+        let diagonal: Vec<f64> = m.diagonal().iter().copied().collect();
+        return format!("{0} x {0}, not listed; its diagonal: [{1}]", m.nrows(), list(&diagonal));
+    }
+    (0..m.nrows())
+        .map(|i| format!("[{}]", list(&m.row(i).iter().copied().collect::<Vec<_>>())))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// ", rows" where [`matrix`] lists them.
+fn rows_word(m: &nalgebra::DMatrix<f64>) -> &'static str {
+    if m.nrows() > LISTED_ROWS {
+        ""
+    } else {
+        ", rows"
+    }
+}
+
 /// The parameter table of the report.
 pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
     let s = &exp.structure;
-    let rows = |m: &nalgebra::DMatrix<f64>| {
-        (0..s.dof())
-            .map(|i| format!("[{}]", list(&m.row(i).iter().copied().collect::<Vec<_>>())))
-            .collect::<Vec<_>>()
-            .join(" ")
-    };
     let masses = match &s.coupled_mass {
         None => ("masses m_1..m_n (kg)".to_string(), list(&s.masses)),
-        Some(m) => ("mass matrix M0 (kg), rows (not diagonal: coordinates, not masses)".to_string(), rows(m)),
+        Some(m) => (format!("mass matrix M0 (kg){} (not diagonal: coordinates, not masses)", rows_word(m)), matrix(m)),
     };
     let mut p = vec![
         masses,
-        (
-            "stiffness K (N/m), rows".to_string(),
-            (0..s.dof())
-                .map(|i| format!("[{}]", list(&s.stiffness.row(i).iter().copied().collect::<Vec<_>>())))
-                .collect::<Vec<_>>()
-                .join(" "),
-        ),
+        (format!("stiffness K (N/m){}", rows_word(&s.stiffness)), matrix(&s.stiffness)),
         (
             "damping".to_string(),
             match &s.damping_spec {
@@ -166,4 +180,22 @@ pub fn assumptions(exp: &Experiment) -> Vec<String> {
     }
     a.extend(exp.meta.assumptions.iter().cloned());
     a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    #[test]
+    fn a_large_matrix_is_given_by_its_size_and_diagonal() {
+        let small = DMatrix::<f64>::identity(3, 3);
+        assert_eq!(matrix(&small), "[1, 0, 0] [0, 1, 0] [0, 0, 1]");
+        assert_eq!(rows_word(&small), ", rows");
+        let large = DMatrix::from_fn(13, 13, |i, j| if i == j { i as f64 + 1.0 } else { 0.5 });
+        let words = matrix(&large);
+        assert!(words.starts_with("13 x 13, not listed; its diagonal: [1, 2, 3,"), "{words}");
+        assert!(words.ends_with(", 13]") && !words.contains("0.5"), "{words}");
+        assert_eq!(rows_word(&large), "");
+    }
 }
