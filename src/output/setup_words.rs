@@ -36,6 +36,17 @@ fn rows_word(m: &nalgebra::DMatrix<f64>) -> &'static str {
     }
 }
 
+/// Modal damping ratios: listed, or above [`LISTED_ROWS`] modes with one ratio for all, that
+/// ratio once.
+fn ratios(z: &[f64]) -> String {
+    match z.split_first() {
+        Some((first, rest)) if z.len() > LISTED_ROWS && rest.iter().all(|x| x == first) => {
+            format!("modal ratio zeta = {} for each of the {} modes", fmt_num(*first), z.len())
+        }
+        _ => format!("modal ratios zeta = [{}]", list(z)),
+    }
+}
+
 /// The parameter table of the report.
 pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
     let s = &exp.structure;
@@ -49,7 +60,7 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
         (
             "damping".to_string(),
             match &s.damping_spec {
-                Damping::ModalRatios(z) => format!("modal ratios zeta = [{}]", list(z)),
+                Damping::ModalRatios(z) => ratios(z),
                 Damping::Rayleigh { alpha, beta } => {
                     format!("Rayleigh alpha = {} 1/s, beta = {} s", fmt_num(*alpha), fmt_num(*beta))
                 }
@@ -197,5 +208,14 @@ mod tests {
         assert!(words.starts_with("13 x 13, not listed; its diagonal: [1, 2, 3,"), "{words}");
         assert!(words.ends_with(", 13]") && !words.contains("0.5"), "{words}");
         assert_eq!(rows_word(&large), "");
+    }
+
+    #[test]
+    fn many_equal_damping_ratios_are_given_once() {
+        assert_eq!(ratios(&[0.01; 3]), "modal ratios zeta = [0.01, 0.01, 0.01]");
+        assert_eq!(ratios(&[0.01; 25]), "modal ratio zeta = 0.01 for each of the 25 modes");
+        let mut mixed = vec![0.01; 25];
+        mixed[7] = 0.02;
+        assert!(ratios(&mixed).starts_with("modal ratios zeta = [0.01,"));
     }
 }
