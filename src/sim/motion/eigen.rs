@@ -382,6 +382,18 @@ mod tests {
                 cases.push(DMatrix::from_fn(n, n, |_, _| next()));
             }
         }
+        // The sizes of 16- and 32-mass chains with three beds, where the problem splits into
+        // several active blocks before it ends, and a block-diagonal matrix that splits at once.
+        for n in [38usize, 70] {
+            for _ in 0..3 {
+                cases.push(DMatrix::from_fn(n, n, |_, _| next()));
+            }
+        }
+        let mut blocks = DMatrix::zeros(30, 30);
+        for b in 0..3 {
+            blocks.view_mut((10 * b, 10 * b), (10, 10)).copy_from(&DMatrix::from_fn(10, 10, |_, _| next()));
+        }
+        cases.push(blocks);
         let mut zero_row = DMatrix::from_fn(8, 8, |_, _| next());
         zero_row.row_mut(3).fill(0.0);
         cases.push(zero_row);

@@ -302,6 +302,9 @@ pub struct Modes {
     /// Above [`LARGE_ABOVE`] degrees of freedom, each bed's host's rows of the state matrix's
     /// powers (contact decisions, [`super::contact`]); empty up to it.
     pub host_rows: Vec<super::host_rows::HostRow>,
+    /// Above [`LARGE_ABOVE`] degrees of freedom, the real and imaginary parts of `inverse`
+    /// (the linearised flow's blocked products, `sim::tangent`); empty up to it.
+    pub inverse_parts: [DMatrix<f64>; 2],
 }
 
 /// Closed-form dynamics of one configuration (its forced part at the dynamics' frequency is
@@ -580,12 +583,17 @@ impl Dynamics {
                     out
                 })
             });
+            let inverse_parts = match n > LARGE_ABOVE {
+                true => [inverse.map(|z| z.re), inverse.map(|z| z.im)],
+                false => [DMatrix::zeros(0, 0), DMatrix::zeros(0, 0)],
+            };
             let modes = Modes {
                 lambda,
                 by_term,
                 vl,
                 vl_abs,
                 inverse,
+                inverse_parts,
                 offset,
                 mass: m,
                 mass_inv: m_inv,

@@ -198,22 +198,24 @@ fn transition_into(d: &Dynamics, mask: usize, tau: f64, out: &mut DMatrix<f64>) 
 
 /// Degrees of freedom above which the linearised flow multiplies with nalgebra's blocked
 /// matrix product (SIMD, cache-aware) instead of the plain loops that keep the paper's
-/// small structures' numbers bit for bit.
-const PLAIN_DOF: usize = 8;
+/// small structures' numbers bit for bit (the configurations hold the parts of their inverse
+/// from the same size on).
+const PLAIN_DOF: usize = crate::sim::motion::system::LARGE_ABOVE;
 
-/// Buffers of the blocked transition: the scaled eigenvector rows and the inverse's rows,
-/// real and imaginary parts (`2n x terms` and `terms x 2n`).
+/// Buffers of the blocked transition: the scaled eigenvector rows, real and imaginary parts
+/// (`2n x terms`).
 #[derive(Debug, Clone, Default)]
 struct Planes {
     s_re: DMatrix<f64>,
     s_im: DMatrix<f64>,
-    i_re: DMatrix<f64>,
-    i_im: DMatrix<f64>,
 }
 
 /// [`transition_into`] by blocked products: `Phi = Re(S) Re(W) - Im(S) Im(W)` with
 /// `S = V_w e^(Lambda tau)` (the weighted displacement and velocity rows) and `W` the rows of
-/// `V^-1` of the terms.
+/// `V^-1` of the terms (their parts held by the configuration, [`Modes::inverse_parts`]).
+/// `S` is filled a term at a time from the rows stored by term (contiguous).
+///
+/// [`Modes::inverse_parts`]: crate::sim::motion::system::Modes::inverse_parts
 fn transition_blocked(d: &Dynamics, mask: usize, tau: f64, planes: &mut Planes, out: &mut DMatrix<f64>) {
     let cfg = d.config(mask);
     let n = d.system.dof();
@@ -222,27 +224,26 @@ fn transition_blocked(d: &Dynamics, mask: usize, tau: f64, planes: &mut Planes, 
     if p.s_re.shape() != (2 * n, len) {
         p.s_re = DMatrix::zeros(2 * n, len);
         p.s_im = DMatrix::zeros(2 * n, len);
-        p.i_re = DMatrix::zeros(len, 2 * n);
-        p.i_im = DMatrix::zeros(len, 2 * n);
     }
+    let (s_re, s_im) = (p.s_re.as_mut_slice(), p.s_im.as_mut_slice());
     for (r, l) in cfg.modes.lambda.iter().enumerate() {
         let e = (l * tau).exp();
-        for i in 0..2 * n {
-            let w = if i < n { cfg.modes.vl[i][0][r] } else { cfg.modes.vl[i - n][1][r] };
-            let s = w * e;
-            p.s_re[(i, r)] = s.re;
-            p.s_im[(i, r)] = s.im;
+        // Column `r` of `S`: the displacement rows (order 0), then the velocity rows (order 1).
+        for order in 0..2 {
+            let [w_re, w_im] = &cfg.modes.by_term[order];
+            let (w_re, w_im) = (&w_re[r * n..(r + 1) * n], &w_im[r * n..(r + 1) * n]);
+            let at = r * 2 * n + order * n;
+            let (o_re, o_im) = (&mut s_re[at..at + n], &mut s_im[at..at + n]);
+            for (((o_re, o_im), &a), &b) in o_re.iter_mut().zip(o_im.iter_mut()).zip(w_re).zip(w_im) {
+                // (a + ib)(e.re + i e.im), as the complex product computes it.
+                *o_re = a * e.re - b * e.im;
+                *o_im = a * e.im + b * e.re;
+            }
         }
     }
-    for j in 0..2 * n {
-        for r in 0..len {
-            let w = cfg.modes.inverse[(r, j)];
-            p.i_re[(r, j)] = w.re;
-            p.i_im[(r, j)] = w.im;
-        }
-    }
-    out.gemm(1.0, &p.s_re, &p.i_re, 0.0);
-    out.gemm(-1.0, &p.s_im, &p.i_im, 1.0);
+    let [i_re, i_im] = &cfg.modes.inverse_parts;
+    out.gemm(1.0, &p.s_re, i_re, 0.0);
+    out.gemm(-1.0, &p.s_im, i_im, 1.0);
 }
 
 impl Observer for Tangent {
