@@ -481,3 +481,40 @@ fn coarse_windows_find_the_events_ordinary_windows_find() {
     assert!(compared > 1000, "{compared}");
     assert!(worst <= 1e-11, "{worst:e} s");
 }
+
+/// A long chain's modal damping may be given once for every mode: the same damping matrix as
+/// the list of one ratio per mode. A list of another length is refused, naming the key, the
+/// count and what is allowed.
+#[test]
+fn one_damping_ratio_serves_every_mode_of_a_long_chain() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 12;
+    let list = |v: &str, k: usize| vec![v; k].join(", ");
+    let load = |name: &str, ratios: &str| {
+        let file = dir.path().join(format!("{name}.toml"));
+        let text = format!(
+            "[experiment]\nid = \"{name}\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n\
+             [structure]\nmasses_kg = [{}]\nchain_stiffness_n_per_m = [{}]\n\
+             [structure.damping]\nmodal_ratios = [{ratios}]\n\
+             [excitation]\nmass = 1\nforce_n = 2.0\n[analysis]\nkind = \"modal\"\n\
+             [[cases]]\nid = \"bare\"\nlabel = \"bare\"\ndampers = []\n",
+            list("0.2", n),
+            list("1.0e5", n)
+        );
+        std::fs::write(&file, text).unwrap();
+        shotdamp::experiment::load(&file, &crate::common::repo().join("reference"))
+    };
+    let once = load("once", "0.02").unwrap();
+    let each = load("each", &list("0.02", n)).unwrap();
+    assert!(once[0].structure.damping.amax() > 0.0);
+    assert_eq!(once[0].structure.damping, each[0].structure.damping);
+    let other = load("other", "0.03").unwrap();
+    assert_ne!(once[0].structure.damping, other[0].structure.damping);
+    let err = load("two", "0.02, 0.03").unwrap_err().to_string();
+    assert!(
+        err.contains(
+            "structure.damping.modal_ratios = 2 values: expected one ratio for every mode, or 12, one per mode"
+        ),
+        "{err}"
+    );
+}

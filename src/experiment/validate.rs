@@ -395,14 +395,15 @@ pub(super) fn structure(path: &Path, mut s: RawStructure) -> Result<Built> {
     let d = s.damping;
     let damping = match (d.modal_ratios, d.rayleigh_alpha, d.rayleigh_beta) {
         (Some(z), None, None) => {
-            // A reduced model's modes are not known before it is reduced: one ratio for all.
-            let z = if fe.is_some() && z.len() == 1 { vec![z[0]; n] } else { z };
+            // One ratio for every mode (a reduced model's modes are not known before it is
+            // reduced; a long chain's are many), or one per mode.
+            let z = if z.len() == 1 { vec![z[0]; n] } else { z };
             if z.len() != n {
                 return Err(Error::invalid(
                     path,
                     "structure.damping.modal_ratios",
                     format!("{} values", z.len()),
-                    format!("expected {n} damping ratios, one per mode"),
+                    format!("expected one ratio for every mode, or {n}, one per mode"),
                 ));
             }
             for (i, v) in z.iter().enumerate() {
