@@ -4,27 +4,18 @@
 //! of their host's mass with 0.5 mm of clearance on the last three masses, driven at the first
 //! by the force that gives the first mode the paper's modal force, over the band of its top
 //! three modes below 60 Hz (12 points). On one thread: the decomposition of the 8
-//! configurations, the band from rest, and the band followed. tests/size.rs builds the same
-//! family. Results and the machine they ran on are recorded in BENCHMARKS.md.
+//! configurations, the band from rest, and the band followed. The family is defined once in
+//! benches/common/size_family.rs (tests/size.rs and examples/followed_cost.rs include it too).
+//! Results and the machine they ran on are recorded in BENCHMARKS.md.
 
 use std::f64::consts::PI;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use shotdamp::model::modes::symmetric_modes;
-use shotdamp::model::{Clearance, Damper, Damping, Structure};
 use shotdamp::sim::sweep::{self, Direction};
 use shotdamp::sim::{Dynamics, SteadyOptions, System};
 
-fn refined(n: usize) -> System {
-    let m = 2.09 / n as f64;
-    let k = 7.27e3 * n as f64;
-    let (w1, w3) = (2.0 * PI * 14.6, 2.0 * PI * 73.0);
-    let damping = Damping::Rayleigh { alpha: 0.02 * w1 * w3 / (w1 + w3), beta: 0.02 / (w1 + w3) };
-    let s = Structure::chain(&vec![m; n], &vec![k; n], damping);
-    let dampers = (n - 3..n).map(|h| Damper::new(h, 0.1 * m, Clearance::from_m(0.5e-3))).collect();
-    let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
-    System::plastic(s, dampers, 0, force)
-}
+include!("common/size_family.rs");
 
 /// 12 frequencies from 0.9 times the lowest to 1.1 times the highest (at most 60 Hz) of the
 /// top three modes below 60 Hz.

@@ -7,28 +7,17 @@
 //!
 //! `cargo run --release --example followed_cost -- 32`
 
-use std::f64::consts::PI;
 use std::time::Instant;
 
 use num_complex::Complex64;
-use shotdamp::model::{Clearance, Damper, Damping, Structure};
 use shotdamp::sim::sweep::{self, Direction};
-use shotdamp::sim::{Dynamics, SteadyOptions, System};
+use shotdamp::sim::{Dynamics, SteadyOptions};
 
-fn chain(n: usize) -> System {
-    let m = 2.09 / n as f64;
-    let k = 7.27e3 * n as f64;
-    let (w1, w3) = (2.0 * PI * 14.6, 2.0 * PI * 73.0);
-    let damping = Damping::Rayleigh { alpha: 0.02 * w1 * w3 / (w1 + w3), beta: 0.02 / (w1 + w3) };
-    let s = Structure::chain(&vec![m; n], &vec![k; n], damping);
-    let dampers = (n - 3..n).map(|h| Damper::new(h, 0.1 * m, Clearance::from_m(0.5e-3))).collect();
-    let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
-    System::plastic(s, dampers, 0, force)
-}
+include!("../benches/common/size_family.rs");
 
 fn main() {
     let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(32).max(3);
-    let base = Dynamics::unforced(&chain(n));
+    let base = Dynamics::unforced(&refined(n));
     let freqs: Vec<f64> = (0..21).map(|i| 41.5 + 0.25 * i as f64).collect();
     let follow = SteadyOptions { follow: true, ..SteadyOptions::default() };
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool of one thread");

@@ -61,7 +61,10 @@ fn main() {
         let alone = if lifts { transient_us(&d, st.transient_periods) } else { 0.0 };
         transients += alone;
         let a = &st.amplitude;
-        println!("{f},{us:.1},{},{alone:.1},{it},{att},{:.12e},{:.12e},{:.12e}", st.transient_periods, a[0], a[1], a[2]);
+        println!(
+            "{f},{us:.1},{},{alone:.1},{it},{att},{:.12e},{:.12e},{:.12e}",
+            st.transient_periods, a[0], a[1], a[2]
+        );
     }
     let n = freqs.len() as f64;
     eprintln!(

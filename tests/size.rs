@@ -134,26 +134,8 @@ fn another_numbering_of_the_degrees_of_freedom_gives_the_same_steady_states() {
     }
 }
 
-/// Rayleigh damping of 1 % at the refined chain's first and third modes (14.6 and 73 Hz as
-/// the chain is refined), growing with frequency above: the stiff modes of a fine chain ring
-/// down within a few of their periods, as a structure's do.
-fn damping() -> Damping {
-    let (w1, w3) = (2.0 * PI * 14.6, 2.0 * PI * 73.0);
-    Damping::Rayleigh { alpha: 0.02 * w1 * w3 / (w1 + w3), beta: 0.02 / (w1 + w3) }
-}
-
-/// A chain of `n` equal masses refining the paper's (2.09 kg in all, series stiffness
-/// 7.27 kN/m), Rayleigh damping ([`damping`]), beds of 10 % of their host on the last three masses with
-/// 0.5 mm of clearance, driven at the first by a force that gives the lowest mode the paper's
-/// modal force (benches/size.rs builds the same family).
-fn refined(n: usize) -> System {
-    let m = 2.09 / n as f64;
-    let k = 7.27e3 * n as f64;
-    let s = Structure::chain(&vec![m; n], &vec![k; n], damping());
-    let dampers = (n - 3..n).map(|h| Damper::new(h, 0.1 * m, Clearance::from_m(0.5e-3))).collect();
-    let force = 2.6 * (PI / 6.0).sin() / (PI / (2.0 * n as f64)).sin();
-    System::plastic(s, dampers, 0, force)
-}
+// `refined(n)`: the chains of the cost per degree of freedom, as benches/size.rs builds them.
+include!("../benches/common/size_family.rs");
 
 #[test]
 fn a_32_mass_chain_balances_its_energy_and_both_methods_agree() {
