@@ -532,7 +532,7 @@ fn unbounded_inputs_are_refused_before_anything_runs() {
         (
             64,
             10,
-            "cases[0].dampers = 10 dampers with grains [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]",
+            "cases[0].dampers = 10 single beds (1024 configurations)",
             "at most 512 configurations on 64 degrees of freedom",
         ),
     ] {

@@ -45,11 +45,24 @@ pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Struct
         return Err(Error::invalid(
             path,
             format!("{prefix}dampers"),
-            format!("{} dampers with grains {grains:?}", beds.len()),
+            beds_value(&grains),
             format!("at most {MAX_CONFIGS} configurations per case: the product over the dampers of (grains + 1) (a single bed counts 2), e.g. three columns of 20 grains"),
         ));
     }
     Ok(beds)
+}
+
+/// A case's beds as an error quotes them (`grains` of each, 1 for a single bed): how many,
+/// each one's grains unless every one is a single bed, and their configurations (the product
+/// of grains + 1).
+pub(super) fn beds_value(grains: &[usize]) -> String {
+    let configs = grains.iter().fold(1u128, |acc, &g| acc.saturating_mul(g.max(1) as u128 + 1));
+    let configs = if configs == u128::MAX { "more than 10^38".to_string() } else { configs.to_string() };
+    if grains.iter().all(|&g| g <= 1) {
+        format!("{} single beds ({configs} configurations)", grains.len())
+    } else {
+        format!("{} dampers with grains {grains:?} ({configs} configurations)", grains.len())
+    }
 }
 
 /// A damper's mass as given: a ratio to its host's mass, or kilograms.

@@ -563,11 +563,7 @@ pub(super) fn configurations_fit(path: &Path, key: &str, grains: &[usize], n: us
     Err(Error::invalid(
         path,
         key,
-        format!(
-            "{} dampers with grains [{}]",
-            grains.len(),
-            grains.iter().map(|g| g.to_string()).collect::<Vec<_>>().join(", ")
-        ),
+        super::dampers::beds_value(grains),
         format!(
             "{who} the exact simulator, which decomposes every configuration up front: at most {limit} configurations on {n} degrees of freedom (the product over the dampers of grains + 1; a single bed counts 2; docs/simulator.md, \"Cost per degree of freedom\")"
         ),
