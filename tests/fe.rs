@@ -293,6 +293,34 @@ fn beds_on_the_plate_design_s_reduction_do_not_chatter_at_one_instant() {
     }
 }
 
+/// A reduction that keeps more coordinates than the simulator takes is refused when its modes
+/// are counted, before any is computed: named by the key that keeps them, with the count and
+/// the modes that would fit; a modal analysis, which takes any size, reduces it.
+#[test]
+fn a_reduction_too_large_to_simulate_is_refused_before_it_is_computed() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let data = repo().join("examples/plate/data");
+    let sweep = |keep: &str| {
+        plate_modal(&data, 1000.0).replace("cutoff_hz = 1000", keep).replace(
+            "kind = \"modal\"",
+            "kind = \"sweep\"\nfreq_hz = { start = 30.0, stop = 40.0, step = 1.0 }\n[[cases]]\nid = \"a\"\nlabel = \"a\"\ndampers = [{ mass = 1, mass_kg = 0.05, clearance_mm = 1.0 }]",
+        )
+    };
+    for (keep, said) in [
+        ("modes = 300", "structure.finite_element.modes = 300: it keeps 300 fixed-interface modes, with the 3 points 303 coordinates: analysis kind \"sweep\" runs the exact simulator, which takes at most 256 (modes = 253 at most"),
+        ("modes = 5000", "structure.finite_element.modes = 5000: it keeps 1407 fixed-interface modes, with the 3 points 1410 coordinates"),
+        ("cutoff_hz = 200000.0", "structure.finite_element.cutoff_hz = 200000: it keeps "),
+    ] {
+        let (code, err, out) = run(d, "large", &sweep(keep));
+        assert_eq!(code, Some(2), "{keep}: {err}");
+        assert!(err.contains(said), "{keep}: expected \"{said}\" in: {err}");
+        assert!(!out.exists(), "{keep}: nothing is written");
+    }
+    let (code, err, _) = run(d, "modal", &plate_modal(&data, 1000.0).replace("cutoff_hz = 1000", "modes = 300"));
+    assert_eq!(code, Some(0), "{err}");
+}
+
 #[test]
 fn bad_finite_element_files_and_keys_say_what_is_wrong() {
     let dir = tempfile::tempdir().unwrap();

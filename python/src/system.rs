@@ -64,7 +64,7 @@ impl System {
     ) -> PyResult<System> {
         let origin = "shotdamp.System";
         let bare = &structure.get().bare;
-        parts::simulated_structure(origin, bare).map_err(error)?;
+        parts::simulated_structure(origin, bare, structure.get().fe.as_deref()).map_err(error)?;
         let force_mass = force_mass.or(force_n.map(|_| 1));
         let excitation = parts::drive(origin, force_mass, force_n, base_acceleration_m_s2, bare).map_err(error)?;
         let case = match dampers {

@@ -104,6 +104,13 @@ def test_a_finite_element_plate_from_calculix_reduces_to_its_points(tmp_path, mo
         paper_structure().reduction([10.0])
     with pytest.raises(ValueError, match="force_point = 5"):
         s.reduction([10.0], force_point=5)
+    # More coordinates than the simulator takes: a structure for modes and responses, refused
+    # as a system, named by its points and modes.
+    big_fe = {k: v for k, v in fe.items() if k != "cutoff_hz"}
+    big = sd.Structure(finite_element=dict(big_fe, modes=300), modal_ratios=[0.01])
+    assert big.dof == 304
+    with pytest.raises(ValueError, match=r"structure.finite_element = 304 coordinates \(4 points and 300 fixed-interface modes\).*keeping at most 252 modes"):
+        sd.System(big, [sd.Damper(mass=1, mass_kg=0.05, clearance_mm=1.0)], force_n=0.2)
 
 
 def test_infinite_clearance_far_above_the_flight_equals_stuck_masses_below_lift_off():

@@ -310,7 +310,7 @@ mod tests {
         let k =
             crate::model::structure::chain_stiffness(&(0..n).map(|i| 2e4 + 1e3 * (i % 4) as f64).collect::<Vec<_>>());
         let b = [0, 11, 12, 13];
-        let reduced = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(2)).unwrap();
+        let reduced = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(2), None).unwrap();
         let point = |row: usize| crate::model::fe::Point {
             name: format!("row {row}"),
             row,

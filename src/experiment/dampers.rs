@@ -8,7 +8,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::model::{Clearance, Damper, Direction, Structure};
 use crate::sim::bed::ImpactLaw;
-use crate::sim::system::{MAX_BEDS, MAX_CONFIGS};
+use crate::sim::system::{configurations, MAX_BEDS, MAX_CONFIGS};
 
 use super::analysis::export_ref;
 use super::fields::mass_index;
@@ -40,8 +40,7 @@ pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Struct
         beds.push(Bed { damper, clearance: f.spec, law: f.law, grains: f.grains });
     }
     let grains: Vec<usize> = beds.iter().map(|b| b.grains).collect();
-    let configs = grains.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n + 1).filter(|&k| k <= MAX_CONFIGS));
-    if configs.is_none() {
+    if configurations(grains.iter().copied(), MAX_CONFIGS).is_none() {
         return Err(Error::invalid(
             path,
             format!("{prefix}dampers"),
@@ -56,8 +55,8 @@ pub(super) fn dampers(path: &Path, prefix: &str, raw: Vec<RawDamper>, s: &Struct
 /// each one's grains unless every one is a single bed, and their configurations (the product
 /// of grains + 1).
 pub(super) fn beds_value(grains: &[usize]) -> String {
-    let configs = grains.iter().fold(1u128, |acc, &g| acc.saturating_mul(g.max(1) as u128 + 1));
-    let configs = if configs == u128::MAX { "more than 10^38".to_string() } else { configs.to_string() };
+    let configs = configurations(grains.iter().copied(), usize::MAX)
+        .map_or_else(|| format!("more than {}", usize::MAX), |c| c.to_string());
     if grains.iter().all(|&g| g <= 1) {
         format!("{} single beds ({configs} configurations)", grains.len())
     } else {

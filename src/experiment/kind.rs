@@ -91,19 +91,23 @@ pub struct KindSpec {
     pub name: &'static str,
     /// The keys of `[analysis]` it reads.
     pub reads: &'static [&'static str],
+    /// Whether it runs the exact simulator (whose limits on degrees of freedom and bed
+    /// configurations are checked before anything runs).
+    pub simulates: bool,
 }
 
 /// The analysis kinds: the one list that validation, its messages and [`Analysis::kind`]'s
 /// test read.
 pub const KINDS: &[KindSpec] = &[
-    KindSpec { name: "modal", reads: &[] },
-    KindSpec { name: "linear_frf", reads: &["freq_hz"] },
-    KindSpec { name: "sweep", reads: &["freq_hz", "start", "steady"] },
+    KindSpec { name: "modal", reads: &[], simulates: false },
+    KindSpec { name: "linear_frf", reads: &["freq_hz"], simulates: false },
+    KindSpec { name: "sweep", reads: &["freq_hz", "start", "steady"], simulates: true },
     KindSpec {
         name: "clearance_study",
         reads: &["freq_hz", "steady", "clearances_mm", "clearance_points", "objective_mass", "objective_case"],
+        simulates: true,
     },
-    KindSpec { name: "waveform", reads: &["frequencies_hz", "labels", "periods", "steady"] },
+    KindSpec { name: "waveform", reads: &["frequencies_hz", "labels", "periods", "steady"], simulates: true },
     KindSpec {
         name: "impulse",
         reads: &[
@@ -115,9 +119,10 @@ pub const KINDS: &[KindSpec] = &[
             "spectrum_hz",
             "decay_levels",
         ],
+        simulates: true,
     },
-    KindSpec { name: "sdof_periodic", reads: &["mode", "freq_hz", "clearances_mm", "steady"] },
-    KindSpec { name: "design", reads: &["steady"] },
+    KindSpec { name: "sdof_periodic", reads: &["mode", "freq_hz", "clearances_mm", "steady"], simulates: true },
+    KindSpec { name: "design", reads: &["steady"], simulates: true },
 ];
 
 /// The kind named `name` in a file.
@@ -198,7 +203,7 @@ impl Analysis {
     /// Whether it runs the exact simulator (every kind but the modal and the linear ones,
     /// which take a structure of any size).
     pub fn simulates(&self) -> bool {
-        !matches!(self, Analysis::Modal | Analysis::LinearFrf { .. })
+        kind_spec(self.kind()).is_some_and(|k| k.simulates)
     }
 
     /// Whether every damper's clearance is scanned (`clearance_mm = "scan"` required).

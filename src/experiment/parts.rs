@@ -52,7 +52,7 @@ pub fn structure_and_model(
     table: toml::Table,
 ) -> Result<(Structure, Option<std::sync::Arc<crate::model::fe::FeStructure>>)> {
     let raw: RawStructure = read(origin, "structure.", toml::Value::Table(table))?;
-    let built = super::validate::structure(origin.as_ref(), raw)?;
+    let built = super::validate::structure(origin.as_ref(), raw, None)?;
     Ok((built.structure, built.fe.map(std::sync::Arc::new)))
 }
 
@@ -139,9 +139,15 @@ pub fn impulse(origin: &str, mut table: toml::Table, structure: &Structure) -> R
 }
 
 /// Refuses a structure the exact simulator cannot take (more masses than it holds), before
-/// anything runs: `origin` names the caller (e.g. "shotdamp.System").
-pub fn simulated_structure(origin: &str, structure: &Structure) -> Result<()> {
-    super::validate::simulator_fits(origin.as_ref(), structure.dof(), &format!("{origin} runs"))
+/// anything runs: `origin` names the caller (e.g. "shotdamp.System"); `fe`, the
+/// finite-element model the structure was reduced from, if any.
+pub fn simulated_structure(
+    origin: &str,
+    structure: &Structure,
+    fe: Option<&crate::model::fe::FeStructure>,
+) -> Result<()> {
+    let points = fe.map(|f| f.points.len());
+    super::validate::simulator_fits(origin.as_ref(), structure.dof(), points, &format!("{origin} runs"))
 }
 
 /// Refuses the beds of `case` when the exact simulator cannot decompose their configurations on

@@ -10,7 +10,7 @@ use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT
 use crate::model::{Damping, Structure};
 use crate::reference::files::Files;
 use crate::sim::impulse::ImpulseOptions;
-use crate::sim::system::{config_limit, MAX_DOF};
+use crate::sim::system::{config_limit, configurations, MAX_DOF};
 
 use super::analysis::analysis;
 use super::checks::check;
@@ -59,7 +59,12 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         &raw_structure,
         models_as_scenarios.unwrap_or(false),
     )?;
-    let Built { structure, source, damping_assumption, fit, fe } = structure(path, raw_structure)?;
+    // What runs the structure, and so the most coordinates a finite-element model may be
+    // reduced to (refused before its modes are computed).
+    let runs = format!("analysis kind \"{}\" runs", raw.analysis.kind);
+    let simulated = super::kind::kind_spec(&raw.analysis.kind).is_some_and(|k| k.simulates);
+    let limit = simulated.then_some((MAX_DOF, runs.as_str()));
+    let Built { structure, source, damping_assumption, fit, fe } = structure(path, raw_structure, limit)?;
     let n = structure.dof();
     // A finite-element structure reports its points only (its other coordinates are modal).
     let responses = fe.as_ref().map_or(n, |f| f.points.len());
@@ -97,7 +102,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     if excitation.supports {
         super::excitation::supports_fit(path, &analysis)?;
     }
-    cases_fit(path, &analysis, &cases, &structure)?;
+    cases_fit(path, &analysis, &cases, &structure, fe.as_ref().map(|f| f.points.len()))?;
     let plots = raw
         .plots
         .into_iter()
@@ -164,7 +169,13 @@ fn design_fits(
 /// The cases against what the analysis runs: scanned clearances, the simulator's size and
 /// configurations, kicks, frequencies, and the bed models, directions, columns and counts of
 /// dampers the analysis takes.
-fn cases_fit(path: &Path, analysis: &Analysis, cases: &[Case], structure: &Structure) -> Result<()> {
+fn cases_fit(
+    path: &Path,
+    analysis: &Analysis,
+    cases: &[Case],
+    structure: &Structure,
+    fe_points: Option<usize>,
+) -> Result<()> {
     let n = structure.dof();
     let (scanning, may_scan) = (analysis.scans_clearances(), analysis.may_scan_clearances());
     for (ci, case) in cases.iter().enumerate() {
@@ -182,7 +193,7 @@ fn cases_fit(path: &Path, analysis: &Analysis, cases: &[Case], structure: &Struc
     }
     if analysis.simulates() {
         let who = format!("analysis kind \"{}\" runs", analysis.kind());
-        simulator_fits(path, n, &who)?;
+        simulator_fits(path, n, fe_points, &who)?;
         for (ci, case) in cases.iter().enumerate() {
             configurations_fit(path, &format!("cases[{ci}].dampers"), &case.grains(), n, &who)?;
         }
@@ -282,7 +293,7 @@ pub(super) struct Built {
     pub(super) fe: Option<crate::model::fe::FeStructure>,
 }
 
-pub(super) fn structure(path: &Path, mut s: RawStructure) -> Result<Built> {
+pub(super) fn structure(path: &Path, mut s: RawStructure, limit: Option<(usize, &str)>) -> Result<Built> {
     let fe = match s.finite_element.take() {
         Some(raw) => {
             let given = [
@@ -301,7 +312,7 @@ pub(super) fn structure(path: &Path, mut s: RawStructure) -> Result<Built> {
                     format!("a finite-element structure takes its masses and stiffness from its files: leave structure.{k} out"),
                 ));
             }
-            Some(super::fe::build(path, raw)?)
+            Some(super::fe::build(path, raw, limit)?)
         }
         None => None,
     };
@@ -536,17 +547,26 @@ pub(super) fn kick_fits(path: &Path, options: &ImpulseOptions, structure: &Struc
 }
 
 /// Refuses a structure of `n` degrees of freedom larger than the exact simulator takes; `who`
-/// says what runs it (e.g. `analysis kind "sweep" runs`).
-pub(super) fn simulator_fits(path: &Path, n: usize, who: &str) -> Result<()> {
+/// says what runs it (e.g. `analysis kind "sweep" runs`); `fe_points`, the points of a
+/// finite-element model (its other coordinates are modal).
+pub(super) fn simulator_fits(path: &Path, n: usize, fe_points: Option<usize>, who: &str) -> Result<()> {
     if n <= MAX_DOF {
         return Ok(());
     }
+    let (key, value, keep) = match fe_points {
+        Some(p) => (
+            "structure.finite_element",
+            format!("{n} coordinates ({p} points and {} fixed-interface modes)", n - p),
+            format!(", keeping at most {} modes (modes or cutoff_hz)", MAX_DOF.saturating_sub(p)),
+        ),
+        None => ("structure.masses_kg", format!("{n} masses"), String::new()),
+    };
     Err(Error::invalid(
         path,
-        "structure.masses_kg",
-        format!("{n} masses"),
+        key,
+        value,
         format!(
-            "{who} the exact simulator, which takes at most {MAX_DOF} degrees of freedom (analysis kinds \"modal\" and \"linear_frf\" take any number)"
+            "{who} the exact simulator, which takes at most {MAX_DOF} degrees of freedom{keep} (analysis kinds \"modal\" and \"linear_frf\" take any number)"
         ),
     ))
 }
@@ -556,8 +576,7 @@ pub(super) fn simulator_fits(path: &Path, n: usize, who: &str) -> Result<()> {
 /// ([`crate::sim::system::config_limit`]); `key` names them, `who` says what runs them.
 pub(super) fn configurations_fit(path: &Path, key: &str, grains: &[usize], n: usize, who: &str) -> Result<()> {
     let limit = config_limit(n);
-    let configs = grains.iter().try_fold(1usize, |acc, &g| acc.checked_mul(g.max(1) + 1).filter(|&k| k <= limit));
-    if configs.is_some() {
+    if configurations(grains.iter().copied(), limit).is_some() {
         return Ok(());
     }
     Err(Error::invalid(
@@ -625,7 +644,7 @@ fn screen(
     let mut coarse = given.clone();
     coarse.finite_element =
         Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
-    let built = structure(path, coarse)?;
+    let built = structure(path, coarse, Some((MAX_DOF, "the design's search runs")))?;
     let n = built.structure.dof();
     Ok(Some(crate::design::Screen {
         structure: built.structure,

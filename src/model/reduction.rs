@@ -63,6 +63,16 @@ pub enum ReductionError {
         /// Counted.
         counted: usize,
     },
+    /// The boundary and the fixed-interface modes asked for make more coordinates than the
+    /// caller allows (counted before any mode is computed).
+    TooMany {
+        /// Boundary degrees of freedom.
+        boundary: usize,
+        /// Fixed-interface modes the request keeps.
+        modes: usize,
+        /// The most coordinates allowed.
+        most: usize,
+    },
 }
 
 impl std::fmt::Display for ReductionError {
@@ -81,7 +91,12 @@ impl std::fmt::Display for ReductionError {
             ),
             ReductionError::Missed { found, counted } => write!(
                 f,
-                "the eigen solver found {found} fixed-interface modes where the inertia counts {counted}: please report this model"
+                "the eigen solver could not certify the fixed-interface modes asked for: it found {found} below the last where the inertia of K_ii - s M_ii counts {counted} (shift-invert Lanczos resolves the low end of a spectrum, not most of it): keep fewer modes or a lower cutoff"
+            ),
+            ReductionError::TooMany { boundary, modes, most } => write!(
+                f,
+                "{boundary} points and {modes} fixed-interface modes make {} coordinates, more than the {most} allowed",
+                boundary + modes
             ),
         }
     }
@@ -183,11 +198,14 @@ pub enum Keep {
 /// Cuthill-McKee order), the constraint modes by its solves, the fixed-interface modes by
 /// shift-invert Lanczos certified by inertia counts ([`super::lanczos`]). The same reduced
 /// model as the dense function to rounding; `cutoff` is the lowest mode left out (found too).
+/// With `most`, a request whose boundary and kept modes make more coordinates is refused
+/// ([`ReductionError::TooMany`]) once counted (one factorisation), before any mode is computed.
 pub fn craig_bampton_sparse(
     m: &SymSparse,
     k: &SymSparse,
     boundary: &[usize],
     keep: Keep,
+    most: Option<usize>,
 ) -> Result<Reduced, ReductionError> {
     let n = m.n();
     let finite = |a: &SymSparse| (0..a.n()).all(|i| a.row(i).all(|(_, v)| v.is_finite()));
@@ -223,6 +241,9 @@ pub fn craig_bampton_sparse(
         }
     }
     .min(ni);
+    if let Some(most) = most.filter(|&most| nb + count > most) {
+        return Err(ReductionError::TooMany { boundary: nb, modes: count, most });
+    }
     let want = Want::Count((count + 1).min(ni));
     let eig = if ni == 0 {
         None
@@ -488,11 +509,29 @@ mod tests {
     }
 
     #[test]
+    fn a_reduction_larger_than_allowed_is_counted_and_refused() {
+        let (m, k) = chain(40);
+        let b = [0, 37, 38, 39];
+        let (ms, ks) = (sparse(&m), sparse(&k));
+        // Every mode below the 11th: the inertia counts 10 of them, with the 4 points 14.
+        let all = craig_bampton_sparse(&ms, &ks, &b, Keep::Count(36), None).unwrap();
+        let w = 0.5 * (all.interior_omegas[9] + all.interior_omegas[10]);
+        let refused = craig_bampton_sparse(&ms, &ks, &b, Keep::Below(w), Some(13)).unwrap_err();
+        assert_eq!(refused, ReductionError::TooMany { boundary: 4, modes: 10, most: 13 });
+        assert!(refused.to_string().contains("4 points and 10 fixed-interface modes make 14 coordinates"));
+        let fits = craig_bampton_sparse(&ms, &ks, &b, Keep::Below(w), Some(14)).unwrap();
+        assert_eq!(fits.mass.nrows(), 14);
+        // A count beyond the interior is the interior's 36 modes.
+        let over = craig_bampton_sparse(&ms, &ks, &b, Keep::Count(500), Some(39)).unwrap_err();
+        assert_eq!(over, ReductionError::TooMany { boundary: 4, modes: 36, most: 39 });
+    }
+
+    #[test]
     fn the_sparse_reduction_is_the_dense_one() {
         let (m, k) = chain(40);
         let b = [0, 37, 38, 39];
         let dense = craig_bampton(&m, &k, &b, 6).unwrap();
-        let sp = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(6)).unwrap();
+        let sp = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(6), None).unwrap();
         // The modes' signs are conventions: align the sparse ones to the dense ones.
         let signs = DVector::from_fn(sp.mass.nrows(), |c, _| {
             let col = dense.transform.column(c);
@@ -509,7 +548,7 @@ mod tests {
         assert!((dense.cutoff - sp.cutoff).abs() <= 1e-11 * dense.cutoff);
         // By a cutoff: every mode below it, the next one above.
         let w = 0.5 * (sp.interior_omegas[3] + sp.interior_omegas[4]);
-        let by = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Below(w)).unwrap();
+        let by = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Below(w), None).unwrap();
         assert_eq!(by.interior_omegas.len(), 4);
         assert!(by.cutoff > w);
     }
@@ -518,7 +557,7 @@ mod tests {
     fn with_every_interior_mode_kept_the_compliance_is_the_full_models() {
         let (m, k) = chain(14);
         let b = [0, 11, 12, 13];
-        let r = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(10)).unwrap();
+        let r = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(10), None).unwrap();
         let omegas: Vec<f64> = (1..60).map(|i| 7.3 * i as f64).collect();
         let pairs: Vec<CompliancePair> =
             compliance_pairs(&sparse(&m), &sparse(&k), &r, 0, &omegas, None).into_iter().flatten().collect();
@@ -527,8 +566,8 @@ mod tests {
             assert!(e < 1e-10, "{e}");
         }
         // With two modes only the difference shows, and shrinks with more.
-        let few = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(2)).unwrap();
-        let more = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(6)).unwrap();
+        let few = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(2), None).unwrap();
+        let more = craig_bampton_sparse(&sparse(&m), &sparse(&k), &b, Keep::Count(6), None).unwrap();
         let err = |r: &Reduced| {
             let p: Vec<CompliancePair> =
                 compliance_pairs(&sparse(&m), &sparse(&k), r, 0, &omegas, None).into_iter().flatten().collect();
@@ -561,7 +600,7 @@ mod tests {
         // Every frequency on a grid, and each natural frequency shifted by 1e-7 of itself.
         let mut omegas: Vec<f64> = (1..60).map(|i| 7.3 * i as f64).collect();
         omegas.extend(full_modes.values.iter().map(|l| l.sqrt() * (1.0 + 1e-4)));
-        let exact = craig_bampton_sparse(&ms, &ks, &b, Keep::Count(10)).unwrap();
+        let exact = craig_bampton_sparse(&ms, &ks, &b, Keep::Count(10), None).unwrap();
         let c = damping_of(&exact);
         {
             let v = &full_modes.vectors;
@@ -580,7 +619,7 @@ mod tests {
         }
         // Undamped, at a hair from each resonance, a truncated reduction reads as far off; damped
         // (its own lowest modes carrying the same ratios) it is close.
-        let few = craig_bampton_sparse(&ms, &ks, &b, Keep::Count(6)).unwrap();
+        let few = craig_bampton_sparse(&ms, &ks, &b, Keep::Count(6), None).unwrap();
         let c = damping_of(&few);
         let d = Damped { full_modes: &full_modes, zetas: &zetas, reduced: &c };
         let near: Vec<f64> = full_modes.values[..4].iter().map(|l| l.sqrt() * (1.0 + 1e-7)).collect();

@@ -14,7 +14,7 @@ use nalgebra::DMatrix;
 use super::raw::RawFiniteElement;
 use crate::error::{Error, Result};
 use crate::model::fe::{DofLabel, FeStructure, FullModel, Point};
-use crate::model::reduction::{craig_bampton_sparse, Keep, Reduced};
+use crate::model::reduction::{craig_bampton_sparse, Keep, Reduced, ReductionError};
 use crate::model::sparse::SymSparse;
 use crate::model::Direction;
 
@@ -175,7 +175,10 @@ fn matrix(file: &Path, what: &str, r: Read, n: usize, scale: f64, labels: &Optio
 }
 
 /// Reads, checks and reduces the model of `raw` (keys named `structure.finite_element.*`).
-pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
+/// With `limit` (the most coordinates, and what runs them: e.g. `analysis kind "sweep"
+/// runs`), a reduction that would keep more is refused once its modes are counted, before
+/// they are computed.
+pub fn build(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> Result<FromFiles> {
     let key = |k: &str| format!("structure.finite_element.{k}");
     let invalid = |k: &str, v: &dyn std::fmt::Display, m: &str| Error::invalid(path, key(k), v, m);
     let (k_scale, m_scale) = match raw.units.as_deref() {
@@ -288,13 +291,29 @@ pub fn build(path: &Path, raw: RawFiniteElement) -> Result<FromFiles> {
         points.push(Point { name, row, label, vertical, horizontal, sign: if vertical { up_sign } else { 1.0 } });
     }
     let boundary: Vec<usize> = points.iter().map(|p| p.row).collect();
-    let mut reduced = craig_bampton_sparse(&mass, &stiffness, &boundary, keep).map_err(|e| {
-        Error::invalid(
+    // The key that sets how many modes are kept, as given.
+    let (keep_key, keep_value) = match (raw.modes, raw.cutoff_hz) {
+        (Some(m), _) => ("modes", m.to_string()),
+        (None, f) => ("cutoff_hz", f.map_or_else(|| "(none)".into(), |f| f.to_string())),
+    };
+    let mut reduced = craig_bampton_sparse(&mass, &stiffness, &boundary, keep, limit.map(|l| l.0)).map_err(|e| match e {
+        ReductionError::TooMany { boundary, modes, most } => invalid(
+            keep_key,
+            &keep_value,
+            &format!(
+                "it keeps {modes} fixed-interface modes, with the {boundary} points {} coordinates: {} the exact simulator, which takes at most {most} (modes = {} at most, or a lower cutoff_hz; without either, every mode below twice the highest frequency analysed)",
+                boundary + modes,
+                limit.map_or("", |l| l.1),
+                most.saturating_sub(boundary),
+            ),
+        ),
+        e @ ReductionError::Missed { .. } => invalid(keep_key, &keep_value, &format!("the model ({n} degrees of freedom) cannot be reduced so: {e}")),
+        e => Error::invalid(
             path,
             "structure.finite_element",
             format!("{} degrees of freedom", n),
             format!("cannot be reduced: {e}"),
-        )
+        ),
     })?;
     // A point whose direction points down is measured upward: its coordinate changes sign.
     for (c, p) in points.iter().enumerate() {

@@ -40,6 +40,13 @@ pub fn config_limit(dof: usize) -> usize {
     (MAX_STORED / per_config).min(MAX_CONFIGS)
 }
 
+/// The configurations of beds of `grains` each (1 a single bed, a column its grains): the
+/// product of each one's grains + 1 (how many of them ride their host), `None` above `limit`.
+/// The one count the simulator decomposes and every limit on it is checked with.
+pub fn configurations(grains: impl IntoIterator<Item = usize>, limit: usize) -> Option<usize> {
+    grains.into_iter().try_fold(1usize, |acc, g| acc.checked_mul(g.max(1) + 1).filter(|&c| c <= limit))
+}
+
 /// Most single beds one system may carry (`2^N <= MAX_CONFIGS`).
 pub const MAX_BEDS: usize = 14;
 
@@ -502,7 +509,7 @@ impl Dynamics {
         check_columns(system)?;
         let groups = system.groups();
         let limit = config_limit(n);
-        let slots = groups.iter().try_fold(1usize, |acc, g| acc.checked_mul(g.len() + 1).filter(|&c| c <= limit));
+        let slots = configurations(groups.iter().map(|g| g.len()), limit);
         let Some(slots) = slots.filter(|_| system.dampers.len() <= MAX_GRAINS) else {
             return Err(SetupError::TooManyBeds { beds: system.dampers.len(), dof: n });
         };
