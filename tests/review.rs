@@ -72,6 +72,60 @@ fn reference_import_writes_a_digitised_file_with_provenance() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("DATASET=CASE:MASS"));
 }
 
+/// What `reference import` would write but the loader refuses is an input error naming the
+/// export's line and column (or the flag), and nothing is written: a value that is not
+/// finite, zero on a log axis, a pixel that is not positive, a value beyond the datasets the
+/// header names.
+#[test]
+fn an_export_the_loader_would_refuse_is_not_imported() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "nan.csv",
+            "x,y\n1,2\n3,nan\n",
+            &["--y-pixel", "0.1"][..],
+            "nan.csv: line 3, column 2: \"nan\" is not a finite number",
+        ),
+        ("inf.csv", "x,y\n1e400,2\n", &["--y-pixel", "0.1"][..], "line 2, column 1: \"1e400\" is not a finite number"),
+        (
+            "log.csv",
+            "x,y\n1,2\n3,0\n",
+            &["--y-pixel", "0.1", "--y-log"][..],
+            "line 3, column 2: \"0\" is not a positive finite number (log axis)",
+        ),
+        (
+            "pixel.csv",
+            "x,y\n1,2\n",
+            &["--y-pixel=-1"][..],
+            "--y-pixel -1: the size of one pixel must be a positive number",
+        ),
+        (
+            "wide.csv",
+            "a,\nX,Y\n1,2,3,4\n",
+            &["--y-pixel", "0.1"][..],
+            "line 3: a value in column 3, beyond the 2 column(s) of the 1 dataset(s)",
+        ),
+    ];
+    for (name, text, flags, said) in cases {
+        let csv = dir.path().join(name);
+        std::fs::write(&csv, text).unwrap();
+        let out = dir.path().join(format!("{name}.toml"));
+        let run = shotdamp()
+            .args(["reference", "import"])
+            .arg(&csv)
+            .args(["--figure", "Fig. 8", "--by", "r", "--from", "p", "--x-pixel", "0.1"])
+            .args(flags)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(said), "{name}: expected \"{said}\" in: {err}");
+        assert!(!out.exists(), "{name}: nothing is written");
+    }
+}
+
 /// A folder with the Fig. 4(b) experiment and a copy of the references without a baseline.
 fn workspace() -> (tempfile::TempDir, PathBuf, PathBuf) {
     let dir = tempfile::tempdir().unwrap();

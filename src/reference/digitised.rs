@@ -239,7 +239,13 @@ pub fn import_wpd_json(file: &str, text: &str, info: &ImportInfo) -> Result<Digi
             .map(|p| {
                 let (x, y) = (p.get("x").and_then(num), p.get("y").and_then(num));
                 match (x, y) {
-                    (Some(x), Some(y)) => Ok(cal.value(x, y)),
+                    (Some(x), Some(y)) => match cal.value(x, y) {
+                        (vx, vy) if vx.is_finite() && vy.is_finite() => Ok((vx, vy)),
+                        (vx, vy) => Err(bad(
+                            file,
+                            format!("dataset \"{name}\": the point at pixel ({x}, {y}) is ({vx}, {vy}) in data units, not finite (its axes' calibration?)"),
+                        )),
+                    },
                     _ => Err(bad(file, format!("dataset \"{name}\": a point without pixel x, y"))),
                 }
             })
@@ -285,6 +291,16 @@ pub fn import_wpd_csv(file: &str, text: &str, info: &ImportInfo) -> Result<Digit
     let (Some(x_pixel), Some(y_pixel)) = (info.x_pixel, info.y_pixel) else {
         return Err(bad(file, "a CSV export has no calibration: give the size of one pixel (--x-pixel, --y-pixel)"));
     };
+    for (flag, v) in [("--x-pixel", x_pixel), ("--y-pixel", y_pixel)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(bad(
+                file,
+                format!(
+                    "{flag} {v}: the size of one pixel must be a positive number (data units, relative on a log axis)"
+                ),
+            ));
+        }
+    }
     let rows: Vec<Vec<String>> = text
         .lines()
         .filter(|l| !l.trim().is_empty())
@@ -304,14 +320,33 @@ pub fn import_wpd_csv(file: &str, text: &str, info: &ImportInfo) -> Result<Digit
         })
         .collect();
     for (line, r) in rows.iter().enumerate().skip(header) {
+        if let Some(extra) = r.iter().skip(2 * curve.len()).position(|c| !c.is_empty()) {
+            return Err(bad(
+                file,
+                format!(
+                    "line {}: a value in column {}, beyond the {} column(s) of the {} dataset(s) the header names",
+                    line + 1,
+                    2 * curve.len() + extra + 1,
+                    2 * curve.len(),
+                    curve.len()
+                ),
+            ));
+        }
         for (k, c) in curve.iter_mut().enumerate() {
             let (x, y) = (r.get(2 * k).filter(|s| !s.is_empty()), r.get(2 * k + 1).filter(|s| !s.is_empty()));
             if let (Some(x), Some(y)) = (x, y) {
-                let p = |s: &str| {
-                    s.parse::<f64>().map_err(|_| bad(file, format!("line {}: \"{s}\" is not a number", line + 1)))
+                let p = |s: &str, column: usize, log: bool| {
+                    let v = s.parse::<f64>().map_err(|_| {
+                        bad(file, format!("line {}, column {column}: \"{s}\" is not a number", line + 1))
+                    })?;
+                    if !v.is_finite() || (log && v <= 0.0) {
+                        let allowed = if log { "a positive finite number (log axis)" } else { "a finite number" };
+                        return Err(bad(file, format!("line {}, column {column}: \"{s}\" is not {allowed}", line + 1)));
+                    }
+                    Ok(v)
                 };
-                c.x.push(p(x)?);
-                c.y.push(p(y)?);
+                c.x.push(p(x, 2 * k + 1, info.x_log)?);
+                c.y.push(p(y, 2 * k + 2, info.y_log)?);
             }
         }
     }
@@ -343,8 +378,8 @@ pub fn load(path: &std::path::Path) -> Result<DigitisedFile> {
 }
 
 /// Pixel sizes are positive and finite; every curve has as many finite x as y values (positive
-/// on a log axis), at least one.
-fn validate(path: &std::path::Path, f: &DigitisedFile) -> Result<()> {
+/// on a log axis), at least one. What an import writes is held to it too.
+pub(super) fn validate(path: &std::path::Path, f: &DigitisedFile) -> Result<()> {
     for (key, v) in [("meta.x_pixel", f.meta.x_pixel), ("meta.y_pixel", f.meta.y_pixel)] {
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::invalid(path, key, v, "a positive size of one pixel in data units"));

@@ -52,6 +52,8 @@ pub fn import_file(file: &Path, info: &ImportInfo, dest: Option<&Path>, referenc
             ))
         }
     };
+    // Never write what the loader refuses (every value was checked above, with its line).
+    super::digitised::validate(file, &parsed)?;
     let stem = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "digitised".into());
     let dest = dest.map(Path::to_path_buf).unwrap_or_else(|| reference.join("digitised").join(format!("{stem}.toml")));
     if let Some(parent) = dest.parent() {
