@@ -378,6 +378,14 @@ fn bad_finite_element_files_and_keys_say_what_is_wrong() {
     let (code, err, _) = run(d, "asymmetric", &mm);
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("k.mtx") && err.contains("not symmetric: entry (2, 1) is -1 but (1, 2) is -1.5"), "{err}");
+    // A header claiming a billion rows over two entries is refused before anything of that size
+    // is allocated (it took all the memory).
+    let huge = "%%MatrixMarket matrix coordinate real symmetric\n999999999 999999999 2\n1 1 1.0\n2 2 1.0\n";
+    std::fs::write(d.join("k.mtx"), huge).unwrap();
+    std::fs::write(d.join("m.mtx"), huge).unwrap();
+    let (code, err, _) = run(d, "huge", &mm);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("k.mtx: the stiffness matrix has 2 entries for 999999999 degrees of freedom"), "{err}");
 }
 
 /// Runs CalculiX on the plate's decks (examples/plate/ccx.sh) and checks what it writes:

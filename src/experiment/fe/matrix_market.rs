@@ -99,7 +99,8 @@ pub fn parse(reader: impl BufRead, origin: &str) -> Result<Triplets> {
     if symmetric && rows != cols {
         return Err(bad(n, format!("a symmetric matrix must be square, not {rows} x {cols}")));
     }
-    let mut entries = Vec::with_capacity(count.min(1 << 24));
+    // Reserved up to a modest size: a header may claim any count (the file then ends early).
+    let mut entries = Vec::with_capacity(count.min(1 << 16));
     let mut last = n;
     while entries.len() < count {
         let Some((n, l)) = next("an entry")? else {

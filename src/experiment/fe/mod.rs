@@ -151,6 +151,14 @@ fn row_name(labels: &Option<Vec<DofLabel>>, r: usize) -> String {
 /// A symmetric matrix of the entries, in SI units, with a positive diagonal.
 fn matrix(file: &Path, what: &str, r: Read, n: usize, scale: f64, labels: &Option<Vec<DofLabel>>) -> Result<SymSparse> {
     let bad = |message: String| Error::Parse { file: file.display().to_string(), message };
+    // Fewer entries than rows leave a diagonal empty: refused before anything of the rows'
+    // size is allocated (a header's size is otherwise unbounded).
+    if r.entries.len() < n {
+        return Err(bad(format!(
+            "the {what} matrix has {} entries for {n} degrees of freedom: every degree of freedom needs a positive diagonal entry (is the size its header gives right?)",
+            r.entries.len()
+        )));
+    }
     let scaled = r.entries.into_iter().map(|(i, j, v)| (i, j, v * scale));
     let a = SymSparse::from_entries(n, scaled, r.one_triangle).map_err(|e| {
         bad(format!(
