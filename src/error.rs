@@ -93,7 +93,22 @@ impl Error {
 /// Result with the library's error.
 pub type Result<T> = std::result::Result<T, Error>;
 
-/// Reads a file to a string, with its path in the error.
+/// Reads a file to a string, with its path in the error; a path that is not a regular file
+/// is refused ([`regular_file`]).
 pub fn read_to_string(path: impl AsRef<Path>) -> Result<String> {
+    regular_file(path.as_ref())?;
     std::fs::read_to_string(path.as_ref()).map_err(|e| Error::io(path, e))
+}
+
+/// Refuses an input path that exists but is not a regular file (a folder, a device such as
+/// `/dev/zero`, a named pipe): reading one would fail, never end or fill the memory. A
+/// missing path passes: the read that follows names its error.
+pub fn regular_file(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(Error::io(
+            path,
+            std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a regular file (a folder, a device or a pipe)"),
+        )),
+        _ => Ok(()),
+    }
 }

@@ -130,6 +130,32 @@ fn ctrl_c_removes_the_staging_folder_and_keeps_the_previous_report() {
     assert_eq!(std::fs::read(out_dir.join("index.html")).unwrap(), index, "the previous report is intact");
 }
 
+/// An input that is not a regular file (a device that never ends, a folder) is refused at
+/// once, named, exit 2: reading /dev/zero filled the memory until the system killed shotdamp.
+#[test]
+fn an_input_that_is_not_a_regular_file_is_refused_at_once() {
+    let zero = Path::new("/dev/zero");
+    if !zero.exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for input in [zero, dir.path()] {
+        let run = shotdamp().arg("run").arg(input).arg("--out").arg(&out).output().unwrap();
+        let err = stderr(&run);
+        assert_eq!(run.status.code(), Some(2), "{err}");
+        assert!(err.contains(&format!("{}: not a regular file", input.display())), "{err}");
+    }
+    // A finite-element file named in an experiment.
+    let exp = dir.path().join("fe.toml");
+    let text = "[experiment]\nid = \"fe\"\ntitle = \"t\"\nfigure = \"none\"\ncaption = \"c\"\nclaim = \"c\"\n[structure.finite_element]\nformat = \"matrix-market\"\nstiffness = \"/dev/zero\"\nmass = \"/dev/zero\"\nup = \"x\"\npoints = [{ row = 1 }]\nmodes = 0\n[structure.damping]\nmodal_ratios = [0.01]\n[excitation]\nmass = 1\nforce_n = 1.0\n[analysis]\nkind = \"modal\"\n";
+    std::fs::write(&exp, text).unwrap();
+    let run = shotdamp().arg("run").arg(&exp).arg("--out").arg(&out).output().unwrap();
+    let err = stderr(&run);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert!(err.contains("/dev/zero: not a regular file"), "{err}");
+}
+
 #[test]
 fn a_missing_file_is_named_once_with_its_os_error_once() {
     let out = shotdamp().arg("run").arg("no-such-experiment.toml").output().unwrap();

@@ -112,7 +112,7 @@ pub fn image_size(path: &Path) -> Result<(u32, u32)> {
 
 /// Reads one scan description.
 pub fn load(file: &Path) -> Result<Scan> {
-    let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+    let text = crate::error::read_to_string(file)?;
     let raw: RawScan =
         toml::from_str(&text).map_err(|e| Error::Parse { file: file.display().to_string(), message: e.to_string() })?;
     let dir = file.parent().unwrap_or(Path::new("."));
@@ -125,7 +125,7 @@ pub fn load(file: &Path) -> Result<Scan> {
     let (calibration, calibrated_by, offset) = match (&raw.wpd, &raw.x, &raw.y) {
         (Some(wpd), None, None) => {
             let path = dir.join(wpd);
-            let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+            let text = crate::error::read_to_string(&path)?;
             let v: serde_json::Value = serde_json::from_str(&text)
                 .map_err(|e| Error::Parse { file: path.display().to_string(), message: format!("not JSON: {e}") })?;
             let (c, _) = wpd_calibration(&path.display().to_string(), &v)?;

@@ -13,6 +13,7 @@ use crate::error::{Error, Result};
 use crate::model::fe::DofLabel;
 
 fn open(path: &Path) -> Result<impl BufRead> {
+    crate::error::regular_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     Ok(std::io::BufReader::new(file))
 }

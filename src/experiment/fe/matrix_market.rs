@@ -40,6 +40,7 @@ impl Triplets {
 
 /// Reads the Matrix Market file at `path`.
 pub fn read(path: &Path) -> Result<Triplets> {
+    crate::error::regular_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     parse(std::io::BufReader::new(file), &path.display().to_string())
 }
