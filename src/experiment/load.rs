@@ -63,7 +63,11 @@ fn read_merged_depth(path: &Path, depth: usize) -> Result<toml::Table> {
             path,
             "extends",
             format!("\"{parent}\""),
-            format!("no such file: {}", parent_path.display()),
+            if parent_path.exists() {
+                format!("not a regular file (a folder, a device or a pipe): {}", parent_path.display())
+            } else {
+                format!("no such file: {}", parent_path.display())
+            },
         ));
     }
     let mut base = read_merged_depth(&parent_path, depth + 1)?;
