@@ -577,6 +577,10 @@ fn a_screened_design_searches_the_coarse_model_and_judges_on_the_file_s() {
         (small_plate_design(2500.0, "[design.screen]\ncutoff_hz = -3.0\n"), "design.screen.cutoff_hz = -3"),
         (small_plate_design(2500.0, "[design.screen]\nmodes = 0\nmax_periods = 0\n"), "design.screen.max_periods = 0"),
         (small_plate_design(2500.0, "[design.screen]\nmodes = 0\nwidth = 1\n"), "unknown field `width`"),
+        (
+            small_plate_design(2500.0, "[design.screen]\nmodes = 300\n"),
+            "design.screen.modes = 300: it keeps 300 fixed-interface modes, with the 5 points 305 coordinates: the design's search on the reduction of [design.screen] runs the exact simulator, which takes at most 256 (modes = 251 at most",
+        ),
     ] {
         let (code, err, _) = design("bad", &text);
         assert_eq!(code, Some(2), "{err}");

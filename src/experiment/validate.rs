@@ -644,7 +644,16 @@ fn screen(
     let mut coarse = given.clone();
     coarse.finite_element =
         Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
-    let built = structure(path, coarse, Some((MAX_DOF, "the design's search runs")))?;
+    // The screen's modes are this table's keys: an error about them names them here.
+    let who = "the design's search on the reduction of [design.screen] runs";
+    let built = structure(path, coarse, Some((MAX_DOF, who))).map_err(|e| match e {
+        Error::Invalid { file, key, value, message }
+            if key == "structure.finite_element.modes" || key == "structure.finite_element.cutoff_hz" =>
+        {
+            Error::Invalid { file, key: key.replace("structure.finite_element.", "design.screen."), value, message }
+        }
+        e => e,
+    })?;
     let n = built.structure.dof();
     Ok(Some(crate::design::Screen {
         structure: built.structure,

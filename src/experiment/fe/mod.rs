@@ -309,7 +309,7 @@ pub fn build(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -
             keep_key,
             &keep_value,
             &format!(
-                "it keeps {modes} fixed-interface modes, with the {boundary} points {} coordinates: {} the exact simulator, which takes at most {most} (modes = {} at most, or a lower cutoff_hz; without either, every mode below twice the highest frequency analysed)",
+                "it keeps {modes} fixed-interface modes, with the {boundary} points {} coordinates: {} the exact simulator, which takes at most {most} (modes = {} at most, or a lower cutoff_hz)",
                 boundary + modes,
                 limit.map_or("", |l| l.1),
                 most.saturating_sub(boundary),
