@@ -15,7 +15,7 @@ use shotdamp::reference::values::ValueFile;
 
 /// One change to a file.
 #[derive(Debug, Clone)]
-enum Mutation {
+pub enum Mutation {
     DeleteLine(usize),
     DuplicateLine(usize),
     SwapLines(usize, usize),
@@ -28,7 +28,7 @@ enum Mutation {
     ScaleNumber(usize, usize),
 }
 
-const FACTORS: [f64; 10] = [1e-9, 1e-3, 0.1, 0.5, 2.0, 10.0, 1e3, 1e6, 1e12, -1.0];
+pub const FACTORS: [f64; 10] = [1e-9, 1e-3, 0.1, 0.5, 2.0, 10.0, 1e3, 1e6, 1e12, -1.0];
 
 const ODD_VALUES: [&str; 14] = [
     "1e308",
@@ -47,7 +47,7 @@ const ODD_VALUES: [&str; 14] = [
     "{ a = 1 }",
 ];
 
-fn mutation() -> impl Strategy<Value = Mutation> {
+pub fn mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
         any::<usize>().prop_map(Mutation::DeleteLine),
         any::<usize>().prop_map(Mutation::DuplicateLine),
@@ -79,7 +79,7 @@ fn numbers(text: &str) -> Vec<(usize, usize)> {
     out
 }
 
-fn apply(bytes: &[u8], muts: &[Mutation]) -> Vec<u8> {
+pub fn apply(bytes: &[u8], muts: &[Mutation]) -> Vec<u8> {
     let mut b = bytes.to_vec();
     for m in muts {
         let text = String::from_utf8_lossy(&b).into_owned();
@@ -149,7 +149,7 @@ fn names(err: &shotdamp::Error, path: &Path) -> bool {
     format!("{err}").contains(&name)
 }
 
-fn repo_file(rel: &str) -> Vec<u8> {
+pub fn repo_file(rel: &str) -> Vec<u8> {
     std::fs::read(common::repo().join(rel)).unwrap()
 }
 
@@ -338,7 +338,7 @@ fn dependencies(name: &str) -> &'static [&'static str] {
 
 /// One run of the binary under the campaign's bounds: `(exit code or None when killed, wall
 /// seconds, peak resident memory in KiB, stderr)`.
-fn bounded_run(dir: &Path, args: &[String], seconds: u64, bytes: u64) -> (Option<i32>, f64, u64, String) {
+pub fn bounded_run(dir: &Path, args: &[String], seconds: u64, bytes: u64) -> (Option<i32>, f64, u64, String) {
     // SHOTDAMP_BIN: a copy of the binary, so that a long campaign is not changed by a build.
     let bin = std::env::var_os("SHOTDAMP_BIN")
         .map_or_else(|| assert_cmd::cargo::cargo_bin("shotdamp"), std::path::PathBuf::from);

@@ -95,7 +95,9 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     };
     let mut checks = checks::evaluate(exp, &modes, &computed, refs);
     checks.extend(out.checks);
+    let mut warnings = out.warnings;
     if let Some(fe) = &exp.finite_element {
+        warnings.extend(light_shot(exp, fe.mass_along_up));
         let r = reduction::run(exp, fe);
         tables.extend(r.tables);
         checks.extend(r.check);
@@ -117,7 +119,20 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         checks,
         curves,
         design: out.design,
-        warnings: out.warnings,
+        warnings,
         answer: out.answer,
+    })
+}
+
+/// A warning when every container of a finite-element structure holds less than 1e-3 of the
+/// mass moving along the vertical (`structure`, kg): the files' units are likely not those
+/// `structure.finite_element.units` names (SI files read as N-mm-t weigh 1000 times more).
+fn light_shot(exp: &Experiment, structure: f64) -> Option<String> {
+    let heaviest = exp.cases.iter().flat_map(|c| c.beds.iter()).map(|b| b.damper.mass).fold(0.0, f64::max);
+    (heaviest > 0.0 && heaviest < 1e-3 * structure).then(|| {
+        format!(
+            "{}: the finite-element structure's mass moving along the vertical is {structure:.4} kg and the heaviest container's shot {heaviest:.4} kg, less than 1e-3 of it: check that the files' units are those of structure.finite_element.units (\"N-m-kg\" unless given; \"N-mm-t\" reads tonnes and N/mm)",
+            exp.path.display()
+        )
     })
 }

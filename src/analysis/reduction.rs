@@ -332,6 +332,7 @@ mod tests {
             reduced,
             up: "z".into(),
             tolerance: 1e-3,
+            mass_along_up: m.sum(),
         };
         (fe, structure)
     }

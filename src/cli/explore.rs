@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::Cli;
-use crate::explore::http::Server;
+use crate::explore::http::Listener;
 use crate::explore::Session;
 
 /// Options of `shotdamp explore`.
@@ -35,9 +35,11 @@ pub(super) fn run(args: &ExploreArgs, cli: &Cli) -> anyhow::Result<bool> {
             "warning: listening on {host}: other machines that reach this address can open the page with its token"
         );
     }
+    // The address first: a port in use is said before anything is computed.
+    let listener = Listener::bind(host, args.port)?;
     eprintln!("explore: reading {} (and running the experiments whose values it uses)", args.file.display());
     let session = Session::open(&args.file, &cli.reference)?;
-    let server = Server::bind(session, host, args.port)?;
+    let server = listener.serving(session);
     let url = server.url()?;
     say!("{url}");
     eprintln!("explore: serving {} on {url} (Ctrl-C stops it)", args.file.display());

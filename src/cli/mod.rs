@@ -366,6 +366,16 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
     let n = modes.len();
     let on = exp.model.as_ref().map(|m| format!(", model \"{}\" ({})", m.id, m.label)).unwrap_or_default();
     say!("{} ({}{on}): modes of the bare structure", exp.meta.id, exp.path.display());
+    if let Some(fe) = &exp.finite_element {
+        say!(
+            "finite-element model: {} degrees of freedom ({}), reduced to {} coordinates; the mass moving along the vertical ({}) is {:.6} kg",
+            fe.full.mass.n(),
+            fe.full.files,
+            fe.reduced.mass.nrows(),
+            fe.up,
+            fe.mass_along_up
+        );
+    }
     if let Some(fit) = &exp.fit {
         print_fit(fit);
     }

@@ -487,7 +487,10 @@ pub(super) fn impulse(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis
     Ok(Analysis::Impulse { options: ImpulseOptions { mass, kick, duration, dt: 1.0 / rate }, spectrum_hz, levels })
 }
 
-/// A list of positive clearances in mm.
+/// The most clearances a clearance study or an SDOF analysis lists (each is a sweep).
+pub const MAX_CLEARANCES: usize = 100;
+
+/// A list of positive clearances in mm, each once, at most [`MAX_CLEARANCES`].
 fn clearance_list(path: &Path, list: Option<&[f64]>) -> Result<Option<Vec<f64>>> {
     let Some(list) = list else { return Ok(None) };
     for (i, c) in list.iter().enumerate() {
@@ -503,5 +506,6 @@ fn clearance_list(path: &Path, list: Option<&[f64]>) -> Result<Option<Vec<f64>>>
     if list.is_empty() {
         return Err(Error::invalid(path, "analysis.clearances_mm", "[]", "give at least one clearance"));
     }
+    super::fields::distinct(path, "analysis.clearances_mm", list, MAX_CLEARANCES, "clearances")?;
     Ok(Some(list.to_vec()))
 }

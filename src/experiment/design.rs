@@ -7,9 +7,10 @@ use crate::design::search::Options;
 use crate::design::{limits, Band, Combine, Measure, Spec, Sweep};
 use crate::error::{Error, Result};
 use crate::model::Direction;
-use crate::number::{fmt_list as fmt_num_list, fmt_num};
+use crate::number::fmt_list as fmt_num_list;
 
 use super::analysis::grid;
+use super::fields::distinct;
 use super::raw::RawDesign;
 
 /// A 1-based mass list as 0-based indices, each in range and distinct.
@@ -59,24 +60,6 @@ pub(super) fn sized(path: &Path, spec: &Spec) -> Result<()> {
                 spec.sweeps.len()
             ),
         ));
-    }
-    Ok(())
-}
-
-/// Refuses a list with a repeated value or more than `max` values.
-fn distinct(path: &Path, key: &str, list: &[f64], max: usize, what: &str) -> Result<()> {
-    if list.len() > max {
-        return Err(Error::invalid(path, key, format!("{} values", list.len()), format!("at most {max} {what}")));
-    }
-    for (i, v) in list.iter().enumerate() {
-        if let Some(j) = list[..i].iter().position(|w| w == v) {
-            return Err(Error::invalid(
-                path,
-                format!("{key}[{i}]"),
-                fmt_num(*v),
-                format!("repeats {key}[{j}]: give each value once"),
-            ));
-        }
     }
     Ok(())
 }

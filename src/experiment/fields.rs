@@ -12,6 +12,24 @@ pub fn is_identifier(s: &str) -> bool {
     !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
+/// The longest id, in characters: an id names a folder or file, with a suffix of its own
+/// (`.NAME.tmp-PID`, `_compliance.png`, a model's id after it), within the 255 bytes a file
+/// name may have.
+pub const MAX_ID: usize = 100;
+
+/// Refuses an id longer than [`MAX_ID`] characters, at `key` of `path`.
+pub fn id_length(path: &Path, key: &str, id: &str) -> Result<()> {
+    if id.chars().count() > MAX_ID {
+        return Err(Error::invalid(
+            path,
+            key,
+            format!("\"{}...\" ({} characters)", id.chars().take(24).collect::<String>(), id.chars().count()),
+            format!("at most {MAX_ID} characters: an id names a folder or file of the output"),
+        ));
+    }
+    Ok(())
+}
+
 /// A 1-based mass number to a 0-based index.
 pub fn mass_index(path: &Path, key: &str, value: i64, n: usize) -> Result<usize> {
     if value < 1 || value as usize > n {
@@ -58,4 +76,47 @@ pub fn check_frequencies(origin: &str, key: &str, freq_hz: &[f64], structure: &S
         }
     }
     Ok(())
+}
+
+/// Refuses a list with a repeated value or more than `max` values (`what` names them in the
+/// message); a repeat is named by both its places.
+pub fn distinct<T: PartialEq + Copy + Shown>(path: &Path, key: &str, list: &[T], max: usize, what: &str) -> Result<()> {
+    if list.len() > max {
+        return Err(Error::invalid(path, key, format!("{} values", list.len()), format!("at most {max} {what}")));
+    }
+    for (i, v) in list.iter().enumerate() {
+        if let Some(j) = list[..i].iter().position(|w| w == v) {
+            return Err(Error::invalid(
+                path,
+                format!("{key}[{i}]"),
+                v.shown(),
+                format!("repeats {key}[{j}]: give each value once"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// How a value of a list is quoted in a message.
+pub trait Shown {
+    /// The value as a message quotes it.
+    fn shown(&self) -> String;
+}
+
+impl Shown for f64 {
+    fn shown(&self) -> String {
+        crate::number::fmt_num(*self)
+    }
+}
+
+impl Shown for i64 {
+    fn shown(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl Shown for &str {
+    fn shown(&self) -> String {
+        format!("\"{self}\"")
+    }
 }

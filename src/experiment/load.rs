@@ -132,6 +132,7 @@ pub fn read_models(path: &Path) -> Result<Vec<(Option<PathBuf>, toml::Table)>> {
                 "use letters, digits, '_' and '-' only",
             ));
         }
+        super::fields::id_length(&model_path, "model.id", &id)?;
         if ids.contains(&id) {
             return Err(Error::invalid(path, "models", format!("\"{id}\""), "each model may be listed once"));
         }

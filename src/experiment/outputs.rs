@@ -9,6 +9,8 @@ use super::raw::RawPlot;
 use super::{Analysis, Linear, PlotSpec, Scale};
 
 fn case_list(path: &Path, key: &str, cs: &[String], case_ids: &[String]) -> Result<()> {
+    let names: Vec<&str> = cs.iter().map(String::as_str).collect();
+    super::fields::distinct(path, key, &names, case_ids.len(), "cases (each of the experiment's once)")?;
     for (j, c) in cs.iter().enumerate() {
         if !case_ids.contains(c) {
             return Err(Error::invalid(
@@ -33,6 +35,7 @@ pub fn plot(path: &Path, i: usize, p: RawPlot, n: usize, case_ids: &[String], an
             "use letters, digits, '_' and '-' only (it names the image file)",
         ));
     }
+    super::fields::id_length(path, &key("id"), &p.id)?;
     let kinds = analysis.plot_kinds();
     let Some(kind) = kinds.iter().find(|(name, _)| *name == p.kind).map(|(_, k)| *k) else {
         let allowed: Vec<String> = kinds.iter().map(|(name, _)| format!("\"{name}\"")).collect();
@@ -48,11 +51,13 @@ pub fn plot(path: &Path, i: usize, p: RawPlot, n: usize, case_ids: &[String], an
         ));
     };
     let masses = match p.masses {
-        Some(ms) => ms
-            .iter()
-            .enumerate()
-            .map(|(j, &m)| mass_index(path, &format!("plots[{i}].masses[{j}]"), m, n))
-            .collect::<Result<Vec<_>>>()?,
+        Some(ms) => {
+            super::fields::distinct(path, &key("masses"), &ms, n, "masses (each of the structure's once)")?;
+            ms.iter()
+                .enumerate()
+                .map(|(j, &m)| mass_index(path, &format!("plots[{i}].masses[{j}]"), m, n))
+                .collect::<Result<Vec<_>>>()?
+        }
         None => (0..n).collect(),
     };
     let cases = match p.cases {

@@ -33,6 +33,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
             "use letters, digits, '_' and '-' only (it names the report folder)",
         ));
     }
+    super::fields::id_length(path, "experiment.id", &m.id)?;
     let meta = Meta {
         id: m.id,
         title: m.title,
@@ -103,6 +104,14 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         super::excitation::supports_fit(path, &analysis)?;
     }
     cases_fit(path, &analysis, &cases, &structure, fe.as_ref().map(|f| f.points.len()))?;
+    if raw.plots.len() > MAX_PLOTS {
+        return Err(Error::invalid(
+            path,
+            "plots",
+            format!("{} plots", raw.plots.len()),
+            format!("at most {MAX_PLOTS} plots an experiment"),
+        ));
+    }
     let plots = raw
         .plots
         .into_iter()
@@ -134,6 +143,9 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         checks,
     })
 }
+
+/// The most plots one experiment draws.
+pub const MAX_PLOTS: usize = 64;
 
 /// A design's candidates on a finite-element structure, and its force levels (scenarios, drive
 /// levels) within the ranges the excitation allows.
@@ -523,6 +535,7 @@ fn cases(path: &Path, raw: Vec<RawCase>, s: &Structure) -> Result<Vec<Case>> {
                 "use letters, digits, '_' and '-' only",
             ));
         }
+        super::fields::id_length(path, &format!("cases[{ci}].id"), &c.id)?;
         if out.iter().any(|o| o.id == c.id) {
             return Err(Error::invalid(
                 path,

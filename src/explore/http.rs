@@ -1,6 +1,11 @@
 //! The explorer's server: plain HTTP/1.1 on one address (127.0.0.1 unless told otherwise),
 //! one thread per connection (at most [`MAX_CONNECTIONS`] at once), every request bounded in
-//! size and time and answered once, then the connection closed. Every path needs the
+//! size and time and answered once, then the connection closed. A request must arrive whole
+//! within [`READ_TIMEOUT`] (not per read: a client sending a byte now and then is cut off),
+//! and when every place is taken the connection that has waited longest for its request is
+//! closed to make room: slow clients cannot lock the page's users out. A computation is
+//! abandoned at its next simulated period when it passes [`MAX_TIME`] or a newer request
+//! supersedes it ([`crate::sim::motion::cancel`]). Every path needs the
 //! session's random token (`?token=...`), as notebook servers do, so other users of the
 //! machine cannot drive it. Nothing a request carries names a file: the page's files are
 //! compiled in, and the computations read only the experiment opened at the start.
@@ -17,6 +22,7 @@ use serde_json::{json, Value};
 use super::page;
 use super::{PointRequest, Request, Session, MAX_TIME};
 use crate::error::{Error, Result};
+use crate::sim::motion::cancel;
 
 /// Most connections served at once; more are answered 503 at once.
 pub const MAX_CONNECTIONS: usize = 32;
@@ -27,8 +33,16 @@ const MAX_HEAD: usize = 16 * 1024;
 /// Longest request body, bytes.
 const MAX_BODY: usize = 64 * 1024;
 
-/// How long a connection may take to send its request.
-const READ_TIMEOUT: Duration = Duration::from_secs(10);
+/// How long a connection may take to send its whole request.
+pub const READ_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// Connections beyond [`MAX_CONNECTIONS`] that may be closing at once (each one made room by
+/// closing a slow one, which then ends at once).
+const MAX_CLOSING: usize = MAX_CONNECTIONS;
+
+/// The highest request number (`seq`) a page may send: the largest integer a JavaScript
+/// number holds exactly. Numbers never wrap.
+pub const MAX_SEQ: u64 = (1 << 53) - 1;
 
 /// What a cancelled computation unwinds with (never through the panic hook: nothing is
 /// printed).
@@ -39,15 +53,23 @@ struct Shared {
     session: Session,
     token: String,
     /// Sweeps asked for so far: a computation whose number is no longer the latest stops.
-    sweeps: AtomicU64,
+    sweeps: Arc<AtomicU64>,
     /// Point views asked for so far (the same rule, apart from the sweeps).
-    points: AtomicU64,
+    points: Arc<AtomicU64>,
     /// One computation at a time (each uses every core).
     compute: Mutex<()>,
     open: AtomicUsize,
+    /// Connections still sending their request: number, when accepted, a handle to close it.
+    waiting: Mutex<Vec<(u64, Instant, TcpStream)>>,
 }
 
-/// A bound server, not yet serving.
+/// A bound address, not yet serving: bound before the session is opened, so that a port in
+/// use is said at once.
+pub struct Listener {
+    listener: TcpListener,
+}
+
+/// A server: a bound address and the session it serves.
 pub struct Server {
     listener: TcpListener,
     shared: Arc<Shared>,
@@ -89,22 +111,47 @@ fn token() -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-impl Server {
-    /// Binds `host:port` (port 0: any free port) for `session`.
-    pub fn bind(session: Session, host: IpAddr, port: u16) -> Result<Server> {
+impl Listener {
+    /// Binds `host:port` (port 0: any free port).
+    pub fn bind(host: IpAddr, port: u16) -> Result<Listener> {
         let addr = SocketAddr::new(host, port);
         let listener = TcpListener::bind(addr).map_err(|e| Error::Io { path: addr.to_string().into(), error: e })?;
+        Ok(Listener { listener })
+    }
+
+    /// The server of `session` on this address.
+    pub fn serving(self, session: Session) -> Server {
         let shared = Arc::new(Shared {
             session,
             token: token(),
-            sweeps: AtomicU64::new(0),
-            points: AtomicU64::new(0),
+            sweeps: Arc::new(AtomicU64::new(0)),
+            points: Arc::new(AtomicU64::new(0)),
             compute: Mutex::new(()),
             open: AtomicUsize::new(0),
+            waiting: Mutex::new(Vec::new()),
         });
-        Ok(Server { listener, shared })
+        Server { listener: self.listener, shared }
+    }
+}
+
+impl Shared {
+    /// Closes the connection that has waited longest for its request, if any: true when one
+    /// was closed (its thread then ends at once).
+    fn close_slowest(&self) -> bool {
+        let mut waiting = self.waiting.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(i) = (0..waiting.len()).min_by_key(|&i| waiting[i].1) else { return false };
+        let (_, _, stream) = waiting.swap_remove(i);
+        let _ = stream.shutdown(std::net::Shutdown::Both);
+        true
     }
 
+    /// The connection numbered `id` has its request (or is done): no longer closed for room.
+    fn arrived(&self, id: u64) {
+        self.waiting.lock().unwrap_or_else(|e| e.into_inner()).retain(|w| w.0 != id);
+    }
+}
+
+impl Server {
     /// The page's address, with its token.
     pub fn url(&self) -> Result<String> {
         let addr = self.listener.local_addr().map_err(|e| Error::Io { path: "(server)".into(), error: e })?;
@@ -113,19 +160,27 @@ impl Server {
 
     /// Serves until the process ends.
     pub fn serve(self) -> Result<()> {
-        for stream in self.listener.incoming() {
+        for (id, stream) in (0u64..).zip(self.listener.incoming()) {
             let Ok(mut stream) = stream else { continue };
             let shared = Arc::clone(&self.shared);
-            if shared.open.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
+            let open = shared.open.fetch_add(1, Ordering::SeqCst);
+            // Every place taken: the slowest sender makes room, unless every place computes.
+            let room = open < MAX_CONNECTIONS || (open < MAX_CONNECTIONS + MAX_CLOSING && shared.close_slowest());
+            if !room {
                 shared.open.fetch_sub(1, Ordering::SeqCst);
                 let _ = write(&mut stream, &Reply::error(503, "too many connections"));
                 continue;
             }
+            if let Ok(handle) = stream.try_clone() {
+                shared.waiting.lock().unwrap_or_else(|e| e.into_inner()).push((id, Instant::now(), handle));
+            }
             let spawned = std::thread::Builder::new().name("explore".into()).spawn(move || {
-                let _ = connection(&shared, stream);
+                let _ = connection(&shared, stream, id);
+                shared.arrived(id);
                 shared.open.fetch_sub(1, Ordering::SeqCst);
             });
             if spawned.is_err() {
+                self.shared.arrived(id);
                 self.shared.open.fetch_sub(1, Ordering::SeqCst);
             }
         }
@@ -134,10 +189,11 @@ impl Server {
 }
 
 /// One connection: one request read, answered, closed.
-fn connection(shared: &Shared, mut stream: TcpStream) -> std::io::Result<()> {
-    stream.set_read_timeout(Some(READ_TIMEOUT))?;
+fn connection(shared: &Shared, mut stream: TcpStream, id: u64) -> std::io::Result<()> {
     stream.set_write_timeout(Some(READ_TIMEOUT))?;
-    let reply = match read_request(&mut stream) {
+    let read = read_request(&mut stream, Instant::now() + READ_TIMEOUT);
+    shared.arrived(id);
+    let reply = match read {
         Ok((method, target, body)) => route(shared, &method, &target, &body),
         Err(r) => r,
     };
@@ -152,6 +208,7 @@ fn write(stream: &mut TcpStream, r: &Reply) -> std::io::Result<()> {
         404 => "Not Found",
         405 => "Method Not Allowed",
         409 => "Conflict",
+        408 => "Request Timeout",
         413 => "Payload Too Large",
         422 => "Unprocessable Content",
         431 => "Request Header Fields Too Large",
@@ -169,8 +226,21 @@ fn write(stream: &mut TcpStream, r: &Reply) -> std::io::Result<()> {
     stream.flush()
 }
 
-/// Reads one request: method, target and body, or the reply that refuses it.
-fn read_request(stream: &mut TcpStream) -> std::result::Result<(String, String, Vec<u8>), Reply> {
+/// Reads into `chunk` what arrives before `deadline`: the count (0 at the end of the stream),
+/// or the reply for a request that did not arrive in time.
+fn read_by(stream: &mut TcpStream, chunk: &mut [u8], deadline: Instant) -> std::result::Result<usize, Reply> {
+    let late = || Reply::error(408, format!("the request did not arrive within {} s", READ_TIMEOUT.as_secs()));
+    let left = deadline.checked_duration_since(Instant::now()).filter(|d| !d.is_zero()).ok_or_else(late)?;
+    stream.set_read_timeout(Some(left)).map_err(|_| late())?;
+    match stream.read(chunk) {
+        Ok(n) => Ok(n),
+        Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => Err(late()),
+        Err(_) => Ok(0),
+    }
+}
+
+/// Reads one request by `deadline`: method, target and body, or the reply that refuses it.
+fn read_request(stream: &mut TcpStream, deadline: Instant) -> std::result::Result<(String, String, Vec<u8>), Reply> {
     let mut buf = Vec::with_capacity(1024);
     let mut chunk = [0u8; 4096];
     let end = loop {
@@ -180,9 +250,9 @@ fn read_request(stream: &mut TcpStream) -> std::result::Result<(String, String, 
         if buf.len() > MAX_HEAD {
             return Err(Reply::error(431, format!("the request's head is longer than {MAX_HEAD} bytes")));
         }
-        match stream.read(&mut chunk) {
-            Ok(0) | Err(_) => return Err(Reply::error(400, "the request ended before its head did")),
-            Ok(n) => buf.extend_from_slice(&chunk[..n]),
+        match read_by(stream, &mut chunk, deadline)? {
+            0 => return Err(Reply::error(400, "the request ended before its head did")),
+            n => buf.extend_from_slice(&chunk[..n]),
         }
     };
     if end > MAX_HEAD {
@@ -197,18 +267,27 @@ fn read_request(stream: &mut TcpStream) -> std::result::Result<(String, String, 
     if !version.starts_with("HTTP/1.") || first.next().is_some() {
         return Err(Reply::error(400, "an HTTP/1.x request line"));
     }
-    let mut length = 0usize;
+    let mut length: Option<usize> = None;
     for line in lines {
         let Some((name, value)) = line.split_once(':') else {
             return Err(Reply::error(400, "a header line without ':'"));
         };
         if name.trim().eq_ignore_ascii_case("content-length") {
-            length = value.trim().parse().map_err(|_| Reply::error(400, "Content-Length is not a number"))?;
+            if length.is_some() {
+                return Err(Reply::error(400, "Content-Length is given twice: give it once"));
+            }
+            let n = value.trim();
+            if n.is_empty() || !n.bytes().all(|b| b.is_ascii_digit()) {
+                return Err(Reply::error(400, "Content-Length is not a number"));
+            }
+            length =
+                Some(n.parse().map_err(|_| Reply::error(413, format!("the body is longer than {MAX_BODY} bytes")))?);
         }
         if name.trim().eq_ignore_ascii_case("transfer-encoding") {
             return Err(Reply::error(400, "Transfer-Encoding is not supported: send Content-Length"));
         }
     }
+    let length = length.unwrap_or(0);
     if length > MAX_BODY {
         return Err(Reply::error(413, format!("the body is longer than {MAX_BODY} bytes")));
     }
@@ -216,9 +295,13 @@ fn read_request(stream: &mut TcpStream) -> std::result::Result<(String, String, 
     if body.len() > length {
         return Err(Reply::error(400, "more body than Content-Length says"));
     }
-    let mut rest = vec![0u8; length - body.len()];
-    stream.read_exact(&mut rest).map_err(|_| Reply::error(400, "the body ended before Content-Length bytes"))?;
-    body.extend_from_slice(&rest);
+    while body.len() < length {
+        let want = (length - body.len()).min(chunk.len());
+        match read_by(stream, &mut chunk[..want], deadline)? {
+            0 => return Err(Reply::error(400, "the body ended before Content-Length bytes")),
+            n => body.extend_from_slice(&chunk[..n]),
+        }
+    }
     Ok((method.to_string(), target.to_string(), body))
 }
 
@@ -274,10 +357,13 @@ fn parse<T: serde::de::DeserializeOwned>(body: &[u8]) -> std::result::Result<T, 
 /// newest seen is refused at once); without one, the request is the newest.
 fn latest(
     shared: &Shared,
-    counter: &AtomicU64,
+    counter: &Arc<AtomicU64>,
     seq: Option<u64>,
     work: impl FnOnce(&(dyn Fn() + Sync)) -> Result<Value>,
 ) -> Reply {
+    if let Some(s) = seq.filter(|&s| s > MAX_SEQ) {
+        return Reply::error(400, format!("seq = {s}: a whole number from 0 to {MAX_SEQ}"));
+    }
     let mine = match seq {
         Some(s) if s > 0 => {
             if counter.fetch_max(s, Ordering::SeqCst) >= s {
@@ -292,12 +378,14 @@ fn latest(
         return Reply::error(409, "superseded by a newer request");
     }
     let deadline = Instant::now() + MAX_TIME;
-    let stop = move || {
-        if counter.load(Ordering::Relaxed) != mine || Instant::now() > deadline {
+    let latest = Arc::clone(counter);
+    let stop: cancel::Hook = Arc::new(move || {
+        if latest.load(Ordering::Relaxed) != mine || Instant::now() > deadline {
             resume_unwind(Box::new(Cancelled));
         }
-    };
-    match catch_unwind(AssertUnwindSafe(|| work(&stop))) {
+    });
+    // Checked at every point of a sweep, and at every simulated period on this thread.
+    match catch_unwind(AssertUnwindSafe(|| cancel::within(Arc::clone(&stop), || work(&*stop)))) {
         Ok(Ok(v)) => Reply::json(200, &v),
         Ok(Err(e)) => Reply::error(422, e.to_string()),
         Err(p) if p.is::<Cancelled>() && counter.load(Ordering::SeqCst) != mine => {

@@ -171,7 +171,27 @@ impl Session {
     /// a file, its export references resolved.
     pub fn experiment(&self, req: &Request) -> Result<Experiment> {
         let table = self.table(req)?;
-        experiment::from_table(&self.path, table, &self.files)?.resolve(&self.exports)
+        experiment::from_table(&self.path, table, &self.files)
+            .and_then(|e| e.resolve(&self.exports))
+            .map_err(|e| self.of_request(e, req))
+    }
+
+    /// A validation error of a request's experiment, named as the request's: the file itself
+    /// was validated when it was opened, so what fails now is what the request set (its
+    /// values, its band or its start).
+    fn of_request(&self, e: Error, req: &Request) -> Error {
+        let set: Vec<String> = req.set.iter().enumerate().map(|(i, (k, v))| format!("set[{i}] {k} = {v}")).collect();
+        let origin = format!(
+            "request (on {}, model {}; {})",
+            self.path.display(),
+            req.model,
+            if set.is_empty() { "its band and start".to_string() } else { format!("values set: {}", set.join(", ")) }
+        );
+        match e {
+            Error::Invalid { key, value, message, .. } => Error::Invalid { file: origin, key, value, message },
+            Error::Parse { message, .. } => Error::Parse { file: origin, message },
+            other => other,
+        }
     }
 
     /// The experiment file of a request: the model's table with its values set, standalone

@@ -53,6 +53,9 @@ pub fn run(exp: &Experiment, req: &PointRequest) -> Result<Value> {
     if !(f.is_finite() && f > 0.0) {
         return Err(bad("freq_hz", f, "a positive frequency, Hz"));
     }
+    // The lowest frequency a file may ask for holds here too: below it one period holds too
+    // many oscillations of the fastest mode (its record alone would fill the memory).
+    crate::experiment::parts::check_frequencies("request", "freq_hz", &[f], &exp.structure)?;
     if !(1..=MAX_PERIODS).contains(&req.periods) {
         return Err(bad("periods", req.periods, format!("1 to {MAX_PERIODS}")));
     }

@@ -78,4 +78,7 @@ pub struct FeStructure {
     /// The largest relative difference of the reduced compliance from the full model's
     /// allowed over the analysis' bands.
     pub tolerance: f64,
+    /// The full model's mass moving along the vertical (`r^T M r`, `r` one on every
+    /// translation along `up`), kg: the physical structure's mass, in the files' units.
+    pub mass_along_up: f64,
 }

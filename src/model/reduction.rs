@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::lanczos::{lowest, Eigen, Failure, Want};
 use super::modes::symmetric_modes;
-use super::sparse::{rcm, Skyline, SymSparse};
+use super::sparse::{rcm, Cost, Singular, Skyline, SymSparse};
 
 /// A model reduced at its boundary.
 #[derive(Debug, Clone)]
@@ -63,6 +63,32 @@ pub enum ReductionError {
         /// Counted.
         counted: usize,
     },
+    /// A matrix of the interior is not positive definite: a zero or negative pivot of its
+    /// factor at `row` (0-based, the full model's numbering).
+    NotPositive {
+        /// Which matrix.
+        matrix: Matrix,
+        /// The row.
+        row: usize,
+    },
+    /// A reduced matrix is not positive definite: a zero (to 1e-12 of its diagonal) or
+    /// negative pivot at reduced coordinate `coordinate` (0-based: the boundary's first, then
+    /// the fixed-interface modes). A free-floating part held at one point, or an indefinite
+    /// entry at a point.
+    ReducedNotPositive {
+        /// Which matrix.
+        matrix: Matrix,
+        /// The coordinate.
+        coordinate: usize,
+    },
+    /// The interior's factor would be larger or costlier than allowed ([`MAX_FACTOR`]),
+    /// known before it is allocated.
+    TooLarge {
+        /// Interior degrees of freedom.
+        dofs: usize,
+        /// Its cost.
+        cost: Cost,
+    },
     /// The boundary and the fixed-interface modes asked for make more coordinates than the
     /// caller allows (counted before any mode is computed).
     TooMany {
@@ -74,6 +100,30 @@ pub enum ReductionError {
         most: usize,
     },
 }
+
+/// The mass or the stiffness matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Matrix {
+    /// `M`.
+    Mass,
+    /// `K`.
+    Stiffness,
+}
+
+impl std::fmt::Display for Matrix {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Matrix::Mass => "mass",
+            Matrix::Stiffness => "stiffness",
+        })
+    }
+}
+
+/// The largest factor of a sparse reduction: stored entries (8 bytes each: 400 MB) and
+/// floating-point operations (about half a minute on one core of a 2025 machine). Up to three
+/// factors of this size are held at once. A supernodal or multifrontal factor (fill-reducing
+/// nested dissection) would lift the limit for solid models (docs/fe-models.md).
+pub const MAX_FACTOR: Cost = Cost { entries: 50_000_000, flops: 1e11 };
 
 impl std::fmt::Display for ReductionError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -92,6 +142,21 @@ impl std::fmt::Display for ReductionError {
             ReductionError::Missed { found, counted } => write!(
                 f,
                 "the eigen solver could not certify the fixed-interface modes asked for: it found {found} below the last where the inertia of K_ii - s M_ii counts {counted} (shift-invert Lanczos resolves the low end of a spectrum, not most of it): keep fewer modes or a lower cutoff"
+            ),
+            ReductionError::NotPositive { matrix, row } => write!(
+                f,
+                "the interior's {matrix} matrix is not positive definite: its factor has a zero or negative pivot at row {}",
+                row + 1
+            ),
+            ReductionError::ReducedNotPositive { matrix, coordinate } => write!(
+                f,
+                "the reduced {matrix} matrix is not positive definite at coordinate {}",
+                coordinate + 1
+            ),
+            ReductionError::TooLarge { dofs, cost } => write!(
+                f,
+                "the factor of its {dofs} interior degrees of freedom (reverse Cuthill-McKee order) holds {} entries and costs {:.1e} operations, more than the {} entries and {:.0e} operations allowed",
+                cost.entries, cost.flops, MAX_FACTOR.entries, MAX_FACTOR.flops
             ),
             ReductionError::TooMany { boundary, modes, most } => write!(
                 f,
@@ -215,12 +280,28 @@ pub fn craig_bampton_sparse(
     let interior = interior(n, boundary)?;
     let (nb, ni) = (boundary.len(), interior.len());
     let (k_ii, m_ii) = (k.principal(&interior), m.principal(&interior));
-    let mut factor = Skyline::pattern(&k_ii, Some(&m_ii), rcm(&k_ii));
-    factor.factor(&k_ii, None).map_err(|_| ReductionError::Interior)?;
-    factor.positive().map_err(|_| ReductionError::Interior)?;
-    if m_ii.diagonal().iter().any(|&v| v <= 0.0) {
-        return Err(ReductionError::Interior);
+    let order = rcm(&k_ii);
+    // Its size and cost known before anything of them is allocated.
+    let cost = Skyline::cost(&k_ii, Some(&m_ii), &order);
+    if cost.entries > MAX_FACTOR.entries || cost.flops > MAX_FACTOR.flops {
+        return Err(ReductionError::TooLarge { dofs: ni, cost });
     }
+    let rows = &interior;
+    let not_positive = |matrix| move |e: Singular| ReductionError::NotPositive { matrix, row: rows[e.row] };
+    let mut factor = Skyline::pattern(&k_ii, Some(&m_ii), order.clone());
+    factor.factor(&k_ii, None).map_err(not_positive(Matrix::Stiffness))?;
+    factor.positive().map_err(not_positive(Matrix::Stiffness))?;
+    // M_ii may be singular (massless directions of a consistent mass matrix, of infinite
+    // frequency) but not indefinite: K_ii + s M_ii is positive definite for every s > 0 then,
+    // and has a negative pivot once s passes -lambda of a negative-mass direction (K v =
+    // lambda M v, lambda < 0). s = 1e4 times the largest diagonal ratio K_ii / M_ii finds every
+    // such direction of a frequency up to 100 times the model's (a factor of a positive
+    // definite matrix: stable, where M_ii's own would divide by its zero pivots). Factored in
+    // the pattern the shifted factor uses below.
+    let s = 1e4 * k_ii.diagonal().iter().zip(m_ii.diagonal()).map(|(k, m)| k / m).fold(0.0, f64::max);
+    let mut shifted = Skyline::pattern(&k_ii, Some(&m_ii), order);
+    shifted.factor(&k_ii, Some((&m_ii, -s))).map_err(not_positive(Matrix::Mass))?;
+    shifted.positive().map_err(not_positive(Matrix::Mass))?;
     let k_ib = k.block(&interior, boundary);
     let mut t = DMatrix::<f64>::zeros(n, nb);
     let mut col = vec![0.0; ni];
@@ -235,12 +316,10 @@ pub fn craig_bampton_sparse(
     // One mode more than kept: the lowest left out is the cutoff.
     let count = match keep {
         Keep::Count(c) => c,
-        Keep::Below(w) => {
-            let mut shifted = Skyline::pattern(&k_ii, Some(&m_ii), factor.order().to_vec());
-            shifted.factor(&k_ii, Some((&m_ii, w * w))).map_err(|_| ReductionError::Interior)?
-        }
+        Keep::Below(w) => shifted.factor(&k_ii, Some((&m_ii, w * w))).map_err(|_| ReductionError::Interior)?,
     }
     .min(ni);
+    drop(shifted);
     if let Some(most) = most.filter(|&most| nb + count > most) {
         return Err(ReductionError::TooMany { boundary: nb, modes: count, most });
     }
@@ -275,14 +354,48 @@ pub fn craig_bampton_sparse(
         let r = t.transpose() * at;
         (&r + r.transpose()) * 0.5
     };
+    let (mass, stiffness) = (project(m), project(k));
+    // The modal block is diagonal and positive (M-orthonormal modes of a positive definite
+    // pair: 1 and lambda_q): the reduced matrices are positive definite when the points' block
+    // less the modes' part of it is (its Schur complement), checked pivot by pivot.
+    for (matrix, a) in [(Matrix::Mass, &mass), (Matrix::Stiffness, &stiffness)] {
+        let s = DMatrix::from_fn(nb, nb, |i, j| {
+            a[(i, j)] - (nb..a.ncols()).map(|q| a[(i, q)] * a[(j, q)] / a[(q, q)]).sum::<f64>()
+        });
+        if let Some(coordinate) = first_non_positive_pivot(&s) {
+            return Err(ReductionError::ReducedNotPositive { matrix, coordinate });
+        }
+    }
     Ok(Reduced {
-        mass: project(m),
-        stiffness: project(k),
+        mass,
+        stiffness,
         boundary: boundary.to_vec(),
         interior_omegas: values[..kept].iter().map(|l| l.sqrt()).collect(),
         cutoff: values.get(kept).map_or(f64::INFINITY, |l| l.sqrt()),
         transform: t,
     })
+}
+
+/// The first row of a symmetric matrix at which `L D L^T` (no pivoting) has a pivot that is
+/// negative or zero to 1e-12 of the row's diagonal entry: the matrix is not positive definite,
+/// and the coordinates up to that row already are not.
+pub fn first_non_positive_pivot(a: &DMatrix<f64>) -> Option<usize> {
+    let n = a.nrows();
+    let mut l = DMatrix::<f64>::zeros(n, n);
+    let mut d = vec![0.0; n];
+    for i in 0..n {
+        for j in 0..i {
+            let s: f64 = (0..j).map(|k| l[(i, k)] * l[(j, k)] * d[k]).sum();
+            l[(i, j)] = (a[(i, j)] - s) / d[j];
+        }
+        let s: f64 = (0..i).map(|k| l[(i, k)] * l[(i, k)] * d[k]).sum();
+        d[i] = a[(i, i)] - s;
+        let positive = d[i].is_finite() && d[i] > 1e-12 * a[(i, i)].abs();
+        if !positive {
+            return Some(i);
+        }
+    }
+    None
 }
 
 /// The compliance at the boundary for a unit force at boundary coordinate `force`, at one

@@ -328,21 +328,45 @@ pub struct Singular {
     pub row: usize,
 }
 
+/// What a factor in envelope storage costs, known before it is allocated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cost {
+    /// Stored entries of `L` below the diagonal (8 bytes each).
+    pub entries: usize,
+    /// Multiplications and additions of the factorisation, about `sum_i w_i^2` for row widths
+    /// `w_i`.
+    pub flops: f64,
+}
+
+/// Each row's first stored column of the envelope of `a + b` under `perm`.
+fn first_columns(a: &SymSparse, b: Option<&SymSparse>, perm: &[usize]) -> Vec<usize> {
+    let n = a.n;
+    let mut inv = vec![0; n];
+    perm.iter().enumerate().for_each(|(new, &old)| inv[old] = new);
+    let mut first: Vec<usize> = (0..n).collect();
+    for m in std::iter::once(a).chain(b) {
+        for i in 0..n {
+            for (j, _) in m.row(i) {
+                let (p, q) = (inv[i].max(inv[j]), inv[i].min(inv[j]));
+                first[p] = first[p].min(q);
+            }
+        }
+    }
+    first
+}
+
 impl Skyline {
+    /// What the factor of `a - sigma b` under `perm` costs, without allocating it.
+    pub fn cost(a: &SymSparse, b: Option<&SymSparse>, perm: &[usize]) -> Cost {
+        let first = first_columns(a, b, perm);
+        let widths = first.iter().enumerate().map(|(i, f)| i - f);
+        Cost { entries: widths.clone().sum(), flops: widths.map(|w| (w as f64) * (w as f64)).sum() }
+    }
+
     /// The envelope of `a + b` under `perm` (for factors of `a - sigma b`).
     pub fn pattern(a: &SymSparse, b: Option<&SymSparse>, perm: Vec<usize>) -> Skyline {
         let n = a.n;
-        let mut inv = vec![0; n];
-        perm.iter().enumerate().for_each(|(new, &old)| inv[old] = new);
-        let mut first: Vec<usize> = (0..n).collect();
-        for m in std::iter::once(a).chain(b) {
-            for i in 0..n {
-                for (j, _) in m.row(i) {
-                    let (p, q) = (inv[i].max(inv[j]), inv[i].min(inv[j]));
-                    first[p] = first[p].min(q);
-                }
-            }
-        }
+        let first = first_columns(a, b, &perm);
         let mut start = vec![0; n + 1];
         for i in 0..n {
             start[i + 1] = start[i] + (i - first[i]);

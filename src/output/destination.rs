@@ -141,6 +141,7 @@ fn name(out: &Path) -> String {
 /// holds nothing it did not write) or an empty one. Anything else is an error that says what
 /// is there and what to do.
 pub fn check(out: &Path) -> Result<()> {
+    let out = &named(out)?;
     let meta = match std::fs::symlink_metadata(out) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
@@ -189,6 +190,32 @@ pub fn check(out: &Path) -> Result<()> {
     ))
 }
 
+/// `out` without trailing `/` (so that a symbolic link is seen as one, not followed), refused
+/// when it names no folder of its own: `.`, `..`, `/`, or a folder that holds the current
+/// one (a report is renamed into place: the current folder cannot be).
+fn named(out: &Path) -> Result<PathBuf> {
+    let refuse = |what: &str| {
+        Error::Destination {
+        path: out.to_path_buf(),
+        message: format!("{what}: a report is written beside its folder and renamed into place; give --out a folder of its own (a new name)"),
+    }
+    };
+    match out.components().next_back() {
+        None | Some(Component::CurDir | Component::ParentDir | Component::RootDir | Component::Prefix(_)) => {
+            return Err(refuse("names the current folder, a parent or the root"))
+        }
+        Some(Component::Normal(_)) => {}
+    }
+    let trimmed: PathBuf = out.components().collect();
+    let here = std::env::current_dir().ok().and_then(|d| std::fs::canonicalize(d).ok());
+    if let (Some(here), Ok(there)) = (here, resolved(&trimmed)) {
+        if here.starts_with(&there) {
+            return Err(refuse("is or holds the current folder"));
+        }
+    }
+    Ok(trimmed)
+}
+
 /// "1 entry" or "N entries".
 fn count(n: usize) -> String {
     format!("{n} {}", if n == 1 { "entry" } else { "entries" })
@@ -226,16 +253,36 @@ fn entries_below(dir: &Path) -> Result<Vec<String>> {
 /// only the folder is named, not what it holds. The flag: whether the folder has a manifest.
 fn foreign_entries(dir: &Path) -> Result<(Vec<String>, bool)> {
     let manifest = dir.join(MANIFEST);
-    let (written, listed): (std::collections::BTreeSet<String>, bool) = match std::fs::read_to_string(&manifest) {
-        Ok(text) => (text.lines().map(str::to_string).collect(), true),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            (BARE_MARKED.iter().map(|s| s.to_string()).collect(), false)
-        }
-        Err(e) => return Err(Error::io(&manifest, e)),
-    };
+    // Each entry, with its size and hash where the manifest records them (those of earlier
+    // versions do not).
+    let (written, listed): (std::collections::BTreeMap<String, Option<String>>, bool) =
+        match std::fs::read_to_string(&manifest) {
+            Ok(text) => (
+                text.lines()
+                    .map(|l| match l.split_once('\t') {
+                        Some((p, f)) => (p.to_string(), Some(f.to_string())),
+                        None => (l.to_string(), None),
+                    })
+                    .collect(),
+                true,
+            ),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                (BARE_MARKED.iter().map(|s| (s.to_string(), None)).collect(), false)
+            }
+            Err(e) => return Err(Error::io(&manifest, e)),
+        };
     let mut foreign: Vec<String> = Vec::new();
     for e in entries_below(dir)? {
-        if e == MARKER || e == MANIFEST || written.contains(&e) {
+        if e == MARKER || e == MANIFEST {
+            continue;
+        }
+        if let Some(recorded) = written.get(&e) {
+            // A file shotdamp wrote and someone changed since is the user's now.
+            if let Some(recorded) = recorded {
+                if &fingerprint(&dir.join(&e))? != recorded {
+                    foreign.push(format!("{e} (changed since shotdamp wrote it)"));
+                }
+            }
             continue;
         }
         // Inside a foreign folder: that folder is named already.
@@ -247,12 +294,36 @@ fn foreign_entries(dir: &Path) -> Result<(Vec<String>, bool)> {
     Ok((foreign, listed))
 }
 
-/// Writes the [`MANIFEST`] of the staging folder `dir` (every entry in it).
+/// A file's size and content hash (64-bit FNV-1a, hex), as the [`MANIFEST`] records them:
+/// an edit after shotdamp wrote the file is found on the next run into its folder.
+fn fingerprint(path: &Path) -> Result<String> {
+    use std::io::Read;
+    let mut f = std::fs::File::open(path).map_err(io(path))?;
+    let (mut hash, mut size, mut buf) = (0xcbf2_9ce4_8422_2325_u64, 0u64, vec![0u8; 1 << 16]);
+    loop {
+        let n = f.read(&mut buf).map_err(io(path))?;
+        if n == 0 {
+            break;
+        }
+        size += n as u64;
+        for &b in &buf[..n] {
+            hash = (hash ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    Ok(format!("{size}\t{hash:016x}"))
+}
+
+/// Writes the [`MANIFEST`] of the staging folder `dir` (every entry in it, each file with its
+/// size and hash after a tab).
 fn write_manifest(dir: &Path) -> Result<()> {
     let mut text = String::new();
     for e in entries_below(dir)? {
         if e != MANIFEST {
             text.push_str(&e);
+            if !e.ends_with('/') && std::fs::symlink_metadata(dir.join(&e)).is_ok_and(|m| m.is_file()) {
+                text.push('\t');
+                text.push_str(&fingerprint(&dir.join(&e))?);
+            }
             text.push('\n');
         }
     }
@@ -296,7 +367,7 @@ impl Staging {
     /// README), before any long run.
     pub fn create(given: &Path) -> Result<Staging> {
         check(given)?;
-        let out = absolute(given)?;
+        let out = absolute(&named(given)?)?;
         if let Some(parent) = out.parent() {
             std::fs::create_dir_all(parent).map_err(io(parent))?;
         }

@@ -9,6 +9,7 @@
 use std::io::BufRead;
 use std::path::Path;
 
+use super::{without_bom, Positions};
 use crate::error::{Error, Result};
 use crate::model::fe::DofLabel;
 
@@ -37,16 +38,27 @@ pub fn read_dofs(path: &Path) -> Result<Vec<DofLabel>> {
 /// Parses `.dof` text; errors name `origin`.
 pub fn parse_dofs(reader: impl BufRead, origin: &str) -> Result<Vec<DofLabel>> {
     let mut labels = Vec::new();
+    let mut first_on: std::collections::HashMap<DofLabel, usize> = std::collections::HashMap::new();
     for (i, line) in reader.lines().enumerate() {
         let n = i + 1;
-        let line = line.map_err(|e| bad(origin, n, format!("cannot be read ({e})")))?;
+        let line = without_bom(line.map_err(|e| bad(origin, n, format!("cannot be read ({e})")))?, n);
         let t = line.trim();
         if t.is_empty() {
             continue;
         }
         let parsed = t.split_once('.').and_then(|(a, b)| Some((a.parse::<u64>().ok()?, b.parse::<u8>().ok()?)));
         match parsed {
-            Some((node, dof)) if (1..=6).contains(&dof) => labels.push(DofLabel { node, dof }),
+            Some((node, dof)) if (1..=6).contains(&dof) => {
+                let label = DofLabel { node, dof };
+                if let Some(before) = first_on.insert(label, n) {
+                    return Err(bad(
+                        origin,
+                        n,
+                        format!("\"{t}\" names node {node} direction {dof} again (first on line {before}): each degree of freedom once, one a row"),
+                    ));
+                }
+                labels.push(label);
+            }
             _ => {
                 return Err(bad(
                     origin,
@@ -71,9 +83,10 @@ pub fn read_matrix(path: &Path, n: usize) -> Result<Vec<(usize, usize, f64)>> {
 /// Parses `.sti` / `.mas` text; errors name `origin`.
 pub fn parse_matrix(reader: impl BufRead, origin: &str, n: usize) -> Result<Vec<(usize, usize, f64)>> {
     let mut entries = Vec::new();
+    let mut positions = Positions::default();
     for (i, line) in reader.lines().enumerate() {
         let no = i + 1;
-        let line = line.map_err(|e| bad(origin, no, format!("cannot be read ({e})")))?;
+        let line = without_bom(line.map_err(|e| bad(origin, no, format!("cannot be read ({e})")))?, no);
         let parts: Vec<&str> = line.split_whitespace().collect();
         if parts.is_empty() {
             continue;
@@ -91,7 +104,11 @@ pub fn parse_matrix(reader: impl BufRead, origin: &str, n: usize) -> Result<Vec<
                 ),
             )),
         };
-        entries.push((index(r, "row")?, index(c, "column")?, number(origin, no, v, "value")?));
+        let (r, c, v) = (index(r, "row")?, index(c, "column")?, number(origin, no, v, "value")?);
+        if let Some(before) = positions.repeated(r, c, no) {
+            return Err(bad(origin, no, Positions::message(r, c, before)));
+        }
+        entries.push((r, c, v));
     }
     if entries.is_empty() {
         return Err(bad(origin, 1, "the file holds no entry".into()));
@@ -114,9 +131,10 @@ pub fn read_abaqus(path: &Path, labels: Vec<DofLabel>) -> Result<Labelled> {
 pub fn parse_abaqus(reader: impl BufRead, origin: &str, mut labels: Vec<DofLabel>) -> Result<Labelled> {
     let mut at: std::collections::HashMap<DofLabel, usize> = labels.iter().enumerate().map(|(i, l)| (*l, i)).collect();
     let mut entries = Vec::new();
+    let mut positions = Positions::default();
     for (i, line) in reader.lines().enumerate() {
         let no = i + 1;
-        let line = line.map_err(|e| bad(origin, no, format!("cannot be read ({e})")))?;
+        let line = without_bom(line.map_err(|e| bad(origin, no, format!("cannot be read ({e})")))?, no);
         let t = line.trim();
         if t.is_empty() || t.starts_with('*') {
             continue;
@@ -137,8 +155,11 @@ pub fn parse_abaqus(reader: impl BufRead, origin: &str, mut labels: Vec<DofLabel
                 next
             }))
         };
-        let (r, c) = (label(n1, d1)?, label(n2, d2)?);
-        entries.push((r, c, number(origin, no, v, "value")?));
+        let (r, c, v) = (label(n1, d1)?, label(n2, d2)?, number(origin, no, v, "value")?);
+        if let Some(before) = positions.repeated(r, c, no) {
+            return Err(bad(origin, no, Positions::message(r, c, before)));
+        }
+        entries.push((r, c, v));
     }
     if entries.is_empty() {
         return Err(bad(origin, 1, "the file holds no entry".into()));
@@ -193,5 +214,18 @@ mod tests {
         assert!(e.contains("k.mtx") && e.contains("line 1") && e.contains("node, dof, node, dof, value"), "{e}");
         let e = msg(parse_abaqus("1,7,1,1,2.0\n".as_bytes(), "k.mtx", Vec::new()).unwrap_err());
         assert!(e.contains("direction 1 to 6"), "{e}");
+    }
+
+    #[test]
+    fn a_repeated_degree_of_freedom_or_entry_is_refused_and_a_byte_order_mark_is_read() {
+        let e = msg(parse_dofs("2.1\n2.3\n2.1\n".as_bytes(), "m.dof").unwrap_err());
+        assert!(e.contains("line 3") && e.contains("node 2 direction 1 again (first on line 1)"), "{e}");
+        let e = msg(parse_matrix("1 1 1.0\n2 2 1.0\n1 1 1.0\n".as_bytes(), "m.sti", 2).unwrap_err());
+        assert!(e.contains("m.sti: line 3: entry (1, 1) is given again (first on line 1)"), "{e}");
+        let e = msg(parse_abaqus("1,1,1,1,2.0\n1,1,1,1,2.0\n".as_bytes(), "k.mtx", Vec::new()).unwrap_err());
+        assert!(e.contains("line 2: entry (1, 1) is given again"), "{e}");
+        let dofs = parse_dofs("\u{feff}2.1\n2.3\n".as_bytes(), "m.dof").unwrap();
+        assert_eq!(dofs[0], DofLabel { node: 2, dof: 1 });
+        assert_eq!(parse_matrix("\u{feff}1 1 4.0\n".as_bytes(), "m.sti", 1).unwrap(), vec![(0, 0, 4.0)]);
     }
 }

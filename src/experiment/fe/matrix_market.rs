@@ -10,8 +10,8 @@ use nalgebra::DMatrix;
 
 use crate::error::{Error, Result};
 
-/// A sparse matrix as read: its size and its entries, 0-based, duplicates summed by
-/// [`Triplets::to_dense`]. A symmetric file stores one triangle; `symmetric` says so.
+/// A sparse matrix as read: its size and its entries, 0-based, each position once (a
+/// repeated one is refused). A symmetric file stores one triangle; `symmetric` says so.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Triplets {
     /// Rows.
@@ -25,7 +25,7 @@ pub struct Triplets {
 }
 
 impl Triplets {
-    /// The dense matrix (a symmetric file's triangle mirrored; repeated entries summed).
+    /// The dense matrix (a symmetric file's triangle mirrored).
     pub fn to_dense(&self) -> DMatrix<f64> {
         let mut m = DMatrix::zeros(self.rows, self.cols);
         for &(i, j, v) in &self.entries {
@@ -54,7 +54,10 @@ pub fn parse(reader: impl BufRead, origin: &str) -> Result<Triplets> {
     let mut lines = reader.lines().enumerate().map(|(i, l)| (i + 1, l));
     let mut next = |what: &str| -> Result<Option<(usize, String)>> {
         match lines.next() {
-            Some((n, l)) => Ok(Some((n, l.map_err(|e| bad(n, format!("cannot be read ({e}) while reading {what}")))?))),
+            Some((n, l)) => {
+                let l = l.map_err(|e| bad(n, format!("cannot be read ({e}) while reading {what}")))?;
+                Ok(Some((n, super::without_bom(l, n))))
+            }
             None => Ok(None),
         }
     };
@@ -102,6 +105,7 @@ pub fn parse(reader: impl BufRead, origin: &str) -> Result<Triplets> {
     }
     // Reserved up to a modest size: a header may claim any count (the file then ends early).
     let mut entries = Vec::with_capacity(count.min(1 << 16));
+    let mut positions = super::Positions::default();
     let mut last = n;
     while entries.len() < count {
         let Some((n, l)) = next("an entry")? else {
@@ -137,6 +141,9 @@ pub fn parse(reader: impl BufRead, origin: &str) -> Result<Triplets> {
                 ),
             ));
         }
+        if let Some(before) = positions.repeated(i, j, n) {
+            return Err(bad(n, super::Positions::message(i, j, before)));
+        }
         entries.push((i, j, v));
     }
     // Nothing but comments and blank lines may follow.
@@ -165,9 +172,13 @@ mod tests {
         let sym = "%%MatrixMarket matrix coordinate real symmetric\n% a comment\n\n3 3 4\n1 1 2.0\n2 1 -1\n2 2 2e0\n3 3 1.5\n";
         let m = parsed(sym).unwrap().to_dense();
         assert_eq!(m, DMatrix::from_row_slice(3, 3, &[2.0, -1.0, 0.0, -1.0, 2.0, 0.0, 0.0, 0.0, 1.5]));
-        let gen = "%%MatrixMarket matrix coordinate integer general\n2 2 3\n1 2 4\n2 1 3\n1 2 1\n";
+        let gen = "%%MatrixMarket matrix coordinate integer general\n2 2 2\n1 2 4\n2 1 3\n";
         let m = parsed(gen).unwrap().to_dense();
-        assert_eq!(m, DMatrix::from_row_slice(2, 2, &[0.0, 5.0, 3.0, 0.0]), "repeated entries are summed");
+        assert_eq!(m, DMatrix::from_row_slice(2, 2, &[0.0, 4.0, 3.0, 0.0]));
+        let twice = "%%MatrixMarket matrix coordinate integer general\n2 2 3\n1 2 4\n2 1 3\n1 2 1\n";
+        assert!(message(twice).contains("line 5: entry (1, 2) is given again (first on line 3)"));
+        let bom = "\u{feff}%%MatrixMarket matrix coordinate real general\n1 1 1\n1 1 0.25\n";
+        assert_eq!(parsed(bom).unwrap().to_dense()[(0, 0)], 0.25);
     }
 
     #[test]

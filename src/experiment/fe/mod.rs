@@ -14,12 +14,20 @@ use nalgebra::DMatrix;
 use super::raw::RawFiniteElement;
 use crate::error::{Error, Result};
 use crate::model::fe::{DofLabel, FeStructure, FullModel, Point};
-use crate::model::reduction::{craig_bampton_sparse, Keep, Reduced, ReductionError};
+use crate::model::reduction::{craig_bampton_sparse, Keep, Matrix, Reduced, ReductionError};
 use crate::model::sparse::SymSparse;
 use crate::model::Direction;
 
 /// The formats read.
 pub const FORMATS: [&str; 3] = ["calculix", "matrix-market", "abaqus"];
+
+/// The highest cutoff frequency, Hz (far above any structure's modes: every mode is kept
+/// below it; its square in rad/s stays a finite number).
+pub const MAX_CUTOFF_HZ: f64 = 1e12;
+
+/// Interior factors costlier than this are announced before they are computed (operations:
+/// a few seconds).
+const ANNOUNCE_FLOPS: f64 = 5e9;
 
 /// A finite-element structure: the reduced matrices and what they came from.
 pub struct FromFiles {
@@ -31,6 +39,43 @@ pub struct FromFiles {
     pub stiffness: DMatrix<f64>,
     /// The full model, its points and the reduction.
     pub fe: FeStructure,
+}
+
+/// The line on which each position of a matrix file was given: finite-element programs
+/// write each entry once, so a position given twice (a file written twice, two files joined)
+/// is refused instead of summed.
+#[derive(Default)]
+pub struct Positions(std::collections::HashMap<(usize, usize), usize>);
+
+impl Positions {
+    /// Records `(row, col)` (0-based) given on `line`; the line it was given on before, if it
+    /// was.
+    pub fn repeated(&mut self, row: usize, col: usize, line: usize) -> Option<usize> {
+        match self.0.entry((row, col)) {
+            std::collections::hash_map::Entry::Occupied(o) => Some(*o.get()),
+            std::collections::hash_map::Entry::Vacant(v) => {
+                v.insert(line);
+                None
+            }
+        }
+    }
+
+    /// The message for a repeated position.
+    pub fn message(row: usize, col: usize, before: usize) -> String {
+        format!(
+            "entry ({}, {}) is given again (first on line {before}): each entry once (is the file written twice, or two files joined?)",
+            row + 1,
+            col + 1
+        )
+    }
+}
+
+/// A file's first line without a byte-order mark (an editor's, on a Windows machine).
+pub fn without_bom(line: String, number: usize) -> String {
+    match line.strip_prefix('\u{feff}') {
+        Some(rest) if number == 1 => rest.to_string(),
+        _ => line,
+    }
 }
 
 /// Entries of one matrix as read, and whether they hold one triangle.
@@ -51,7 +96,15 @@ fn read(path: &Path, raw: &RawFiniteElement) -> Result<(Option<Vec<DofLabel>>, R
     // A file that cannot be opened is named by its key, as given, and where it was looked for.
     for (key, name) in [("stiffness", Some(&raw.stiffness)), ("mass", Some(&raw.mass)), ("dofs", raw.dofs.as_ref())] {
         let Some(name) = name else { continue };
-        if let Err(e) = std::fs::File::open(at(name)) {
+        // Not opened before it is known to be a regular file: opening a named pipe waits for
+        // a writer for ever.
+        if let Err(e) = crate::error::regular_file(&at(name))
+            .map_err(|e| match e {
+                Error::Io { error, .. } => error,
+                other => std::io::Error::other(other.to_string()),
+            })
+            .and_then(|()| std::fs::File::open(at(name)))
+        {
             return Err(Error::invalid(
                 path,
                 format!("structure.finite_element.{key}"),
@@ -116,7 +169,17 @@ fn read(path: &Path, raw: &RawFiniteElement) -> Result<(Option<Vec<DofLabel>>, R
                 }
                 None => None,
             };
-            let (ks, ms) = (k.symmetric || one_sided(&k.entries), m.symmetric || one_sided(&m.entries));
+            // A `general` file holds the whole matrix: one holding one triangle is refused (it
+            // would be read as half a matrix), not mirrored on a guess.
+            for (t, p) in [(&k, &k_path), (&m, &m_path)] {
+                if !t.symmetric && one_sided(&t.entries) && t.entries.iter().any(|e| e.0 != e.1) {
+                    return Err(Error::Parse {
+                        file: p.display().to_string(),
+                        message: "the banner says general (the whole matrix) but the entries hold one triangle: give the banner symmetric if the file stores one triangle of a symmetric matrix".into(),
+                    });
+                }
+            }
+            let (ks, ms) = (k.symmetric, m.symmetric);
             Ok((
                 labels,
                 Read { entries: k.entries, one_triangle: ks },
@@ -217,8 +280,10 @@ pub fn build(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -
     let keep = match (raw.modes, raw.cutoff_hz) {
         (Some(m), None) if (0..=10_000).contains(&m) => Keep::Count(m as usize),
         (Some(m), None) => return Err(invalid("modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000")),
-        (None, Some(f)) if f.is_finite() && f > 0.0 => Keep::Below(2.0 * std::f64::consts::PI * f),
-        (None, Some(f)) => return Err(invalid("cutoff_hz", &f, "a positive frequency, Hz")),
+        (None, Some(f)) if f.is_finite() && f > 0.0 && f <= MAX_CUTOFF_HZ => Keep::Below(2.0 * std::f64::consts::PI * f),
+        (None, Some(f)) => {
+            return Err(invalid("cutoff_hz", &f, &format!("a positive frequency, Hz, at most {MAX_CUTOFF_HZ:e}")))
+        }
         _ => {
             return Err(invalid(
                 "modes / cutoff_hz",
@@ -304,7 +369,40 @@ pub fn build(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -
         (Some(m), _) => ("modes", m.to_string()),
         (None, f) => ("cutoff_hz", f.map_or_else(|| "(none)".into(), |f| f.to_string())),
     };
+    announce(path, &mass, &stiffness, &boundary);
+    let file_of = |matrix: Matrix| dir.join(if matrix == Matrix::Mass { &raw.mass } else { &raw.stiffness });
     let mut reduced = craig_bampton_sparse(&mass, &stiffness, &boundary, keep, limit.map(|l| l.0)).map_err(|e| match e {
+        ReductionError::NotPositive { matrix, row } => Error::Parse {
+            file: file_of(matrix).display().to_string(),
+            message: format!(
+                "the {matrix} matrix is not positive definite: the factor of the degrees of freedom other than the points has a zero or negative pivot at {}: {}",
+                row_name(&labels, row),
+                if matrix == Matrix::Mass {
+                    "a negative or indefinite mass entry"
+                } else {
+                    "a part of the model not held by its supports or points (a free-floating piece, a mechanism, a zero-energy mode of reduced integration) or an indefinite stiffness entry"
+                }
+            ),
+        },
+        ReductionError::ReducedNotPositive { matrix, coordinate } => Error::Parse {
+            file: file_of(matrix).display().to_string(),
+            message: format!(
+                "the {matrix} matrix is not positive definite at point \"{}\" ({}, points[{coordinate}]): {}",
+                points[coordinate].name,
+                row_name(&labels, points[coordinate].row),
+                if matrix == Matrix::Mass {
+                    "a negative or indefinite mass entry there"
+                } else {
+                    "the point with what hangs on it floats free (held by no support), or an indefinite stiffness entry there"
+                }
+            ),
+        },
+        e @ ReductionError::TooLarge { .. } => Error::invalid(
+            path,
+            "structure.finite_element",
+            format!("{n} degrees of freedom"),
+            format!("is too large to reduce here: {e} (docs/fe-models.md, section 3: condense the model in the finite-element program, or coarsen its mesh)"),
+        ),
         ReductionError::TooMany { boundary, modes, most } => invalid(
             keep_key,
             &keep_value,
@@ -340,13 +438,45 @@ pub fn build(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -
         .collect::<Vec<_>>()
         .join(", ");
     let supports = supports(&mass, &labels, &points, &reduced, base, raw.base_direction.as_deref().unwrap_or(&raw.up));
+    let moving_up = along(&mass, &labels, up_axis);
     let full = FullModel { stiffness, mass, labels, files: format!("{} ({})", files, raw.format) };
     Ok(FromFiles {
         supports,
         mass: reduced.mass.clone(),
         stiffness: reduced.stiffness.clone(),
-        fe: FeStructure { full: Arc::new(full), points, reduced, up: raw.up, tolerance },
+        fe: FeStructure { full: Arc::new(full), points, reduced, up: raw.up, tolerance, mass_along_up: moving_up },
     })
+}
+
+/// The mass that moves when the whole model translates along global `axis` (1-3), kg:
+/// `r^T M r`, `r` one on every translation along the axis (every row when the files name no
+/// degrees of freedom).
+fn along(mass: &SymSparse, labels: &Option<Vec<DofLabel>>, axis: usize) -> f64 {
+    let r: Vec<f64> = match labels {
+        Some(l) => l.iter().map(|d| if usize::from(d.dof) == axis { 1.0 } else { 0.0 }).collect(),
+        None => vec![1.0; mass.n()],
+    };
+    let mut mr = vec![0.0; r.len()];
+    mass.mul(&r, &mut mr);
+    r.iter().zip(&mr).map(|(a, b)| a * b).sum()
+}
+
+/// Says on standard error, before it starts, that a reduction will take a while (a factor of
+/// more than [`ANNOUNCE_FLOPS`] operations): the only output of this layer, so that a large
+/// model's wait is never silent.
+fn announce(path: &Path, mass: &SymSparse, stiffness: &SymSparse, boundary: &[usize]) {
+    let interior: Vec<usize> = (0..mass.n()).filter(|i| !boundary.contains(i)).collect();
+    let (k, m) = (stiffness.principal(&interior), mass.principal(&interior));
+    let cost = crate::model::sparse::Skyline::cost(&k, Some(&m), &crate::model::sparse::rcm(&k));
+    if cost.flops > ANNOUNCE_FLOPS && cost.flops <= crate::model::reduction::MAX_FACTOR.flops {
+        eprintln!(
+            "{}: reducing a finite-element model of {} degrees of freedom (a factor of {} entries, {:.1e} operations; each factor takes seconds to a minute)",
+            path.display(),
+            mass.n(),
+            cost.entries,
+            cost.flops
+        );
+    }
 }
 
 /// How a reduced model's coordinates follow its supports moving along global `axis` (1-3)

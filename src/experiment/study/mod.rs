@@ -277,6 +277,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
     if !super::fields::is_identifier(&s.id) {
         return Err(bad("study.id", &format!("\"{}\"", s.id), "use letters, digits, '_' and '-' only"));
     }
+    super::fields::id_length(path, "study.id", &s.id)?;
     let experiment_path = path.parent().unwrap_or(Path::new(".")).join(file);
     if !experiment_path.is_file() {
         return Err(bad(

@@ -6,6 +6,7 @@
 
 pub mod bed;
 pub mod buf;
+pub mod cancel;
 pub mod coarse;
 pub mod column;
 pub mod contact;

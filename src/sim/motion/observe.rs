@@ -402,14 +402,37 @@ impl Extrema {
     }
 }
 
+/// Memory one piece of the record may hold, bytes (its fine samples' points and velocities,
+/// or its coarse windows' starts).
+const PIECE_BYTES: usize = 32 << 20;
+
+/// Fine samples of one piece of a segment: a segment longer than this many sixteenths of the
+/// shortest period (a low forcing frequency's period holds up to 1.6 million) is recorded in
+/// pieces of at most this many, one after another, so that the record's memory is bounded
+/// at any frequency. At least 4096 (no segment of the paper's structure at its frequencies
+/// is that long: its record is the unpieced one, bit for bit).
+pub fn piece_samples(d: &Dynamics, seg: &Segment) -> usize {
+    let per_sample = seg.len * 24 + d.system.dof() * 8 + 64;
+    (PIECE_BYTES / per_sample).max(4096)
+}
+
 impl Observer for Extrema {
     fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
         if t_b <= t_a {
             return;
         }
-        match self.coarse(d, seg, beds, t_a, t_b) {
-            Some(windows) => windows.into_iter().for_each(|(a, b)| self.fine(d, seg, beds, a, b)),
-            None => self.fine(d, seg, beds, t_a, t_b),
+        let span = piece_samples(d, seg) as f64 * d.min_period / 16.0;
+        let pieces = ((t_b - t_a) / span).ceil().max(1.0) as usize;
+        for p in 0..pieces {
+            let a = if p == 0 { t_a } else { t_a + (t_b - t_a) * p as f64 / pieces as f64 };
+            let b = if p + 1 == pieces { t_b } else { t_a + (t_b - t_a) * (p + 1) as f64 / pieces as f64 };
+            match self.coarse(d, seg, beds, a, b) {
+                Some(windows) => windows.into_iter().for_each(|(a, b)| self.fine(d, seg, beds, a, b)),
+                None => self.fine(d, seg, beds, a, b),
+            }
+            if pieces > 1 {
+                super::cancel::check();
+            }
         }
     }
 

@@ -180,6 +180,7 @@ fn onto_torus(
     let period = 2.0 * PI / d.omega;
     let mut last: Option<Vec<f64>> = None;
     while *simulated + w <= opts.max_periods {
+        crate::sim::motion::cancel::check();
         let mut ext = Extrema::observing(d.system.dof(), d.system.dampers.len(), opts.observe);
         engine.advance(s, s.t + w as f64 * period, &mut ext)?;
         *simulated += w;
@@ -215,6 +216,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     let mut record_periods = opts.record_periods;
     let mut whole = WholePeriods::new(&s);
     while simulated < opts.max_periods {
+        crate::sim::motion::cancel::check();
         let mut log = EventLog::default();
         whole.begin(&s);
         let end = k as f64 * period;

@@ -42,6 +42,7 @@ pub fn transient_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Ste
     let mut simulated = 0;
     let mut whole = WholePeriods::new(&s);
     while simulated < opts.max_periods {
+        crate::sim::motion::cancel::check();
         whole.begin(&s);
         let end = k as f64 * period;
         if let Err(e) = engine.advance(&mut s, end, &mut Quiet) {
