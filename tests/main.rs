@@ -29,6 +29,7 @@ mod models;
 mod periodic;
 mod readings;
 mod reliability;
+mod repeated;
 mod report_files;
 mod restitution;
 mod review;
