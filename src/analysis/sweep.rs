@@ -163,7 +163,17 @@ pub fn run(
             0,
         ));
     }
-    Output { tables, figures, curves, exports, ..Output::default() }
+    // A simulated curve without one computed point (every point's setup failed) is a failed
+    // check and a warning, never a page that passes with nothing on it.
+    let skipped: Vec<String> = curves
+        .iter()
+        .filter(|c| !c.stop.is_empty() && c.stop.iter().all(|s| !s.is_empty()))
+        .filter(|c| c.compliance.iter().all(|row| row.iter().all(|x| !x.is_finite())))
+        .map(|c| format!("curve {}: no point of the sweep could be computed: {}", c.id, c.stop[0]))
+        .collect();
+    let mut out = Output { tables, figures, curves, exports, ..Output::default() };
+    out.missing_cases(exp, skipped);
+    out
 }
 
 /// The linear curves the plots ask for, on a fine grid over the sweep's range.

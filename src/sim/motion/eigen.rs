@@ -141,11 +141,7 @@ fn start(n: usize, mates: usize) -> DVector<Complex64> {
 }
 
 /// The members found before `lambda` of its cluster ([`CLUSTER`]): their unit vectors.
-fn mates<'a>(
-    found: &'a [(Complex64, DVector<Complex64>)],
-    lambda: Complex64,
-    norm_a: f64,
-) -> Vec<&'a DVector<Complex64>> {
+fn mates(found: &[(Complex64, DVector<Complex64>)], lambda: Complex64, norm_a: f64) -> Vec<&DVector<Complex64>> {
     found.iter().filter(|(l, _)| (l - lambda).norm() <= CLUSTER * norm_a).map(|(_, v)| v).collect()
 }
 
