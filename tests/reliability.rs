@@ -153,7 +153,10 @@ fn an_input_that_is_not_a_regular_file_is_refused_at_once() {
     let run = shotdamp().arg("run").arg(&exp).arg("--out").arg(&out).output().unwrap();
     let err = stderr(&run);
     assert_eq!(run.status.code(), Some(2), "{err}");
-    assert!(err.contains("structure.finite_element.stiffness = \"/dev/zero\": cannot be read (not a regular file"), "{err}");
+    assert!(
+        err.contains("structure.finite_element.stiffness = \"/dev/zero\": cannot be read (not a regular file"),
+        "{err}"
+    );
     // A file an experiment extends.
     std::fs::write(&exp, "extends = \"/dev/zero\"\n").unwrap();
     let run = shotdamp().arg("run").arg(&exp).arg("--out").arg(&out).output().unwrap();

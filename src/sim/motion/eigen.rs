@@ -97,11 +97,15 @@ pub struct Eigen {
 }
 
 /// Eigenvalues closer than this times the matrix's norm are one cluster: inverse iteration
-/// from a shift 1e-10 of the norm away cannot tell them apart (a repeated natural frequency of
-/// a symmetric structure, to rounding), so each member's vector is kept orthogonal to those of
-/// the members found before it: a well-conditioned basis of the cluster's eigenspace, where
-/// the plain iteration gave the same vector twice (eigenvector condition 1e17).
-pub const CLUSTER: f64 = 1e-9;
+/// from a shift 1e-10 of the norm away cannot tell them apart (a ratio of 0.99 per step
+/// between their amplifications), as with a repeated natural frequency of a symmetric
+/// structure (its copies differ by rounding), so each member's vector is kept orthogonal to
+/// those of the members found before it: a well-conditioned basis of the cluster's
+/// eigenspace, where the plain iteration gave the same vector twice (eigenvector condition
+/// 1e17). A wider bound would be wrong for distinct eigenvalues that inverse iteration does
+/// separate: the state matrix is not normal, its eigenvectors not orthogonal, and an
+/// orthogonalised vector is then no eigenvector.
+pub const CLUSTER: f64 = 1e-12;
 
 /// Removes from `v` its components along the orthonormal `others` (twice: classical
 /// Gram-Schmidt repeated is as good as modified), then normalises it; `None` when nothing is
