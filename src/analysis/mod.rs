@@ -99,6 +99,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
     if let Some(fe) = &exp.finite_element {
         warnings.extend(light_shot(exp, fe.mass_along_up));
         let r = reduction::run(exp, fe);
+        warnings.extend(r.warning);
         tables.extend(r.tables);
         checks.extend(r.check);
         figures.extend(r.figure);

@@ -10,7 +10,7 @@ use crate::checks::{compare_scalar, CheckOutcome, Source, Subject};
 use crate::experiment::{Analysis, Experiment};
 use crate::figure::{Dash, Figure, Panel, Series};
 use crate::model::fe::FeStructure;
-use crate::model::lanczos::{lowest, Want};
+use crate::model::lanczos::{lowest, Failure, Want};
 use crate::model::modes::symmetric_modes;
 use crate::model::reduction::{compliance_pairs, largest_difference, peaks, CompliancePair, Damped};
 use crate::model::sparse::{rcm, Skyline};
@@ -31,6 +31,9 @@ pub struct Outcome {
     pub check: Option<CheckOutcome>,
     /// The compliance of both models and their difference at each point.
     pub figure: Option<Figure>,
+    /// Why the full model's modes are missing, when they are (its frequency table is then
+    /// empty and its compliance undamped): said, never an empty table in silence.
+    pub warning: Option<String>,
 }
 
 /// The bands compared, each named, its frequencies in Hz ascending: a design's bands, else the
@@ -83,10 +86,25 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
     let reduced_modes = symmetric_modes(&fe.reduced.mass, &fe.reduced.stiffness);
     // The full model's lowest modes, as many as the reduced model has.
     let mut factor = Skyline::pattern(&full.stiffness, Some(&full.mass), rcm(&full.stiffness));
-    let full_modes = match factor.factor(&full.stiffness, None) {
-        Ok(0) => lowest(&full.stiffness, &full.mass, &factor, Want::Count(reduced_modes.omegas.len())).ok(),
-        _ => None,
+    let found = match factor.factor(&full.stiffness, None) {
+        Ok(0) => {
+            lowest(&full.stiffness, &full.mass, &factor, Want::Count(reduced_modes.omegas.len())).map_err(|e| match e {
+                Failure::Singular(s) => format!("a shift fell on an eigenvalue at row {}", s.row + 1),
+                Failure::Missed { found, counted } => {
+                    format!("shift-invert Lanczos found {found} modes where the inertia counts {counted}")
+                }
+            })
+        }
+        Ok(n) => Err(format!("the stiffness matrix has {n} negative pivots (it is not positive definite)")),
+        Err(e) => Err(format!("the stiffness matrix is singular at row {}", e.row + 1)),
     };
+    let warning = found.as_ref().err().map(|why| {
+        format!(
+            "{}: the full model's natural frequencies could not be computed ({why}): the reduction's frequency table is empty and its compliance comparison undamped",
+            full.files
+        )
+    });
+    let full_modes = found.ok();
     let full_hz: Vec<f64> = full_modes
         .as_ref()
         .map(|e| e.values.iter().map(|l| l.sqrt() / (2.0 * std::f64::consts::PI)).collect())
@@ -103,7 +121,7 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
     .f64("rel_diff", (0..count).map(|i| (red_hz[i] - full_hz[i]) / full_hz[i]).collect());
     let mut tables = vec![freq_table];
     if freqs.is_empty() {
-        return Outcome { tables, check: None, figure: None };
+        return Outcome { tables, check: None, figure: None, warning };
     }
     let omegas: Vec<f64> = freqs.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     // The full model's compliance in the reduced model's coordinates (points whose
@@ -214,7 +232,7 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
         check.detail =
             Some(format!("{} frequencies fell on a natural frequency and were skipped", freqs.len() - pairs.len()));
     }
-    Outcome { tables, check: Some(check), figure: Some(figure) }
+    Outcome { tables, check: Some(check), figure: Some(figure), warning }
 }
 
 /// Two panels: the magnitude of each point's compliance, full model (solid) and reduced
@@ -340,6 +358,25 @@ mod tests {
     /// Each band's differences are relative to its own peaks: two bands checked together give
     /// the worse of the two checked alone, and more than the same frequencies as one band
     /// (where the first mode's larger peak dilutes the higher band's difference).
+    /// A full model whose modes cannot be computed (its stiffness made singular after the
+    /// reduction) is said, with the cause, not left as an empty table.
+    #[test]
+    fn a_full_model_without_modes_is_said() {
+        let (mut fe, structure) = chain();
+        let (good, _) = chain();
+        assert!(compare(&good, 0, &[], Some(&structure)).warning.is_none());
+        let n = fe.full.stiffness.n();
+        let loose = DMatrix::from_fn(n, n, |i, j| if i == 5 || j == 5 { 0.0 } else { 1.0 });
+        let k = fe.full.stiffness.to_dense().component_mul(&loose);
+        let full = crate::model::fe::FullModel { stiffness: sparse(&k), ..(*fe.full).clone() };
+        fe.full = Arc::new(full);
+        let out = compare(&fe, 0, &[], Some(&structure));
+        let said = out.warning.expect("a warning");
+        assert!(said.contains("test: the full model's natural frequencies could not be computed"), "{said}");
+        assert!(said.contains("singular at row 6") || said.contains("negative pivots"), "{said}");
+        assert_eq!(out.tables[0].height(), 0);
+    }
+
     #[test]
     fn each_band_is_measured_against_its_own_peak() {
         let (fe, s) = chain();
