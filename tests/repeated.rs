@@ -6,6 +6,7 @@
 //! 3.3e17 ...)".
 
 use nalgebra::DMatrix;
+use shotdamp::model::structure::chain_stiffness;
 use shotdamp::model::{Clearance, Damper, Damping, Structure};
 use shotdamp::sim::sweep;
 use shotdamp::sim::{SteadyOptions, System};
@@ -15,19 +16,8 @@ use shotdamp::sim::{SteadyOptions, System};
 /// each chain mass at 0.2 mm on each chain mass.
 fn beside(k: usize) -> System {
     let n = 3 + k;
-    let chain = [24.3e3, 21.8e3, 19.8e3];
-    let mut stiffness = DMatrix::<f64>::zeros(n, n);
-    for (i, &s) in chain.iter().enumerate() {
-        stiffness[(i, i)] += s;
-        if i > 0 {
-            stiffness[(i - 1, i - 1)] += s;
-            stiffness[(i, i - 1)] -= s;
-            stiffness[(i - 1, i)] -= s;
-        }
-    }
-    for o in 3..n {
-        stiffness[(o, o)] = 1e4;
-    }
+    let mut stiffness = DMatrix::<f64>::identity(n, n) * 1e4;
+    stiffness.view_mut((0, 0), (3, 3)).copy_from(&chain_stiffness(&[24.3e3, 21.8e3, 19.8e3]));
     let masses: Vec<f64> = [0.74, 0.71, 0.64].into_iter().chain(std::iter::repeat_n(1.0, k)).collect();
     let structure = Structure::from_matrices(&masses, stiffness, Damping::ModalRatios(vec![0.01; n]));
     let dampers = (0..3).map(|h| Damper::new(h, 0.1 * masses[h], Clearance::from_m(0.2e-3))).collect();

@@ -373,9 +373,15 @@ mod tests {
         let m = DMatrix::from_diagonal(&DVector::from_vec(masses));
         let mut c = &k * 2e-6 + &m * 0.5;
         c[(0, 0)] += 0.3;
+        (state_matrix(&m, &c, &k), m, c, k)
+    }
+
+    /// `[0 I; -M^-1 K -M^-1 C]`.
+    pub(super) fn state_matrix(m: &DMatrix<f64>, c: &DMatrix<f64>, k: &DMatrix<f64>) -> DMatrix<f64> {
+        let n = m.nrows();
         let m_inv = m.clone().try_inverse().unwrap();
         let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
-        let (mk, mc) = (-&m_inv * &k, -&m_inv * &c);
+        let (mk, mc) = (-&m_inv * k, -&m_inv * c);
         for i in 0..n {
             a[(i, n + i)] = 1.0;
             for j in 0..n {
@@ -383,7 +389,7 @@ mod tests {
                 a[(n + i, n + j)] = mc[(i, j)];
             }
         }
-        (a, m, c, k)
+        a
     }
 
     /// Largest `|v_{n+p} - l v_p| / |v|` over the eigenvectors: how far each is from a state
@@ -488,32 +494,13 @@ mod repeated {
     #[test]
     fn a_repeated_eigenvalue_gets_a_well_conditioned_eigenspace_on_both_paths() {
         let n = 11;
-        let mut k = DMatrix::<f64>::zeros(n, n);
-        for (i, &s) in [24.3e3, 21.8e3, 19.8e3].iter().enumerate() {
-            k[(i, i)] += s;
-            if i > 0 {
-                k[(i - 1, i - 1)] += s;
-                k[(i, i - 1)] -= s;
-                k[(i - 1, i)] -= s;
-            }
-        }
-        for o in 3..n {
-            k[(o, o)] = 1e4;
-        }
+        let mut k = DMatrix::<f64>::identity(n, n) * 1e4;
+        k.view_mut((0, 0), (3, 3)).copy_from(&crate::model::structure::chain_stiffness(&[24.3e3, 21.8e3, 19.8e3]));
         let masses: Vec<f64> = [0.74, 0.71, 0.64].into_iter().chain(std::iter::repeat_n(1.0, n - 3)).collect();
         let damping = crate::model::Damping::ModalRatios(vec![0.01; n]);
         let c = crate::model::Structure::from_matrices(&masses, k.clone(), damping).damping;
         let m = DMatrix::from_diagonal(&DVector::from_vec(masses));
-        let m_inv = m.clone().try_inverse().unwrap();
-        let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
-        let (mk, mc) = (-&m_inv * &k, -&m_inv * &c);
-        for i in 0..n {
-            a[(i, n + i)] = 1.0;
-            for j in 0..n {
-                a[(n + i, j)] = mk[(i, j)];
-                a[(n + i, n + j)] = mc[(i, j)];
-            }
-        }
+        let a = super::tests::state_matrix(&m, &c, &k);
         let condition = |e: &Eigen| {
             e.vectors.iter().map(|z| z.norm()).fold(0.0, f64::max)
                 * e.inverse.iter().map(|z| z.norm()).fold(0.0, f64::max)
