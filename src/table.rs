@@ -32,6 +32,11 @@ impl ColumnData {
 /// its CSV file alone.
 pub const CSV_ROWS: usize = 1_500;
 
+/// Longest table a report writes whole as Parquet unless the full data is asked for
+/// (`--full-data`): a longer one (a history sampled at every step) is reduced in its CSV file
+/// to [`Table::reduced`]'s rows, every extreme kept, and has no Parquet file.
+pub const LIGHT_ROWS: usize = 10_000;
+
 /// Whether a report writes the table of `rows` rows as Parquet too: when it is longer than
 /// [`CSV_ROWS`] (whether or not its CSV is thinned).
 pub fn has_parquet(rows: usize) -> bool {
@@ -99,6 +104,62 @@ impl Table {
             ColumnData::Str(v) => {
                 ColumnData::Str(v.iter().enumerate().filter(|(i, _)| keep(*i)).map(|x| x.1.clone()).collect())
             }
+        };
+        let columns = self.columns.iter().map(|(name, c)| (name.clone(), pick(c))).collect();
+        Table { name: self.name.clone(), description: self.description.clone(), columns }
+    }
+
+    /// The rows that keep every extreme of a long table: every `stride`-th row and the last
+    /// (as [`Table::thinned`]), and in each of `buckets` equal stretches of rows the row of
+    /// the smallest and the largest value of every numeric column (NaN skipped, the first of
+    /// equal values): MinMax reduction, so the largest and smallest value of each column,
+    /// and of each stretch, are rows of the result.
+    pub fn extreme_rows(&self, stride: usize, buckets: usize) -> Vec<usize> {
+        let n = self.height();
+        let mut keep: Vec<usize> = (0..n).filter(|i| i % stride.max(1) == 0 || i + 1 == n).collect();
+        let buckets = buckets.clamp(1, n.max(1));
+        for b in 0..buckets {
+            let (lo, hi) = (b * n / buckets, (b + 1) * n / buckets);
+            for (_, c) in &self.columns {
+                let value = |i: usize| match c {
+                    ColumnData::F64(v) => Some(v[i]),
+                    ColumnData::I64(v) => Some(v[i] as f64),
+                    ColumnData::Str(_) => None,
+                };
+                let mut low: Option<(usize, f64)> = None;
+                let mut high: Option<(usize, f64)> = None;
+                for i in lo..hi {
+                    let Some(x) = value(i).filter(|x| !x.is_nan()) else { continue };
+                    if low.is_none_or(|(_, l)| x < l) {
+                        low = Some((i, x));
+                    }
+                    if high.is_none_or(|(_, h)| x > h) {
+                        high = Some((i, x));
+                    }
+                }
+                keep.extend(low.map(|l| l.0));
+                keep.extend(high.map(|h| h.0));
+            }
+        }
+        keep.sort_unstable();
+        keep.dedup();
+        keep
+    }
+
+    /// The table reduced for a report ([`Table::extreme_rows`]): the CSV's stride rows, and
+    /// each numeric column's extremes in as many stretches as keep at most another
+    /// [`CSV_ROWS`] rows.
+    pub fn reduced(&self) -> Table {
+        let numeric = self.columns.iter().filter(|(_, c)| !matches!(c, ColumnData::Str(_))).count().max(1);
+        self.rows(&self.extreme_rows(csv_stride(self.height(), false), CSV_ROWS / (2 * numeric)))
+    }
+
+    /// The table of the given rows (ascending indices).
+    pub fn rows(&self, rows: &[usize]) -> Table {
+        let pick = |c: &ColumnData| match c {
+            ColumnData::F64(v) => ColumnData::F64(rows.iter().map(|&i| v[i]).collect()),
+            ColumnData::I64(v) => ColumnData::I64(rows.iter().map(|&i| v[i]).collect()),
+            ColumnData::Str(v) => ColumnData::Str(rows.iter().map(|&i| v[i].clone()).collect()),
         };
         let columns = self.columns.iter().map(|(name, c)| (name.clone(), pick(c))).collect();
         Table { name: self.name.clone(), description: self.description.clone(), columns }
@@ -177,6 +238,46 @@ mod tests {
         assert_eq!(curve.column("x").unwrap(), &[0.1, 1.0 / 3.0, 1e-5 * std::f64::consts::PI]);
         assert_eq!(curve.column("k").unwrap(), &[1.0, 2.0, 3.0]);
         assert!(!to_parquet(&t).unwrap().is_empty());
+    }
+
+    #[test]
+    fn the_reduction_keeps_every_extreme_of_every_stretch() {
+        let n = 25_001;
+        let wave: Vec<f64> = (0..n).map(|i| (i as f64 * 0.0251).sin() * (1.0 + (i % 97) as f64 * 1e-3)).collect();
+        let mut spikes = vec![0.0; n];
+        spikes[12_345] = 7.0;
+        spikes[20_001] = -3.0;
+        let t = Table::new("h", "")
+            .f64("t", (0..n).map(|i| i as f64 * 1e-4).collect())
+            .f64("x", wave.clone())
+            .f64("s", spikes)
+            .i64("k", (0..n as i64).map(|i| (i * 7919) % 1000).collect())
+            .str("label", vec!["a".into(); n]);
+        let small = t.reduced();
+        assert!(small.height() <= 2 * CSV_ROWS, "{}", small.height());
+        // Every row of the result is a row of the table, in order.
+        let ColumnData::F64(ts) = &small.columns[0].1 else { panic!("column type") };
+        assert!(ts.windows(2).all(|w| w[0] < w[1]));
+        // The largest and smallest value of every numeric column is kept, the spikes too.
+        for c in 1..4 {
+            let (whole, kept) = (t.columns[c].1.clone(), small.columns[c].1.clone());
+            let values = |d: &ColumnData| match d {
+                ColumnData::F64(v) => v.clone(),
+                ColumnData::I64(v) => v.iter().map(|&x| x as f64).collect(),
+                ColumnData::Str(_) => Vec::new(),
+            };
+            let (w, k) = (values(&whole), values(&kept));
+            let max = |v: &[f64]| v.iter().copied().fold(f64::MIN, f64::max);
+            let min = |v: &[f64]| v.iter().copied().fold(f64::MAX, f64::min);
+            assert_eq!((max(&w), min(&w)), (max(&k), min(&k)), "column {c}");
+        }
+        // Each stretch's extremes of the wave: the rows chosen for 44 stretches.
+        let rows = t.extreme_rows(17, 44);
+        for b in 0..44 {
+            let (lo, hi) = (b * n / 44, (b + 1) * n / 44);
+            let top = (lo..hi).max_by(|&a, &c| wave[a].total_cmp(&wave[c]).then(c.cmp(&a))).unwrap();
+            assert!(rows.binary_search(&top).is_ok(), "stretch {b}: row {top}");
+        }
     }
 
     #[test]

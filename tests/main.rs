@@ -23,6 +23,7 @@ mod follow;
 mod fuzz;
 mod hostile;
 mod impulse;
+mod irregular;
 mod joint;
 mod library;
 mod models;

@@ -39,6 +39,38 @@ pub struct Curve {
     pub radius: Vec<f64>,
     /// Per point: why it stopped early, if it did.
     pub stop: Vec<String>,
+    /// Per point: what the motion is ([`crate::sim::steady::Motion::name`]).
+    pub motion: Vec<&'static str>,
+    /// Per point without a certified orbit: the measurement (statistic's interval, largest
+    /// amplitude, Lyapunov exponent; [`crate::sim::settle::irregular`]).
+    pub measured: Vec<Option<Measurement>>,
+}
+
+/// A point's measurement in a curve's units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measurement {
+    /// Per mass: the half-width of the compliance's 95 % interval.
+    pub half_width: Vec<f64>,
+    /// Per mass: the largest per-period compliance over the kept record.
+    pub largest: Vec<f64>,
+    /// The largest Lyapunov exponent and its interval's half-width, 1/s.
+    pub lyapunov: (f64, f64),
+    /// Periods kept.
+    pub periods: usize,
+    /// The interval met its tolerance.
+    pub met: bool,
+}
+
+impl Measurement {
+    fn of(m: &crate::sim::steady::Measured, force: f64) -> Measurement {
+        Measurement {
+            half_width: m.half_width.iter().map(|h| h / force).collect(),
+            largest: m.largest.iter().map(|h| h / force).collect(),
+            lyapunov: (m.lyapunov, m.lyapunov_half_width),
+            periods: m.periods,
+            met: m.met,
+        }
+    }
 }
 
 /// The curves an experiment computed, found by identity, and the unit of their compliance.
@@ -198,6 +230,8 @@ pub fn from_sweep(
         c.freq_hz.push(p.freq_hz);
         match p.result {
             Ok(s) => {
+                c.motion.push(s.motion.name());
+                c.measured.push(s.measured.as_ref().map(|m| Measurement::of(m, force)));
                 c.stop.push(stop_text(&s));
                 c.compliance.push(s.amplitude.iter().map(|a| a / force).collect());
                 c.converged.push(s.converged);
@@ -210,6 +244,8 @@ pub fn from_sweep(
                 c.radius.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.spectral_radius()));
             }
             Err(e) => {
+                c.motion.push("not computed");
+                c.measured.push(None);
                 c.compliance.push(vec![f64::NAN; n]);
                 c.converged.push(false);
                 c.period.push(0);
@@ -262,6 +298,8 @@ pub fn linear(exp: &Experiment, case: &Case, id: CurveId, label: &str, freq_hz: 
         residual: vec![f64::NAN; m],
         radius: vec![f64::NAN; m],
         stop: vec![String::new(); m],
+        motion: vec!["periodic"; m],
+        measured: vec![None; m],
     }
 }
 
@@ -326,9 +364,27 @@ pub fn table(name: &str, description: &str, curves: &[&Curve], n: usize, beds: u
                 rows.iter().map(|(c, i)| 1e3 * get(&c.max_flight, *i, j)).collect(),
             );
     }
-    t.i64("transient_periods", rows.iter().map(|(c, i)| c.transient[*i] as i64).collect())
+    t = t
+        .i64("transient_periods", rows.iter().map(|(c, i)| c.transient[*i] as i64).collect())
         .f64("orbit_residual", rows.iter().map(|(c, i)| c.residual[*i]).collect())
         .f64("max_multiplier", rows.iter().map(|(c, i)| c.radius[*i]).collect())
+        .str("motion", rows.iter().map(|(c, i)| c.motion.get(*i).copied().unwrap_or("").to_string()).collect());
+    let m = |c: &Curve, i: usize| c.measured.get(i).and_then(|m| m.as_ref()).cloned();
+    for r in 0..n {
+        t = t
+            .f64(
+                format!("c{}_half_width", r + 1),
+                rows.iter().map(|(c, i)| m(c, *i).map_or(f64::NAN, |m| m.half_width[r])).collect(),
+            )
+            .f64(
+                format!("c{}_largest", r + 1),
+                rows.iter().map(|(c, i)| m(c, *i).map_or(f64::NAN, |m| m.largest[r])).collect(),
+            );
+    }
+    t.f64("lyapunov_per_s", rows.iter().map(|(c, i)| m(c, *i).map_or(f64::NAN, |m| m.lyapunov.0)).collect())
+        .f64("lyapunov_half_width", rows.iter().map(|(c, i)| m(c, *i).map_or(f64::NAN, |m| m.lyapunov.1)).collect())
+        .i64("measured_periods", rows.iter().map(|(c, i)| m(c, *i).map_or(0, |m| m.periods as i64)).collect())
+        .i64("interval_met", rows.iter().map(|(c, i)| m(c, *i).map_or(0, |m| m.met as i64)).collect())
         .str("stop", rows.iter().map(|(c, i)| c.stop[*i].clone()).collect())
 }
 

@@ -1,5 +1,7 @@
 //! Compliance figures from curves: one panel with every mass, or one panel per mass.
-//! Points that did not settle or are not period-1 are drawn as crosses, never hidden.
+//! Points that did not settle or are not period-1 are drawn with their class's marker
+//! (period-k circles, quasi-periodic triangles, chaotic crosses, the rest squares) and the
+//! 95 % interval of a measured point as a bar, never hidden.
 
 use crate::experiment::{Experiment, PlotKind, PlotSpec, Scale};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
@@ -24,18 +26,79 @@ pub struct Extras<'a> {
     pub range: (f64, f64),
 }
 
-fn irregular_points(c: &Curve, mass: usize, color: usize, label: &str) -> Option<Series> {
-    let idx: Vec<usize> = (0..c.freq_hz.len()).filter(|&i| !c.regular(i)).collect();
-    if idx.is_empty() {
-        return None;
+/// The points of the curves counted by class, in words, and how the points that are not
+/// certified orbits are drawn and measured.
+pub fn class_words(curves: &[&Curve]) -> String {
+    let all: Vec<&str> = curves.iter().flat_map(|c| c.motion.iter().copied()).collect();
+    let count = |name: &str| all.iter().filter(|m| **m == name).count();
+    let periodic = count("periodic");
+    let (quasi, chaotic) = (count("quasi-periodic"), count("chaotic"));
+    let rest = all.len() - periodic - quasi - chaotic;
+    if all.len() == periodic {
+        return format!("Every one of the {} points is a periodic motion.", all.len());
     }
-    Some(Series::points(
-        label,
-        idx.iter().map(|&i| c.freq_hz[i]).collect(),
-        idx.iter().map(|&i| c.compliance[i][mass]).collect(),
-        color,
-        Marker::Cross,
-    ))
+    format!(
+        "Of the {} points, {periodic} periodic (circles where the period is longer than one forcing period), {quasi} quasi-periodic (triangles), {chaotic} chaotic (crosses: largest Lyapunov exponent above 0), {rest} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes over a stationary record, the bar its 95 % interval.",
+        all.len()
+    )
+}
+
+/// How a point that is not a settled period-1 orbit is drawn: its class's marker and legend
+/// entry.
+fn class_of(c: &Curve, i: usize) -> (Marker, &'static str) {
+    match c.motion.get(i).copied().unwrap_or("") {
+        "periodic" => (Marker::Circle, "periodic, period > 1"),
+        "quasi-periodic" => (Marker::Triangle, "quasi-periodic (torus)"),
+        "chaotic" => (Marker::Cross, "chaotic (Lyapunov exponent > 0)"),
+        _ => (Marker::Square, "not settled (transient, chatter, not computed)"),
+    }
+}
+
+/// The points of `c` that are not settled period-1 orbits, one series per class (marker and
+/// legend entry: [`class_of`]; a class's entry only where `labelled` does not hold it yet),
+/// and the 95 % intervals of the measured ones as vertical bars.
+fn irregular_points(c: &Curve, mass: usize, color: usize, labelled: &mut Vec<&'static str>) -> Vec<Series> {
+    let idx: Vec<usize> = (0..c.freq_hz.len()).filter(|&i| !c.regular(i)).collect();
+    let mut out = Vec::new();
+    let mut classes: Vec<(Marker, &'static str)> = idx.iter().map(|&i| class_of(c, i)).collect();
+    classes.dedup();
+    classes.sort_by_key(|k| k.1);
+    classes.dedup();
+    for (marker, name) in classes {
+        let mine: Vec<usize> = idx.iter().copied().filter(|&i| class_of(c, i).1 == name).collect();
+        let label = if labelled.contains(&name) {
+            ""
+        } else {
+            labelled.push(name);
+            name
+        };
+        out.push(Series::points(
+            label,
+            mine.iter().map(|&i| c.freq_hz[i]).collect(),
+            mine.iter().map(|&i| c.compliance[i][mass]).collect(),
+            color,
+            marker,
+        ));
+    }
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for &i in &idx {
+        let Some(Some(m)) = c.measured.get(i) else { continue };
+        let (v, h) = (c.compliance[i][mass], m.half_width[mass]);
+        if v.is_finite() && h.is_finite() && h > 0.0 {
+            x.extend([c.freq_hz[i], c.freq_hz[i], f64::NAN]);
+            y.extend([v - h, v + h, f64::NAN]);
+        }
+    }
+    if !x.is_empty() {
+        let label = if labelled.contains(&"95 % interval") {
+            ""
+        } else {
+            labelled.push("95 % interval");
+            "95 % interval"
+        };
+        out.push(Series::line(label, x, y, color));
+    }
+    out
 }
 
 /// The figures of an experiment's compliance plots.
@@ -59,9 +122,9 @@ pub fn compliance(
             };
             vlines.extend(extras.marks.iter().cloned());
             let title = p.title.clone().unwrap_or_else(|| format!("{}: {}", exp.meta.figure, exp.meta.title));
-            let first_irregular = shown.iter().position(|c| (0..c.freq_hz.len()).any(|i| !c.regular(i)));
             let panel = |masses: &[usize], panel_title: String, by_mass: bool| {
                 let mut series = Vec::new();
+                let mut labelled = Vec::new();
                 for (ci, c) in shown.iter().enumerate() {
                     for &r in masses {
                         let (color, dash) = if by_mass { (r, DASHES[ci % 4]) } else { (ci, Dash::Solid) };
@@ -71,9 +134,7 @@ pub fn compliance(
                             (false, _) => c.label.clone(),
                         };
                         series.push(Series::line(label, c.freq_hz.clone(), c.compliance.iter().map(|row| row[r]).collect(), color).dashed(dash));
-                        let cross_label =
-                            if r == masses[0] && Some(ci) == first_irregular { "not settled or not period-1" } else { "" };
-                        series.extend(irregular_points(c, r, color, cross_label));
+                        series.extend(irregular_points(c, r, color, &mut labelled));
                     }
                 }
                 for (bi, b) in extras.branches.iter().enumerate() {
@@ -127,10 +188,11 @@ pub fn compliance(
                 id: p.id.clone(),
                 title: title.clone(),
                 caption: format!(
-                    "Compliance amplitude (max - min)/2 / {} with {}{}; crosses: points that did not settle or are not period-1 (their amplitude depends on the record).{}{}",
+                    "Compliance amplitude (max - min)/2 / {} with {}{}. {}{}{}",
                     exp.excitation.symbol(),
                     exp.excitation.at(),
                     if exp.excitation.supports { ", displacements relative to the supports" } else { "" },
+                    class_words(&shown),
                     if extras.branches.is_empty() {
                         ""
                     } else {

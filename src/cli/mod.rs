@@ -176,14 +176,29 @@ pub struct Writing {
     #[arg(long)]
     templates: Option<PathBuf>,
     /// Write every row of every table as CSV (by default a table longer than
-    /// 5 000 rows is thinned in its CSV file; its Parquet file always has every row).
+    /// 1 500 rows is thinned in its CSV file).
     #[arg(long)]
     full_csv: bool,
+    /// Keep every row of every table: a table longer than 10 000 rows (a sampled history)
+    /// is written whole as Parquet, its CSV thinned as for any long table. By default such a
+    /// table's CSV holds at most 1 500 evenly spaced rows plus each column's smallest and
+    /// largest value in each stretch of rows, and it has no Parquet file.
+    #[arg(long)]
+    full_data: bool,
+    /// Write every figure as PNG and as SVG (by default each in the smaller of the two).
+    #[arg(long)]
+    svg: bool,
 }
 
 impl Writing {
     fn options(&self) -> ReportOptions {
-        ReportOptions { templates: self.templates.clone(), full_csv: self.full_csv, ..ReportOptions::default() }
+        ReportOptions {
+            templates: self.templates.clone(),
+            full_csv: self.full_csv,
+            full_data: self.full_data,
+            svg: self.svg,
+            ..ReportOptions::default()
+        }
     }
 }
 

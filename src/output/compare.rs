@@ -105,13 +105,21 @@ fn figures(dir: &Path) -> Result<BTreeMap<String, Vec<String>>> {
     Ok(out)
 }
 
-/// The PNG files directly in `dir`, sorted.
+/// The figures directly in `dir`, sorted: PNG files, and SVG files of figures written only
+/// as SVG (a report writes each figure in the smaller format unless asked for both).
 fn pngs(dir: &Path) -> Result<Vec<String>> {
-    let mut pngs: Vec<String> = std::fs::read_dir(dir)
+    let names: Vec<String> = std::fs::read_dir(dir)
         .map_err(|e| Error::io(dir, e))?
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".png"))
+        .collect();
+    let mut pngs: Vec<String> = names
+        .iter()
+        .filter(|n| {
+            n.ends_with(".png")
+                || n.strip_suffix(".svg").is_some_and(|stem| !names.iter().any(|m| *m == format!("{stem}.png")))
+        })
+        .cloned()
         .collect();
     pngs.sort();
     Ok(pngs)

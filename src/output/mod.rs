@@ -36,6 +36,8 @@ pub struct ReportWriter {
     staging: destination::Staging,
     tera: tera::Tera,
     full_csv: bool,
+    full_data: bool,
+    svg: bool,
     complete: bool,
     smallest_png: bool,
     scans: Vec<scan::Scan>,
@@ -49,14 +51,40 @@ pub struct ReportOptions {
     /// Every row of every table in its CSV file (else long tables are thinned there:
     /// [`table::csv_stride`]; long tables are also written whole as Parquet).
     pub full_csv: bool,
+    /// Every row of every table (`--full-data`): a table longer than [`table::LIGHT_ROWS`]
+    /// is written whole as Parquet with its CSV thinned as for any long table; else its CSV
+    /// holds the rows that keep every extreme ([`crate::table::Table::reduced`]) and it has no
+    /// Parquet file.
+    pub full_data: bool,
+    /// Every figure as PNG and SVG (`--svg`); else each in the smaller of the two.
+    pub svg: bool,
     /// Every experiment a text may quote runs (`shotdamp report`): a placeholder naming one
     /// that did not is an error, not a remark in the text.
     pub complete: bool,
     /// Scans of the paper's figures to draw our curves over ([`scan`]).
     pub scans: Vec<scan::Scan>,
     /// PNG files at the encoder's best compression (`shotdamp report`, whose folder must stay
-    /// under 40 MB: 11 % smaller, about 0.1 s more a figure; [`plot::to_png`]).
+    /// light: 11 % smaller, about 0.1 s more a figure; [`plot::to_png`]).
     pub smallest_png: bool,
+}
+
+/// How a table's data is written ([`ReportWriter::table_files`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum TableFiles {
+    /// Every row in Parquet when the table is long; the CSV file every `stride`-th row.
+    Whole { stride: usize },
+    /// The CSV file holds the rows that keep every extreme; no Parquet file.
+    Reduced,
+}
+
+/// Clears the links of a figure's files that were not written in `dir` (a figure is written
+/// in one format unless both are asked for).
+fn figure_links(dir: &Path, f: &mut view::FigureView) {
+    for link in [&mut f.png, &mut f.svg] {
+        if !link.is_empty() && !dir.join(link.as_str()).is_file() {
+            link.clear();
+        }
+    }
 }
 
 fn write(path: &Path, bytes: &[u8]) -> Result<()> {
@@ -92,6 +120,8 @@ impl ReportWriter {
             staging,
             tera,
             full_csv: options.full_csv,
+            full_data: options.full_data,
+            svg: options.svg,
             complete: options.complete,
             smallest_png: options.smallest_png,
             scans: options.scans.clone(),
@@ -116,16 +146,43 @@ impl ReportWriter {
         mkdir_below(self.staging.dir(), &Path::new(&key).join("data"))?;
         let data = dir.join("data");
         for t in &r.tables {
-            let stride = table::csv_stride(t.height(), self.full_csv);
-            let csv = if stride == 1 { table::to_csv(t)? } else { table::to_csv(&t.thinned(stride))? };
+            let csv = match self.table_files(t) {
+                TableFiles::Reduced => table::to_csv(&t.reduced())?,
+                TableFiles::Whole { stride: 1 } => table::to_csv(t)?,
+                TableFiles::Whole { stride } => table::to_csv(&t.thinned(stride))?,
+            };
             write(&data.join(format!("{}.csv", t.name)), &csv)?;
-            if table::has_parquet(t.height()) {
+            if matches!(self.table_files(t), TableFiles::Whole { .. }) && table::has_parquet(t.height()) {
                 write(&data.join(format!("{}.parquet", t.name)), &table::to_parquet(t)?)?;
             }
         }
         for f in &r.figures {
-            write(&dir.join(format!("{}.png", f.id)), &plot::to_png(f, self.smallest_png)?)?;
-            write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
+            self.write_figure(&dir, f)?;
+        }
+        Ok(())
+    }
+
+    /// How a table is written: whole (every row in Parquet when long, its CSV every
+    /// `stride`-th row), or reduced to the rows that keep its extremes.
+    fn table_files(&self, t: &table::Table) -> TableFiles {
+        if self.full_data || self.full_csv || t.height() <= table::LIGHT_ROWS {
+            TableFiles::Whole { stride: table::csv_stride(t.height(), self.full_csv) }
+        } else {
+            TableFiles::Reduced
+        }
+    }
+
+    /// Writes a figure as `ID.png` and `ID.svg` when both are asked for (`--svg`), else in
+    /// the smaller of the two (a curve of thousands of points is smaller as PNG; a few lines
+    /// as SVG). The pages link the files that exist ([`figure_links`]).
+    fn write_figure(&self, dir: &Path, f: &crate::figure::Figure) -> Result<()> {
+        let png = plot::to_png(f, self.smallest_png)?;
+        let svg = plot::to_svg(f)?;
+        if self.svg || png.len() <= svg.len() {
+            write(&dir.join(format!("{}.png", f.id)), &png)?;
+        }
+        if self.svg || svg.len() < png.len() {
+            write(&dir.join(format!("{}.svg", f.id)), svg.as_bytes())?;
         }
         Ok(())
     }
@@ -172,9 +229,26 @@ impl ReportWriter {
     fn write_page(&self, r: &ExperimentResult) -> Result<()> {
         let mut view = report::experiment_view(r, &r.experiment.path.display().to_string(), &r.experiment.models);
         for (t, table) in view.tables.iter_mut().zip(&r.tables) {
-            t.csv_stride = table::csv_stride(table.height(), self.full_csv);
+            match self.table_files(table) {
+                TableFiles::Whole { stride } => t.csv_stride = stride,
+                TableFiles::Reduced => {
+                    t.csv_stride = table::csv_stride(table.height(), false);
+                    t.reduced = true;
+                    t.parquet = String::new();
+                }
+            }
+        }
+        let dir = self.staging.dir().join(r.experiment.key());
+        for f in &mut view.figures {
+            figure_links(&dir, f);
         }
         view.scans = self.write_scans(r)?;
+        for s in &mut view.scans {
+            let mut links =
+                view::FigureView { png: s.plot.clone(), svg: s.plot.replace(".png", ".svg"), ..Default::default() };
+            figure_links(&dir, &mut links);
+            s.plot = links.image().to_string();
+        }
         let html = report::render(&self.tera, "experiment.html", &view)?;
         write(&self.staging.dir().join(r.experiment.key()).join("index.html"), html.as_bytes())
     }
@@ -237,6 +311,15 @@ impl ReportWriter {
         let joint: Vec<bottom_line::AtJointSetup> =
             studies.iter().filter(|s| !s.manifest.joint.is_empty()).flat_map(bottom_line::at_joint_setup).collect();
         report::mark_joint(&mut index_view, &joint);
+        // Thumbnails of figures written as SVG only.
+        let shown = |rel: &mut String| {
+            let mut links =
+                view::FigureView { png: rel.clone(), svg: rel.replace(".png", ".svg"), ..Default::default() };
+            figure_links(dir, &mut links);
+            *rel = links.image().to_string();
+        };
+        index_view.rows.iter_mut().for_each(|r| shown(&mut r.thumbnail));
+        index_view.figures.iter_mut().for_each(|f| shown(&mut f.thumbnail));
         let index = report::render(&self.tera, "index.html", &index_view)?;
         write(&dir.join("index.html"), index.as_bytes())?;
         write(&dir.join("checks.json"), &checks_json(results)?)?;
@@ -252,10 +335,17 @@ impl ReportWriter {
         mkdir_below(self.staging.dir(), Path::new(id))?;
         let overlays = crate::analysis::models::overlay(runs);
         for f in &overlays {
-            write(&dir.join(format!("{}.png", f.id)), &plot::to_png(f, self.smallest_png)?)?;
-            write(&dir.join(format!("{}.svg", f.id)), plot::to_svg(f)?.as_bytes())?;
+            self.write_figure(&dir, f)?;
         }
         let mut view = models_page::models_view(runs, &overlays);
+        for f in &mut view.overlays {
+            figure_links(&dir, f);
+        }
+        for cell in view.side_by_side.iter_mut().flat_map(|s| s.cells.iter_mut()) {
+            let mut links = view::FigureView { png: cell.1.clone(), svg: cell.2.clone(), ..Default::default() };
+            figure_links(&dir, &mut links);
+            (cell.1, cell.2) = (links.image().to_string(), links.link().to_string());
+        }
         for s in studies.iter().filter(|s| s.manifest.joint.is_empty() && &s.manifest.experiment == id) {
             mkdir_below(self.staging.dir(), &Path::new(id).join("robustness"))?;
             mkdir_below(self.staging.dir(), &Path::new(id).join("data"))?;

@@ -136,6 +136,9 @@ pub struct TableView {
     pub csv: String,
     /// The CSV file holds every `csv_stride`-th row and the last (1: every row).
     pub csv_stride: usize,
+    /// The CSV file holds the rows that keep every extreme ([`crate::table::Table::reduced`]):
+    /// the table is too long for a light report; `--full-data` writes every row.
+    pub reduced: bool,
     /// The Parquet file of a long table, every row ("" for a table whole in its CSV file).
     pub parquet: String,
 }
@@ -265,6 +268,7 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
                 rows: t.height(),
                 csv: format!("data/{}.csv", t.name),
                 csv_stride: 1,
+                reduced: false,
                 parquet: if crate::table::has_parquet(t.height()) {
                     format!("data/{}.parquet", t.name)
                 } else {

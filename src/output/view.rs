@@ -18,16 +18,36 @@ pub fn status_class(s: Status) -> &'static str {
 }
 
 /// A figure with its files.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Default, Serialize)]
 pub struct FigureView {
     /// Title above the figure.
     pub title: String,
     /// One sentence under it.
     pub caption: String,
-    /// Link to the PNG file.
+    /// Link to the PNG file ("" when the figure is written as SVG only).
     pub png: String,
-    /// Link to the SVG file.
+    /// Link to the SVG file ("" when the figure is written as PNG only).
     pub svg: String,
+}
+
+impl FigureView {
+    /// The file the page shows: the PNG when there is one, else the SVG.
+    pub fn image(&self) -> &str {
+        if self.png.is_empty() {
+            &self.svg
+        } else {
+            &self.png
+        }
+    }
+
+    /// The file a click opens: the SVG when there is one (it scales), else the PNG.
+    pub fn link(&self) -> &str {
+        if self.svg.is_empty() {
+            &self.png
+        } else {
+            &self.svg
+        }
+    }
 }
 
 /// Counts of statuses, in words.

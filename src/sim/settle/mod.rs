@@ -3,6 +3,7 @@
 //! (`long_record`), and sweeps of them in frequency (`sweep`). Imports the motion and orbit
 //! rooms.
 
+pub mod irregular;
 pub mod long_record;
 pub mod orbit_search;
 pub mod rest;
@@ -15,7 +16,8 @@ use super::motion::system::Dynamics;
 use steady::{Steady, SteadyMethod, SteadyOptions};
 
 /// Runs from `start` to a steady state and records it (a motion of a non-plastic bed that
-/// never settles gets a long record, [`long_record`]). A system with a column of grains is
+/// never settles gets a long record, [`long_record`]; the paper's plastic bed's is classified
+/// and measured, [`irregular`]). A system with a column of grains is
 /// run by the transient method when the orbit method is asked: the linearised flow has no
 /// saltation for grain-grain collisions. [`SteadyMethod::Certify`] runs the transient method
 /// and then certifies its settled motion as a periodic orbit where it is one, for any bed
@@ -26,5 +28,9 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
         (SteadyMethod::Orbit, false) | (SteadyMethod::Transient, _) => transient::transient_steady(d, start, opts),
         (SteadyMethod::Certify, _) => orbit_search::certify(d, transient::transient_steady(d, start, opts), opts),
     };
-    long_record::extend(d, st)
+    if long_record::applies(d) {
+        long_record::extend(d, st)
+    } else {
+        irregular::measure(d, st, opts)
+    }
 }

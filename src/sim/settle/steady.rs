@@ -15,6 +15,7 @@ use num_complex::Complex64;
 
 use nalgebra::DVector;
 
+pub use super::irregular::{Measure, Measured, Motion};
 use crate::sim::motion::engine::{Bed, Engine, Event, Observer, State, Stop};
 pub use crate::sim::motion::observe::Observe;
 use crate::sim::motion::observe::{stored_energy, Energy, Extrema};
@@ -90,6 +91,9 @@ pub struct SteadyOptions {
     /// The masses whose amplitudes are measured (default: all; the others' are NaN). The
     /// torus test compares those only.
     pub observe: Observe,
+    /// How a point with no certified orbit is classified and measured
+    /// ([`super::irregular`]): record length and the interval's tolerance.
+    pub measure: Measure,
 }
 
 impl std::fmt::Debug for SteadyOptions {
@@ -112,6 +116,11 @@ impl std::fmt::Debug for SteadyOptions {
         if !self.observe.is_all() {
             d.field("observe", &self.observe);
         }
+        // Only when it is not the default (the fingerprints of stored answers, which the report
+        // evaluates again with the measurement, stay those of their files).
+        if self.measure != Measure::default() {
+            d.field("measure", &self.measure);
+        }
         d.finish()
     }
 }
@@ -133,6 +142,7 @@ impl Default for SteadyOptions {
             max_newton: 10,
             follow: false,
             observe: Observe::ALL,
+            measure: Measure::default(),
         }
     }
 }
@@ -323,6 +333,11 @@ pub struct Steady {
     pub stop: Option<Stop>,
     /// The state at the end of the record (to continue a sweep from).
     pub final_state: State,
+    /// What the motion is ([`Motion`]).
+    pub motion: Motion,
+    /// A point with no certified orbit: its statistic, interval and Lyapunov exponent
+    /// ([`super::irregular`]); its `amplitude` is then the statistic.
+    pub measured: Option<Measured>,
 }
 
 impl Steady {
@@ -385,6 +400,13 @@ impl Recorder {
     /// The steady state from this record, which ended in `s` (or stopped with `stop`).
     pub(crate) fn steady(self, d: &Dynamics, s: State, stop: Option<Stop>, o: Outcome) -> Steady {
         let stop = o.stop.or(stop);
+        let motion = match (&stop, &o.failure) {
+            (Some(_), _) => Motion::Chatter,
+            (None, _) if o.converged => Motion::Periodic,
+            (None, Some(NoSteady::Torus { .. })) => Motion::QuasiPeriodic,
+            (None, Some(NoSteady::Aperiodic { .. })) => Motion::Aperiodic,
+            (None, _) => Motion::Transient,
+        };
         let ext = self.ext;
         let record = o.record.max(1);
         let per = |v: &[usize]| v.iter().map(|&c| c as f64 / record as f64).collect::<Vec<_>>();
@@ -410,6 +432,8 @@ impl Recorder {
             }),
             stop,
             final_state: s,
+            motion,
+            measured: None,
         }
     }
 }

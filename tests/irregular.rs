@@ -1,0 +1,185 @@
+//! Irregular motion classified and measured (docs/simulator.md, "Irregular motion"): the
+//! largest Lyapunov exponent from the exact tangent flow against a second method, on a torus
+//! and on a periodic orbit against its Floquet multiplier; the statistic against a record ten
+//! times longer; the energy balance over an irregular record.
+
+use std::f64::consts::PI;
+
+use shotdamp::model::{Clearance, Damper};
+use shotdamp::sim::settle::irregular::{measure, Measure, Motion};
+use shotdamp::sim::{steady_state, Bed, Dynamics, Engine, Quiet, State, SteadyOptions, System};
+
+use crate::common::paper;
+
+/// A point run for `periods` periods without looking for an orbit, then measured.
+fn measured(d: &Dynamics, periods: usize, m: Measure) -> shotdamp::sim::Steady {
+    let opts = SteadyOptions {
+        method: shotdamp::sim::steady::SteadyMethod::Transient,
+        tol: 0.0,
+        max_periods: periods,
+        min_periods: periods,
+        measure: m,
+        ..SteadyOptions::default()
+    };
+    let st = shotdamp::sim::transient::transient_steady(d, State::at_rest(d), &opts);
+    measure(d, st, &opts)
+}
+
+/// A 1 kg table with a bed of `ratio` of its mass, restitution `e`, driven at 10 Hz to a bare
+/// acceleration amplitude `gamma` g.
+fn heavy_ball(gamma: f64, e: f64, ratio: f64) -> Dynamics {
+    use shotdamp::model::{frf::receptance, Clearance, Damper, Damping, Structure, GRAVITY};
+    let omega = 2.0 * PI * 10.0;
+    let host = Structure::chain(&[1.0], &[1e3], Damping::ModalRatios(vec![0.05]));
+    let h = receptance(&host, &host.mass_matrix(), 0, omega).expect("receptance")[0];
+    let force = gamma * GRAVITY / (omega * omega) / h.norm();
+    let sys = shotdamp::sim::System::plastic(host, vec![Damper::new(0, ratio, Clearance::NO_TOP)], 0, force)
+        .with_law(shotdamp::sim::bed::ImpactLaw::with_restitution(e, 1e-3));
+    Dynamics::new(&sys, omega).unwrap()
+}
+
+/// The weighted distance of two states of one bed system (velocities over omega; the bed's
+/// position and velocity at the states' common time).
+fn separation(d: &Dynamics, a: &State, b: &State) -> (Vec<f64>, f64) {
+    let w = d.omega;
+    let (ya, ua) = a.bed_motion(d, 0);
+    let (yb, ub) = b.bed_motion(d, 0);
+    let v = vec![b.x[0] - a.x[0], (b.v[0] - a.v[0]) / w, yb - ya, (ub - ua) / w];
+    let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    (v, n)
+}
+
+/// (a) The exponent of a chaotic point from the tangent flow (saltation matrices at impacts)
+/// against a second method that uses no derivative: two trajectories 1e-9 m apart, the
+/// distance renormalised every period (Benettin et al. 1980), over the same 2000 periods.
+#[test]
+fn the_exponent_of_chaos_agrees_with_two_nearby_trajectories() {
+    let d = heavy_ball(5.0, 0.8, 0.2);
+    let m = Measure::periods(2000, 0.0);
+    let st = measured(&d, 200, m);
+    let got = st.measured.clone().unwrap();
+    assert_eq!(st.motion, Motion::Chaotic, "{got:?}");
+    assert!(got.lyapunov - got.lyapunov_half_width > 1.0, "{got:?}");
+    // The same record again, with a neighbour.
+    let opts = SteadyOptions {
+        method: shotdamp::sim::steady::SteadyMethod::Transient,
+        tol: 0.0,
+        max_periods: 200,
+        min_periods: 200,
+        ..SteadyOptions::default()
+    };
+    let start = shotdamp::sim::transient::transient_steady(&d, State::at_rest(&d), &opts).final_state;
+    let (engine, period, delta) = (Engine::new(&d), 2.0 * PI / d.omega, 1e-9);
+    let mut a = start.clone();
+    let mut dir = [1.0, 1.0, 1.0, 1.0].map(|x: f64| x / 2.0);
+    let (mut sum, mut k) = (0.0, (a.t / period).round());
+    let (discarded, periods) = (got.discarded, got.discarded + got.periods);
+    for i in 0..periods {
+        let mut b = a.clone();
+        b.x[0] += delta * dir[0];
+        b.v[0] += delta * dir[1] * d.omega;
+        if let Bed::Free { .. } = a.beds[0] {
+            let (y, u) = a.bed_motion(&d, 0);
+            b.beds[0] = Bed::Free { t0: a.t, y0: y + delta * dir[2], u0: u + delta * dir[3] * d.omega };
+        }
+        k += 1.0;
+        engine.advance(&mut a, k * period, &mut Quiet).unwrap();
+        engine.advance(&mut b, k * period, &mut Quiet).unwrap();
+        let (v, n) = separation(&d, &a, &b);
+        if i >= discarded {
+            sum += (n / delta).ln();
+        }
+        dir = [v[0] / n, v[1] / n, v[2] / n, v[3] / n];
+    }
+    let second = sum / (got.periods as f64 * period);
+    assert!(
+        (second - got.lyapunov).abs() <= got.lyapunov_half_width,
+        "two trajectories {second:.4}/s, tangent {:.4} +- {:.4}/s",
+        got.lyapunov,
+        got.lyapunov_half_width
+    );
+}
+
+/// (b) On a torus (Fig. 8's stated chain, one bed on m1 at 33.6 Hz, recognised as one by the
+/// orbit search) the exponent is indistinguishable from 0.
+#[test]
+fn a_torus_has_an_exponent_indistinguishable_from_zero() {
+    let m = [0.74, 0.71, 0.64];
+    let sys = System::plastic(paper(), vec![Damper::new(0, 0.1 * m[0], Clearance::NO_TOP)], 0, 2.6);
+    let d = Dynamics::new(&sys, 2.0 * PI * 33.6).unwrap();
+    let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
+    let got = st.measured.clone().expect("measured");
+    assert!(matches!(st.failure, Some(shotdamp::sim::steady::NoSteady::Torus { .. })), "{:?}", st.failure);
+    assert_eq!(st.motion, Motion::QuasiPeriodic, "{got:?}");
+    assert!(got.lyapunov.abs() <= got.lyapunov_half_width, "{got:?}");
+    // A record five times longer narrows the interval around 0: under 0.5 % of growth or decay
+    // a period (a periodic orbit of this chain decays by about 2 % a period, chaos grows by
+    // tens of per cent).
+    let opts = SteadyOptions { measure: Measure::periods(2000, 0.0), ..SteadyOptions::default() };
+    let long = measure(&d, shotdamp::sim::Steady { measured: None, ..st.clone() }, &opts).measured.unwrap();
+    let period = 2.0 * PI / d.omega;
+    assert!(long.lyapunov.abs() <= long.lyapunov_half_width, "{long:?}");
+    assert!(long.lyapunov_half_width * period < 5e-3, "{long:?}");
+}
+
+/// (c) On a stable periodic orbit the exponent is the log of the largest Floquet multiplier's
+/// modulus over the orbit's period (the paper's chain, one bed on m2 at 44 Hz).
+#[test]
+fn on_a_periodic_orbit_the_exponent_is_the_floquet_multipliers() {
+    let m = [0.74, 0.71, 0.64];
+    let sys = System::plastic(paper(), vec![Damper::new(1, 0.1 * m[1], Clearance::NO_TOP)], 0, 2.6);
+    for f in [52.0, 44.0, 40.0] {
+        let d = Dynamics::new(&sys, 2.0 * PI * f).unwrap();
+        let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
+        let cert = st.certificate.clone().expect("a certified orbit");
+        let floquet = cert.spectral_radius().ln() / (st.period as f64 * 2.0 * PI / d.omega);
+        // Measured as if it had not settled: from the orbit, over the default record.
+        let opts = SteadyOptions { measure: Measure::periods(2000, 0.0), ..SteadyOptions::default() };
+        let again = measure(&d, shotdamp::sim::Steady { converged: false, certificate: None, ..st }, &opts);
+        let got = again.measured.clone().unwrap();
+        assert_eq!(again.motion, Motion::Transient, "{f} Hz: contracting: {got:?}");
+        // Within its interval, which is narrow: the structure's slowest decay (a damped mode,
+        // -0.79/s) is told from a torus (0) and from chaos (> 0).
+        assert!(
+            (got.lyapunov - floquet).abs() <= got.lyapunov_half_width && got.lyapunov_half_width < 0.3 * floquet.abs(),
+            "{f} Hz: exponent {:.5} +- {:.5}/s, Floquet {floquet:.5}/s",
+            got.lyapunov,
+            got.lyapunov_half_width
+        );
+    }
+}
+
+/// (d) The statistic of a chaotic point agrees within its interval with that of a record ten
+/// times longer; (f) the energy put in by the force equals what the damping and the impacts
+/// took plus the change in stored energy over the irregular record.
+#[test]
+fn the_statistic_of_chaos_is_that_of_a_ten_times_longer_record_and_energy_balances() {
+    let d = heavy_ball(5.0, 0.8, 0.2);
+    let short = measured(&d, 200, Measure::periods(2000, 0.0)).measured.unwrap();
+    let long = measured(&d, 200, Measure::periods(20_000, 0.0)).measured.unwrap();
+    let (a, b) = (short.statistic[0], long.statistic[0]);
+    assert!(
+        (a - b).abs() <= short.half_width[0],
+        "{a:e} +- {:e} against {b:e} +- {:e}",
+        short.half_width[0],
+        long.half_width[0]
+    );
+    // The long interval is narrower (about sqrt(10)).
+    assert!(long.half_width[0] < 0.6 * short.half_width[0], "{short:?} {long:?}");
+    assert!(long.largest[0] >= short.largest[0] * 0.999);
+    let opts = SteadyOptions {
+        method: shotdamp::sim::steady::SteadyMethod::Transient,
+        tol: 0.0,
+        max_periods: 200,
+        min_periods: 200,
+        energy: true,
+        measure: Measure::periods(1000, 0.0),
+        ..SteadyOptions::default()
+    };
+    let st = shotdamp::sim::transient::transient_steady(&d, State::at_rest(&d), &opts);
+    let st = measure(&d, st, &opts);
+    let e = st.energy.expect("energy terms");
+    assert_eq!(st.recorded_periods, 1000);
+    assert!(e.impact > 0.1 * e.work, "{e:?}");
+    assert!(e.relative_residual() < 1e-9, "{e:?}: {:e}", e.relative_residual());
+}
