@@ -131,8 +131,24 @@ class Steady:
     @property
     def orbit(self) -> Optional[Orbit]: ...
     @property
+    def motion(self) -> str:
+        """"periodic", "quasi-periodic", "chaotic", "transient", "chatter" or "aperiodic"."""
+    @property
+    def lyapunov_per_s(self) -> Optional[float]:
+        """Largest Lyapunov exponent of a point with no certified orbit, 1/s."""
+    @property
+    def lyapunov_half_width(self) -> Optional[float]: ...
+    @property
+    def measured_periods(self) -> int: ...
+    @property
+    def interval_met(self) -> bool: ...
+    @property
     def compliance(self) -> npt.NDArray[np.float64]:
-        """Half peak-to-peak displacement over the force, m/N, per mass."""
+        """Half peak-to-peak displacement over the force, m/N, per mass; at a point with no
+        certified orbit the 95th percentile of the per-period amplitudes over the force."""
+    @property
+    def compliance_half_width(self) -> npt.NDArray[np.float64]:
+        """Half-width of the compliance's 95 % interval, m/N (NaN at a certified orbit)."""
     @property
     def amplitude_m(self) -> npt.NDArray[np.float64]: ...
     @property

@@ -239,6 +239,23 @@ pub struct Steady {
     /// The certificate of a periodic orbit (None when the point is not one).
     #[pyo3(get)]
     orbit: Option<Py<Orbit>>,
+    /// What the motion is: "periodic", "quasi-periodic", "chaotic", "transient", "chatter"
+    /// or "aperiodic".
+    #[pyo3(get)]
+    motion: String,
+    /// A point with no certified orbit: its largest Lyapunov exponent, 1/s (None otherwise).
+    #[pyo3(get)]
+    lyapunov_per_s: Option<f64>,
+    /// The half-width of the exponent's 95 % interval, 1/s (None without a measurement).
+    #[pyo3(get)]
+    lyapunov_half_width: Option<f64>,
+    /// Periods of the measured record after its start was cut (0 without a measurement).
+    #[pyo3(get)]
+    measured_periods: usize,
+    /// The compliance's interval met its tolerance (False without a measurement).
+    #[pyo3(get)]
+    interval_met: bool,
+    half_width: Vec<f64>,
     compliance: Vec<f64>,
     amplitude: Vec<f64>,
     bottom: Vec<f64>,
@@ -250,6 +267,7 @@ impl Steady {
     fn of(py: Python<'_>, freq_hz: f64, s: Found, force: f64, grains: &[usize]) -> PyResult<Steady> {
         let stop = curves::stop_text(&s);
         let orbit = s.certificate.as_ref().map(|c| Orbit::of(freq_hz, s.period, c));
+        let m = s.measured.as_ref();
         Ok(Steady {
             freq_hz,
             converged: s.converged,
@@ -257,6 +275,13 @@ impl Steady {
             transient_periods: s.transient_periods,
             stop,
             orbit: orbit.map(|o| Py::new(py, o)).transpose()?,
+            motion: s.motion.name().to_string(),
+            lyapunov_per_s: m.map(|m| m.lyapunov),
+            lyapunov_half_width: m.map(|m| m.lyapunov_half_width),
+            measured_periods: m.map_or(0, |m| m.periods),
+            interval_met: m.is_some_and(|m| m.met),
+            half_width: m
+                .map_or(vec![f64::NAN; s.amplitude.len()], |m| m.half_width.iter().map(|h| h / force).collect()),
             compliance: s.amplitude.iter().map(|a| a / force).collect(),
             amplitude: s.amplitude.clone(),
             bottom: curves::per_container(s.bottom_impacts, grains, false),
@@ -272,6 +297,13 @@ impl Steady {
     #[getter(compliance)]
     fn compliance_array<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         array1(py, self.compliance.clone())
+    }
+
+    /// Half-width of each mass's compliance 95 % interval, m/N (NaN without a measurement:
+    /// a certified orbit is exact).
+    #[getter(compliance_half_width)]
+    fn half_width_array<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.half_width.clone())
     }
 
     /// Half peak-to-peak displacement of each mass, m.

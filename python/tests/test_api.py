@@ -135,6 +135,20 @@ def test_a_certified_orbit_has_its_multipliers():
     assert o.spectral_radius == pytest.approx(np.abs(o.multipliers).max(), rel=1e-15)
     x, v = o.section
     assert x.shape == (3,) and v.shape == (3,)
+    assert st.motion == "periodic" and st.lyapunov_per_s is None and st.measured_periods == 0
+    assert np.all(np.isnan(st.compliance_half_width))
+
+
+def test_a_point_with_no_orbit_is_classified_and_measured():
+    # Fig. 8's chain, one bed on m1 without a lid, 33.6 Hz: a torus (tests/irregular.rs).
+    system = sd.System(paper_structure(), [sd.Damper(mass=1, mass_ratio=0.1, clearance_mm="inf")], force_n=2.6)
+    st = system.steady_state(33.6)
+    assert not st.converged and st.orbit is None
+    assert st.motion == "quasi-periodic", st.motion
+    assert abs(st.lyapunov_per_s) <= st.lyapunov_half_width
+    assert st.measured_periods >= 400 and st.interval_met
+    hw = st.compliance_half_width
+    assert np.all(np.isfinite(hw)) and np.all(hw <= 0.01 * st.compliance.max())
 
 
 def test_impulse_energy_balance_for_every_bed_model():
