@@ -31,6 +31,7 @@ mod periodic;
 mod readings;
 mod reliability;
 mod repeated;
+mod report_budget;
 mod report_files;
 mod restitution;
 mod review;

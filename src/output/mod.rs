@@ -19,6 +19,7 @@ pub mod study_words;
 pub mod svg;
 pub mod texts;
 pub mod view;
+pub mod weight;
 
 use std::path::{Path, PathBuf};
 
