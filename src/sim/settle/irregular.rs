@@ -342,7 +342,8 @@ pub fn measure(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
     tangent.m /= first;
     let mut energy = opts.energy.then(Energy::default);
     let e0 = if opts.energy { stored_energy(d, &s) } else { 0.0 };
-    // The whole record's extrema and counts, gathered from the periods'.
+    // The whole record's counts and flights, gathered from the periods' (its largest
+    // amplitude over the kept record is the periods' largest, `Measured::largest`).
     let mut whole = Extrema::observing(n, nb, opts.observe);
     let mut series = Series { amplitude: vec![Vec::new(); n], log_stretch: Vec::new() };
     let mut stop: Option<Stop> = None;
@@ -364,8 +365,6 @@ pub fn measure(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
         let a = per.amplitudes();
         for &i in &observed {
             series.amplitude[i].push(a[i]);
-            whole.min[i] = whole.min[i].min(per.min[i]);
-            whole.max[i] = whole.max[i].max(per.max[i]);
         }
         for j in 0..nb {
             whole.bottom_impacts[j] += per.bottom_impacts[j];
