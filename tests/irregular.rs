@@ -183,3 +183,62 @@ fn the_statistic_of_chaos_is_that_of_a_ten_times_longer_record_and_energy_balanc
     assert!(e.impact > 0.1 * e.work, "{e:?}");
     assert!(e.relative_residual() < 1e-9, "{e:?}: {:e}", e.relative_residual());
 }
+
+/// A design's hand-over ([`Measure::handed_over`]): a torus handed to the measurement after 100
+/// periods is measured within the steady state's one budget, at a fraction of the cost of the
+/// measurement after the whole search, and its statistic agrees with that one within their
+/// intervals; a point whose orbit the search had not found when it was handed over (after 5
+/// periods, before its first attempt) is handed back when its exponent shows it contracts, and
+/// the search then finds the orbit the search alone finds.
+#[test]
+fn a_point_handed_over_early_gives_the_same_answer_within_one_budget() {
+    let m = [0.74, 0.71, 0.64];
+    let sys = System::plastic(paper(), vec![Damper::new(0, 0.1 * m[0], Clearance::NO_TOP)], 0, 2.6);
+    let d = Dynamics::new(&sys, 2.0 * PI * 33.6).unwrap();
+    let whole = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
+    let opts = SteadyOptions { measure: Measure::handed_over(100, 0.01), ..SteadyOptions::default() };
+    let early = steady_state(&d, State::at_rest(&d), &opts);
+    let (a, b) = (whole.measured.clone().unwrap(), early.measured.clone().expect("measured"));
+    assert_eq!(early.motion, Motion::QuasiPeriodic, "{b:?}");
+    let spent = |s: &shotdamp::sim::Steady, x: &shotdamp::sim::settle::irregular::Measured| {
+        s.transient_periods - x.discarded + s.recorded_periods
+    };
+    assert!(spent(&early, &b) <= opts.max_periods, "{} periods", spent(&early, &b));
+    assert!(2 * spent(&early, &b) < spent(&whole, &a), "{} against {}", spent(&early, &b), spent(&whole, &a));
+    for i in 0..3 {
+        let (x, y) = (a.statistic[i], b.statistic[i]);
+        assert!(
+            (x - y).abs() <= a.half_width[i] + b.half_width[i],
+            "m{}: {x:e} +- {:e} against {y:e} +- {:e}",
+            i + 1,
+            a.half_width[i],
+            b.half_width[i]
+        );
+    }
+    let sys = System::plastic(paper(), vec![Damper::new(1, 0.1 * m[1], Clearance::NO_TOP)], 0, 2.6);
+    for f in [52.0, 44.0, 40.0] {
+        let d = Dynamics::new(&sys, 2.0 * PI * f).unwrap();
+        let plain = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
+        let opts = SteadyOptions { measure: Measure::handed_over(5, 0.01), ..SteadyOptions::default() };
+        let handed = steady_state(&d, State::at_rest(&d), &opts);
+        assert!(
+            plain.converged && handed.converged,
+            "{f} Hz: {:?} {:?} {:?} plain {}",
+            handed.failure,
+            handed.motion,
+            handed.measured,
+            plain.transient_periods
+        );
+        assert_eq!((handed.motion, handed.period), (Motion::Periodic, plain.period), "{f} Hz");
+        // Handed back after at least ALIGN + STEP periods of the measurement.
+        assert!(
+            handed.transient_periods > 150,
+            "{f} Hz: handed back after the measurement: {}",
+            handed.transient_periods
+        );
+        for i in 0..3 {
+            let (x, y) = (plain.amplitude[i], handed.amplitude[i]);
+            assert!((x - y).abs() <= 1e-9 * x, "{f} Hz, m{}: {x:e} against {y:e}", i + 1);
+        }
+    }
+}

@@ -9,10 +9,11 @@ use rayon::prelude::*;
 
 use crate::checks::reference::ReferenceStore;
 use crate::design::search::{self, Found};
-use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem, Spec, PROFILE_POINTS};
+use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Point, Problem, Spec, PROFILE_POINTS};
 use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::number::{fmt_num, fmt_sig};
+use crate::sim::settle::irregular::Motion as Class;
 use crate::sim::SteadyOptions;
 use crate::table::Table;
 
@@ -57,6 +58,9 @@ fn layouts_table(
         e.worst.1 == f[0] || e.worst.1 == f[f.len() - 1]
     };
     let edges = rows.iter().filter(|r| at_edge(&r.2)).count();
+    // The row with the lowest objective, whose interval the others' are compared with.
+    let lowest =
+        rows.iter().map(|r| &r.2).filter(|e| !e.objective.is_nan()).min_by(|x, y| x.objective.total_cmp(&y.objective));
     let description = if edges > 0 {
         format!(
             "{description}. CAUTION: in {edges} row(s) the largest compliance lies at a band's first or last frequency (worst_at_band_edge = 1): the damped resonance has moved to the edge, and the band, not the dampers, limits that objective; widen the band"
@@ -64,6 +68,9 @@ fn layouts_table(
     } else {
         description.to_string()
     };
+    let description = format!(
+        "{description}. measured_points: steady states with no certified orbit, measured as irregular motion (chaotic_points of them chaotic); objective_half_width: the half-width of the objective's 95 % interval from the measured points it rests on (0: every one a certified orbit); equal_to_lowest_within_intervals: 1 where the row's interval overlaps the lowest objective's"
+    );
     let mut t = Table::new(name, description)
         .str("layout", rows.iter().map(|r| r.0.clone()).collect())
         .str("hosts", rows.iter().map(|r| hosts_words(&r.1)).collect())
@@ -83,6 +90,13 @@ fn layouts_table(
     .i64("worst_at_band_edge", rows.iter().map(|r| i64::from(at_edge(&r.2))).collect())
     .str("scenario", rows.iter().map(|r| scenarios.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
     .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
+    .i64("measured_points", rows.iter().map(|r| r.2.measured() as i64).collect())
+    .i64("chaotic_points", rows.iter().map(|r| r.2.classes[2] as i64).collect())
+    .f64("objective_half_width", rows.iter().map(|r| r.2.half_width).collect())
+    .i64(
+        "equal_to_lowest_within_intervals",
+        rows.iter().map(|r| i64::from(lowest.is_some_and(|l| l.overlaps(&r.2)))).collect(),
+    )
     .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
 }
 
@@ -406,6 +420,68 @@ fn pareto(exp: &Experiment, spec: &Spec, names: &[String], front: &[(f64, Found)
     (table, figure)
 }
 
+/// The drawn points of the layouts with shot counted by class, in words.
+fn drawn_classes(evaluations: &[Option<&Evaluation>]) -> String {
+    let mut count = [0usize; 6];
+    for e in evaluations.iter().flatten() {
+        for p in e.points_class.iter().flatten().flatten() {
+            count[Class::ALL.iter().position(|c| *c == p.class).unwrap_or(3)] += 1;
+        }
+    }
+    let all: usize = count.iter().sum();
+    if count[0] == all {
+        return "Every point with shot is a periodic orbit.".into();
+    }
+    format!(
+        "Of the {all} points with shot (per frequency and mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.",
+        count[0],
+        count[1],
+        count[2],
+        count[3] + count[4] + count[5]
+    )
+}
+
+/// A design curve's points that are not certified orbits (frequency, compliance, the point
+/// behind it), drawn with their class's marker ([`super::figures::class_marker`]) and their
+/// intervals as bars, each legend entry once (`labelled`).
+fn class_points(at: &[(f64, f64, Point)], color: usize, labelled: &mut Vec<&'static str>) -> Vec<Series> {
+    let mut label = |name: &'static str| {
+        if labelled.contains(&name) {
+            ""
+        } else {
+            labelled.push(name);
+            name
+        }
+    };
+    let irregular: Vec<&(f64, f64, Point)> = at.iter().filter(|p| p.2.class != Class::Periodic).collect();
+    let mut out = Vec::new();
+    for class in Class::ALL.iter().skip(1) {
+        let mine: Vec<_> = irregular.iter().filter(|p| p.2.class == *class).collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let (marker, name) = super::figures::class_marker(class.name());
+        out.push(Series::points(
+            label(name),
+            mine.iter().map(|p| p.0).collect(),
+            mine.iter().map(|p| p.1).collect(),
+            color,
+            marker,
+        ));
+    }
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for (f, v, p) in irregular {
+        if v.is_finite() && p.half_width.is_finite() && p.half_width > 0.0 {
+            x.extend([*f, *f, f64::NAN]);
+            y.extend([v - p.half_width, v + p.half_width, f64::NAN]);
+        }
+    }
+    if !x.is_empty() {
+        out.push(Series::line(label("95 % interval"), x, y, color));
+    }
+    out
+}
+
 /// The compliance over each band of the bare structure, the best layout and the cases (the
 /// worst of the sweeps at each frequency): a long table and a figure of one panel per band.
 fn compliance_figure(
@@ -420,6 +496,9 @@ fn compliance_figure(
     let mut layouts: Vec<(String, &Vec<Vec<Vec<f64>>>)> = vec![("bare".into(), bare)];
     layouts.push((format!("best: {}", hosts_words(&best.layout)), &best.evaluation.curves));
     layouts.extend(cases.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.2.curves)));
+    // The points behind them (none for the bare structure, whose points are all orbits).
+    let mut classes: Vec<Option<&Evaluation>> = vec![None, Some(&best.evaluation)];
+    classes.extend(cases.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| Some(&c.2)));
     // (layout, band, frequency, mass, compliance)
     let mut rows: Vec<(String, String, f64, i64, f64)> = Vec::new();
     for (label, curves) in &layouts {
@@ -460,13 +539,19 @@ fn compliance_figure(
                 (band.freq_hz[0], band.freq_hz[band.freq_hz.len() - 1]),
             )
             .log_y();
+            let mut labelled = Vec::new();
             for (k, (label, curves)) in layouts.iter().enumerate() {
                 let Some(c) = curves.get(b) else { continue };
                 for &m in &band.masses {
                     let y: Vec<f64> = c.iter().map(|r| r[m]).collect();
                     let name = if band.masses.len() > 1 { format!("{label}, m{}", m + 1) } else { label.clone() };
-                    let s = Series::line(name, band.freq_hz.clone(), y, k);
+                    let s = Series::line(name, band.freq_hz.clone(), y.clone(), k);
                     panel.series.push(if k == 0 { s.dashed(Dash::Dashed) } else { s });
+                    if let Some(points) = classes.get(k).copied().flatten().and_then(|e| e.points_class.get(b)) {
+                        let at: Vec<(f64, f64, Point)> =
+                            band.freq_hz.iter().zip(&y).zip(points).map(|((f, v), p)| (*f, *v, p[m])).collect();
+                        panel.series.extend(class_points(&at, k, &mut labelled));
+                    }
                 }
             }
             panel
@@ -476,7 +561,7 @@ fn compliance_figure(
     let figure = Figure {
         id: "design_compliance".into(),
         title: format!("{}: the best layout against the bare structure and the cases", exp.meta.figure),
-        caption: format!("Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}."),
+        caption: format!("Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}. {}", drawn_classes(&classes)),
         panels,
     };
     (table, figure)

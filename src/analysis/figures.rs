@@ -46,7 +46,13 @@ pub fn class_words(curves: &[&Curve]) -> String {
 /// How a point that is not a settled period-1 orbit is drawn: its class's marker and legend
 /// entry.
 fn class_of(c: &Curve, i: usize) -> (Marker, &'static str) {
-    match c.motion.get(i).copied().unwrap_or("") {
+    class_marker(c.motion.get(i).copied().unwrap_or(""))
+}
+
+/// The marker and legend entry of a motion class ([`crate::sim::steady::Motion::name`]) drawn
+/// as a point that is not a settled period-1 orbit (the design pages' too).
+pub fn class_marker(class: &str) -> (Marker, &'static str) {
+    match class {
         "periodic" => (Marker::Circle, "periodic, period > 1"),
         "quasi-periodic" => (Marker::Triangle, "quasi-periodic (torus)"),
         "chaotic" => (Marker::Cross, "chaotic (Lyapunov exponent > 0)"),

@@ -14,9 +14,20 @@ pub mod stored;
 use rayon::prelude::*;
 
 use crate::model::{Clearance, Damper, Structure};
+use crate::sim::settle::irregular::{self, Motion as Class};
 use crate::sim::sweep::{self, Direction, SweepPoint};
 use crate::sim::system::{Dynamics, SetupError};
 use crate::sim::{SteadyOptions, System};
+
+/// Periods of a design point's orbit search before a point with no orbit is measured
+/// ([`irregular::handed_over`]): an irregular point then costs about 550 periods of its
+/// budget instead of all of it.
+pub const HAND_OVER: usize = 100;
+
+/// Half-width of a design point's 95 % interval, relative to its statistic, at which its
+/// measurement ends (the report's sweeps use 1 %): a design compares layouts whose objectives
+/// differ by more, and says where two are equal within their intervals.
+pub const INTERVAL_TOL: f64 = 0.05;
 
 /// What a design file asks (`[design]`, validated): see docs/design.md.
 #[derive(Debug, Clone, PartialEq)]
@@ -404,13 +415,61 @@ pub struct Evaluation {
     /// The first scenario's compliance per band, frequency and mass (m/N; the nominal
     /// structure when there are no scenarios), for figures.
     pub curves: Vec<Vec<Vec<f64>>>,
-    /// Points without a settled stable periodic orbit (their compliance is the amplitude of the
-    /// motion over the recorded periods: see docs/design.md).
+    /// Points without a settled stable periodic orbit (their compliance is the statistic of
+    /// their measured motion, [`Point`]: see docs/design.md).
     pub unsettled: usize,
     /// Steady states computed.
     pub points: usize,
     /// Per band: how the beds moved (the worst scenario's): the layout's drive level.
     pub motion: Vec<Motion>,
+    /// The half-width of the objective's 95 % interval (0 where every point it rests on is
+    /// a certified orbit; from the measured points' intervals, [`Point::half_width`]).
+    pub half_width: f64,
+    /// Per band: the half-width of its measure's interval (the worst scenario's).
+    pub bands_half_width: Vec<f64>,
+    /// Steady states of each class ([`Class::ALL`]'s order), over every scenario.
+    pub classes: [usize; 6],
+    /// Steady states measured as irregular motion (a statistic with its interval), over every
+    /// scenario.
+    pub measured: usize,
+    /// The first scenario's points per band, frequency and mass, beside `curves`: the class
+    /// of the motion that set each compliance and its interval.
+    pub points_class: Vec<Vec<Vec<Point>>>,
+}
+
+/// The point behind one compliance of a band's curve: its motion's class and the half-width
+/// of its 95 % interval (m/N; 0 for a certified orbit or a point not measured; where the
+/// interval did not meet its tolerance, the one the measurement gave).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Point {
+    /// The class of the motion.
+    pub class: Class,
+    /// The half-width of the compliance's 95 % interval, m/N.
+    pub half_width: f64,
+}
+
+impl Default for Point {
+    fn default() -> Self {
+        Point { class: Class::Periodic, half_width: 0.0 }
+    }
+}
+
+impl Evaluation {
+    /// The objective's interval, (low, high).
+    pub fn interval(&self) -> (f64, f64) {
+        (self.objective - self.half_width, self.objective + self.half_width)
+    }
+
+    /// Whether this evaluation and `other` are equal within their intervals.
+    pub fn overlaps(&self, other: &Evaluation) -> bool {
+        let (a, b) = (self.interval(), other.interval());
+        a.0 <= b.1 && b.0 <= a.1
+    }
+
+    /// Points measured as irregular motion.
+    pub fn measured(&self) -> usize {
+        self.measured
+    }
 }
 
 #[cfg(test)]
@@ -428,6 +487,11 @@ impl Evaluation {
             unsettled,
             points,
             motion: Vec::new(),
+            half_width: 0.0,
+            bands_half_width: vec![0.0],
+            classes: [points - unsettled, 0, 0, unsettled, 0, 0],
+            measured: 0,
+            points_class: Vec::new(),
         }
     }
 }
@@ -459,8 +523,20 @@ impl Motion {
 /// Compliance of every mass at each frequency of `band` for `sys`, the largest over `sweeps`,
 /// and the number of unsettled points.
 pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &SteadyOptions) -> (Vec<Vec<f64>>, usize) {
-    let (c, unsettled, _) = band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady);
-    (c, unsettled)
+    let b = band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady);
+    (b.compliance, b.unsettled)
+}
+
+/// A band's sweeps of one layout.
+struct BandRun {
+    /// Per frequency and mass: the largest compliance over the sweeps.
+    compliance: Vec<Vec<f64>>,
+    /// Per frequency and mass: the point that set it.
+    points: Vec<Vec<Point>>,
+    unsettled: usize,
+    motion: Motion,
+    classes: [usize; 6],
+    measured: usize,
 }
 
 /// [`band_compliance`] of a system already decomposed (`base`, [`Dynamics::unforced`] of
@@ -471,15 +547,22 @@ fn band_compliance_on(
     band: &Band,
     sweeps: &[Sweep],
     steady: &SteadyOptions,
-) -> (Vec<Vec<f64>>, usize, Motion) {
+) -> BandRun {
     let n = sys.dof();
-    // A design's points are not measured as irregular motion yet: an unsettled point is the
-    // amplitude over the record after its budget, as before (docs/design.md, "unsettled
-    // points"); measuring them would add up to the budget again to every such point.
-    let steady = &SteadyOptions { measure: crate::sim::steady::Measure::periods(0, steady.measure.tol), ..*steady };
+    // A point with no orbit after HAND_OVER periods is measured as irregular motion within the
+    // same budget, to the design's tolerance (docs/design.md); steady settings that state a
+    // measurement of their own keep it (`Measure::periods(0, _)`: none, the short record).
+    let measure = match steady.measure == irregular::Measure::default() {
+        true => irregular::Measure::handed_over(HAND_OVER, INTERVAL_TOL),
+        false => steady.measure,
+    };
+    let steady = &SteadyOptions { measure, ..*steady };
     let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
+    let mut behind = vec![vec![Point::default(); n]; band.freq_hz.len()];
     let mut unsettled = 0;
     let mut motion = Motion::default();
+    let mut classes = [0; 6];
+    let mut measured = 0;
     // The dynamics at each frequency, shared by the continued sweeps; the sweeps run side by
     // side and are gathered in order.
     let forced = sweeps.iter().any(|s| *s != Sweep::Rest).then(|| sweep::forced_at(base, &band.freq_hz));
@@ -503,6 +586,9 @@ fn band_compliance_on(
                     if !st.converged {
                         unsettled += 1;
                     }
+                    classes[Class::ALL.iter().position(|c| *c == st.motion).unwrap_or(3)] += 1;
+                    measured += usize::from(st.measured.is_some());
+                    let half = |m: usize| st.measured.as_ref().map_or(0.0, |x| x.half_width[m] / sys.force);
                     if st.liftoffs.iter().any(|&l| l > 0.0) || st.max_flight.iter().any(|&f| f > 0.0) {
                         motion.lifting += 1;
                     }
@@ -511,21 +597,39 @@ fn band_compliance_on(
                     // its record) counts as a point without a steady state at all.
                     // A mass not measured ([`SteadyOptions::observe`]) has no compliance.
                     for (m, (w, a)) in worst[i].iter_mut().zip(&st.amplitude).enumerate() {
+                        let was = *w;
                         *w = match steady.observe.contains(m) {
                             false => f64::NAN,
                             true if a.is_nan() => f64::INFINITY,
                             true => w.max(a / sys.force),
                         };
+                        if *w != was || (a / sys.force == *w && st.motion != Class::Periodic) {
+                            behind[i][m] = Point { class: st.motion, half_width: half(m) };
+                        }
                     }
                 }
                 Err(_) => {
                     unsettled += 1;
+                    classes[3] += 1;
                     worst[i].iter_mut().for_each(|w| *w = f64::INFINITY);
+                    behind[i].iter_mut().for_each(|p| *p = Point { class: Class::Transient, half_width: 0.0 });
                 }
             }
         }
     }
-    (worst, unsettled, motion)
+    BandRun { compliance: worst, points: behind, unsettled, motion, classes, measured }
+}
+
+/// The half-width of a band's measure ([`measure`]) from its points' intervals: the peak's
+/// own; for the RMS, the largest of the band's (the RMS moves by at most the largest shift).
+pub fn measure_half_width(band: &Band, points: &[Vec<Point>], at: (usize, usize), how: Measure) -> f64 {
+    let hw = |p: &Point| if p.half_width.is_finite() { p.half_width } else { 0.0 };
+    match how {
+        Measure::Peak => points.get(at.0).and_then(|r| r.get(at.1)).map_or(0.0, hw),
+        Measure::Rms => {
+            points.iter().flat_map(|r| band.masses.iter().filter_map(|&m| r.get(m)).map(hw)).fold(0.0, f64::max)
+        }
+    }
 }
 
 /// The measure of a band's compliances, and the frequency index and mass of its largest one.
@@ -580,8 +684,16 @@ struct ScenarioRun {
     points: usize,
     /// Per band, frequency and mass: the compliance.
     curves: Vec<Vec<Vec<f64>>>,
+    /// Per band, frequency and mass: the point behind it.
+    point_classes: Vec<Vec<Vec<Point>>>,
     /// Per band: how the beds moved.
     motion: Vec<Motion>,
+    /// Per band: its measure's half-width.
+    bands_half_width: Vec<f64>,
+    /// The half-width of `relative`.
+    half_width: f64,
+    classes: [usize; 6],
+    measured: usize,
 }
 
 /// One scenario of a layout: its bands' measures, its objective, where the worst is.
@@ -593,6 +705,11 @@ fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> 
     let mut points = 0;
     let mut curves = Vec::with_capacity(problem.bands.len());
     let mut motion = Vec::with_capacity(problem.bands.len());
+    let mut all_points = Vec::with_capacity(problem.bands.len());
+    let mut bands_half_width = Vec::with_capacity(problem.bands.len());
+    let mut half_width = 0.0;
+    let mut classes = [0; 6];
+    let mut measured = 0;
     let base = Dynamics::unforced(&sys);
     // The bands side by side, gathered in order.
     let swept: Vec<_> = problem
@@ -600,19 +717,38 @@ fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> 
         .par_iter()
         .map(|band| band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady))
         .collect();
-    for ((k, band), (c, u, m)) in problem.bands.iter().enumerate().zip(swept) {
-        unsettled += u;
-        motion.push(m);
+    for ((k, band), run) in problem.bands.iter().enumerate().zip(swept) {
+        unsettled += run.unsettled;
+        motion.push(run.motion);
+        classes.iter_mut().zip(run.classes).for_each(|(a, b)| *a += b);
+        measured += run.measured;
         points += band.freq_hz.len() * problem.sweeps.len();
-        let (value, i, m) = measure(band, &c, problem.measure);
+        let (value, i, m) = measure(band, &run.compliance, problem.measure);
+        let hw = measure_half_width(band, &run.points, (i, m), problem.measure);
         bands.push(value);
+        bands_half_width.push(hw);
         let relative = value / bare[k];
         if relative > worst.0 || relative.is_nan() {
             worst = (relative, (k, band.freq_hz[i], m));
+            half_width = hw / bare[k];
         }
-        curves.push(c);
+        curves.push(run.compliance);
+        all_points.push(run.points);
     }
-    ScenarioRun { bands, relative: worst.0, worst: worst.1, unsettled, points, curves, motion }
+    ScenarioRun {
+        bands,
+        relative: worst.0,
+        worst: worst.1,
+        unsettled,
+        points,
+        curves,
+        point_classes: all_points,
+        motion,
+        bands_half_width,
+        half_width,
+        classes,
+        measured,
+    }
 }
 
 /// Evaluates one layout (`bare`: per scenario, the bands' measures without dampers, from
@@ -624,10 +760,18 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
     let objectives: Vec<f64> = runs.iter().map(|r| r.relative).collect();
     let worst_scenario =
         objectives.iter().enumerate().fold(0, |w, (i, o)| if *o > objectives[w] || o.is_nan() { i } else { w });
-    let objective = match problem.combine {
-        Combine::Worst => objectives[worst_scenario],
-        Combine::Mean => objectives.iter().sum::<f64>() / objectives.len() as f64,
+    let (objective, half_width) = match problem.combine {
+        Combine::Worst => (objectives[worst_scenario], runs[worst_scenario].half_width),
+        // The mean moves by at most the mean of the shifts.
+        Combine::Mean => {
+            let k = objectives.len() as f64;
+            (objectives.iter().sum::<f64>() / k, runs.iter().map(|r| r.half_width).sum::<f64>() / k)
+        }
     };
+    let mut classes = [0; 6];
+    for r in &runs {
+        classes.iter_mut().zip(r.classes).for_each(|(a, b)| *a += b);
+    }
     let w = &runs[worst_scenario];
     Evaluation {
         bands: w.bands.clone(),
@@ -639,7 +783,12 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
         unsettled: runs.iter().map(|r| r.unsettled).sum(),
         points: runs.iter().map(|r| r.points).sum(),
         motion: runs[worst_scenario].motion.clone(),
+        half_width,
+        bands_half_width: runs[worst_scenario].bands_half_width.clone(),
+        classes,
+        measured: runs.iter().map(|r| r.measured).sum(),
         curves: std::mem::take(&mut runs[0].curves),
+        points_class: std::mem::take(&mut runs[0].point_classes),
     }
 }
 

@@ -409,6 +409,11 @@ fn curve_json(c: &curves::Curve, kind: &str) -> Value {
         "period": c.period,
         "radius": c.radius.iter().map(|r| if r.is_finite() { Some(*r) } else { None }).collect::<Vec<_>>(),
         "stop": c.stop,
+        // Each point's class, and for a measured one the half-width of each mass's
+        // compliance interval and the largest Lyapunov exponent (null otherwise).
+        "motion": c.motion,
+        "half_width": c.measured.iter().map(|m| m.as_ref().map(|m| m.half_width.iter().map(|h| number(*h)).collect::<Vec<_>>())).collect::<Vec<_>>(),
+        "lyapunov_per_s": c.measured.iter().map(|m| m.as_ref().map(|m| [number(m.lyapunov.0), number(m.lyapunov.1)])).collect::<Vec<_>>(),
     })
 }
 
@@ -547,6 +552,11 @@ fn setup(exp: &Experiment, models: &[Model]) -> Value {
         "start": if continuation { "continuation" } else { "rest" },
         "max_points": MAX_POINTS,
     })
+}
+
+/// A number, or null where it is not finite (not measured).
+fn number(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
 }
 
 fn finite(x: f64) -> Value {

@@ -68,18 +68,29 @@ pub struct Measure {
     pub max_periods: Option<usize>,
     /// Largest half-width of a statistic's 95 % interval, relative to the largest statistic.
     pub tol: f64,
+    /// `Some(h)`: the orbit search hands a point with no orbit after `h` periods over to the
+    /// measurement, which hands it back when the motion contracts ([`handed_over`]); the
+    /// search and the measurement then share the steady state's one budget. `None`: the
+    /// measurement starts where the whole search ended (the report's sweeps).
+    pub hand_over: Option<usize>,
 }
 
 impl Default for Measure {
     fn default() -> Self {
-        Measure { max_periods: None, tol: 0.01 }
+        Measure { max_periods: None, tol: 0.01, hand_over: None }
     }
 }
 
 impl Measure {
     /// At most this many periods, whatever the steady state's budget.
     pub fn periods(max_periods: usize, tol: f64) -> Measure {
-        Measure { max_periods: Some(max_periods), tol }
+        Measure { max_periods: Some(max_periods), tol, hand_over: None }
+    }
+
+    /// Handed over after `hand_over` periods of the orbit search, to an interval of `tol`,
+    /// within the steady state's one budget ([`handed_over`]).
+    pub fn handed_over(hand_over: usize, tol: f64) -> Measure {
+        Measure { max_periods: None, tol, hand_over: Some(hand_over) }
     }
 
     /// The budget under steady-state options of budget `steady_max`.
@@ -277,6 +288,12 @@ struct Series {
 }
 
 impl Series {
+    /// The exponent's interval over the record after the alignment lies below 0.
+    fn contracting(&self) -> bool {
+        let (l, h) = batch_mean(&self.log_stretch[ALIGN.min(self.log_stretch.len())..]);
+        l + h < 0.0
+    }
+
     /// The measurement over the record so far, cut by MSER-5 on the mass with the largest
     /// mean amplitude.
     fn judge(&self, observed: &[usize], period: f64, tol: f64) -> Measured {
@@ -325,10 +342,52 @@ impl Series {
 /// whole measured record), with the measurement and the class. Returns `st` unchanged when
 /// it settled, stopped, or no measurement is asked for.
 pub fn measure(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
-    let budget = opts.measure.budget(opts.max_periods);
-    if st.converged || st.stop.is_some() || budget == 0 {
+    measure_within(d, st, opts, opts.measure.budget(opts.max_periods), false).0
+}
+
+/// The orbit search and the measurement sharing one budget of `opts.max_periods` periods
+/// ([`Measure::hand_over`]): the search runs at most `hand_over` periods; a point with no
+/// orbit by then is measured with the rest of the budget, the measurement judged every
+/// [`STEP`] periods from [`MIN_PERIODS`] ending as soon as its interval is met, or as soon as
+/// the exponent's interval lies below 0 (the motion contracts: a stable orbit is near; looked
+/// for every `STEP / 2` periods from `ALIGN + STEP`, before the first judgement). Then
+/// the search goes on from where the measurement stopped with what is left, and a point still
+/// without an orbit is measured with the rest. A chaotic or quasi-periodic point thus costs
+/// `hand_over` + about [`ALIGN`] + [`MIN_PERIODS`] periods instead of the whole budget, and an
+/// orbit reached later is the one the search alone would reach (the motion is the same one,
+/// run on). The plastic single-mass beds only ([`super::steady_state`]).
+pub fn handed_over(d: &Dynamics, start: State, opts: &SteadyOptions, hand_over: usize) -> Steady {
+    let total = opts.max_periods;
+    let first = SteadyOptions { max_periods: hand_over.min(total), ..*opts };
+    let st = super::orbit_search::orbit_steady(d, start, &first);
+    if st.converged || st.stop.is_some() {
         return st;
     }
+    let spent = st.transient_periods + st.recorded_periods;
+    let (m, back) = measure_within(d, st, opts, total.saturating_sub(spent), true);
+    let spent = spent + m.recorded_periods;
+    if !back || m.stop.is_some() || spent >= total {
+        return m;
+    }
+    let rest = SteadyOptions { max_periods: total - spent, ..*opts };
+    let again = super::orbit_search::orbit_steady(d, m.final_state, &rest);
+    let again = Steady { transient_periods: again.transient_periods + spent, ..again };
+    if again.converged || again.stop.is_some() {
+        return again;
+    }
+    let left = total.saturating_sub(again.transient_periods + again.recorded_periods);
+    measure_within(d, again, opts, left, false).0
+}
+
+/// [`measure`] with a budget of `budget` periods, and whether the point goes back to the
+/// search. `leave`: end as soon as the exponent's interval (over the record after the
+/// alignment) lies below 0, or when the interval met is that of a motion judged a transient
+/// ([`handed_over`]); the point then goes back.
+fn measure_within(d: &Dynamics, st: Steady, opts: &SteadyOptions, budget: usize, leave: bool) -> (Steady, bool) {
+    if st.converged || st.stop.is_some() || budget == 0 {
+        return (st, false);
+    }
+    let mut back = false;
     let (n, nb) = (d.system.dof(), d.system.dampers.len());
     let observed: Vec<usize> = (0..n).filter(|&i| opts.observe.contains(i)).collect();
     let period = 2.0 * PI / d.omega;
@@ -384,9 +443,17 @@ pub fn measure(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
             tangent.m /= first;
         }
         let len = series.log_stretch.len();
+        // Handed over: a motion that contracts goes back to the search as soon as it shows
+        // (every half step from a step after the alignment), not at the first judgement.
+        if leave && len < next && len >= ALIGN + STEP && len % (STEP / 2) == 0 && series.contracting() {
+            judged = Some(series.judge(&observed, period, opts.measure.tol));
+            back = true;
+            break;
+        }
         if len >= next || len == budget {
             let m = series.judge(&observed, period, opts.measure.tol);
-            let done = m.met;
+            back = leave && (series.contracting() || (m.met && m.class() == Motion::Transient));
+            let done = m.met || back;
             judged = Some(m);
             if done {
                 break;
@@ -397,12 +464,12 @@ pub fn measure(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
     let recorded = series.log_stretch.len();
     if stop.is_some() || recorded == 0 {
         // Chatter during the measurement: the point keeps its short record and says so.
-        return Steady { stop, motion: Motion::Chatter, ..st };
+        return (Steady { stop, motion: Motion::Chatter, ..st }, false);
     }
     let measured = judged.unwrap_or_else(|| series.judge(&observed, period, opts.measure.tol));
     let per = |v: &[usize]| v.iter().map(|&c| c as f64 / recorded as f64).collect::<Vec<_>>();
     let motion = measured.class();
-    Steady {
+    let st = Steady {
         converged: false,
         certificate: None,
         transient_periods: st.transient_periods + st.recorded_periods + measured.discarded,
@@ -424,7 +491,8 @@ pub fn measure(d: &Dynamics, st: Steady, opts: &SteadyOptions) -> Steady {
         motion,
         measured: Some(measured),
         ..st
-    }
+    };
+    (st, back)
 }
 
 #[cfg(test)]

@@ -21,8 +21,14 @@ use steady::{Steady, SteadyMethod, SteadyOptions};
 /// run by the transient method when the orbit method is asked: the linearised flow has no
 /// saltation for grain-grain collisions. [`SteadyMethod::Certify`] runs the transient method
 /// and then certifies its settled motion as a periodic orbit where it is one, for any bed
-/// ([`orbit_search::certify`]; for a column with a Jacobian by central differences).
+/// ([`orbit_search::certify`]; for a column with a Jacobian by central differences). With
+/// [`irregular::Measure::hand_over`] the orbit search of the plastic single-mass beds and the
+/// measurement share the budget ([`irregular::handed_over`]).
 pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
+    let plain = d.system.columns.is_empty() && !long_record::applies(d);
+    if let (Some(h), SteadyMethod::Orbit, true) = (opts.measure.hand_over, opts.method, plain) {
+        return irregular::handed_over(d, start, opts, h);
+    }
     let st = match (opts.method, d.system.columns.is_empty()) {
         (SteadyMethod::Orbit, true) => orbit_search::orbit_steady(d, start, opts),
         (SteadyMethod::Orbit, false) | (SteadyMethod::Transient, _) => transient::transient_steady(d, start, opts),
