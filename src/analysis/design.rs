@@ -420,12 +420,14 @@ fn pareto(exp: &Experiment, spec: &Spec, names: &[String], front: &[(f64, Found)
     (table, figure)
 }
 
-/// The drawn points of the layouts with shot counted by class, in words.
-fn drawn_classes(evaluations: &[Option<&Evaluation>]) -> String {
+/// The drawn points of the layouts with shot (each band's masses) counted by class, in words.
+fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option<&Evaluation>]) -> String {
     let mut count = [0usize; 6];
     for e in evaluations.iter().flatten() {
-        for p in e.points_class.iter().flatten().flatten() {
-            count[Class::ALL.iter().position(|c| *c == p.class).unwrap_or(3)] += 1;
+        for (band, rows) in bands.iter().zip(&e.points_class) {
+            for p in rows.iter().flat_map(|r| band.masses.iter().filter_map(|&m| r.get(m))) {
+                count[Class::ALL.iter().position(|c| *c == p.class).unwrap_or(3)] += 1;
+            }
         }
     }
     let all: usize = count.iter().sum();
@@ -433,7 +435,7 @@ fn drawn_classes(evaluations: &[Option<&Evaluation>]) -> String {
         return "Every point with shot is a periodic orbit.".into();
     }
     format!(
-        "Of the {all} points with shot (per frequency and mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.",
+        "Of the {all} points with shot drawn (per frequency and band mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.",
         count[0],
         count[1],
         count[2],
@@ -561,7 +563,7 @@ fn compliance_figure(
     let figure = Figure {
         id: "design_compliance".into(),
         title: format!("{}: the best layout against the bare structure and the cases", exp.meta.figure),
-        caption: format!("Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}. {}", drawn_classes(&classes)),
+        caption: format!("Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}. {}", drawn_classes(&spec.bands, &classes)),
         panels,
     };
     (table, figure)
