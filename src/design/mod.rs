@@ -489,7 +489,7 @@ impl Evaluation {
             motion: Vec::new(),
             half_width: 0.0,
             bands_half_width: vec![0.0],
-            classes: [points - unsettled, 0, 0, unsettled, 0, 0],
+            classes: [points.saturating_sub(unsettled), 0, 0, unsettled, 0, 0],
             measured: 0,
             points_class: Vec::new(),
         }
