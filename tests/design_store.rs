@@ -126,13 +126,18 @@ fn models_become_scenarios_of_one_search() {
 
 /// `shotdamp design --time-limit`: at its limit the search keeps each placement's best layout
 /// so far (here 0 s: the coarse clearance scans only), writes them with a warning on the page
-/// and in the summary, and stores nothing even with `--store`; a negative limit is refused.
+/// and in the summary, and stores nothing even with `--store`; the answer and the front page
+/// open with the stop, no sentence rests on what was not computed (the clearance profile),
+/// the file's drive levels are evaluated all the same, and the exit code is 3 (partial); a
+/// negative limit is refused.
 #[test]
 fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let root = dir.path();
     std::fs::create_dir_all(root.join("reference")).unwrap();
-    let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap());
+    let text = tiny(&std::fs::read_to_string(common::repo().join("designs/five_storey.toml")).unwrap())
+        .replace("max_beds = 2\n", "max_beds = 2\ndrive_levels_n = [2.0, 5.0]\n");
+    assert!(text.contains("drive_levels_n"));
     let design = root.join("frame.toml");
     std::fs::write(&design, &text).unwrap();
     let run = |limit: &str, out: &str| {
@@ -140,20 +145,32 @@ fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
     };
     let o = run("0", "d");
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(stdout.contains("warning: the search stopped at its time limit"), "{stdout}");
+    assert!(stdout.contains("partial: design_five_storey stopped at the time limit"), "{stdout}");
     assert!(!stdout.contains("stored:"), "{stdout}");
     assert!(!root.join("reference/designs/design_five_storey.json").exists());
     let rows = std::fs::read_to_string(root.join("d/design_five_storey/data/design_placements.csv")).unwrap();
     assert_eq!(rows.lines().count(), 1 + 3, "{rows}");
     let page = std::fs::read_to_string(root.join("d/design_five_storey/index.html")).unwrap();
     assert!(page.contains("stopped at its time limit"));
-    // Nothing that evaluates more layouts runs after a stopped search (a user who asked for a
-    // minute does not wait for the clearance profile and the drive levels), and the page says so.
-    assert!(page.contains("the clearance profile, the drive levels"), "the page says what it skipped");
-    for skipped in ["design_clearance.csv", "design_drive_levels.csv", "design_near_optimum.csv"] {
+    let answer = page.split("<p class=\"answer\"><b>Answer.</b> ").nth(1).expect("an answer");
+    assert!(answer.starts_with("Not a converged answer: the search stopped at its time limit"), "{answer}");
+    // Nothing stated that was not computed: no profile, so no word on the optimum's width.
+    assert!(!answer.contains("narrow optimum") && !answer.contains("within 5 % of the best"), "{answer}");
+    assert!(answer.contains("was not computed"), "{answer}");
+    let front = std::fs::read_to_string(root.join("d/index.html")).unwrap();
+    let first = front.split("<h1>").nth(1).unwrap();
+    assert!(first.split("</p>").next().unwrap().contains("Partial answer"), "the front page opens with the stop");
+    // Nothing that searches more layouts runs after a stopped search (a user who asked for a
+    // minute does not wait for the clearance profile), and the page says so; the drive levels
+    // the file asks for are the best layout's, one evaluation a level.
+    assert!(page.contains("the clearance profile, the near-optimum map"), "the page says what it skipped");
+    for skipped in ["design_clearance.csv", "design_near_optimum.csv"] {
         assert!(!root.join("d/design_five_storey/data").join(skipped).exists(), "{skipped}");
     }
+    let levels = std::fs::read_to_string(root.join("d/design_five_storey/data/design_drive_levels.csv")).unwrap();
+    assert_eq!(levels.lines().count(), 1 + 2, "the best layout at 2 and 5 N: {levels}");
 
     let o = run("-1", "e");
     assert_eq!(o.status.code(), Some(2));
@@ -294,6 +311,32 @@ fn best_objective(page: &Path) -> f64 {
 }
 
 /// `shotdamp design DESIGN --reference ROOT/reference --out ROOT/OUT`, to add to and run.
+/// `shotdamp design --dry-run` on a file that is not a design is refused as the run is (it
+/// printed nothing and exited 0), naming the file, the key and the value.
+#[test]
+fn a_dry_run_of_a_file_that_is_not_a_design_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = common::repo().join("experiments/fig05_clearance_scan.toml");
+    for dry in [true, false] {
+        let mut c = common::shotdamp();
+        c.arg("design").arg(&file).arg("--reference").arg(common::repo().join("reference"));
+        c.arg("--out").arg(dir.path().join("d"));
+        if dry {
+            c.arg("--dry-run");
+        }
+        let o = c.output().unwrap();
+        assert_eq!(o.status.code(), Some(2), "dry run {dry}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("fig05_clearance_scan.toml")
+                && err.contains("analysis.kind")
+                && err.contains("kind = \"design\""),
+            "{err}"
+        );
+        assert!(!dir.path().join("d").exists());
+    }
+}
+
 fn design_cmd(design: &Path, root: &Path, out: &str) -> assert_cmd::Command {
     let mut c = common::shotdamp();
     c.arg("design").arg(design).arg("--reference").arg(root.join("reference")).arg("--out").arg(root.join(out));

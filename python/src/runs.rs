@@ -201,6 +201,8 @@ fn result<'py>(py: Python<'py>, r: &ExperimentResult) -> PyResult<Bound<'py, PyD
     // What to read first: the answer in one paragraph (a design) and the warnings.
     d.set_item("summary", r.answer.clone())?;
     d.set_item("warnings", r.warnings.clone())?;
+    // Why the answer is partial (a design stopped at its time limit), or None.
+    d.set_item("partial", r.partial.clone())?;
     // A design's answer (docs/design.md): the best layout and the reference layouts, as the
     // stored JSON has them.
     let answer = match &r.design {

@@ -103,6 +103,8 @@ def test_a_time_limit_keeps_the_best_so_far_and_stores_nothing(tmp_path):
     got = sd.design(design, out=tmp_path / "py", reference=refs, jobs=1, store=True, time_limit=0)
     [exp] = got["experiments"]
     assert "stopped at its time limit" in exp["warnings"][0], exp["warnings"]
+    assert "stopped at its time limit" in exp["partial"], exp["partial"]
+    assert exp["summary"].startswith("Not a converged answer"), exp["summary"]
     assert exp["design"] is None and got["stored"] == []
     with pytest.raises(ValueError, match="time_limit"):
         sd.design(design, out=tmp_path / "py2", reference=refs, time_limit=-1.0)

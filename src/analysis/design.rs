@@ -186,8 +186,16 @@ fn run(
     // layouts after it (the clearance profile, the drive levels, the near-optimum map, the SDOF
     // method) is skipped, and the page says so.
     let more = !stopped;
+    let why = stopped.then(|| {
+        if spec.halt.interrupted() {
+            "the search was interrupted (Ctrl-C or SIGTERM)"
+        } else {
+            "the search stopped at its time limit (--time-limit)"
+        }
+    });
     let answer = best.as_ref().map(|best| {
-        let best_in = BestIn { p: &p, judged: (&p, &b), screen, best, case_rows: &case_rows, total_mass, more };
+        let best_in =
+            BestIn { p: &p, judged: (&p, &b), screen, best, case_rows: &case_rows, total_mass, more, stopped: why };
         about_the_best(exp, spec, &best_in, &mut page)
     });
     if let Some((mode, candidates)) = spec.sdof.as_ref().filter(|_| more) {
@@ -201,15 +209,15 @@ fn run(
         page.tables.push(table);
         page.figures.push(figure);
     }
-    if stopped {
-        let why = if spec.halt.interrupted() {
-            "the search was interrupted (Ctrl-C or SIGTERM)"
+    if let Some(why) = why {
+        let levels = if spec.drive_levels_n.is_empty() {
+            ""
         } else {
-            "the search stopped at its time limit (--time-limit)"
+            " (the drive levels are: the best layout's, at each force the file gives)"
         };
         page.warnings.insert(
             0,
-            format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer; what would evaluate more layouts (the clearance profile, the drive levels, the near-optimum map, the SDOF method) is not computed"),
+            format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer; what would search more layouts (the clearance profile, the near-optimum map, the SDOF method) is not computed{levels}"),
         );
     }
     Output {
@@ -220,6 +228,7 @@ fn run(
         warnings: page.warnings,
         design: (!stopped).then_some(stored),
         answer,
+        partial: why.map(|w| format!("{w}: the layouts are the best found so far")),
         ..Output::default()
     }
 }
@@ -235,6 +244,7 @@ struct BestIn<'a> {
     case_rows: &'a [(String, Layout, Evaluation, u64)],
     total_mass: f64,
     more: bool,
+    stopped: Option<&'static str>,
 }
 
 /// The best layout's pages: its clearance profile, its compliance against the bare structure's
@@ -271,16 +281,25 @@ fn about_the_best(exp: &Experiment, spec: &Spec, i: &BestIn<'_>, page: &mut Page
     let mut rated: Vec<super::design_drive::Rated<'_>> =
         vec![(format!("best: {}", hosts_words(&best.layout)), &best.layout, &best.evaluation)];
     rated.extend(i.case_rows.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.1, &c.2)));
+    let profile = match (more, page.exports.get("robust_clearance_min_mm"), page.exports.get("robust_clearance_max_mm"))
+    {
+        (false, _, _) => super::design_drive::Profile::NotComputed,
+        (true, Some(lo), Some(hi)) => super::design_drive::Profile::Within(*lo, *hi),
+        (true, _, _) => super::design_drive::Profile::Narrow,
+    };
     let (table, w) = super::design_drive::drive(p, &bare_curves, &rated);
     page.tables.push(table);
     page.warnings.extend(w);
     // The reduction against the drive level: at the file's drive levels when it gives them,
-    // else over the forces of its scenarios.
-    let levels = if !more {
-        None
-    } else if spec.drive_levels_n.is_empty() {
+    // else over the forces of its scenarios (read from the evaluations made). After a stopped
+    // search the file's levels are still evaluated, for the best layout only (one evaluation
+    // a level): the answer must not hide a level at which the shot makes things worse.
+    let levels = if spec.drive_levels_n.is_empty() {
         super::design_levels::drive_levels(p, &rated, &exp.meta.figure)
     } else {
+        if !more {
+            rated.truncate(1);
+        }
         let layouts: Vec<&Layout> = rated.iter().map(|r| r.1).collect();
         let (at, evals) = super::design_levels::at_forces(p, &spec.drive_levels_n, &layouts);
         let rated_at: Vec<super::design_drive::Rated<'_>> =
@@ -293,12 +312,12 @@ fn about_the_best(exp: &Experiment, spec: &Spec, i: &BestIn<'_>, page: &mut Page
         page.figures.push(figure);
         at_levels = best_at;
     }
-    let robust = page.exports.get("robust_clearance_min_mm").zip(page.exports.get("robust_clearance_max_mm"));
     let answer_in = super::design_drive::AnswerIn {
         total_mass: i.total_mass,
-        robust: robust.map(|(a, b)| (*a, *b)),
+        profile,
         sampled: spec.clearance_mm,
         levels: &at_levels,
+        stopped: i.stopped,
     };
     let answer = super::design_drive::answer(p, &rated[0], &answer_in, &bare_curves);
     if let Some((mut table, mut figure)) = more

@@ -121,13 +121,28 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
 pub struct AnswerIn<'a> {
     /// The structure's total mass, kg.
     pub total_mass: f64,
-    /// The clearances within 5 % of the best, mm (the sampled profile's), if any.
-    pub robust: Option<(f64, f64)>,
+    /// What the clearance profile of the best layout found.
+    pub profile: Profile,
     /// The clearance bounds the profile sampled, mm.
     pub sampled: (f64, f64),
     /// The best layout's objective at other forces, `(force N, objective)` in increasing
     /// force (empty: none evaluated).
     pub levels: &'a [(f64, f64)],
+    /// Why the search stopped before its end (the time limit, an interrupt), when it did:
+    /// the answer then opens with it.
+    pub stopped: Option<&'a str>,
+}
+
+/// The clearance profile of the best layout, as the answer reads it: a sentence is written
+/// only from a profile that was computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Profile {
+    /// Not computed (the search stopped before it).
+    NotComputed,
+    /// Computed: the clearances within 5 % of the best, mm.
+    Within(f64, f64),
+    /// Computed: no sampled clearance comes within 5 % of the best (only its own).
+    Narrow,
 }
 
 /// The design's answer in one paragraph, for the top of its page: where the shot goes, how
@@ -135,7 +150,7 @@ pub struct AnswerIn<'a> {
 /// the best), the reduction per band, the drive level it holds at (and at other forces when
 /// they were evaluated), unsettled points.
 pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: &[Vec<Vec<f64>>]) -> String {
-    let (total_mass, robust) = (inputs.total_mass, inputs.robust);
+    let total_mass = inputs.total_mass;
     let (_, layout, eval) = best;
     let force = problem.cases()[0].force;
     let beds: Vec<String> = layout
@@ -148,13 +163,13 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
     let shot = layout.shot_kg();
     let clearances: Vec<f64> = layout.clearances_mm.clone();
     let same = clearances.windows(2).all(|w| w[0] == w[1]);
-    let clearance = match (robust, same, clearances.first()) {
-        (Some((lo, hi)), true, Some(d)) if fmt_sig(lo, 2) == fmt_sig(hi, 2) => format!(
+    let clearance = match (inputs.profile, same, clearances.first()) {
+        (Profile::Within(lo, hi), true, Some(d)) if fmt_sig(lo, 2) == fmt_sig(hi, 2) => format!(
             "clearance {} mm (of the clearances sampled, only {} mm is within 5 % of the best: a narrow optimum)",
             fmt_sig(*d, 2),
             fmt_sig(lo, 2)
         ),
-        (Some((lo, hi)), true, Some(d)) => {
+        (Profile::Within(lo, hi), true, Some(d)) => {
             format!(
                 "clearance {} mm (of the clearances sampled, those from {} to {} mm are within 5 % of the best)",
                 fmt_sig(*d, 2),
@@ -162,13 +177,29 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
                 fmt_sig(hi, 2)
             )
         }
-        (None, true, Some(d)) => format!(
+        (Profile::Narrow, true, Some(d)) => format!(
             "clearance {} mm (none of the other clearances sampled from {} to {} mm comes within 5 % of it: a narrow optimum)",
             fmt_sig(*d, 2),
             fmt_sig(inputs.sampled.0, 2),
             fmt_sig(inputs.sampled.1, 2)
         ),
+        (Profile::NotComputed, true, Some(d)) => {
+            format!("clearance {} mm (how the answer varies with the clearance was not computed)", fmt_sig(*d, 2))
+        }
         _ => format!("clearances {} mm", clearances.iter().map(|d| fmt_sig(*d, 2)).collect::<Vec<_>>().join(" / ")),
+    };
+    // Beds that never reach their lid: every clearance above their highest flight gives the
+    // same motion (the lid is never touched), which the answer says rather than a precision.
+    let flight_mm = 1e3 * eval.motion.iter().map(|m| m.flight_m).fold(0.0, f64::max);
+    let smallest = clearances.iter().copied().fold(f64::INFINITY, f64::min);
+    let lid = if flight_mm.is_finite() && flight_mm < smallest {
+        format!(
+            " The beds fly at most {} mm above their containers' bottoms and never reach the lid: any clearance above {} mm gives the same motion.",
+            fmt_sig(flight_mm, 2),
+            fmt_sig(flight_mm, 2)
+        )
+    } else {
+        String::new()
     };
     let levels = if inputs.levels.len() > 1 {
         let at: Vec<String> = inputs
@@ -176,16 +207,32 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
             .iter()
             .map(|(f, o)| format!("{} at {}", fmt_sig(*o, 2), problem.drive().amount(&fmt_sig(*f, 3))))
             .collect();
-        let worse = inputs.levels.iter().filter(|(_, o)| *o > 1.0).count();
-        let warn = if worse > 0 {
-            format!("; at {worse} of these levels the shot makes the response worse than the bare structure's")
-        } else {
-            String::new()
-        };
-        format!(" At other drive levels the same layout gives {}{warn} (design_drive_levels).", at.join(", "))
+        format!(" At other drive levels the same layout gives {} (design_drive_levels).", at.join(", "))
     } else {
         String::new()
     };
+    // A drive level at which the shot makes the structure worse than bare leads the answer.
+    let worse: Vec<String> = inputs
+        .levels
+        .iter()
+        .filter(|(_, o)| *o > 1.0)
+        .map(|(f, o)| {
+            format!("{} of the bare structure's at {}", fmt_sig(*o, 3), problem.drive().amount(&fmt_sig(*f, 3)))
+        })
+        .collect();
+    let lead = if worse.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "At {} of the {} drive levels evaluated this layout makes the response worse than the bare structure's ({}). ",
+            worse.len(),
+            inputs.levels.len(),
+            worse.join(", ")
+        )
+    };
+    let stop = inputs.stopped.map_or(String::new(), |why| {
+        format!("Not a converged answer: {why}; what follows is the best layout found so far. ")
+    });
     let bands: Vec<String> = problem
         .bands
         .iter()
@@ -212,7 +259,7 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         crate::model::Direction::Horizontal => " in horizontal containers",
     };
     format!(
-        "Put {}{along} ({} kg, {} % of the structure's mass), {clearance}. The worst band then reaches {} of the bare structure's (per band: {}). This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
+        "{stop}{lead}Put {}{along} ({} kg, {} % of the structure's mass), {clearance}.{lid} The worst band then reaches {} of the bare structure's (per band: {}). This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
         beds.join(", "),
         fmt_sig(shot, 2),
         fmt_sig(100.0 * shot / total_mass, 2),

@@ -57,6 +57,10 @@ pub struct Output {
     pub design: Option<StoredDesign>,
     /// The answer in one paragraph, where the kind gives one.
     pub answer: Option<String>,
+    /// Why the answer is partial (a search stopped at its time limit or by an interrupt, its
+    /// layouts the best found so far), when it is: the front page opens with it and the
+    /// command exits with 3 (README, "Exit codes").
+    pub partial: Option<String>,
 }
 
 impl Output {

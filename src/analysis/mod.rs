@@ -122,6 +122,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, tick: &Tick) -> Result<Exper
         design: out.design,
         warnings,
         answer: out.answer,
+        partial: out.partial,
     })
 }
 

@@ -40,6 +40,8 @@ pub struct ExperimentResult {
     /// The answer in one paragraph, where the analysis gives one (a design): the first thing
     /// on the page.
     pub answer: Option<String>,
+    /// Why the answer is partial, when it is ([`super::kind::Output::partial`]).
+    pub partial: Option<String>,
 }
 
 /// Counts one finished unit of work (a simulated point). A caller may stop the work at a point

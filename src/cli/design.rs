@@ -70,9 +70,9 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     let threads = runner::threads(*jobs)?;
     // A merge searches nothing: no budget to print.
     let budgets = if merge.is_some() { Vec::new() } else { runner::designs::budgets(files, &cli.reference)? };
-    for (key, n, b) in budgets {
-        let stepping = crate::design::Budget::stepping(b.fast, n);
-        let point = crate::design::Budget::seconds_per_point(n) * stepping;
+    for (key, n, b) in &budgets {
+        let stepping = crate::design::Budget::stepping(b.fast, *n);
+        let point = crate::design::Budget::seconds_per_point(*n) * stepping;
         let fast = if stepping > 1.0 {
             format!(
                 ", the structure's fastest mode oscillating {:.0} times a period of the lowest forcing frequency",
@@ -87,7 +87,7 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
                 b.searches,
                 b.evaluations,
                 b.points,
-                super::study::duration(b.nominal_seconds(n, threads)),
+                super::study::duration(b.nominal_seconds(*n, threads)),
                 if threads == 1 { "" } else { "s" },
                 if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.0} ms", point * 1e3) },
             );
@@ -95,7 +95,6 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     if *dry_run {
         // The nominal cost is a rule of thumb; one layout evaluated measures this
         // structure and its beds.
-        let budgets = runner::designs::budgets(files, &cli.reference)?;
         for (probe, (_, _, b)) in runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets) {
             let runner::designs::Probe {
                 key,
@@ -136,9 +135,11 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         merge: merge.clone(),
     };
     let mut stored = Vec::new();
+    let mut partial = Vec::new();
     let (ok, _) = super::finish_with(Some(interrupt.clone()), |progress, log, staging| {
         let run = runner::designs::run(files, &settings, progress, log, staging)?;
         stored = run.stored;
+        partial = run.finished.results.iter().filter(|r| r.partial.is_some()).map(|r| r.experiment.key()).collect();
         Ok(run.finished)
     })?;
     for path in stored {
@@ -150,6 +151,15 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         // was interrupted, as a shell expects.
         say!("interrupted: the report holds the best layouts found before the interrupt");
         std::process::exit(128 + sig);
+    }
+    if ok && !partial.is_empty() {
+        // Every check passed, but an answer is the best found so far: a script must not take
+        // it for a converged one.
+        say!(
+            "partial: {} stopped at the time limit; the report holds the best layouts found so far",
+            partial.join(", ")
+        );
+        std::process::exit(i32::from(super::PARTIAL));
     }
     Ok(ok)
 }

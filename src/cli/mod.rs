@@ -246,6 +246,11 @@ pub enum ReferenceCommand {
     },
 }
 
+/// The exit code of a run whose checks all passed but whose answer is partial: a design
+/// stopped at its time limit, its layouts the best found so far (0 every check passes, 1 a
+/// check failed, 2 bad input or I/O, 3 this, 130 / 143 interrupted).
+pub const PARTIAL: u8 = 3;
+
 /// Entry point of the binary.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();

@@ -388,6 +388,9 @@ pub struct IndexView {
     pub bed: Vec<BedRow>,
     /// The bottom line of each joint study the report runs (above the verdict matrix).
     pub bottom: Vec<super::bottom_line::BottomLine>,
+    /// Experiments whose answer is partial (a design stopped by its time limit or an
+    /// interrupt): `(key, link, why)`, first on the page.
+    pub partial: Vec<(String, String, String)>,
 }
 
 /// One bed study in the index.
@@ -445,6 +448,13 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         conclusions: super::conclusion::conclusions(results),
         bed: Vec::new(),
         bottom: Vec::new(),
+        partial: results
+            .iter()
+            .filter_map(|r| {
+                let id = r.experiment.key();
+                r.partial.clone().map(|why| (id.clone(), format!("{id}/index.html"), why))
+            })
+            .collect(),
     }
 }
 

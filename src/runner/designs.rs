@@ -52,14 +52,7 @@ pub fn run(
     staging: &dyn Fn(PathBuf),
 ) -> crate::Result<DesignRun> {
     let mut exps = experiment::load_all(files, &settings.reference)?;
-    if let Some(e) = exps.iter().find(|e| !matches!(e.analysis, experiment::Analysis::Design { .. })) {
-        return Err(crate::Error::invalid(
-            &e.path,
-            "analysis.kind",
-            format!("\"{}\"", e.analysis.kind()),
-            "`shotdamp design` runs design files (kind = \"design\"); run other experiments with `shotdamp run`",
-        ));
-    }
+    designs_only(&exps)?;
     let started = std::time::Instant::now();
     let halt = crate::design::search::Halt {
         deadline: settings.time_limit.map(|limit| started + std::time::Duration::from_secs_f64(limit)),
@@ -92,11 +85,25 @@ pub fn run(
     Ok(DesignRun { finished, stored })
 }
 
+/// Refuses a file that is not a design (`shotdamp design` and its dry run alike).
+fn designs_only(exps: &[Experiment]) -> crate::Result<()> {
+    match exps.iter().find(|e| !matches!(e.analysis, experiment::Analysis::Design { .. })) {
+        Some(e) => Err(crate::Error::invalid(
+            &e.path,
+            "analysis.kind",
+            format!("\"{}\"", e.analysis.kind()),
+            "`shotdamp design` runs design files (kind = \"design\"); run other experiments with `shotdamp run`",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// What each design of `files` costs at most, before anything runs: the experiment's key, its
 /// structure's number of masses and its [`Budget`](crate::design::Budget) (loading validates
 /// the files as [`run`] does).
 pub fn budgets(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String, usize, crate::design::Budget)>> {
     let exps = experiment::load_all(files, reference)?;
+    designs_only(&exps)?;
     Ok(exps
         .iter()
         .filter_map(|e| match &e.analysis {
