@@ -138,6 +138,26 @@ fn run(
     let screen = sp.as_ref().zip(sb.as_deref());
     let total_mass = exp.structure.mass_matrix().trace();
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
+    // The experiment's cases as reference layouts, evaluated before the searches: under a
+    // time limit they measure what an evaluation on the file's model costs ([`plan_after`]).
+    let judged = std::sync::atomic::AtomicU64::new(0);
+    // The experiment's cases as reference layouts (the paper's, one container on the loop
+    // point, ...), evaluated with the same objective.
+    let case_rows: Vec<(String, Layout, Evaluation, u64)> = exp
+        .cases
+        .par_iter()
+        .map(|c| {
+            let l = case_layout(c);
+            let started = std::time::Instant::now();
+            let e = evaluate(&p, &b, &l);
+            judged.fetch_add(started.elapsed().as_nanos() as u64, std::sync::atomic::Ordering::Relaxed);
+            (c.id.clone(), l, e, 1)
+        })
+        .collect();
+    let with_beds = exp.cases.iter().filter(|c| c.beds.iter().any(|b| b.damper.mass > 0.0)).count();
+    let per_judged = (with_beds > 0 && exp.cases.len() > 0)
+        .then(|| std::time::Duration::from_nanos(judged.into_inner() / exp.cases.len() as u64));
+    plan_after(exp, spec, per_judged);
     let (found, front, checks, stopped) = searched(exp, spec, (&p, &b), screen, refs, tick);
     tick();
     let stored = stored(exp, &p, spec, &found, &front);
@@ -161,17 +181,6 @@ fn run(
     if let Some(t) = page.tables.last_mut() {
         page.warnings.extend(super::design_problem::with_screened(spec, &found, t));
     }
-    // The experiment's cases as reference layouts (the paper's, one container on the loop
-    // point, ...), evaluated with the same objective.
-    let case_rows: Vec<(String, Layout, Evaluation, u64)> = exp
-        .cases
-        .par_iter()
-        .map(|c| {
-            let l = case_layout(c);
-            let e = evaluate(&p, &b, &l);
-            (c.id.clone(), l, e, 1)
-        })
-        .collect();
     for (id, _, e, _) in &case_rows {
         page.exports.insert(format!("objective_{id}"), e.objective);
     }
@@ -230,6 +239,31 @@ fn run(
         answer,
         partial: why.map(|w| format!("{w}: the layouts are the best found so far")),
         ..Output::default()
+    }
+}
+
+/// Reserves, under a time limit, what runs after the searches ([`search::Halt::plan_after`]):
+/// on the file's model, each placement's best evaluated for the page in every search (a
+/// screened search's first round only: the rest is judged until the deadline), the
+/// drive levels and the bare curves, at `per_judged` an evaluation (the cases' mean, measured
+/// before the searches; without cases with beds, the searches' pace times the nominal ratio of
+/// the two models); on the searched model, the middle clearance of a placement whose scan had
+/// not started, and each placement's best on the screen when there is one.
+fn plan_after(exp: &Experiment, spec: &Spec, per_judged: Option<std::time::Duration>) {
+    let budget = super::design_problem::budget(exp, spec);
+    let placements = budget.placements as u64;
+    let screened = u64::from(budget.screened.0 > 0);
+    // A screened search's pages are judged until the deadline (`search::found_until`): its
+    // first round, one evaluation a thread, is reserved.
+    let pages = if screened > 0 { rayon::current_num_threads() as u64 } else { placements * budget.searches as u64 };
+    let judged = pages + spec.drive_levels_n.len() as u64 + 1;
+    let searched = placements + placements * budget.searches as u64 * screened;
+    match per_judged {
+        Some(per) => spec.halt.plan_after(searched, judged, Some(per)),
+        None => {
+            let dearer = budget.judged_over_searched(exp.structure.dof()).ceil() as u64;
+            spec.halt.plan_after(searched + judged * dearer, 0, None)
+        }
     }
 }
 

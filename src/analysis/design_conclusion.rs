@@ -101,6 +101,7 @@ mod tests {
             starts: 1,
             evaluations: 1,
             screened: None,
+            judged: true,
         }
     }
 

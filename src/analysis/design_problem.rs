@@ -87,6 +87,16 @@ fn problem_on(s: &Structure, exp: &Experiment, spec: &Spec, steady: &SteadyOptio
     }
 }
 
+/// What the design of `exp` costs at most ([`Spec::budget`]), over its fastest structure (its
+/// models', when they are scenarios).
+pub fn budget(exp: &Experiment, spec: &Spec) -> crate::design::Budget {
+    let highest = std::iter::once(&exp.structure)
+        .chain(spec.model_structures.iter().map(|(_, s, _)| s))
+        .map(crate::model::Structure::highest_natural_frequency_hz)
+        .fold(0.0, f64::max);
+    spec.budget(exp.cases.len(), highest)
+}
+
 /// The masses a design reads: its bands' masses and the hosts of its candidates and of the
 /// experiment's cases (the drive level's accelerations). On a file's structure of more than
 /// [`LARGE_ABOVE`] degrees of freedom only those are measured, on it and on its screen (on a
@@ -112,7 +122,7 @@ pub fn screen_words(sc: &Screen, found: &[Found]) -> Vec<String> {
         })
     };
     let words = |f: &Found| f.layout.hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" ");
-    let judged = lowest(&|f| f.evaluation.objective);
+    let judged = lowest(&|f| if f.judged { f.evaluation.objective } else { f64::INFINITY });
     let searched = lowest(&|f| f.screened.unwrap_or(f64::INFINITY));
     let largest = found
         .iter()
@@ -152,7 +162,28 @@ pub fn with_screened(spec: &Spec, found: &[Found], t: &mut crate::table::Table) 
         "screened_objective".into(),
         crate::table::ColumnData::F64(found.iter().map(|f| f.screened.unwrap_or(f64::NAN)).collect()),
     ));
-    screen_words(sc, found)
+    // A placement a stopped search did not judge has no objective on the file's model.
+    let unjudged: Vec<String> = found
+        .iter()
+        .filter(|f| !f.judged)
+        .map(|f| f.layout.hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" "))
+        .collect();
+    if let Some((_, crate::table::ColumnData::F64(objective))) = t.columns.iter_mut().find(|c| c.0 == "objective") {
+        objective.iter_mut().zip(found).filter(|(_, f)| !f.judged).for_each(|(o, _)| *o = f64::NAN);
+    }
+    let mut words = screen_words(sc, found);
+    if !unjudged.is_empty() {
+        words.insert(
+            0,
+            format!(
+                "the time limit came before {} of the {} placements' best layouts were evaluated on the file's model ({}): their objective is blank and they are not ranked (the file's model judged the most promising on the searched model first)",
+                unjudged.len(),
+                found.len(),
+                unjudged.join(", ")
+            ),
+        );
+    }
+    words
 }
 
 /// The model the maps near the optimum (the clearance profile, each variable's) are drawn on,

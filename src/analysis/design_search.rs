@@ -90,7 +90,7 @@ fn replay(
     let again = |s: &StoredLayout| {
         let layout = s.layout();
         let evaluation = evaluate(p, b, &layout);
-        Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations, screened: None }
+        Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations, screened: None, judged: true }
     };
     let mut found: Vec<Found> = stored.placements.par_iter().map(again).collect();
     // A screened design's page shows what its search saw, as the search's own run does.
@@ -158,7 +158,15 @@ pub(super) fn hosts_words(l: &Layout) -> String {
 
 /// The placement with the lowest objective; of equal ones the first.
 pub(super) fn lowest(found: Vec<Found>) -> Option<Found> {
-    found.into_iter().reduce(|a, x| if a.evaluation.objective <= x.evaluation.objective { a } else { x })
+    // A layout judged on the file's model before one that was not (a stopped screened search).
+    let any_judged = found.iter().any(|f| f.judged);
+    found.into_iter().filter(|f| f.judged || !any_judged).reduce(|a, x| {
+        if a.evaluation.objective <= x.evaluation.objective {
+            a
+        } else {
+            x
+        }
+    })
 }
 
 /// A design's search, replayed, gathered from its shards or run: the best layout of each
@@ -246,7 +254,7 @@ mod tests {
     fn found(objective: f64, unsettled: usize) -> Found {
         let layout = Layout { hosts: vec![1], masses_kg: vec![0.1], clearances_mm: vec![0.4] };
         let evaluation = Evaluation::with_objective(objective, unsettled, 10);
-        Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1, screened: None }
+        Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1, screened: None, judged: true }
     }
 
     #[test]
@@ -265,5 +273,17 @@ mod tests {
             let c = replayed("stored_objectives_unsettled", "x", &[(&b, &f)], REPLAY_TOL_UNSETTLED, "p", "rerun");
             assert_eq!(c.status, status, "{moved}");
         }
+    }
+
+    #[test]
+    fn the_lowest_layout_is_one_judged_on_the_file_s_model_when_any_is() {
+        // A stopped screened search: the lowest objective belongs to a placement the file's
+        // model never judged (its value is the screen's); the answer is the judged one.
+        let unjudged = Found { judged: false, ..found(0.3, 0) };
+        let best = lowest(vec![found(0.6, 0), unjudged.clone(), found(0.5, 0)]).unwrap();
+        assert!(best.judged && best.evaluation.objective == 0.5);
+        // None judged: the lowest of them, still marked.
+        let only = lowest(vec![Found { judged: false, ..found(0.7, 0) }, unjudged]).unwrap();
+        assert!(!only.judged && only.evaluation.objective == 0.3);
     }
 }

@@ -10,7 +10,7 @@ mod design_conclusion;
 mod design_drive;
 mod design_levels;
 mod design_near;
-mod design_problem;
+pub(crate) mod design_problem;
 mod design_search;
 pub mod design_shards;
 pub mod evidence;

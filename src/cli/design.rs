@@ -51,6 +51,10 @@ pub struct DesignArgs {
     pub merge: Option<PathBuf>,
 }
 
+/// Seconds a design may run past `--time-limit` (the report's writing after the last
+/// evaluation), beyond which it says that the limit was too short for it.
+pub const LIMIT_MARGIN_S: f64 = 5.0;
+
 /// Runs `shotdamp design`.
 pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     let DesignArgs { files, out, jobs, store, dry_run, time_limit, merge, .. } = args;
@@ -134,6 +138,7 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         interrupt: Some(interrupt.flag.clone()),
         merge: merge.clone(),
     };
+    let started = std::time::Instant::now();
     let mut stored = Vec::new();
     let mut partial = Vec::new();
     let (ok, _) = super::finish_with(Some(interrupt.clone()), |progress, log, staging| {
@@ -151,6 +156,14 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         // was interrupted, as a shell expects.
         say!("interrupted: the report holds the best layouts found before the interrupt");
         std::process::exit(128 + sig);
+    }
+    let took = started.elapsed().as_secs_f64();
+    if let Some(limit) = time_limit.filter(|l| took > l + LIMIT_MARGIN_S) {
+        say!(
+            "the time limit ({} s) was shorter than the least this design does after its searches stop (each placement's best evaluated for the page, the cases, the drive levels): it ran {:.1} s",
+            crate::number::fmt_sig(limit, 3),
+            took
+        );
     }
     if ok && !partial.is_empty() {
         // Every check passed, but an answer is the best found so far: a script must not take

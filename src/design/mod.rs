@@ -171,6 +171,17 @@ impl Budget {
         self.seconds_at(Self::seconds_per_point(n) * Self::stepping(self.fast, n), screen, threads)
     }
 
+    /// How many times dearer an evaluation on the file's model of `n` masses is than one on the
+    /// model the searches run on (1 without a screen), by the nominal rule.
+    pub fn judged_over_searched(&self, n: usize) -> f64 {
+        if self.screened.0 == 0 {
+            return 1.0;
+        }
+        let judged = Self::seconds_per_point(n) * Self::stepping(self.fast, n);
+        let screen = Self::seconds_per_point(self.screened.2) * Self::stepping(self.screened.1, self.screened.2);
+        (judged / screen).max(1.0)
+    }
+
     /// How much a structure of `n` masses whose fastest mode makes it `fast` times dearer
     /// ([`Budget::fast`]) costs above the nominal point: `fast` up to
     /// [`LARGE_ABOVE`](crate::sim::motion::system::LARGE_ABOVE) degrees of freedom, 1 above,

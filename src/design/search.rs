@@ -6,7 +6,7 @@
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
@@ -30,12 +30,34 @@ pub struct Space {
 /// (`shotdamp design --time-limit`), when a flag is raised (Ctrl-C), or never (the default).
 /// A setting of the run, not of the design: every halt compares equal, and none enters a
 /// stored answer's fingerprint.
+///
+/// A deadline bounds the whole design, not the searches only: what runs after them (each
+/// placement's best evaluated for the page, the cases, the drive levels; [`Halt::plan_after`])
+/// is reserved at the pace the searches measure, so the searches end that much earlier
+/// ([`Halt::reached`]).
 #[derive(Debug, Clone, Default)]
 pub struct Halt {
-    /// The searches end at their first evaluation after this instant.
+    /// The design ends by this instant: its searches at their first evaluation after it, less
+    /// the time reserved for what follows them.
     pub deadline: Option<Instant>,
     /// The searches end at their first evaluation after this flag is set.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// The evaluations planned after the searches and the pace measured so far.
+    pub after: Arc<After>,
+}
+
+/// The work a design plans after its searches, and the searches' measured pace.
+#[derive(Debug, Default)]
+pub struct After {
+    /// Layout evaluations planned after the searches on the searched model, at its pace.
+    evaluations: AtomicU64,
+    /// Layout evaluations planned after the searches on the file's model (when the searches
+    /// run on a coarser one), and what one costs there on one thread, ns.
+    judged: AtomicU64,
+    judged_nanos: AtomicU64,
+    /// Evaluations timed, and their total wall time, ns.
+    timed: AtomicU64,
+    nanos: AtomicU64,
 }
 
 impl PartialEq for Halt {
@@ -45,14 +67,59 @@ impl PartialEq for Halt {
 }
 
 impl Halt {
-    /// Whether the searches should end now.
+    /// Whether the searches should end now: the flag is raised, or the deadline is nearer
+    /// than the time reserved for what follows them ([`Halt::reserve`]).
     pub fn reached(&self) -> bool {
-        self.deadline.is_some_and(|d| Instant::now() >= d) || self.interrupted()
+        self.interrupted() || self.deadline.is_some_and(|d| Instant::now() + self.reserve() >= d)
+    }
+
+    /// Whether the deadline itself has passed (no reserve) or the flag was raised: what runs
+    /// after the searches stops there.
+    pub fn passed(&self) -> bool {
+        self.interrupted() || self.deadline.is_some_and(|d| Instant::now() >= d)
     }
 
     /// Whether the flag was raised.
     pub fn interrupted(&self) -> bool {
         self.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
+    /// Plans `searched` layout evaluations after the searches at the searches' pace, and
+    /// `judged` more at `per_judged` each (measured on the file's model; set before the
+    /// design searches).
+    pub fn plan_after(&self, searched: u64, judged: u64, per_judged: Option<Duration>) {
+        self.after.evaluations.store(searched, Ordering::Relaxed);
+        self.after.judged.store(judged, Ordering::Relaxed);
+        let ns = per_judged.map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX));
+        self.after.judged_nanos.store(ns, Ordering::Relaxed);
+    }
+
+    /// `f`, one layout evaluation, timed for the pace.
+    pub fn timed<T>(&self, f: impl FnOnce() -> T) -> T {
+        let started = Instant::now();
+        let out = f();
+        let ns = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.after.nanos.fetch_add(ns, Ordering::Relaxed);
+        self.after.timed.fetch_add(1, Ordering::Relaxed);
+        out
+    }
+
+    /// The mean wall time of an evaluation so far (zero before the first).
+    pub fn pace(&self) -> Duration {
+        let n = self.after.timed.load(Ordering::Relaxed);
+        Duration::from_nanos(self.after.nanos.load(Ordering::Relaxed).checked_div(n).unwrap_or(0))
+    }
+
+    /// The time reserved after the searches: the planned evaluations spread over the threads,
+    /// and one more (those in flight when the searches end), at the measured pace; and those
+    /// planned on the file's model at theirs.
+    pub fn reserve(&self) -> Duration {
+        let threads = rayon::current_num_threads().max(1) as u64;
+        let times = |n: u64| u32::try_from(n).unwrap_or(u32::MAX);
+        let planned = self.after.evaluations.load(Ordering::Relaxed);
+        let judged = self.after.judged.load(Ordering::Relaxed).div_ceil(threads);
+        let per_judged = Duration::from_nanos(self.after.judged_nanos.load(Ordering::Relaxed));
+        self.pace().saturating_mul(times(planned.div_ceil(threads) + 1)) + per_judged.saturating_mul(times(judged))
     }
 }
 
@@ -192,7 +259,7 @@ impl Cost<'_> {
         }
         self.count.fetch_add(1, Ordering::Relaxed);
         (self.check)();
-        let e = evaluate(self.problem, self.bare, &layout(self.hosts, x, self.space));
+        let e = self.halt.timed(|| evaluate(self.problem, self.bare, &layout(self.hosts, x, self.space)));
         let objective = if e.objective.is_finite() { e.objective } else { 1e300 };
         if let Ok(mut best) = self.best.lock() {
             if best.as_ref().is_none_or(|b| objective < b.1) {
@@ -219,6 +286,10 @@ pub struct Found {
     /// The layout's objective on the model the search ran on, where that was a coarser one
     /// (`[design.screen]`; `None`: the search ran on the judged model).
     pub screened: Option<f64>,
+    /// Whether `evaluation` is on the file's model. `false` only for a screened search that a
+    /// time limit stopped before this placement's best was judged: `evaluation` is then the
+    /// searched model's ([`found_until`]).
+    pub judged: bool,
 }
 
 /// A design problem with its bare structure's measures: what a layout is evaluated against.
@@ -309,7 +380,7 @@ fn coarse_start(
                 return None;
             }
             check();
-            let e = evaluate(problem, bare, &layout(hosts, &at(z), space));
+            let e = halt.timed(|| evaluate(problem, bare, &layout(hosts, &at(z), space)));
             Some((z, if e.objective.is_finite() { e.objective } else { f64::INFINITY }))
         })
         .collect();
@@ -354,7 +425,7 @@ pub fn optimise_until(
     let (problem, bare) = screen.unwrap_or(judged);
     let (searched, stopped) = search_placements(problem, bare, space, opts, check, halt, &|_| true);
     let searched: Vec<Searched> = searched.into_iter().flatten().collect();
-    (found(judged, screen, space, &searched), stopped)
+    (found_until(judged, screen, space, &searched, halt), stopped)
 }
 
 /// What the search of one placement ended with: its best point, the starts run and the
@@ -444,7 +515,59 @@ pub fn found(judged: On, screen: Option<On>, space: &Space, searched: &[Searched
             let layout = layout(hosts, &s.x, space);
             let evaluation = evaluate(problem, bare, &layout);
             let screened = screen.map(|(p, b)| evaluate(p, b, &layout).objective);
-            Found { layout, evaluation, x: s.x.clone(), starts: s.starts, evaluations: s.evaluations, screened }
+            Found {
+                layout,
+                evaluation,
+                x: s.x.clone(),
+                starts: s.starts,
+                evaluations: s.evaluations,
+                screened,
+                judged: true,
+            }
+        })
+        .collect()
+}
+
+/// [`found`] under a halt, for a screened search: every placement's best evaluated on the
+/// screen, then judged on the file's model in the order of its screened objective (the most
+/// promising first), a round of one evaluation a thread at a time, until the halt's deadline
+/// or interrupt (only the first round is always judged). A placement not judged keeps its
+/// screen evaluation, marked ([`Found::judged`]). Without a screen or a halt: [`found`].
+pub fn found_until(judged: On, screen: Option<On>, space: &Space, searched: &[Searched], halt: &Halt) -> Vec<Found> {
+    let Some((sp, sb)) = screen.filter(|_| halt.deadline.is_some() || halt.interrupt.is_some()) else {
+        return found(judged, screen, space, searched);
+    };
+    let layouts: Vec<Layout> = space.placements.iter().zip(searched).map(|(h, s)| layout(h, &s.x, space)).collect();
+    let on_screen: Vec<Evaluation> = layouts.par_iter().map(|l| evaluate(sp, sb, l)).collect();
+    let mut order: Vec<usize> = (0..layouts.len()).collect();
+    order.sort_by(|&a, &b| on_screen[a].objective.total_cmp(&on_screen[b].objective).then(a.cmp(&b)));
+    let threads = rayon::current_num_threads().max(1);
+    let mut on_file: Vec<Option<Evaluation>> = vec![None; layouts.len()];
+    for (round, chunk) in order.chunks(threads).enumerate() {
+        if round > 0 && halt.passed() {
+            break;
+        }
+        let done: Vec<Evaluation> = chunk.par_iter().map(|&i| evaluate(judged.0, judged.1, &layouts[i])).collect();
+        for (&i, e) in chunk.iter().zip(done) {
+            on_file[i] = Some(e);
+        }
+    }
+    layouts
+        .into_iter()
+        .zip(searched)
+        .zip(on_screen.into_iter().zip(on_file))
+        .map(|((layout, s), (screen_eval, file_eval))| {
+            let screened = Some(screen_eval.objective);
+            let judged = file_eval.is_some();
+            Found {
+                layout,
+                evaluation: file_eval.unwrap_or(screen_eval),
+                x: s.x.clone(),
+                starts: s.starts,
+                evaluations: s.evaluations,
+                screened,
+                judged,
+            }
         })
         .collect()
 }

@@ -57,10 +57,12 @@ pub fn run(
     let halt = crate::design::search::Halt {
         deadline: settings.time_limit.map(|limit| started + std::time::Duration::from_secs_f64(limit)),
         interrupt: settings.interrupt.clone(),
+        after: Default::default(),
     };
     for e in &mut exps {
         if let experiment::Analysis::Design { spec, .. } = &mut e.analysis {
-            spec.halt = halt.clone();
+            // One deadline for every design of the run; each plans and paces its own work.
+            spec.halt = crate::design::search::Halt { after: Default::default(), ..halt.clone() };
         }
     }
     if let Some(dir) = &settings.merge {
@@ -108,12 +110,7 @@ pub fn budgets(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String
         .iter()
         .filter_map(|e| match &e.analysis {
             experiment::Analysis::Design { spec, .. } => {
-                // The fastest structure of the search (its models, when they are scenarios).
-                let highest = std::iter::once(&e.structure)
-                    .chain(spec.model_structures.iter().map(|(_, s, _)| s))
-                    .map(crate::model::Structure::highest_natural_frequency_hz)
-                    .fold(0.0, f64::max);
-                Some((e.key(), e.structure.dof(), spec.budget(e.cases.len(), highest)))
+                Some((e.key(), e.structure.dof(), crate::analysis::design_problem::budget(e, spec)))
             }
             _ => None,
         })
