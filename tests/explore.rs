@@ -367,3 +367,54 @@ fn the_file_s_reference_curves_are_markers() {
         .expect("the solver's curve");
     assert_eq!(solver["compliance"].as_array().map(Vec::len), Some(3));
 }
+
+/// docs/explore.md's example of the HTTP API is what the server does: its request, sent as
+/// written, answers 200 with every key the documented answer shows, the curves it names, and
+/// the first curve's numbers to the digits written there.
+#[test]
+fn the_documented_api_example_is_what_the_server_answers() {
+    let doc = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/explore.md")).unwrap();
+    let api = doc.split("## The HTTP API").nth(1).expect("docs/explore.md has an HTTP API section");
+    let blocks: Vec<&str> = api.split("```json").skip(1).map(|b| b.split("```").next().unwrap_or("")).collect();
+    assert!(blocks.len() >= 2, "a request and its answer");
+    let documented: Value = serde_json::from_str(blocks[1]).expect("the documented answer is JSON");
+    let s = Served::start("experiments/fig05_third_mode.toml");
+    let (code, body) = s.call("POST", "/api/sweep", blocks[0].trim());
+    assert_eq!(code, 200, "{body}");
+    let answer: Value = serde_json::from_str(&body).unwrap();
+    let keys = |v: &Value| v.as_object().map(|o| o.keys().cloned().collect::<Vec<_>>()).unwrap_or_default();
+    for k in keys(&documented) {
+        assert!(answer.get(&k).is_some(), "the answer has no `{k}`");
+    }
+    let curves = answer["curves"].as_array().unwrap();
+    for (i, want) in documented["curves"].as_array().unwrap().iter().enumerate() {
+        let id = want["id"].as_str().unwrap();
+        let got = curves.iter().find(|c| c["id"] == want["id"]).unwrap_or_else(|| panic!("no curve {id}"));
+        for k in keys(want) {
+            let (w, g) = (&want[&k], &got[&k]);
+            assert!(g.is_array() == w.is_array() && !g.is_null() || w.is_null(), "{id}.{k}: {g} against {w}");
+            if i > 0 {
+                continue;
+            }
+            // The first curve whole: numbers to the digits written, the rest exactly.
+            let flat = |v: &Value| -> Vec<Value> {
+                match v {
+                    Value::Array(a) => {
+                        a.iter().flat_map(|x| x.as_array().cloned().unwrap_or_else(|| vec![x.clone()])).collect()
+                    }
+                    x => vec![x.clone()],
+                }
+            };
+            for (x, y) in flat(w).iter().zip(flat(g)) {
+                match (x.as_f64(), y.as_f64()) {
+                    (Some(a), Some(b)) if x.is_f64() => {
+                        assert!((a - b).abs() <= 5e-5 * b.abs(), "{id}.{k}: {b} documented {a}")
+                    }
+                    _ => assert_eq!(*x, y, "{id}.{k}"),
+                }
+            }
+        }
+    }
+    assert_eq!(answer["unit"], documented["unit"]);
+    assert_eq!(answer["masses"], documented["masses"]);
+}

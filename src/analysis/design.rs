@@ -155,8 +155,8 @@ fn run(
         })
         .collect();
     let with_beds = exp.cases.iter().filter(|c| c.beds.iter().any(|b| b.damper.mass > 0.0)).count();
-    let per_judged = (with_beds > 0 && exp.cases.len() > 0)
-        .then(|| std::time::Duration::from_nanos(judged.into_inner() / exp.cases.len() as u64));
+    let per_judged =
+        (with_beds > 0).then(|| std::time::Duration::from_nanos(judged.into_inner() / exp.cases.len() as u64));
     plan_after(exp, spec, per_judged);
     let (found, front, checks, stopped) = searched(exp, spec, (&p, &b), screen, refs, tick);
     tick();

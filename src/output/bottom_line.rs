@@ -39,6 +39,9 @@ pub struct BestRow {
     pub holds: String,
     /// The failing claims, each with its value and bound.
     pub failing: String,
+    /// The pairs of claims that each hold at some setup of this model but never at the same
+    /// one ("a / b; c / d"; empty when none or not known).
+    pub apart: String,
 }
 
 impl BestRow {
@@ -48,6 +51,7 @@ impl BestRow {
             setup: setup(run, s),
             holds: format!("{} of {}", s.holds, s.evaluable),
             failing: s.failing.join("; "),
+            apart: String::new(),
         }
     }
 }
@@ -280,26 +284,24 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
     // The most at once per model (the setups are in the folded table).
     let counts: Vec<(String, usize, usize)> =
         a.models.iter().filter_map(|x| x.best.first().map(|b| (label(&x.model), b.holds, b.evaluable))).collect();
-    let most = match counts.as_slice() {
-        [(_, h, e), rest @ ..] if !rest.is_empty() && rest.iter().all(|c| (c.1, c.2) == (*h, *e)) => {
-            format!("{h} of {e} on every model")
-        }
-        _ => counts.iter().map(|(l, h, e)| format!("{h} of {e} on {l}")).collect::<Vec<_>>().join(", "),
+    // The first sentence is read at a glance: the count, whether all ever hold together, how
+    // many pairs pull apart; the claims, the ranges and the setups follow in the table and the
+    // fold.
+    let (count, on) = match counts.as_slice() {
+        [(l, h, _)] => (h.to_string(), format!(" on {l}")),
+        [(_, h, _), rest @ ..] if rest.iter().all(|c| c.1 == *h) => (h.to_string(), ", on every model".to_string()),
+        _ => (counts.iter().map(|(l, h, _)| format!("{h} ({l})")).collect::<Vec<_>>().join(", "), String::new()),
     };
     let head = if everywhere.is_empty() {
         format!(
-            "At none of the {total} setups searched ({} over {}) do all {claims} claims of {} hold at once",
-            a.design,
-            a.vary.join(", "),
+            "At best {count} of the paper's {claims} claims ({}) hold together{on}: at none of the {total} setups searched do all hold at once",
             m.figure
         )
     } else {
         format!(
-            "Every one of the {claims} claims of {} holds at once on {} of the {total} setups searched ({} over {})",
+            "Every one of the {claims} claims of {} holds at once on {} of the {total} setups searched",
             m.figure,
-            everywhere.join(", "),
-            a.design,
-            a.vary.join(", ")
+            everywhere.join(", ")
         )
     };
     // Claims that pull apart on every model searched.
@@ -308,17 +310,18 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
         .first()
         .map(|f| f.apart.iter().filter(|p| a.models.iter().all(|x| x.apart.contains(p))).collect())
         .unwrap_or_default();
-    let apart = match common.as_slice() {
-        [] => String::new(),
-        [p] => format!("; on every model \"{}\" and \"{}\" each hold somewhere but never together", p[0], p[1]),
-        [p, ..] => format!(
-            "; on every model {} pairs of claims each hold somewhere but never together, among them \"{}\" and \"{}\"",
-            common.len(),
-            p[0],
-            p[1]
-        ),
+    let apart = match common.len() {
+        0 => String::new(),
+        1 => "; on every model one pair of claims each hold somewhere but never together".to_string(),
+        n => format!("; on every model {n} pairs of claims each hold somewhere but never together"),
     };
-    sentences.push(format!("{head}; the most at once: {most}{apart}."));
+    sentences.push(format!("{head}{apart}."));
+    sentences.push(format!(
+        "The search: {} over {}; the most at once: {most_of}.",
+        a.design,
+        a.vary.join(", "),
+        most_of = counts.iter().map(|(l, h, e)| format!("{h} of {e} on {l}")).collect::<Vec<_>>().join(", ")
+    ));
     // The stored best samples, run again now.
     let mut same = true;
     for x in &a.models {
@@ -358,7 +361,15 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
         id: m.study.clone(),
         title: m.title.clone(),
         sentences,
-        best: now.iter().map(|s| BestRow::of(run, s)).collect(),
+        best: now
+            .iter()
+            .map(|s| {
+                let apart = a.models.iter().find(|x| x.model == s.model).map_or(String::new(), |x| {
+                    x.apart.iter().map(|p| format!("{} / {}", p[0], p[1])).collect::<Vec<_>>().join("; ")
+                });
+                BestRow { apart, ..BestRow::of(run, s) }
+            })
+            .collect(),
         tables: tables(&m.study, file_dir),
         how: format!(
             "searched by a whole run of the study on {} (its answer in reference/studies/{}.json), each model's best setup run again with this report (the tables: those runs)",
@@ -482,14 +493,19 @@ mod tests {
         let mut r = run(vec![row(4, 0.004, "a: one", true), row(4, 0.004, "b: one", false)]);
         r.stored = Some(crate::output::study::StoredRun { answer: answer.clone(), fresh: true });
         let b = of(&r, "j");
-        assert!(
-            b.sentences[0].starts_with("At none of the 7 setups searched (7 samples per model over damping)"),
-            "{:?}",
-            b.sentences
+        // At a glance: the count and whether all ever hold together, under 60 words; how the
+        // setups were searched comes next.
+        assert_eq!(
+            b.sentences[0],
+            "At best 1 of the paper's 2 claims (Fig. A, Fig. B) hold together on stated chain: at none of the 7 setups searched do all hold at once."
         );
-        assert!(b.sentences[0].ends_with("the most at once: 1 of 2 on stated chain."), "{:?}", b.sentences);
+        assert!(b.sentences[0].split_whitespace().count() <= 60);
+        assert_eq!(
+            b.sentences[1],
+            "The search: 7 samples per model over damping; the most at once: 1 of 2 on stated chain."
+        );
         assert!(b.best[0].setup.contains("damping 0.004") && b.best[0].holds == "1 of 2", "{:?}", b.best);
-        assert!(b.sentences[1].contains("gives the stored count (the search ran on 2026-11-27)"), "{:?}", b.sentences);
+        assert!(b.sentences[2].contains("gives the stored count (the search ran on 2026-11-27)"), "{:?}", b.sentences);
         // Another count now, another version: both said; a pair that pulls apart on every model
         // heads it.
         let mut answer = answer;
@@ -501,9 +517,10 @@ mod tests {
         assert!(text.contains("gives 2 of 2 (stored: 1 of 2): the stored answer is out of date"), "{text}");
         assert!(text.contains("another version of the study j"), "{text}");
         assert!(
-            b.sentences[0].contains("on every model \"a: one\" and \"b: one\" each hold somewhere but never together"),
+            b.sentences[0].ends_with("; on every model one pair of claims each hold somewhere but never together."),
             "{:?}",
             b.sentences
         );
+        assert_eq!(b.best[0].apart, "a: one / b: one", "the pair, named in the table");
     }
 }

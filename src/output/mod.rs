@@ -321,6 +321,7 @@ impl ReportWriter {
         };
         index_view.rows.iter_mut().for_each(|r| shown(&mut r.thumbnail));
         index_view.figures.iter_mut().for_each(|f| shown(&mut f.thumbnail));
+        index_view.examples.iter_mut().for_each(|f| shown(&mut f.thumbnail));
         let index = report::render(&self.tera, "index.html", &index_view)?;
         write(&dir.join("index.html"), index.as_bytes())?;
         write(&dir.join("checks.json"), &checks_json(results)?)?;

@@ -355,6 +355,9 @@ pub struct FigureRow {
     pub other_checks: String,
     /// Link to the figure's thumbnail.
     pub thumbnail: String,
+    /// Not the paper's: every experiment of the row is an engineer's own (an example), so it
+    /// is listed apart from the paper's figures ([`IndexView::examples`]).
+    pub own: bool,
 }
 
 /// The context of the index page.
@@ -362,6 +365,9 @@ pub struct FigureRow {
 pub struct IndexView {
     /// The report's title.
     pub title: String,
+    /// Whether any experiment is one of the paper's figures (else the report is of an
+    /// engineer's own project, and neither its title nor its lead speaks of the paper).
+    pub paper: bool,
     /// shotdamp's version and the command that wrote the report.
     pub generated_by: String,
     /// The overall outcome, in words.
@@ -375,6 +381,9 @@ pub struct IndexView {
     pub models: Vec<String>,
     /// One row per paper figure.
     pub figures: Vec<FigureRow>,
+    /// One row per group of experiments that are not the paper's (examples, an engineer's
+    /// structures): a section of their own, with their own verdicts.
+    pub examples: Vec<FigureRow>,
     /// One row per experiment run.
     pub rows: Vec<SummaryRow>,
     /// Every check.
@@ -417,12 +426,20 @@ pub fn index_view(results: &[ExperimentResult]) -> IndexView {
         }
     }
     let models = model_list(results);
-    let figures = figure_rows(results, &models);
+    let (examples, figures): (Vec<FigureRow>, Vec<FigureRow>) =
+        figure_rows(results, &models).into_iter().partition(|f| f.own);
+    let paper = !figures.is_empty();
     IndexView {
+        examples,
         replication: replication(&figures, &models),
         figures,
         models: models.iter().map(|m| m.label.clone()).collect(),
-        title: "shotdamp: replication of Araki et al. (1997)".into(),
+        paper,
+        title: if !paper {
+            format!("shotdamp: {} experiment{}", results.len(), if results.len() == 1 { "" } else { "s" })
+        } else {
+            "shotdamp: replication of Araki et al. (1997)".into()
+        },
         generated_by: format!("shotdamp {}", env!("CARGO_PKG_VERSION")),
         overall: format!("{overall}: {words}"),
         overall_class: class.to_string(),
@@ -570,6 +587,17 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                     n(Status::Fail)
                 )
             };
+            // Not the paper's: the verdict is its own checks' (a stored design replayed, a
+            // reduction against its full model), as no paper number applies.
+            let own_verdict = own.then(|| {
+                if checks.iter().any(|c| c.status == Status::Fail) {
+                    ("a check fails", "fail")
+                } else if checks.is_empty() {
+                    ("no checks", "none")
+                } else {
+                    ("its checks pass", "pass")
+                }
+            });
             let cells: Vec<ModelCell> = models
                 .iter()
                 .map(|m| {
@@ -606,8 +634,11 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                     }
                 })
                 .collect();
-            let sentence =
-                if models.is_empty() { format!("{}.", capitalise(label(v))) } else { grouped_sentence(&cells, models) };
+            let sentence = if models.is_empty() || own {
+                format!("{}.", capitalise(label(v)))
+            } else {
+                grouped_sentence(&cells, models)
+            };
             let mut titles: Vec<(String, String)> = Vec::new();
             for r in &members {
                 let link = format!("{}/index.html", r.experiment.meta.id);
@@ -620,8 +651,8 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
             FigureRow {
                 ids,
                 figure: g,
-                verdict: label(v).to_string(),
-                verdict_class: v.class().to_string(),
+                verdict: own_verdict.map_or_else(|| label(v).to_string(), |o| o.0.to_string()),
+                verdict_class: own_verdict.map_or_else(|| v.class().to_string(), |o| o.1.to_string()),
                 cells,
                 experiments: titles,
                 sentence,
@@ -631,6 +662,7 @@ fn figure_rows(results: &[ExperimentResult], models: &[ModelInfo]) -> Vec<Figure
                     .iter()
                     .find_map(|r| r.figures.first().map(|f| format!("{}/{}.png", r.experiment.key(), f.id)))
                     .unwrap_or_default(),
+                own,
             }
         })
         .collect()
