@@ -138,11 +138,10 @@ fn run(
     let screen = sp.as_ref().zip(sb.as_deref());
     let total_mass = exp.structure.mass_matrix().trace();
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
-    // The experiment's cases as reference layouts, evaluated before the searches: under a
-    // time limit they measure what an evaluation on the file's model costs ([`plan_after`]).
-    let judged = std::sync::atomic::AtomicU64::new(0);
     // The experiment's cases as reference layouts (the paper's, one container on the loop
-    // point, ...), evaluated with the same objective.
+    // point, ...), evaluated with the same objective, before the searches: under a time limit
+    // they measure what an evaluation on the file's model costs ([`plan_after`]).
+    let judged = std::sync::atomic::AtomicU64::new(0);
     let case_rows: Vec<(String, Layout, Evaluation, u64)> = exp
         .cases
         .par_iter()
@@ -191,9 +190,9 @@ fn run(
         &names,
         &case_rows,
     ));
-    // A search the time limit or an interrupt stopped ends here too: what evaluates more
-    // layouts after it (the clearance profile, the drive levels, the near-optimum map, the SDOF
-    // method) is skipped, and the page says so.
+    // A search the time limit or an interrupt stopped ends here too: what would search more
+    // layouts after it (the clearance profile, the near-optimum map, the SDOF method) is
+    // skipped, and the page says so; the drive levels are still evaluated (the best layout's).
     let more = !stopped;
     let why = stopped.then(|| {
         if spec.halt.interrupted() {

@@ -70,7 +70,8 @@ impl Halt {
     /// Whether the searches should end now: the flag is raised, or the deadline is nearer
     /// than the time reserved for what follows them ([`Halt::reserve`]).
     pub fn reached(&self) -> bool {
-        self.interrupted() || self.deadline.is_some_and(|d| Instant::now() + self.reserve() >= d)
+        self.interrupted()
+            || self.deadline.is_some_and(|d| Instant::now().checked_add(self.reserve()).is_none_or(|t| t >= d))
     }
 
     /// Whether the deadline itself has passed (no reserve) or the flag was raised: what runs
@@ -119,7 +120,9 @@ impl Halt {
         let planned = self.after.evaluations.load(Ordering::Relaxed);
         let judged = self.after.judged.load(Ordering::Relaxed).div_ceil(threads);
         let per_judged = Duration::from_nanos(self.after.judged_nanos.load(Ordering::Relaxed));
-        self.pace().saturating_mul(times(planned.div_ceil(threads) + 1)) + per_judged.saturating_mul(times(judged))
+        self.pace()
+            .saturating_mul(times(planned.div_ceil(threads) + 1))
+            .saturating_add(per_judged.saturating_mul(times(judged)))
     }
 }
 
@@ -618,6 +621,26 @@ pub fn grid(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_deadline_keeps_the_planned_work_after_the_searches_inside_it() {
+        let threads = rayon::current_num_threads().max(1) as u32;
+        let halt = Halt { deadline: Some(Instant::now() + Duration::from_secs(3600)), ..Halt::default() };
+        assert_eq!(halt.reserve(), Duration::ZERO, "nothing timed, nothing planned");
+        halt.timed(|| std::thread::sleep(Duration::from_millis(20)));
+        let pace = halt.pace();
+        assert!(pace >= Duration::from_millis(20), "{pace:?}");
+        // Two evaluations a thread on the searched model, and one a thread at 100 s on the
+        // file's: one round in flight more.
+        halt.plan_after(2 * u64::from(threads), u64::from(threads), Some(Duration::from_secs(100)));
+        assert_eq!(halt.reserve(), pace * 3 + Duration::from_secs(100));
+        assert!(!halt.reached(), "an hour ahead holds the reserve");
+        let near = Halt { deadline: Some(Instant::now() + Duration::from_secs(60)), ..halt.clone() };
+        assert!(near.reached() && !near.passed(), "a minute ahead does not hold 100 s of work");
+        // A reserve too large to add to an instant ends the searches; it does not overflow.
+        near.plan_after(u64::MAX, u64::MAX, Some(Duration::MAX));
+        assert!(near.reached());
+    }
 
     #[test]
     fn placements_are_every_subset_up_to_the_limit_in_a_fixed_order() {

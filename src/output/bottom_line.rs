@@ -35,20 +35,36 @@ pub struct BottomLine {
 pub struct BestRow {
     /// The model and the values, in words.
     pub setup: String,
+    /// The model's label alone, and the values to two significant digits (the front page's
+    /// table, read at a glance; `setup` has them in full).
+    pub model: String,
+    /// The values, short.
+    pub values: String,
     /// "10 of 13".
     pub holds: String,
     /// The failing claims, each with its value and bound.
     pub failing: String,
-    /// The pairs of claims that each hold at some setup of this model but never at the same
-    /// one ("a / b; c / d"; empty when none or not known).
+    /// The experiments whose claims each hold at some setup of this model but never at the
+    /// same one, each pair once ("fig05_third_mode / fig08_number_of_dampers"; empty when none
+    /// or not known).
     pub apart: String,
 }
 
 impl BestRow {
     /// The row of one sample of `run`.
     fn of(run: &StudyRun, s: &SampleSummary) -> BestRow {
+        let model = run.manifest.models.iter().find(|m| m.0 == s.model).map_or(s.model.clone(), |m| m.1.clone());
+        let values: Vec<String> = run
+            .manifest
+            .vary
+            .iter()
+            .zip(&s.values)
+            .map(|(a, v)| format!("{} {}", a.name, crate::number::fmt_sig(*v, 2)))
+            .collect();
         BestRow {
             setup: setup(run, s),
+            model,
+            values: values.join(", "),
             holds: format!("{} of {}", s.holds, s.evaluable),
             failing: s.failing.join("; "),
             apart: String::new(),
@@ -364,8 +380,15 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
         best: now
             .iter()
             .map(|s| {
+                // The experiments whose claims pull apart, each pair once (the claims in full
+                // are in the fold's sentences).
                 let apart = a.models.iter().find(|x| x.model == s.model).map_or(String::new(), |x| {
-                    x.apart.iter().map(|p| format!("{} / {}", p[0], p[1])).collect::<Vec<_>>().join("; ")
+                    let exp = |c: &str| c.split(':').next().unwrap_or(c).trim().to_string();
+                    let mut pairs: Vec<String> = x.apart.iter().map(|p| format!("{} / {}", exp(&p[0]), exp(&p[1]))).collect();
+                    pairs.dedup();
+                    let mut seen = Vec::new();
+                    pairs.retain(|p| if seen.contains(p) { false } else { seen.push(p.clone()); true });
+                    pairs.join("; ")
                 });
                 BestRow { apart, ..BestRow::of(run, s) }
             })
@@ -505,6 +528,7 @@ mod tests {
             "The search: 7 samples per model over damping; the most at once: 1 of 2 on stated chain."
         );
         assert!(b.best[0].setup.contains("damping 0.004") && b.best[0].holds == "1 of 2", "{:?}", b.best);
+        assert_eq!((b.best[0].model.as_str(), b.best[0].values.as_str()), ("stated chain", "damping 0.004"));
         assert!(b.sentences[2].contains("gives the stored count (the search ran on 2026-11-27)"), "{:?}", b.sentences);
         // Another count now, another version: both said; a pair that pulls apart on every model
         // heads it.
@@ -521,6 +545,6 @@ mod tests {
             "{:?}",
             b.sentences
         );
-        assert_eq!(b.best[0].apart, "a: one / b: one", "the pair, named in the table");
+        assert_eq!(b.best[0].apart, "a / b", "the pair's experiments, named in the table");
     }
 }
