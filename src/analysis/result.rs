@@ -40,7 +40,8 @@ pub struct ExperimentResult {
     /// The answer in one paragraph, where the analysis gives one (a design): the first thing
     /// on the page.
     pub answer: Option<String>,
-    /// Why the answer is partial, when it is ([`super::kind::Output::partial`]).
+    /// Why the answer is partial, when it is (a design stopped at its time limit or by an
+    /// interrupt: its layouts the best found so far).
     pub partial: Option<String>,
 }
 
