@@ -153,14 +153,16 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
     let total_mass = inputs.total_mass;
     let (_, layout, eval) = best;
     let force = problem.cases()[0].force;
+    let shot = layout.shot_kg();
+    // A container the split left with a vanishing share (1e-17 kg of a quarter kilogram) holds
+    // no shot in words.
     let beds: Vec<String> = layout
         .hosts
         .iter()
         .zip(&layout.masses_kg)
-        .filter(|(_, m)| **m > 0.0)
+        .filter(|(_, m)| **m > 1e-9 * shot)
         .map(|(h, m)| format!("{} kg on m{}", fmt_sig(*m, 2), h + 1))
         .collect();
-    let shot = layout.shot_kg();
     let clearances: Vec<f64> = layout.clearances_mm.clone();
     let same = clearances.windows(2).all(|w| w[0] == w[1]);
     let clearance = match (inputs.profile, same, clearances.first()) {
