@@ -194,7 +194,9 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
     // same motion (the lid is never touched), which the answer says rather than a precision.
     let flight_mm = 1e3 * eval.motion.iter().map(|m| m.flight_m).fold(0.0, f64::max);
     let smallest = clearances.iter().copied().fold(f64::INFINITY, f64::min);
-    let lid = if flight_mm.is_finite() && flight_mm < smallest {
+    let lid = if flight_mm == 0.0 {
+        " The beds never leave their containers' bottoms: the clearance does not change the motion.".to_string()
+    } else if flight_mm.is_finite() && flight_mm < smallest {
         format!(
             " The beds fly at most {} mm above their containers' bottoms and never reach the lid: any clearance above {} mm gives the same motion.",
             fmt_sig(flight_mm, 2),
