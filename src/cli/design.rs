@@ -160,7 +160,7 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     let took = started.elapsed().as_secs_f64();
     if let Some(limit) = time_limit.filter(|l| took > l + LIMIT_MARGIN_S) {
         say!(
-            "the time limit ({} s) was shorter than the least this design does after its searches stop (each placement's best evaluated for the page, the cases, the drive levels): it ran {:.1} s",
+            "the time limit ({} s) was shorter than the least this design does besides searching (the cases before, each placement's best for the page and the drive levels after): it ran {:.1} s",
             crate::number::fmt_sig(limit, 3),
             took
         );

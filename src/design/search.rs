@@ -32,7 +32,7 @@ pub struct Space {
 /// stored answer's fingerprint.
 ///
 /// A deadline bounds the whole design, not the searches only: what runs after them (each
-/// placement's best evaluated for the page, the cases, the drive levels; [`Halt::plan_after`])
+/// placement's best evaluated for the page, the drive levels; [`Halt::plan_after`])
 /// is reserved at the pace the searches measure, so the searches end that much earlier
 /// ([`Halt::reached`]).
 #[derive(Debug, Clone, Default)]
