@@ -9,7 +9,7 @@ use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use shotdamp::experiment::Experiment;
-use shotdamp::sim::sweep::{self, Direction};
+use shotdamp::sim::settle::sweep::{self, Direction};
 use shotdamp::sim::{Dynamics, SteadyOptions, System};
 
 fn plate() -> Experiment {
@@ -74,7 +74,7 @@ fn plate_answer(c: &mut Criterion) {
         // Measuring only the masses a design reads (the driven point and the hosts), as the
         // design does on a structure of more than 8 coordinates.
         let read = std::iter::once(exp.excitation.mass).chain(sys.dampers.iter().map(|b| b.host));
-        let design = SteadyOptions { observe: shotdamp::sim::observe::Observe::only(read), ..follow };
+        let design = SteadyOptions { observe: shotdamp::sim::motion::observe::Observe::only(read), ..follow };
         group.bench_function(format!("the same, {name}, measuring the 4 masses a design reads"), |b| {
             b.iter(|| sweep::continued_at(&forced, Direction::Up, &design, &|| {}))
         });

@@ -9,8 +9,8 @@ use std::f64::consts::PI;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use shotdamp::model::{Damper, Damping, Structure};
-use shotdamp::sim::steady::SteadyMethod;
-use shotdamp::sim::{steady_state, sweep, Dynamics, State, SteadyOptions, System};
+use shotdamp::sim::settle::steady::SteadyMethod;
+use shotdamp::sim::{settle::sweep, steady_state, Dynamics, State, SteadyOptions, System};
 
 /// The paper's structure with modal damping `zeta` and beds (mass ratio 0.1) on `hosts`.
 fn beds(hosts: &[usize], clearance: f64, zeta: f64) -> System {
@@ -80,7 +80,7 @@ fn fig08_sweep(c: &mut Criterion) {
 /// restitution 0.3: one container (m2) and three.
 fn column_sweep(c: &mut Criterion) {
     let freqs: Vec<f64> = (0..=120).map(|i| ((440.0 + i as f64) / 10.0 * 1e9).round() / 1e9).collect();
-    let law = shotdamp::sim::bed::ImpactLaw::with_restitution(0.3, 1e-3);
+    let law = shotdamp::sim::motion::bed::ImpactLaw::with_restitution(0.3, 1e-3);
     let mut group = c.benchmark_group("sweep");
     group.sample_size(10);
     for (name, hosts) in [("N=1 (m2)", vec![1]), ("N=3", vec![0, 1, 2])] {
@@ -103,8 +103,8 @@ fn column_sweep(c: &mut Criterion) {
 /// seeded at 49.66 Hz and continued both ways over 44-56 Hz.
 fn fig09_branch(c: &mut Criterion) {
     use shotdamp::model::sdof::EquivalentSdof;
-    use shotdamp::sim::continuation::{continue_branch, ContinuationOptions, Parameter};
-    use shotdamp::sim::periodic::{seed, NewtonOptions};
+    use shotdamp::sim::orbits::continuation::{continue_branch, ContinuationOptions, Parameter};
+    use shotdamp::sim::orbits::periodic::{seed, NewtonOptions};
     let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
     let e = EquivalentSdof::new(&s, &[Damper::new(1, 0.071, Clearance::from_m(0.5e-3))], 2, 0, 2.6);
     let sys = System::plastic(e.structure(), vec![e.damper()], 0, e.force);

@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use shotdamp::model::modes::symmetric_modes;
-use shotdamp::sim::sweep::{self, Direction};
+use shotdamp::sim::settle::sweep::{self, Direction};
 use shotdamp::sim::{Dynamics, SteadyOptions, System};
 
 include!("common/size_family.rs");

@@ -8,8 +8,8 @@
 
 use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, Damping, Structure};
-use shotdamp::sim::bed::ImpactLaw;
-use shotdamp::sim::{sweep, SteadyOptions, System};
+use shotdamp::sim::motion::bed::ImpactLaw;
+use shotdamp::sim::{settle::sweep, SteadyOptions, System};
 
 fn main() {
     let m = [0.74, 0.71, 0.64];

@@ -6,8 +6,8 @@
 
 use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, Damping, Structure};
-use shotdamp::sim::bed::ImpactLaw;
-use shotdamp::sim::{sweep, SteadyOptions, System};
+use shotdamp::sim::motion::bed::ImpactLaw;
+use shotdamp::sim::{settle::sweep, SteadyOptions, System};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -10,7 +10,7 @@
 use std::time::Instant;
 
 use num_complex::Complex64;
-use shotdamp::sim::sweep::{self, Direction};
+use shotdamp::sim::settle::sweep::{self, Direction};
 use shotdamp::sim::{Dynamics, SteadyOptions};
 
 include!("../benches/common/size_family.rs");

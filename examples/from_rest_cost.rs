@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use shotdamp::model::{Clearance, Damper, Damping, Structure};
-use shotdamp::sim::observe::EventLog;
+use shotdamp::sim::motion::observe::EventLog;
 use shotdamp::sim::{steady_from_rest, Dynamics, Engine, State, SteadyOptions, System};
 
 /// CPU time of `periods` forcing periods of the motion from rest, one `advance` a period with

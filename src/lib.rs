@@ -50,8 +50,8 @@
 //!
 //! ```
 //! use shotdamp::model::{Clearance, Damper, Damping, Structure};
-//! use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
-//! use shotdamp::sim::{sweep, SteadyOptions, System};
+//! use shotdamp::sim::motion::impulse::{free_response, ImpulseOptions, Kick};
+//! use shotdamp::sim::{settle::sweep, SteadyOptions, System};
 //!
 //! let paper = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.01; 3]));
 //! let beds = vec![Damper::new(0, 0.074, Clearance::NO_TOP)];

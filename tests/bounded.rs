@@ -12,7 +12,7 @@ use std::time::Duration;
 use nalgebra::{DMatrix, Schur};
 use num_complex::Complex64;
 use proptest::prelude::*;
-use shotdamp::sim::eigen::{eigenvalues, EigenError, SWEEPS_PER_ROW};
+use shotdamp::sim::motion::eigen::{eigenvalues, EigenError, SWEEPS_PER_ROW};
 
 /// Runs `f` on a thread and waits at most `limit` for it: a hang fails the test instead of
 /// hanging the suite.
@@ -251,7 +251,7 @@ fn forcing_frequencies_below_the_floor_are_input_errors_and_those_above_end() {
     let system = shotdamp::sim::System::plastic(paper, vec![Damper::new(1, 0.071, Clearance::from_m(0.3e-3))], 0, 2.6);
     let f = floor * 1.001;
     let points = within(Duration::from_secs(60), move || {
-        shotdamp::sim::sweep::from_rest(&system, &[f], &shotdamp::sim::SteadyOptions::default(), &|| {})
+        shotdamp::sim::settle::sweep::from_rest(&system, &[f], &shotdamp::sim::SteadyOptions::default(), &|| {})
     });
     assert!(points[0].result.as_ref().is_ok_and(|s| s.converged));
 }

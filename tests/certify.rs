@@ -11,8 +11,8 @@ use crate::common;
 use std::f64::consts::PI;
 
 use shotdamp::model::{Clearance, Damper};
-use shotdamp::sim::bed::ImpactLaw;
-use shotdamp::sim::observe::Extrema;
+use shotdamp::sim::motion::bed::ImpactLaw;
+use shotdamp::sim::motion::observe::Extrema;
 use shotdamp::sim::{steady_state, Dynamics, Engine, State, Steady, SteadyMethod, SteadyOptions, System};
 
 /// Fig. 5's containers on the stated chain: mu = 0.1 on the masses given, d = 0.35 mm.

@@ -11,7 +11,7 @@ use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::Damper;
-use shotdamp::sim::observe::EventLog;
+use shotdamp::sim::motion::observe::EventLog;
 use shotdamp::sim::{Dynamics, Engine, EventKind, State, System};
 
 fn dampers(hosts: &[usize], clearance: f64) -> Vec<Damper> {
@@ -27,8 +27,8 @@ fn disagreement(sys: &System, f_hz: f64, periods: f64) -> (f64, f64, usize) {
     let t_end = periods / f_hz;
     let mut whole = EventLog::default();
     let mut s = State::at_rest(&d);
-    let mut ext = shotdamp::sim::observe::Extrema::new(3, sys.dampers.len());
-    let _ = Engine::new(&d).advance(&mut s, t_end, &mut shotdamp::sim::observe::Both(&mut whole, &mut ext));
+    let mut ext = shotdamp::sim::motion::observe::Extrema::new(3, sys.dampers.len());
+    let _ = Engine::new(&d).advance(&mut s, t_end, &mut shotdamp::sim::motion::observe::Both(&mut whole, &mut ext));
     let amplitude = ext.max.iter().zip(&ext.min).map(|(a, b)| a.abs().max(b.abs())).fold(0.0, f64::max);
     let mut cut = EventLog::default();
     let mut s = State::at_rest(&d);

@@ -10,7 +10,7 @@ use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::Damper;
-use shotdamp::sim::bed::ImpactLaw;
+use shotdamp::sim::motion::bed::ImpactLaw;
 use shotdamp::sim::{steady_state, Dynamics, Engine, EventKind, Quiet, State, SteadyMethod, SteadyOptions, System};
 
 /// Fig. 5's containers: mu = 0.1 on the masses given, clearance `d` m.
@@ -57,8 +57,8 @@ fn a_plastic_column_is_the_single_plastic_mass_on_fig8s_band_without_a_top() {
     let column = single.clone().with_grains(&[10, 10, 10]);
     let opts = transient();
     let freqs: Vec<f64> = (0..27).map(|i| 8.0 + 2.0 * i as f64).collect();
-    let a = shotdamp::sim::sweep::from_rest(&single, &freqs, &opts, &|| {});
-    let b = shotdamp::sim::sweep::from_rest(&column, &freqs, &opts, &|| {});
+    let a = shotdamp::sim::settle::sweep::from_rest(&single, &freqs, &opts, &|| {});
+    let b = shotdamp::sim::settle::sweep::from_rest(&column, &freqs, &opts, &|| {});
     for (p, q) in a.iter().zip(&b) {
         let (s, c) = (p.result.as_ref().unwrap(), q.result.as_ref().unwrap());
         let scale = s.amplitude.iter().copied().fold(0.0, f64::max);
@@ -111,7 +111,7 @@ fn ordered(d: &Dynamics, s: &State) -> bool {
 
 #[test]
 fn a_column_keeps_its_order_and_every_joule_is_accounted_for() {
-    use shotdamp::sim::observe::stored_energy;
+    use shotdamp::sim::motion::observe::stored_energy;
     for (e, n) in [(0.3, 10), (0.6, 4), (0.9, 20)] {
         let law = ImpactLaw::with_restitution(e, 1e-3);
         let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(law).with_grains(&[n, n, n]);
@@ -161,14 +161,14 @@ fn a_column_dropped_into_a_resting_container_comes_to_rest_after_a_bounded_numbe
         let drop = x[2] + 0.3e-3;
         let beds = vec![shotdamp::sim::Bed::Free { t0: 0.0, y0: drop, u0: 0.0 }; sys.dampers.len()];
         let mut s = State { t: 0.0, x: x.clone(), v: nalgebra::DVector::zeros(3), beds };
-        let e0 = shotdamp::sim::observe::stored_energy(&d, &s);
+        let e0 = shotdamp::sim::motion::observe::stored_energy(&d, &s);
         let mut ledger = Ledger { events: Vec::new(), order_kept: true };
-        let mut energy = shotdamp::sim::observe::Energy::default();
+        let mut energy = shotdamp::sim::motion::observe::Energy::default();
         let engine = Engine::new(&d);
         let mut rest_at = None;
         for k in 1..=200 {
             engine
-                .advance(&mut s, k as f64 * 0.01, &mut shotdamp::sim::observe::Both(&mut ledger, &mut energy))
+                .advance(&mut s, k as f64 * 0.01, &mut shotdamp::sim::motion::observe::Both(&mut ledger, &mut energy))
                 .unwrap();
             ledger.order_kept &= ordered(&d, &s);
             if rest_at.is_none() && s.beds.iter().all(|b| *b == shotdamp::sim::Bed::Bottom) {
@@ -182,7 +182,7 @@ fn a_column_dropped_into_a_resting_container_comes_to_rest_after_a_bounded_numbe
         let m_g = 0.064 / n as f64;
         let fall = m_g * n as f64 * 9.80665 * 0.3e-3;
         let bound = n + 2 * (fall / ((1.0 - e * e) * m_g * 1e-6 / 4.0)).ceil() as usize;
-        let e1 = shotdamp::sim::observe::stored_energy(&d, &s);
+        let e1 = shotdamp::sim::motion::observe::stored_energy(&d, &s);
         let residual = (e0 - e1 - energy.viscous - energy.impact).abs() / (e0 - e1);
         println!(
             "n = {n}, e = {e}: at rest after {:?} s, {events} events (bound {bound}); balance {residual:.1e}",
@@ -281,14 +281,14 @@ fn waveforms_show_every_grain_and_the_events_name_it() {
 
 #[test]
 fn a_motion_that_never_settles_gets_a_long_record_whose_halves_are_compared() {
-    use shotdamp::sim::long_record::{extend, LONG_RECORD_PERIODS};
-    use shotdamp::sim::observe::Extrema;
-    use shotdamp::sim::steady::NoSteady;
+    use shotdamp::sim::motion::observe::Extrema;
+    use shotdamp::sim::settle::long_record::{extend, LONG_RECORD_PERIODS};
+    use shotdamp::sim::settle::steady::NoSteady;
     // One bouncing mass per container, stopped before it can settle (30 periods).
     let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw::with_restitution(0.5, 1e-3));
     let d = Dynamics::new(&sys, 2.0 * PI * 48.5).unwrap();
     let short = SteadyOptions { max_periods: 30, min_periods: 25, ..transient() };
-    let st = shotdamp::sim::transient::transient_steady(&d, State::at_rest(&d), &short);
+    let st = shotdamp::sim::settle::transient::transient_steady(&d, State::at_rest(&d), &short);
     assert!(!st.converged);
     let long = extend(&d, st.clone());
     let Some(NoSteady::Aperiodic { periods, spread, after }) = long.failure.clone() else {
@@ -315,7 +315,7 @@ fn a_motion_that_never_settles_gets_a_long_record_whose_halves_are_compared() {
     // The paper's plastic bed keeps its record.
     let plastic = fig5(&[0, 1, 2], 0.35e-3);
     let dp = Dynamics::new(&plastic, 2.0 * PI * 48.5).unwrap();
-    let sp = shotdamp::sim::transient::transient_steady(&dp, State::at_rest(&dp), &short);
+    let sp = shotdamp::sim::settle::transient::transient_steady(&dp, State::at_rest(&dp), &short);
     let kept = extend(&dp, sp.clone());
     assert_eq!(kept.amplitude, sp.amplitude);
     assert_eq!(kept.recorded_periods, sp.recorded_periods);
@@ -323,7 +323,7 @@ fn a_motion_that_never_settles_gets_a_long_record_whose_halves_are_compared() {
 
 #[test]
 fn an_impulse_decay_with_columns_accounts_for_every_joule_and_a_plastic_column_is_the_single_mass() {
-    use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
+    use shotdamp::sim::motion::impulse::{free_response, ImpulseOptions, Kick};
     let opts = ImpulseOptions { mass: 0, kick: Kick::Velocity(0.5), duration: 0.5, dt: 1e-3 };
     for (e, n) in [(0.0, 10), (0.3, 10), (0.6, 5)] {
         let sys = fig5(&[0, 1, 2], 0.35e-3).with_law(ImpactLaw::with_restitution(e, 1e-3)).with_grains(&[n, n, n]);

@@ -9,7 +9,7 @@ use crate::common::paper_with as paper;
 use shotdamp::design::{bare, evaluate, Band, Combine, Layout, Measure, Problem, Sweep};
 use shotdamp::model::Clearance;
 use shotdamp::model::Damper;
-use shotdamp::sim::sweep::{continued, Direction};
+use shotdamp::sim::settle::sweep::{continued, Direction};
 use shotdamp::sim::{SteadyOptions, System};
 
 fn band() -> Vec<f64> {

@@ -7,7 +7,7 @@ use shotdamp::model::modal::symmetric_modes;
 use shotdamp::model::Clearance;
 use shotdamp::model::{Damper, GRAVITY};
 use shotdamp::signal::log_decrements;
-use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
+use shotdamp::sim::motion::impulse::{free_response, ImpulseOptions, Kick};
 use shotdamp::sim::System;
 
 fn opts(v0: f64, duration: f64) -> ImpulseOptions {

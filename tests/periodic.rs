@@ -10,8 +10,8 @@ use nalgebra::DVector;
 use shotdamp::model::frf::receptance;
 use shotdamp::model::sdof::EquivalentSdof;
 use shotdamp::model::{Damper, GRAVITY};
-use shotdamp::sim::continuation::{continue_branch, ContinuationOptions, Special};
-use shotdamp::sim::periodic::{seed, solve, summarize, NewtonOptions, Problem};
+use shotdamp::sim::orbits::continuation::{continue_branch, ContinuationOptions, Special};
+use shotdamp::sim::orbits::periodic::{seed, solve, summarize, NewtonOptions, Problem};
 use shotdamp::sim::{steady_state, Dynamics, SetupError, State, SteadyOptions, System};
 
 /// A long simulation to a tight steady state, then the orbit through its state.
@@ -64,7 +64,7 @@ fn newton_converges_quadratically() {
     let after = |eps: f64| -> (f64, f64) {
         let guess = orbit.u.add_scalar(eps);
         match solve(&problem, &d, &guess, &one_step) {
-            Err(shotdamp::sim::periodic::OrbitError::NoConvergence(r)) => (r[0], r[1]),
+            Err(shotdamp::sim::orbits::periodic::OrbitError::NoConvergence(r)) => (r[0], r[1]),
             other => panic!("{other:?}"),
         }
     };
@@ -117,11 +117,11 @@ fn options(p_min: f64, p_max: f64) -> ContinuationOptions {
     common::ball_continuation(p_min, p_max)
 }
 
-fn period_doubling(branch: &shotdamp::sim::continuation::Branch) -> Option<f64> {
+fn period_doubling(branch: &shotdamp::sim::orbits::continuation::Branch) -> Option<f64> {
     branch.special.iter().find_map(|s| if let Special::PeriodDoubling { p } = s { Some(*p) } else { None })
 }
 
-fn fold(branch: &shotdamp::sim::continuation::Branch) -> Option<f64> {
+fn fold(branch: &shotdamp::sim::orbits::continuation::Branch) -> Option<f64> {
     branch.special.iter().find_map(|s| if let Special::Fold { p } = s { Some(*p) } else { None })
 }
 

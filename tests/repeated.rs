@@ -8,7 +8,7 @@
 use nalgebra::DMatrix;
 use shotdamp::model::structure::chain_stiffness;
 use shotdamp::model::{Clearance, Damper, Damping, Structure};
-use shotdamp::sim::sweep;
+use shotdamp::sim::settle::sweep;
 use shotdamp::sim::{SteadyOptions, System};
 
 /// The paper's chain (modal damping 0.01) beside `k` identical oscillators of 1 kg on 10 kN/m

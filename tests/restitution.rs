@@ -9,8 +9,8 @@ use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::Damper;
-use shotdamp::sim::bed::ImpactLaw;
-use shotdamp::sim::{steady_state, sweep, Dynamics, State, SteadyOptions, System};
+use shotdamp::sim::motion::bed::ImpactLaw;
+use shotdamp::sim::{settle::sweep, steady_state, Dynamics, State, SteadyOptions, System};
 
 /// Fig. 5's three containers (d = 0.35 mm), the one on m2 with restitution keys `restitution`.
 fn experiment_file(dir: &std::path::Path, restitution: &str) -> std::path::PathBuf {

@@ -353,7 +353,7 @@ fn a_graze_of_the_top_is_found() {
     let omega = 2.0 * PI * 49.0;
     let t_end = r.final_state.t + 2.0 * 2.0 * PI / omega;
     let d = Dynamics::new(&sys, omega).unwrap();
-    let mut ext = shotdamp::sim::observe::Extrema::new(3, 1);
+    let mut ext = shotdamp::sim::motion::observe::Extrema::new(3, 1);
     let mut s = r.final_state.clone();
     Engine::new(&d).advance(&mut s, t_end, &mut ext).unwrap();
     let apex = ext.max_flight[0];
@@ -374,7 +374,7 @@ fn chatter_stops_with_a_flag() {
     // Restitution without a sticking threshold on a bouncing ball: infinitely many ever
     // smaller bounces (a Zeno sequence) must end with a flag, not a hang.
     let (d0, s, _) = bouncing_ball(2.0);
-    let law = |stick_speed| shotdamp::sim::bed::ImpactLaw::with_restitution(0.5, stick_speed);
+    let law = |stick_speed| shotdamp::sim::motion::bed::ImpactLaw::with_restitution(0.5, stick_speed);
     let sys = (*d0.system).clone().with_law(law(0.0));
     let d = Dynamics::new(&sys, d0.omega).unwrap();
     let mut s = s;
@@ -404,7 +404,7 @@ fn many_periods_of_ordinary_impacts_in_one_call_are_not_chatter() {
 
 #[test]
 fn more_beds_than_the_limit_are_refused_before_any_decomposition() {
-    use shotdamp::sim::system::MAX_BEDS;
+    use shotdamp::sim::motion::system::MAX_BEDS;
     let ok = System::plastic(paper(), dampers(&[0; MAX_BEDS], f64::INFINITY), 0, 2.6);
     assert!(Dynamics::new(&ok, 2.0 * PI * 20.0).is_ok());
     let many = System::plastic(paper(), dampers(&[0; MAX_BEDS + 1], f64::INFINITY), 0, 2.6);
@@ -430,13 +430,13 @@ fn carried_points_agree_with_direct_evaluation() {
     // A segment of the paper's chain with beds riding two masses; points carried by a step's
     // factors (equally spaced samples) and by the short-step series must equal the closed form
     // evaluated directly, to a few roundings of each term.
-    use shotdamp::sim::segment::{Segment, NEAR};
+    use shotdamp::sim::motion::segment::{Segment, NEAR};
     let sys = System::plastic(paper(), dampers(&[0, 2], 1e-3), 0, 2.6);
     let d = Dynamics::new(&sys, 2.0 * PI * 47.0).unwrap();
     let x0 = DVector::from_vec(vec![1e-4, -2e-4, 3e-4]);
     let v0 = DVector::from_vec(vec![0.02, 0.01, -0.03]);
     let seg = Segment::start(&d, 0b01, 0.013, &x0, &v0);
-    let close = |a: &shotdamp::sim::segment::Point, b: &shotdamp::sim::segment::Point, what: &str| {
+    let close = |a: &shotdamp::sim::motion::segment::Point, b: &shotdamp::sim::motion::segment::Point, what: &str| {
         for p in 0..3 {
             for order in 0..4 {
                 let (u, w) = (seg.deriv(&d, a, p, order), seg.deriv(&d, b, p, order));

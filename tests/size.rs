@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 
 use nalgebra::DMatrix;
 use shotdamp::model::{Clearance, Damper, Damping, Structure};
-use shotdamp::sim::sweep;
+use shotdamp::sim::settle::sweep;
 use shotdamp::sim::{steady_state, Dynamics, State, Steady, SteadyMethod, SteadyOptions, System};
 
 /// `a` and `b` on the diagonal.
@@ -178,7 +178,7 @@ fn a_32_mass_sweep_is_the_same_on_one_thread_and_two() {
 
 #[test]
 fn the_one_pass_parts_of_an_event_function_are_its_single_derivatives_bit_for_bit() {
-    use shotdamp::sim::segment::Segment;
+    use shotdamp::sim::motion::segment::Segment;
     // Three masses (buffers on the stack) and 32 (on the heap), away from any particular state.
     for sys in [System::plastic(paper(), beds(&[0, 1, 2], 0.5e-3, |h| h), 0, 2.6), refined(32)] {
         let d = Dynamics::new(&sys, 2.0 * PI * 44.0).unwrap();
@@ -290,8 +290,8 @@ fn a_full_mass_matrix_balances_its_energy_and_both_methods_agree() {
 
 #[test]
 fn a_full_mass_matrix_carries_columns_restitution_and_impulses_as_the_chain_does() {
-    use shotdamp::sim::bed::ImpactLaw;
-    use shotdamp::sim::impulse::{free_response, ImpulseOptions, Kick};
+    use shotdamp::sim::motion::bed::ImpactLaw;
+    use shotdamp::sim::motion::impulse::{free_response, ImpulseOptions, Kick};
     let keep = [0, 5, 6, 7];
     let (chain, coupled) = in_coupled_coordinates(8, &keep);
     let law = ImpactLaw::with_restitution(0.4, 1e-3);
@@ -335,7 +335,7 @@ fn a_full_mass_matrix_carries_columns_restitution_and_impulses_as_the_chain_does
 
 #[test]
 fn a_64_mass_chain_settles_near_its_second_resonance_from_rest_and_continued() {
-    use shotdamp::sim::sweep::{continued_on, Direction};
+    use shotdamp::sim::settle::sweep::{continued_on, Direction};
     // 43.5 and 44 Hz used to stop as chatter: a lift-off the event search found was undone by
     // a contact force that rounding left at 1.3e-8 m/s^2, and a bed that stuck to the lid was
     // seen to hit it again at the 7e-11 m/s the closed form's round trip left.
@@ -406,8 +406,8 @@ fn a_chain_reduced_at_its_hosts_by_craig_bampton_keeps_their_motion() {
 /// Events over `periods` forcing periods from `s` (a call a period), with or without the event
 /// search's coarse windows; the state at the end.
 fn events(d: &Dynamics, mut s: State, periods: usize, coarse: bool) -> (Vec<shotdamp::sim::Event>, State) {
-    let mut log = shotdamp::sim::observe::EventLog::default();
-    let settings = shotdamp::sim::engine::Settings { coarse, ..Default::default() };
+    let mut log = shotdamp::sim::motion::observe::EventLog::default();
+    let settings = shotdamp::sim::motion::engine::Settings { coarse, ..Default::default() };
     let engine = shotdamp::sim::Engine { d, settings };
     let t0 = s.t;
     for k in 1..=periods {

@@ -9,8 +9,8 @@ use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::{Damper, Damping, Structure};
-use shotdamp::sim::bed::ImpactLaw;
-use shotdamp::sim::soft::{amplitude, damping_ratio, SoftOptions};
+use shotdamp::sim::motion::bed::ImpactLaw;
+use shotdamp::sim::motion::soft::{amplitude, damping_ratio, SoftOptions};
 use shotdamp::sim::{steady_state, Dynamics, State, SteadyOptions, System};
 
 fn column(grains: usize, e: f64) -> System {
@@ -55,7 +55,7 @@ fn the_contact_damping_gives_the_restitution() {
     }
     assert!(
         damping_ratio(0.1).is_none()
-            && (shotdamp::sim::soft::restitution_of(1.0 - 1e-9) - (-2.0f64).exp()).abs() < 1e-4
+            && (shotdamp::sim::motion::soft::restitution_of(1.0 - 1e-9) - (-2.0f64).exp()).abs() < 1e-4
     );
     // A container whose bed is too inelastic for a contact that never pulls: no soft model,
     // whichever container it is.

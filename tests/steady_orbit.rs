@@ -11,10 +11,10 @@ use std::f64::consts::PI;
 
 use num_complex::Complex64;
 use shotdamp::model::Damper;
-use shotdamp::sim::continuation::{continue_branch, Special};
-use shotdamp::sim::periodic::{fd_jacobian, multipliers, seed, solve, summarize, NewtonOptions, Section};
-use shotdamp::sim::steady::SteadyMethod;
-use shotdamp::sim::strobe::Strobe;
+use shotdamp::sim::orbits::continuation::{continue_branch, Special};
+use shotdamp::sim::orbits::periodic::{fd_jacobian, multipliers, seed, solve, summarize, NewtonOptions, Section};
+use shotdamp::sim::orbits::strobe::Strobe;
+use shotdamp::sim::settle::steady::SteadyMethod;
 use shotdamp::sim::{steady_state, Dynamics, SetupError, State, SteadyOptions, System};
 
 fn system(hosts: &[usize], clearance: f64, zeta: f64) -> System {
@@ -163,8 +163,8 @@ fn orbits_equal_long_transients_over_the_fig8_and_fig5_sweeps() {
         ("Fig. 5 triple", system(&[0, 1, 2], 0.35e-3, 0.01), &fig5),
     ];
     for (name, sys, freqs) in cases {
-        let a = shotdamp::sim::sweep::from_rest(&sys, freqs, &long, &|| {});
-        let b = shotdamp::sim::sweep::from_rest(&sys, freqs, &orbit, &|| {});
+        let a = shotdamp::sim::settle::sweep::from_rest(&sys, freqs, &long, &|| {});
+        let b = shotdamp::sim::settle::sweep::from_rest(&sys, freqs, &orbit, &|| {});
         let mut compared = 0;
         for (p, q) in a.iter().zip(&b) {
             let (Ok(t), Ok(o)) = (&p.result, &q.result) else { panic!("{name} {} Hz: setup", p.freq_hz) };

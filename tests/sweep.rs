@@ -5,7 +5,7 @@ use shotdamp::analysis::curves::{self, from_sweep};
 use shotdamp::experiment::CurveId;
 use shotdamp::model::Clearance;
 use shotdamp::model::Damper;
-use shotdamp::sim::sweep::{self, Direction};
+use shotdamp::sim::settle::sweep::{self, Direction};
 use shotdamp::sim::{SteadyOptions, System};
 use shotdamp::table::to_csv;
 
@@ -85,5 +85,5 @@ fn orbit_continuation_across_the_fold_keeps_both_motions_and_the_unstable_one_be
     assert!(b
         .special
         .iter()
-        .any(|s| matches!(s, shotdamp::sim::continuation::Special::Fold { p } if (p - 48.188).abs() < 2e-3)));
+        .any(|s| matches!(s, shotdamp::sim::orbits::continuation::Special::Fold { p } if (p - 48.188).abs() < 2e-3)));
 }

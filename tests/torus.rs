@@ -10,7 +10,7 @@ use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::Damper;
-use shotdamp::sim::steady::{Measure, NoSteady, TORUS_TOL};
+use shotdamp::sim::settle::steady::{Measure, NoSteady, TORUS_TOL};
 use shotdamp::sim::{steady_state, Dynamics, State, SteadyOptions, System};
 
 fn system(hosts: &[usize]) -> System {
@@ -74,7 +74,7 @@ fn a_torus_ends_early_and_its_amplitudes_are_those_of_a_long_record() {
 /// The rule's parts: the window is one turn of the torus, bounded.
 #[test]
 fn a_window_is_one_turn_of_the_torus() {
-    use shotdamp::sim::steady::{torus_window, TORUS_WINDOW_MAX};
+    use shotdamp::sim::settle::steady::{torus_window, TORUS_WINDOW_MAX};
     assert_eq!(torus_window(0.211, 1, 10), 30);
     assert_eq!(torus_window(0.211, 2, 10), 60);
     assert_eq!(torus_window(2.5, 1, 10), 10);

@@ -8,8 +8,8 @@ use pyo3::types::{PyDict, PyList};
 
 use shotdamp::analysis::curves;
 use shotdamp::experiment::{parts, Case};
-use shotdamp::sim::steady::{Certificate, Steady as Found};
-use shotdamp::sim::sweep::{self, Direction, SweepPoint};
+use shotdamp::sim::settle::steady::{Certificate, Steady as Found};
+use shotdamp::sim::settle::sweep::{self, Direction, SweepPoint};
 use shotdamp::sim::{SteadyOptions, System as Sim};
 
 use crate::compute::{self, error};
@@ -189,7 +189,7 @@ impl System {
         parts::kick(origin, &opts, &self.sim.structure, &self.case).map_err(error)?;
         let sim = &self.sim;
         let run = compute::run(py, Some(1), None, |_| {
-            shotdamp::sim::impulse::free_response(sim, &opts)
+            shotdamp::sim::motion::impulse::free_response(sim, &opts)
                 .map_err(|e| shotdamp::Error::invalid(origin, "system", "(setup)", e.to_string()))
         })?;
         let s = &run.samples;

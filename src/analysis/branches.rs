@@ -6,8 +6,8 @@ use std::f64::consts::PI;
 
 use crate::experiment::CurveId;
 use crate::figure::{Dash, Marker, Series};
-use crate::sim::continuation::{continue_branch, BranchEnd, ContinuationOptions, Parameter, Special};
-use crate::sim::periodic::NewtonOptions;
+use crate::sim::orbits::continuation::{continue_branch, BranchEnd, ContinuationOptions, Parameter, Special};
+use crate::sim::orbits::periodic::NewtonOptions;
 use crate::sim::{Dynamics, Steady, System};
 use crate::table::Table;
 

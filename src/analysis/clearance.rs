@@ -9,7 +9,7 @@ use crate::checks::reference::ReferenceStore;
 use crate::experiment::{Case, CurveId, Experiment, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::Clearance;
-use crate::sim::sweep;
+use crate::sim::settle::sweep;
 use crate::sim::SteadyOptions;
 use crate::table::Table;
 

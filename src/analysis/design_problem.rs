@@ -8,7 +8,7 @@ use crate::experiment::Experiment;
 use crate::model::{Damping, Structure};
 use crate::number::fmt_num;
 use crate::sim::motion::system::LARGE_ABOVE;
-use crate::sim::steady::Observe;
+use crate::sim::settle::steady::Observe;
 use crate::sim::SteadyOptions;
 
 /// The design problem of an experiment, with its scenarios (every combination of the

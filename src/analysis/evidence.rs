@@ -7,8 +7,8 @@ use num_complex::Complex64;
 use crate::experiment::Case;
 use crate::model::sdof::EquivalentSdof;
 use crate::signal::Decrement;
-use crate::sim::continuation::Special;
-use crate::sim::impulse::ImpulseRun;
+use crate::sim::motion::impulse::ImpulseRun;
+use crate::sim::orbits::continuation::Special;
 
 use super::curves::{parabola_top, Curve};
 

@@ -11,7 +11,7 @@ use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::modal::{symmetric_modes, ModeSummary};
 use crate::model::GRAVITY;
 use crate::signal::{decay_time, envelope, falling_envelope, log_decrements, spectra, Decrement};
-use crate::sim::impulse::{free_response, ImpulseOptions, Kick};
+use crate::sim::motion::impulse::{free_response, ImpulseOptions, Kick};
 use crate::sim::{EventKind, Stop};
 use crate::table::Table;
 

@@ -6,7 +6,7 @@ use crate::checks::fmt_num;
 use crate::experiment::{CurveId, Experiment, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::model::modal::ModeSummary;
-use crate::sim::continuation::Special;
+use crate::sim::orbits::continuation::Special;
 use crate::table::Table;
 
 use super::curves::{self, Curve};

@@ -13,9 +13,9 @@ use crate::experiment::{CurveId, Experiment};
 use crate::model::modal::ModeSummary;
 use crate::model::sdof::EquivalentSdof;
 use crate::model::{Clearance, Damper};
-use crate::sim::continuation::{continue_branch, BranchEnd, BranchPoint, ContinuationOptions, Parameter};
-use crate::sim::periodic::{seed, solve, summarize, NewtonOptions};
-use crate::sim::sweep::{self, SweepPoint};
+use crate::sim::orbits::continuation::{continue_branch, BranchEnd, BranchPoint, ContinuationOptions, Parameter};
+use crate::sim::orbits::periodic::{seed, solve, summarize, NewtonOptions};
+use crate::sim::settle::sweep::{self, SweepPoint};
 use crate::sim::{steady_from_rest, Dynamics, SteadyOptions, System};
 
 use super::curves;

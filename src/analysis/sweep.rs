@@ -8,7 +8,7 @@ use crate::checks::reference::ReferenceStore;
 use crate::experiment::{round_hz, CheckKind, CurveId, Experiment, Linear, PlotSpec, Start};
 use crate::figure::VLine;
 use crate::model::modal::ModeSummary;
-use crate::sim::sweep::{self, Direction};
+use crate::sim::settle::sweep::{self, Direction};
 use crate::sim::SteadyOptions;
 
 use super::branches::{self, OrbitCurve};

@@ -7,7 +7,7 @@ use crate::checks::fmt_num;
 use crate::checks::reference::ReferenceStore;
 use crate::experiment::{Experiment, Number, PlotKind};
 use crate::figure::{Corner, Dash, Figure, Panel, Series};
-use crate::sim::observe::Sampler;
+use crate::sim::motion::observe::Sampler;
 use crate::sim::{steady_from_rest, Dynamics, Engine, EventKind, SteadyOptions};
 use crate::table::Table;
 

@@ -14,9 +14,9 @@ pub mod stored;
 use rayon::prelude::*;
 
 use crate::model::{Clearance, Damper, Structure};
+use crate::sim::motion::system::{Dynamics, SetupError};
 use crate::sim::settle::irregular::{self, Motion as Class};
-use crate::sim::sweep::{self, Direction, SweepPoint};
-use crate::sim::system::{Dynamics, SetupError};
+use crate::sim::settle::sweep::{self, Direction, SweepPoint};
 use crate::sim::{SteadyOptions, System};
 
 /// Periods of a design point's orbit search before a point with no orbit is measured

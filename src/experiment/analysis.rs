@@ -3,8 +3,8 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::sim::impulse::{ImpulseOptions, Kick};
-use crate::sim::steady::SteadyMethod;
+use crate::sim::motion::impulse::{ImpulseOptions, Kick};
+use crate::sim::settle::steady::SteadyMethod;
 use crate::sim::SteadyOptions;
 
 use super::raw::{RawAnalysis, RawGrid, RawSteady};

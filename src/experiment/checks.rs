@@ -12,7 +12,7 @@ use super::fields::mass_index;
 use super::raw::RawCheck;
 use super::{Analysis, CheckKind, CheckSpec, CurveId, Start};
 use crate::number::Tolerance;
-use crate::sim::sweep::Direction;
+use crate::sim::settle::sweep::Direction;
 
 /// The largest relative tolerance a check may state.
 pub const MAX_REL_TOL: f64 = 10.0;

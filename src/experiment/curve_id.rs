@@ -8,7 +8,7 @@ use std::fmt;
 
 use super::Linear;
 use crate::number::fmt_num;
-use crate::sim::sweep::Direction;
+use crate::sim::settle::sweep::Direction;
 
 /// Which of a case's curves.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

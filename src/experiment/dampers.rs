@@ -7,8 +7,8 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::model::{Clearance, Damper, Direction, Structure};
-use crate::sim::bed::ImpactLaw;
-use crate::sim::system::{configurations, MAX_BEDS, MAX_CONFIGS};
+use crate::sim::motion::bed::ImpactLaw;
+use crate::sim::motion::system::{configurations, MAX_BEDS, MAX_CONFIGS};
 
 use super::analysis::export_ref;
 use super::fields::mass_index;

@@ -230,7 +230,7 @@ pub fn design(
     let bad = bad_at(path);
     let candidates = masses(path, "design.candidates", &raw.candidates, n)?;
     let max_beds = whole(path, "design.max_beds", raw.max_beds, candidates.len(), candidates.len())?;
-    let most = crate::sim::system::config_limit(n).ilog2() as usize;
+    let most = crate::sim::motion::system::config_limit(n).ilog2() as usize;
     if max_beds > most {
         return Err(bad(
             "max_beds",

@@ -3,7 +3,7 @@
 //! `analysis.rs` and its run in `src/analysis/`.
 
 use super::{Number, PlotKind, Start};
-use crate::sim::impulse::ImpulseOptions;
+use crate::sim::motion::impulse::ImpulseOptions;
 use crate::sim::SteadyOptions;
 
 /// What to compute.

@@ -135,7 +135,7 @@ pub struct Bed {
     /// How the clearance is given.
     pub clearance: ClearanceSource,
     /// The bed's impact law (plastic unless the file gives a restitution).
-    pub law: crate::sim::bed::ImpactLaw,
+    pub law: crate::sim::motion::bed::ImpactLaw,
     /// Its number of grains: 1 for one mass, more for a column (docs/model.md, "Bed models").
     pub grains: usize,
 }
@@ -164,7 +164,7 @@ impl Case {
     }
 
     /// Each bed's impact law, in order.
-    pub fn laws(&self) -> Vec<crate::sim::bed::ImpactLaw> {
+    pub fn laws(&self) -> Vec<crate::sim::motion::bed::ImpactLaw> {
         self.beds.iter().map(|b| b.law).collect()
     }
 

@@ -7,7 +7,7 @@ use serde::de::DeserializeOwned;
 
 use crate::error::{Error, Result};
 use crate::model::Structure;
-use crate::sim::impulse::ImpulseOptions;
+use crate::sim::motion::impulse::ImpulseOptions;
 use crate::sim::{SteadyOptions, System};
 
 use super::raw::{RawAnalysis, RawDamper, RawExcitation, RawSteady, RawStructure};
@@ -151,7 +151,7 @@ pub fn simulated_structure(
 }
 
 /// Refuses the beds of `case` when the exact simulator cannot decompose their configurations on
-/// `structure` (`crate::sim::system::config_limit`), before anything runs.
+/// `structure` (`crate::sim::motion::system::config_limit`), before anything runs.
 pub fn simulated_case(origin: &str, case: &Case, structure: &Structure) -> Result<()> {
     super::validate::configurations_fit(
         origin.as_ref(),

@@ -9,8 +9,8 @@ use crate::error::{Error, Result};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 use crate::model::{Damping, Structure};
 use crate::reference::files::Files;
-use crate::sim::impulse::ImpulseOptions;
-use crate::sim::system::{config_limit, configurations, MAX_DOF};
+use crate::sim::motion::impulse::ImpulseOptions;
+use crate::sim::motion::system::{config_limit, configurations, MAX_DOF};
 
 use super::analysis::analysis;
 use super::checks::check;
@@ -586,7 +586,7 @@ pub(super) fn simulator_fits(path: &Path, n: usize, fe_points: Option<usize>, wh
 
 /// Refuses beds (`grains` of each, 1 for a single bed) whose configurations the exact
 /// simulator cannot decompose on a structure of `n` degrees of freedom
-/// ([`crate::sim::system::config_limit`]); `key` names them, `who` says what runs them.
+/// ([`crate::sim::motion::system::config_limit`]); `key` names them, `who` says what runs them.
 pub(super) fn configurations_fit(path: &Path, key: &str, grains: &[usize], n: usize, who: &str) -> Result<()> {
     let limit = config_limit(n);
     if configurations(grains.iter().copied(), limit).is_some() {

@@ -12,7 +12,7 @@ use crate::analysis::curves;
 use crate::analysis::event_words;
 use crate::error::Result;
 use crate::experiment::{Analysis, Experiment};
-use crate::sim::observe::Sampler;
+use crate::sim::motion::observe::Sampler;
 use crate::sim::{steady_from_rest, Dynamics, Engine, SteadyOptions};
 
 /// Samples per forcing period.

@@ -7,14 +7,10 @@ pub mod motion;
 pub mod orbits;
 pub mod settle;
 
-// The rooms' files at the paths they always had (`sim::engine`, `sim::periodic`, ...).
-pub use motion::{
-    bed, buf, coarse, column, eigen, engine, forced, impulse, observe, roots, schur, segment, soft, state, system,
-};
-pub use orbits::{continuation, periodic, strobe, tangent};
-pub use rest::steady_from_rest;
-pub use settle::{long_record, orbit_search, rest, steady, steady_state, sweep, transient};
-
-pub use engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};
-pub use steady::{Steady, SteadyMethod, SteadyOptions};
-pub use system::{Dynamics, SetupError, System};
+// The types and entry points most callers need, at the top; every module has one path,
+// under its room (`sim::motion::engine`, `sim::orbits::periodic`, `sim::settle::sweep`).
+pub use motion::engine::{Bed, Engine, Event, EventKind, Observer, Quiet, State, Stop};
+pub use motion::system::{Dynamics, SetupError, System};
+pub use settle::rest::steady_from_rest;
+pub use settle::steady::{Steady, SteadyMethod, SteadyOptions};
+pub use settle::steady_state;

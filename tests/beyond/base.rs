@@ -13,7 +13,7 @@ use crate::common;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use shotdamp::model::{Clearance, Damper, Damping, Structure};
-use shotdamp::sim::observe::Sampler;
+use shotdamp::sim::motion::observe::Sampler;
 use shotdamp::sim::{steady_state, Dynamics, Engine, State, SteadyOptions, System};
 
 /// `sys` with the supports moving at `accel` (m/s^2) instead of its force.
@@ -81,7 +81,9 @@ fn a_chain_on_a_shaken_base_moves_as_under_the_equivalent_force_on_its_first_mas
         let mut s = cf.section.clone();
         let period = 2.0 * PI / w * sb.period as f64;
         let target = sec.t + shift + ((s.t - sec.t - shift) / period).ceil() * period;
-        Engine::new(&df).advance(&mut s, target, &mut shotdamp::sim::observe::EventLog(Vec::new())).expect("advance");
+        Engine::new(&df)
+            .advance(&mut s, target, &mut shotdamp::sim::motion::observe::EventLog(Vec::new()))
+            .expect("advance");
         let scale = sec.x.amax();
         worst[1] = worst[1].max((&s.x - &sec.x).amax() / scale);
         assert!((&s.x - &sec.x).amax() < 1e-10 * scale, "{f_hz} Hz: {} vs {}", s.x, sec.x);
@@ -120,7 +122,7 @@ fn a_chain_on_a_shaken_base_moves_as_under_the_equivalent_force_on_its_first_mas
 fn the_energy_balance_closes_with_the_supports_work() {
     let (s, dampers) = chain(0.35);
     let mut sys = on_base(System::plastic(s.with_damping(Damping::ModalRatios(vec![0.01; 3])), dampers, 0, 0.0), 5.0);
-    sys.laws = vec![shotdamp::sim::bed::ImpactLaw::with_restitution(0.4, 1e-3); 3];
+    sys.laws = vec![shotdamp::sim::motion::bed::ImpactLaw::with_restitution(0.4, 1e-3); 3];
     for f in [12.0, 13.5, 36.0] {
         let dy = Dynamics::new(&sys, 2.0 * PI * f).expect("dynamics");
         let st = steady_state(&dy, State::at_rest(&dy), &SteadyOptions { energy: true, ..SteadyOptions::default() });
@@ -319,12 +321,12 @@ fn soft_contacts_on_shaken_supports_give_the_stuck_chain_below_lift_off() {
     // A bed that never lifts off (the hosts far below 1 g) rides as added mass: the soft-contact
     // model's amplitude relative to the supports, over A, is the stuck chain's closed form,
     // within the contact springs' compliance and the explicit steps' error.
-    use shotdamp::sim::soft::{amplitude, SoftOptions};
+    use shotdamp::sim::motion::soft::{amplitude, SoftOptions};
     let s = crate::common::paper();
     let bed = Damper::new(2, 0.064, Clearance::from_mm(0.35));
     let accel = 0.05;
     let sys = System::plastic(s, vec![bed], 0, 0.0)
-        .with_law(shotdamp::sim::bed::ImpactLaw::with_restitution(0.5, 1e-3))
+        .with_law(shotdamp::sim::motion::bed::ImpactLaw::with_restitution(0.5, 1e-3))
         .on_supports(accel);
     let opts = SoftOptions { stiffness: 1e8, steps_per_contact: 20 };
     let mut worst = 0.0f64;

@@ -15,10 +15,10 @@ use std::f64::consts::PI;
 use nalgebra::{DMatrix, DVector, Matrix5, Vector5};
 use num_complex::Complex64;
 use shotdamp::model::{Clearance, Damper, Damping, Direction, Structure};
-use shotdamp::sim::bed::ImpactLaw;
-use shotdamp::sim::observe::Extrema;
-use shotdamp::sim::periodic::{solve, NewtonOptions};
-use shotdamp::sim::strobe::Strobe;
+use shotdamp::sim::motion::bed::ImpactLaw;
+use shotdamp::sim::motion::observe::Extrema;
+use shotdamp::sim::orbits::periodic::{solve, NewtonOptions};
+use shotdamp::sim::orbits::strobe::Strobe;
 use shotdamp::sim::{steady_state, Bed, Dynamics, Engine, State, SteadyOptions, System};
 
 /// The impact damper: a primary mass `m` on a spring `k` with a dashpot `c`, forced by

@@ -84,13 +84,13 @@ pub fn bouncing_ball(gamma: f64, e: f64) -> Result<shotdamp::sim::Dynamics, shot
     let h = receptance(&host, &host.mass_matrix(), 0, omega).expect("receptance")[0];
     let force = gamma * GRAVITY / (omega * omega) / h.norm();
     let sys = shotdamp::sim::System::plastic(host, vec![Damper::new(0, 1e-9, Clearance::NO_TOP)], 0, force)
-        .with_law(shotdamp::sim::bed::ImpactLaw::with_restitution(e, 1e-3));
+        .with_law(shotdamp::sim::motion::bed::ImpactLaw::with_restitution(e, 1e-3));
     shotdamp::sim::Dynamics::new(&sys, omega)
 }
 
 /// Continuation settings of the bouncing-ball tests over `[p_min, p_max]` (Gamma).
-pub fn ball_continuation(p_min: f64, p_max: f64) -> shotdamp::sim::continuation::ContinuationOptions {
-    shotdamp::sim::continuation::ContinuationOptions {
+pub fn ball_continuation(p_min: f64, p_max: f64) -> shotdamp::sim::orbits::continuation::ContinuationOptions {
+    shotdamp::sim::orbits::continuation::ContinuationOptions {
         p_min,
         p_max,
         p_scale: 1.0,
@@ -98,8 +98,8 @@ pub fn ball_continuation(p_min: f64, p_max: f64) -> shotdamp::sim::continuation:
         ds_min: 1e-6,
         ds_max: 0.02,
         max_points: 400,
-        newton: shotdamp::sim::periodic::NewtonOptions::default(),
-        parameter: shotdamp::sim::continuation::Parameter::Other,
+        newton: shotdamp::sim::orbits::periodic::NewtonOptions::default(),
+        parameter: shotdamp::sim::orbits::continuation::Parameter::Other,
     }
 }
 

@@ -68,7 +68,7 @@ pub struct Settings {
     pub max_events: usize,
     /// Whether the search skips coarse windows where no event can be (above
     /// [`LARGE_ABOVE`](super::system::LARGE_ABOVE) degrees of freedom, at the default step;
-    /// `sim::coarse`). Off, it steps through ordinary windows only: the same events (a test
+    /// `sim::motion::coarse`). Off, it steps through ordinary windows only: the same events (a test
     /// compares the two).
     pub coarse: bool,
 }
@@ -391,7 +391,7 @@ impl<'a> Engine<'a> {
         // from the one before by the step's factors (no exponential, sine or cosine).
         let carry = (self.settings.step_fraction == STEP_FRACTION).then(|| d.window_step(seg.slot));
         // Above LARGE_ABOVE degrees of freedom, windows of many steps skipped whole where no
-        // function can reach zero (`sim::coarse`), once every watch's search has started.
+        // function can reach zero (`sim::motion::coarse`), once every watch's search has started.
         let coarse = self.settings.coarse && d.dof > super::system::LARGE_ABOVE;
         let levels = carry.filter(|_| coarse).map(|_| d.levels(seg.slot)).filter(|l| !l.is_empty());
         let searching = starts[..n_starts].iter().fold(t_a, |m, &s| m.max(s));

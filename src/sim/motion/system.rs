@@ -310,7 +310,7 @@ pub struct Modes {
     /// powers (contact decisions, [`super::contact`]); empty up to it.
     pub host_rows: Vec<super::host_rows::HostRow>,
     /// Above [`LARGE_ABOVE`] degrees of freedom, the real and imaginary parts of `inverse`
-    /// (the linearised flow's blocked products, `sim::tangent`); empty up to it.
+    /// (the linearised flow's blocked products, `sim::orbits::tangent`); empty up to it.
     pub inverse_parts: [DMatrix<f64>; 2],
 }
 
@@ -328,7 +328,7 @@ pub struct Config {
 
 /// Degrees of freedom above which the simulator runs its rules for large structures: contact
 /// accelerations counted as zero up to the closed form's rounding, one contact decision per
-/// event (`sim::engine`) and the event search's coarse windows (`sim::coarse`). Up to it the
+/// event (`sim::motion::engine`) and the event search's coarse windows (`sim::motion::coarse`). Up to it the
 /// paper's structures run the code they always ran, bit for bit.
 pub const LARGE_ABOVE: usize = 8;
 
@@ -358,7 +358,7 @@ pub struct Step {
 /// Most coarse levels (windows of up to `2^MAX_LEVELS` ordinary steps).
 pub const MAX_LEVELS: usize = 12;
 
-/// The coarse windows of one configuration (the event search's, `sim::coarse`).
+/// The coarse windows of one configuration (the event search's, `sim::motion::coarse`).
 #[derive(Debug, Clone, Default)]
 pub struct Levels {
     /// Level `k + 1`'s window (`2^(k+1)` ordinary steps) and the factors that carry a point
@@ -550,7 +550,7 @@ impl Dynamics {
             }
             // Above LARGE_ABOVE degrees of freedom the terms are ordered by |lambda| (slowest
             // first): the event search's coarse windows sum the slow ones as a prefix
-            // (`sim::coarse`). The paper's structures keep the decomposition's own order.
+            // (`sim::motion::coarse`). The paper's structures keep the decomposition's own order.
             let mut reps = eig.representatives.clone();
             if n > LARGE_ABOVE {
                 reps.sort_by(|a, b| eig.values[a.0].norm().total_cmp(&eig.values[b.0].norm()));
