@@ -53,6 +53,30 @@ pub struct Series {
 }
 
 impl Series {
+    /// Where a line through the points breaks because the abscissae skip a stretch that was
+    /// not sampled: `true` at `i` when the step from point `i - 1` to `i` is more than four
+    /// times the series' median step and three times both neighbouring steps (on a logarithmic
+    /// axis, in the logarithm). Only for strictly increasing abscissae of at least five points
+    /// (a frequency list of two bands: drawn as two lines, not one across the gap); grids,
+    /// refined grids and branches that turn back are drawn whole.
+    pub fn gaps(&self, x_log: bool) -> Vec<bool> {
+        let mut gap = vec![false; self.x.len()];
+        let at = |x: f64| if x_log { x.ln() } else { x };
+        let steps: Vec<f64> = self.x.windows(2).map(|w| at(w[1]) - at(w[0])).collect();
+        if self.x.len() < 5 || !steps.iter().all(|s| s.is_finite() && *s > 0.0) {
+            return gap;
+        }
+        let mut sorted = steps.clone();
+        sorted.sort_by(f64::total_cmp);
+        let median = sorted[sorted.len() / 2];
+        for (i, &s) in steps.iter().enumerate() {
+            let before = if i > 0 { steps[i - 1] } else { 0.0 };
+            let after = steps.get(i + 1).copied().unwrap_or(0.0);
+            gap[i + 1] = s > 4.0 * median && s > 3.0 * before.max(after);
+        }
+        gap
+    }
+
     /// A solid line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, color: usize) -> Series {
         Series {
@@ -232,4 +256,29 @@ pub struct Figure {
     pub caption: String,
     /// Its panels, drawn one below the other.
     pub panels: Vec<Panel>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Series;
+
+    fn breaks(x: Vec<f64>, log: bool) -> Vec<usize> {
+        let s = Series::line("", x.clone(), vec![1.0; x.len()], 0);
+        s.gaps(log).iter().enumerate().filter(|(_, g)| **g).map(|(i, _)| i).collect()
+    }
+
+    /// A frequency list of two bands breaks once, between the bands; a grid, a grid refined
+    /// near a peak, a branch that turns back and a short list never do.
+    #[test]
+    fn a_line_breaks_only_across_a_stretch_not_sampled() {
+        let band = |a: f64, step: f64, n: usize| (0..n).map(move |i| a + step * i as f64);
+        let two: Vec<f64> = band(1.7, 0.025, 29).chain(band(5.2, 0.05, 29)).collect();
+        assert_eq!(breaks(two.clone(), false), vec![29]);
+        assert_eq!(breaks(two, true), vec![29]);
+        assert!(breaks(band(1.0, 0.1, 50).collect(), false).is_empty());
+        let refined: Vec<f64> = band(1.0, 0.1, 10).chain(band(2.0, 0.01, 50)).chain(band(2.6, 0.1, 10)).collect();
+        assert!(breaks(refined, false).is_empty());
+        assert!(breaks(vec![1.0, 2.0, 3.0, 2.5, 2.0, 4.0], false).is_empty());
+        assert!(breaks(vec![1.0, 1.1, 9.0, 9.1], false).is_empty());
+    }
 }

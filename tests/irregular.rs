@@ -14,14 +14,14 @@ use crate::common::paper;
 /// A point run for `periods` periods without looking for an orbit, then measured.
 fn measured(d: &Dynamics, periods: usize, m: Measure) -> shotdamp::sim::Steady {
     let opts = SteadyOptions {
-        method: shotdamp::sim::steady::SteadyMethod::Transient,
+        method: shotdamp::sim::settle::steady::SteadyMethod::Transient,
         tol: 0.0,
         max_periods: periods,
         min_periods: periods,
         measure: m,
         ..SteadyOptions::default()
     };
-    let st = shotdamp::sim::transient::transient_steady(d, State::at_rest(d), &opts);
+    let st = shotdamp::sim::settle::transient::transient_steady(d, State::at_rest(d), &opts);
     measure(d, st, &opts)
 }
 
@@ -34,7 +34,7 @@ fn heavy_ball(gamma: f64, e: f64, ratio: f64) -> Dynamics {
     let h = receptance(&host, &host.mass_matrix(), 0, omega).expect("receptance")[0];
     let force = gamma * GRAVITY / (omega * omega) / h.norm();
     let sys = shotdamp::sim::System::plastic(host, vec![Damper::new(0, ratio, Clearance::NO_TOP)], 0, force)
-        .with_law(shotdamp::sim::bed::ImpactLaw::with_restitution(e, 1e-3));
+        .with_law(shotdamp::sim::motion::bed::ImpactLaw::with_restitution(e, 1e-3));
     Dynamics::new(&sys, omega).unwrap()
 }
 
@@ -62,13 +62,13 @@ fn the_exponent_of_chaos_agrees_with_two_nearby_trajectories() {
     assert!(got.lyapunov - got.lyapunov_half_width > 1.0, "{got:?}");
     // The same record again, with a neighbour.
     let opts = SteadyOptions {
-        method: shotdamp::sim::steady::SteadyMethod::Transient,
+        method: shotdamp::sim::settle::steady::SteadyMethod::Transient,
         tol: 0.0,
         max_periods: 200,
         min_periods: 200,
         ..SteadyOptions::default()
     };
-    let start = shotdamp::sim::transient::transient_steady(&d, State::at_rest(&d), &opts).final_state;
+    let start = shotdamp::sim::settle::transient::transient_steady(&d, State::at_rest(&d), &opts).final_state;
     let (engine, period, delta) = (Engine::new(&d), 2.0 * PI / d.omega, 1e-9);
     let mut a = start.clone();
     let mut dir = [1.0, 1.0, 1.0, 1.0].map(|x: f64| x / 2.0);
@@ -109,7 +109,7 @@ fn a_torus_has_an_exponent_indistinguishable_from_zero() {
     let d = Dynamics::new(&sys, 2.0 * PI * 33.6).unwrap();
     let st = steady_state(&d, State::at_rest(&d), &SteadyOptions::default());
     let got = st.measured.clone().expect("measured");
-    assert!(matches!(st.failure, Some(shotdamp::sim::steady::NoSteady::Torus { .. })), "{:?}", st.failure);
+    assert!(matches!(st.failure, Some(shotdamp::sim::settle::steady::NoSteady::Torus { .. })), "{:?}", st.failure);
     assert_eq!(st.motion, Motion::QuasiPeriodic, "{got:?}");
     assert!(got.lyapunov.abs() <= got.lyapunov_half_width, "{got:?}");
     // A record five times longer narrows the interval around 0: under 0.5 % of growth or decay
@@ -168,7 +168,7 @@ fn the_statistic_of_chaos_is_that_of_a_ten_times_longer_record_and_energy_balanc
     assert!(long.half_width[0] < 0.6 * short.half_width[0], "{short:?} {long:?}");
     assert!(long.largest[0] >= short.largest[0] * 0.999);
     let opts = SteadyOptions {
-        method: shotdamp::sim::steady::SteadyMethod::Transient,
+        method: shotdamp::sim::settle::steady::SteadyMethod::Transient,
         tol: 0.0,
         max_periods: 200,
         min_periods: 200,
@@ -176,7 +176,7 @@ fn the_statistic_of_chaos_is_that_of_a_ten_times_longer_record_and_energy_balanc
         measure: Measure::periods(1000, 0.0),
         ..SteadyOptions::default()
     };
-    let st = shotdamp::sim::transient::transient_steady(&d, State::at_rest(&d), &opts);
+    let st = shotdamp::sim::settle::transient::transient_steady(&d, State::at_rest(&d), &opts);
     let st = measure(&d, st, &opts);
     let e = st.energy.expect("energy terms");
     assert_eq!(st.recorded_periods, 1000);
@@ -241,4 +241,42 @@ fn a_point_handed_over_early_gives_the_same_answer_within_one_budget() {
             assert!((x - y).abs() <= 1e-9 * x, "{f} Hz, m{}: {x:e} against {y:e}", i + 1);
         }
     }
+}
+
+/// The 20-storey frame of `examples/tall/frame20.toml`, at its damped mode-1 peak and two
+/// points that never settle (one near each mode): every point with shot has a class, and
+/// either a certified orbit or a statistic with a finite interval from a stated number of
+/// measured periods; a chaotic point's exponent interval lies above 0.
+#[test]
+fn every_point_of_the_twenty_storey_frame_is_an_answer() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(crate::common::repo().join("examples/tall/frame20.toml")).unwrap();
+    let start = text.find("freq_hz = [").unwrap();
+    let end = start + text[start..].find(']').unwrap() + 1;
+    let file = dir.path().join("frame20.toml");
+    std::fs::write(&file, format!("{}freq_hz = [1.875, 2.15, 5.75]{}", &text[..start], &text[end..])).unwrap();
+    let out =
+        crate::common::shotdamp().arg("run").arg(&file).arg("--out").arg(dir.path().join("out")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(dir.path().join("out/frame_20_storey/data/compliance.csv")).unwrap();
+    let rows = crate::common::csv_rows(&csv);
+    let col = |name: &str| rows[0].iter().position(|c| c == name).unwrap();
+    let shot: Vec<&Vec<String>> = rows[1..].iter().filter(|r| r[col("curve")] == "top3_20").collect();
+    assert_eq!(shot.len(), 3);
+    let mut chaotic = 0;
+    for r in shot {
+        let num = |name: &str| r[col(name)].parse::<f64>().unwrap();
+        match r[col("motion")].as_str() {
+            "periodic" => assert_eq!(r[col("converged")], "1", "{r:?}"),
+            "chaotic" => {
+                chaotic += 1;
+                assert!(num("c20_half_width").is_finite() && num("c20_half_width") > 0.0, "{r:?}");
+                assert!(num("c20_half_width") < 0.1 * num("c20"), "{r:?}");
+                assert!(num("measured_periods") >= 400.0, "{r:?}");
+                assert!(num("lyapunov_per_s") - num("lyapunov_half_width") > 0.0, "{r:?}");
+            }
+            other => panic!("an unexpected class {other}: {r:?}"),
+        }
+    }
+    assert_eq!(chaotic, 2, "2.15 Hz and 5.75 Hz never settle on this frame");
 }

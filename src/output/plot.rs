@@ -412,7 +412,10 @@ where
     let mut pixels: Vec<(i32, i32)> = Vec::new();
     for s in &panel.series {
         let mut last: Option<(i32, i32)> = None;
-        for (&x, &y) in s.x.iter().zip(&s.y) {
+        for ((&x, &y), gap) in s.x.iter().zip(&s.y).zip(s.gaps(panel.x_log)) {
+            if gap {
+                last = None;
+            }
             if !ok(x, y) {
                 last = None;
                 continue;
@@ -457,9 +460,14 @@ where
     // Split at non-finite (or non-positive on log axes) values so that gaps stay gaps.
     let ok = |y: f64| y.is_finite() && (!panel.y_log || y > 0.0);
     let ok_x = |x: f64| x.is_finite() && (!panel.x_log || x > 0.0);
+    // ... and where the abscissae skip a stretch that was not sampled (`Series::gaps`).
+    let gaps = s.gaps(panel.x_log);
     let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-    for (&x, &y) in s.x.iter().zip(&s.y) {
+    for ((&x, &y), &gap) in s.x.iter().zip(&s.y).zip(&gaps) {
         let inside = x >= panel.x_range.0 - 1e-9 && x <= panel.x_range.1 + 1e-9;
+        if gap && s.line && runs.last().is_some_and(|r| !r.is_empty()) {
+            runs.push(Vec::new());
+        }
         if ok(y) && ok_x(x) && inside {
             if let Some(run) = runs.last_mut() {
                 run.push((x, y));
