@@ -32,6 +32,12 @@ impl ColumnData {
 /// its CSV file alone.
 pub const CSV_ROWS: usize = 1_500;
 
+/// Most rows of a light report's CSV file of a table longer than [`CSV_ROWS`] (evenly spaced,
+/// the last included: [`preview_stride`]); the table is whole in its Parquet file, or, longer
+/// than [`LIGHT_ROWS`], its extremes are kept ([`Table::reduced`]). `--full-data` writes the
+/// [`CSV_ROWS`] thinning instead.
+pub const PREVIEW_ROWS: usize = 300;
+
 /// Longest table a report writes whole as Parquet unless the full data is asked for
 /// (`--full-data`): a longer one (a history sampled at every step) is reduced in its CSV file
 /// to [`Table::reduced`]'s rows, every extreme kept, and has no Parquet file.
@@ -51,6 +57,16 @@ pub fn csv_stride(rows: usize, full: bool) -> usize {
         1
     } else {
         (rows - 1).div_ceil(CSV_ROWS - 2)
+    }
+}
+
+/// The stride of a light report's CSV file of a table of `rows` rows: 1 up to [`CSV_ROWS`]
+/// rows, else the smallest `k` that keeps at most [`PREVIEW_ROWS`] rows, the last included.
+pub fn preview_stride(rows: usize) -> usize {
+    if rows <= CSV_ROWS {
+        1
+    } else {
+        (rows - 1).div_ceil(PREVIEW_ROWS - 2)
     }
 }
 
@@ -146,12 +162,12 @@ impl Table {
         keep
     }
 
-    /// The table reduced for a report ([`Table::extreme_rows`]): the CSV's stride rows, and
-    /// each numeric column's extremes in as many stretches as keep at most another
-    /// [`CSV_ROWS`] rows.
+    /// The table reduced for a light report ([`Table::extreme_rows`]): the preview's stride
+    /// rows ([`preview_stride`]), and each numeric column's extremes in as many stretches as
+    /// keep at most another [`PREVIEW_ROWS`] rows.
     pub fn reduced(&self) -> Table {
         let numeric = self.columns.iter().filter(|(_, c)| !matches!(c, ColumnData::Str(_))).count().max(1);
-        self.rows(&self.extreme_rows(csv_stride(self.height(), false), CSV_ROWS / (2 * numeric)))
+        self.rows(&self.extreme_rows(preview_stride(self.height()), PREVIEW_ROWS / (2 * numeric)))
     }
 
     /// The table of the given rows (ascending indices).

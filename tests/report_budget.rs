@@ -2,7 +2,7 @@
 //! after `shotdamp report` (`cargo test --release --locked --test all -- --ignored
 //! report_budget::`), on the folder it wrote; every page with its figures within
 //! `PAGE_BUDGET`, every data folder within `DATA_BUDGET`, each one over named with its
-//! largest file.
+//! largest file; the whole within `REPORT_BUDGET` (15 MB), its heaviest folders named.
 
 use shotdamp::output::weight;
 
@@ -15,4 +15,7 @@ fn every_page_of_the_report_is_within_its_budget() {
     assert!(pages.len() > 50, "{} folders weighed", pages.len());
     let over: Vec<String> = pages.iter().filter_map(weight::Weight::over).collect();
     assert!(over.is_empty(), "over budget:\n{}", over.join("\n"));
+    let (bytes, whole) = weight::total(&report).unwrap();
+    assert!(whole.is_none(), "{}", whole.unwrap_or_default());
+    println!("the report: {bytes} bytes (budget {})", weight::REPORT_BUDGET);
 }

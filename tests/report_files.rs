@@ -49,12 +49,16 @@ fn long_histories_are_reduced_to_their_extremes_and_whole_with_full_data() {
     assert!(!data(&light).join("histories.parquet").exists());
     let reduced = common::csv_rows(&std::fs::read_to_string(data(&light).join("histories.csv")).unwrap());
     assert_eq!(reduced[0], whole[0]);
-    assert!(reduced.len() - 1 <= 2 * shotdamp::table::CSV_ROWS && reduced.len() > thinned.len());
+    assert!(reduced.len() - 1 <= 2 * shotdamp::table::PREVIEW_ROWS, "{} rows", reduced.len() - 1);
     let set: std::collections::HashSet<&Vec<String>> = whole[1..].iter().collect();
     assert!(reduced[1..].iter().all(|r| set.contains(r)), "a reduced row is a row of the table");
-    for r in &thinned[1..] {
-        assert!(reduced.contains(r), "the thinned rows are kept");
+    let p = shotdamp::table::preview_stride(rows);
+    let previewed = whole[1..].iter().enumerate().filter(|(i, _)| i % p == 0 || i + 1 == rows).map(|(_, r)| r);
+    let kept: std::collections::HashSet<&Vec<String>> = reduced[1..].iter().collect();
+    for r in previewed {
+        assert!(kept.contains(r), "the preview's rows are kept");
     }
+    assert!(reduced.len() > rows / p, "extremes added to the preview");
     for c in 0..whole[0].len() {
         let column = |rows: &[Vec<String>]| rows.iter().filter_map(|r| r[c].parse::<f64>().ok()).collect::<Vec<f64>>();
         let (w, s) = (column(&whole[1..]), column(&reduced[1..]));

@@ -176,13 +176,14 @@ pub struct Writing {
     #[arg(long)]
     templates: Option<PathBuf>,
     /// Write every row of every table as CSV (by default a table longer than
-    /// 1 500 rows is thinned in its CSV file).
+    /// 1 500 rows keeps at most 300 evenly spaced rows in its CSV file, whole in Parquet).
     #[arg(long)]
     full_csv: bool,
     /// Keep every row of every table: a table longer than 10 000 rows (a sampled history)
-    /// is written whole as Parquet, its CSV thinned as for any long table. By default such a
-    /// table's CSV holds at most 1 500 evenly spaced rows plus each column's smallest and
-    /// largest value in each stretch of rows, and it has no Parquet file.
+    /// is written whole as Parquet, and a long table's CSV keeps up to 1 500 evenly spaced
+    /// rows. By default a table longer than 10 000 rows has no Parquet file and its CSV holds
+    /// at most 300 evenly spaced rows plus each column's smallest and largest value in each
+    /// stretch of rows.
     #[arg(long)]
     full_data: bool,
     /// Write every figure as PNG and as SVG (by default each in the smaller of the two).

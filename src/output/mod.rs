@@ -49,13 +49,14 @@ pub struct ReportWriter {
 pub struct ReportOptions {
     /// A folder of templates overriding the embedded ones.
     pub templates: Option<PathBuf>,
-    /// Every row of every table in its CSV file (else long tables are thinned there:
-    /// [`table::csv_stride`]; long tables are also written whole as Parquet).
+    /// Every row of every table in its CSV file (else a table longer than
+    /// [`table::CSV_ROWS`] keeps a preview there: [`table::preview_stride`]; such tables are
+    /// also written whole as Parquet up to [`table::LIGHT_ROWS`] rows).
     pub full_csv: bool,
-    /// Every row of every table (`--full-data`): a table longer than [`table::LIGHT_ROWS`]
-    /// is written whole as Parquet with its CSV thinned as for any long table; else its CSV
-    /// holds the rows that keep every extreme ([`crate::table::Table::reduced`]) and it has no
-    /// Parquet file.
+    /// Every row of every table (`--full-data`): every table longer than [`table::CSV_ROWS`]
+    /// is written whole as Parquet, its CSV every [`table::csv_stride`]-th row; else a table
+    /// longer than [`table::LIGHT_ROWS`] has no Parquet file and its CSV holds the rows that
+    /// keep every extreme ([`crate::table::Table::reduced`]).
     pub full_data: bool,
     /// Every figure as PNG and SVG (`--svg`); else each in the smaller of the two.
     pub svg: bool,
@@ -166,8 +167,10 @@ impl ReportWriter {
     /// How a table is written: whole (every row in Parquet when long, its CSV every
     /// `stride`-th row), or reduced to the rows that keep its extremes.
     fn table_files(&self, t: &table::Table) -> TableFiles {
-        if self.full_data || self.full_csv || t.height() <= table::LIGHT_ROWS {
+        if self.full_data || self.full_csv {
             TableFiles::Whole { stride: table::csv_stride(t.height(), self.full_csv) }
+        } else if t.height() <= table::LIGHT_ROWS {
+            TableFiles::Whole { stride: table::preview_stride(t.height()) }
         } else {
             TableFiles::Reduced
         }
@@ -233,7 +236,7 @@ impl ReportWriter {
             match self.table_files(table) {
                 TableFiles::Whole { stride } => t.csv_stride = stride,
                 TableFiles::Reduced => {
-                    t.csv_stride = table::csv_stride(table.height(), false);
+                    t.csv_stride = table::preview_stride(table.height());
                     t.reduced = true;
                     t.parquet = String::new();
                 }

@@ -13,6 +13,10 @@ pub const PAGE_BUDGET: u64 = 1_000_000;
 /// Most bytes of a page's data folder (its tables).
 pub const DATA_BUDGET: u64 = 2_000_000;
 
+/// Most bytes of the whole report (`shotdamp report`'s folder): small enough to mail; `.ci/run`
+/// refuses a folder over 20 MB outright.
+pub const REPORT_BUDGET: u64 = 15_000_000;
+
 /// One folder's weight.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Weight {
@@ -86,6 +90,40 @@ pub fn pages(report: &Path) -> Result<Vec<Weight>> {
     Ok(out)
 }
 
+/// Bytes of every file under `report`, the sentence for a report over [`REPORT_BUDGET`] with
+/// its three heaviest folders.
+pub fn total(report: &Path) -> Result<(u64, Option<String>)> {
+    let all = pages(report)?;
+    let bytes: u64 = all.iter().map(|w| w.bytes).sum::<u64>() + rest(report)?;
+    let mut heaviest: Vec<&Weight> = all.iter().collect();
+    heaviest.sort_by(|a, b| b.bytes.cmp(&a.bytes));
+    let named: Vec<String> =
+        heaviest.iter().take(3).map(|w| format!("{} ({} bytes)", w.folder.display(), w.bytes)).collect();
+    let over = (bytes > REPORT_BUDGET).then(|| {
+        format!("the report is {bytes} bytes, over its budget of {REPORT_BUDGET}; heaviest: {}", named.join(", "))
+    });
+    Ok((bytes, over))
+}
+
+/// Bytes of the files in folders that are neither a page's nor a data folder.
+fn rest(report: &Path) -> Result<u64> {
+    let mut bytes = 0;
+    let mut stack = vec![report.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        let weighed = dir.join("index.html").is_file() || dir.file_name().is_some_and(|n| n == "data");
+        for e in std::fs::read_dir(&dir).map_err(|e| Error::io(&dir, e))? {
+            let e = e.map_err(|e| Error::io(&dir, e))?;
+            let meta = e.metadata().map_err(|err| Error::io(e.path(), err))?;
+            if meta.is_dir() {
+                stack.push(e.path());
+            } else if !weighed {
+                bytes += meta.len();
+            }
+        }
+    }
+    Ok(bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,5 +150,12 @@ mod tests {
             over[0]
         );
         assert_eq!(w[2].bytes, 10);
+        // Every file counts once in the whole: the pages, their data, and the folders that are
+        // neither (a page's scans).
+        std::fs::create_dir_all(page.join("scans")).unwrap();
+        std::fs::write(page.join("scans/s.png"), vec![0u8; 7]).unwrap();
+        let (bytes, over) = total(dir.path()).unwrap();
+        assert_eq!(bytes, 3 + 1000 + PAGE_BUDGET + 10 + 7);
+        assert!(over.is_none());
     }
 }
