@@ -83,7 +83,7 @@ fn reduction_check(out: &Path) -> (String, f64) {
 }
 
 /// CalculiX's natural frequencies from its `.dat` file, Hz.
-fn ccx_frequencies(dat: &Path) -> Vec<f64> {
+pub(crate) fn ccx_frequencies(dat: &Path) -> Vec<f64> {
     let text = std::fs::read_to_string(dat).unwrap();
     let mut out = Vec::new();
     let mut inside = false;
@@ -389,9 +389,9 @@ fn bad_finite_element_files_and_keys_say_what_is_wrong() {
 }
 
 /// Runs CalculiX on the plate's decks (examples/plate/ccx.sh) and checks what it writes:
-/// shotdamp's full-model frequencies from the new matrices against CalculiX's own, and the
+/// shotdamp's full-model frequencies from the new matrices against CalculiX's own, the
 /// unsupported plate's mass matrix summing to three times the plate's mass (one per
-/// translational direction). Needs `ccx`: `cargo test --release --test all -- --ignored fe::`.
+/// translational direction), and the square plate's files equal to the shipped ones. Needs `ccx`: `cargo test --release --test all -- --ignored fe::`.
 #[test]
 #[ignore]
 fn calculix_meshes_and_solves_the_plate() {
@@ -427,6 +427,23 @@ fn calculix_meshes_and_solves_the_plate() {
     }
     let plate = 0.30 * 0.20 * 0.004 * 7850.0;
     assert!((sum / 3.0 - plate).abs() <= 1e-9 * plate, "{} kg against {plate} kg", sum / 3.0);
+    // The square plate's new matrices and frequencies are the shipped ones (to the last digits
+    // CalculiX prints).
+    let shipped = repo().join("examples/plate/data");
+    for f in ["square.sti", "square.mas", "square.dof"] {
+        let numbers = |p: &Path| -> Vec<f64> {
+            let text = std::fs::read_to_string(p).unwrap();
+            text.split_whitespace().map(|w| w.parse::<f64>().unwrap()).collect()
+        };
+        let (fresh, old) = (numbers(&out.join(f)), numbers(&shipped.join(f)));
+        assert_eq!(fresh.len(), old.len(), "{f}");
+        for (a, b) in fresh.iter().zip(&old) {
+            assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{f}: {a} against the shipped {b}");
+        }
+    }
+    let (fresh, old) =
+        (ccx_frequencies(&out.join("square_modes.dat")), ccx_frequencies(&shipped.join("square_modes.dat")));
+    assert_eq!(fresh, old, "square_modes.dat");
 }
 
 #[test]

@@ -1,7 +1,8 @@
 """Writes plate_mesh.inp: a steel plate 300 x 200 x 4 mm of 10 x 6 x 1 twenty-node bricks
 (C3D20R), its nodes, elements, material and the node set CLAMP on the edge x = 0. The decks
 plate.inp (matrices), plate_modes.inp (CalculiX's own natural frequencies) and plate_free.inp
-(the unsupported plate's mass matrix) include it. Run: python3 mesh.py [NX NY] (default 10 6:
+(the unsupported plate's mass matrix) include it. square.inp's square plate clamped on every
+edge (modes in equal pairs) is python3 mesh.py 6 6 0.2 0.2 0.004 square_mesh.inp C3D20R all. Run: python3 mesh.py [NX NY] (default 10 6:
 1410 degrees of freedom once clamped; 40 26 gives 22,440, for benchmarks). The cantilever beam
 of beam.inp (500 x 20 x 10 mm, 20 x 1 x 1 fully integrated bricks) is the same mesh of other sizes:
 python3 mesh.py 20 1 0.5 0.02 0.01 beam_mesh.inp C3D20."""
@@ -15,6 +16,9 @@ OUT = ARGS[5] if len(ARGS) >= 6 else "plate_mesh.inp"
 # Reduced integration (C3D20R) has zero-energy modes in a stack one element wide and thick:
 # the beam takes full integration (C3D20).
 ELEMENT = ARGS[6] if len(ARGS) >= 7 else "C3D20R"
+# The clamped edges: "x0" (the edge x = 0, a cantilever) or "all" (every edge: the square
+# plate of square.inp, whose modes come in equal pairs).
+CLAMPED = ARGS[7] if len(ARGS) >= 8 else "x0"
 
 
 def used(i, j, k):
@@ -49,7 +53,8 @@ def main():
                 f.write(f"{e}, " + ", ".join(nodes[:15]) + ",\n" + ", ".join(nodes[15:]) + "\n")
         f.write("*NSET, NSET=CLAMP\n")
         for (i, j, k), n in sorted(ids.items(), key=lambda x: x[1]):
-            if i == 0:
+            edge = i == 0 or (CLAMPED == "all" and (i == 2 * NX or j == 0 or j == 2 * NY))
+            if edge:
                 f.write(f"{n},\n")
         f.write("*MATERIAL, NAME=STEEL\n*ELASTIC\n210E9, 0.3\n*DENSITY\n7850.\n")
         f.write("*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n")
