@@ -226,4 +226,27 @@ fn the_report_reads_in_a_real_browser() {
     ]);
     assert!(std::fs::metadata(&shot).is_ok_and(|m| m.len() > 10_000), "screenshot at {}", shot.display());
     println!("screenshot: {}; verdict matrix at 1400 x 900: {m}", shot.display());
+    // Reading speed from disk: every page opened as a file, each once, after a blank page;
+    // its time is the browser's own (Navigation Timing: from the request to the end of the
+    // load event, every image decoded). The index within 1 s, every other page within 2 s.
+    let d = explore::Driver::start();
+    d.call("POST", "/url", Some(&serde_json::json!({ "url": "about:blank" })));
+    let mut times = Vec::new();
+    for p in &pages {
+        let url = format!("file://{}", report.join(p).display());
+        d.call("POST", "/url", Some(&serde_json::json!({ "url": url })));
+        let js = "const n = performance.getEntriesByType('navigation')[0]; return n.loadEventEnd - n.startTime;";
+        let ms = d.script(js, serde_json::json!([])).as_f64().unwrap_or(f64::INFINITY);
+        times.push((ms, p.clone()));
+    }
+    let limit = |p: &str| if p == "index.html" { 1000.0 } else { 2000.0 };
+    let slow: Vec<String> = times
+        .iter()
+        .filter(|(ms, p)| !(*ms < limit(p)))
+        .map(|(ms, p)| format!("{p}: {ms:.0} ms (at most {:.0})", limit(p)))
+        .collect();
+    assert!(slow.is_empty(), "pages that render too slowly from disk: {slow:?}");
+    times.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let index = times.iter().find(|(_, p)| p == "index.html").map_or(f64::NAN, |t| t.0);
+    println!("render times from disk: index {index:.0} ms; slowest {:?}", &times[..times.len().min(3)]);
 }

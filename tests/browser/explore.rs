@@ -30,7 +30,7 @@ fn chromedriver() -> PathBuf {
 }
 
 /// A WebDriver session on a chromedriver of its own; both end when dropped.
-struct Driver {
+pub(super) struct Driver {
     child: Child,
     port: u16,
     session: String,
@@ -83,7 +83,7 @@ fn http(port: u16, method: &str, path: &str, body: Option<&Value>) -> Value {
 }
 
 impl Driver {
-    fn start() -> Driver {
+    pub(super) fn start() -> Driver {
         let port = TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
         let child = Command::new(chromedriver())
             .arg(format!("--port={port}"))
@@ -113,14 +113,14 @@ impl Driver {
         Driver { child, port, session, _profile: profile }
     }
 
-    fn call(&self, method: &str, path: &str, body: Option<&Value>) -> Value {
+    pub(super) fn call(&self, method: &str, path: &str, body: Option<&Value>) -> Value {
         let r = http(self.port, method, &format!("/session/{}{path}", self.session), body);
         let failed = r["value"]["error"].is_string() && r["value"]["message"].is_string();
         assert!(!failed, "{method} {path}: {r}");
         r["value"].clone()
     }
 
-    fn script(&self, js: &str, args: Value) -> Value {
+    pub(super) fn script(&self, js: &str, args: Value) -> Value {
         self.call("POST", "/execute/sync", Some(&json!({ "script": js, "args": args })))
     }
 
