@@ -396,6 +396,12 @@ fn a_design_on_a_full_mass_matrix_is_the_lumped_frame_s_design() {
     let said = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{said}");
     assert!(said.contains("design.shot_mass_ratio = 0.05: a structure given by a full mass matrix"), "{said}");
+    // ... nor Pareto ratios (they were taken of its trace, a sum of no masses).
+    std::fs::write(&path, coupled.replace("shot_kg = 0.25", "shot_kg = 0.25\npareto_mass_ratios = [0.05]")).unwrap();
+    let out = shotdamp().arg("design").arg(&path).arg("--dry-run").output().unwrap();
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{said}");
+    assert!(said.contains("design.pareto_mass_ratios[0] = 0.05: a structure given by a full mass matrix"), "{said}");
     let (a, b) = (&tables[0], &tables[1]);
     assert_eq!(a.len(), 4, "a header and three placements: {a:?}");
     assert_eq!(a[0], b[0]);

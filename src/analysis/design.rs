@@ -136,7 +136,10 @@ fn run(
     let sp = super::design_problem::screen(exp, spec, steady);
     let sb = sp.as_ref().map(bare);
     let screen = sp.as_ref().zip(sb.as_deref());
-    let total_mass = exp.structure.mass_matrix().trace();
+    // A finite-element model's: the mass moving along the vertical (its modal coordinates' is
+    // no mass).
+    let total_mass =
+        exp.structure_mass().map(|m| (m, if exp.finite_element.is_some() { "mass moving vertically" } else { "mass" }));
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
     // The experiment's cases as reference layouts (the paper's, one container on the loop
     // point, ...), evaluated with the same objective, before the searches: under a time limit
@@ -167,9 +170,9 @@ fn run(
     page.tables.push(layouts_table(
         ("design_placements", exp.excitation.per_unit()),
         &format!(
-            "The best layout found for each placement of containers: {} kg of shot ({} of the structure's mass) split among them, clearances in {}-{} mm; objective: the worst band's measure over the bare structure's (1 = no gain)",
+            "The best layout found for each placement of containers: {} kg of shot{} split among them, clearances in {}-{} mm; objective: the worst band's measure over the bare structure's (1 = no gain)",
             fmt_num(spec.shot_kg),
-            fmt_num(spec.shot_kg / total_mass),
+            total_mass.map_or(String::new(), |(m, what)| format!(" ({} of the structure's {what})", fmt_num(spec.shot_kg / m))),
             fmt_num(spec.clearance_mm.0),
             fmt_num(spec.clearance_mm.1)
         ),
@@ -275,7 +278,7 @@ struct BestIn<'a> {
     screen: Option<search::On<'a>>,
     best: &'a Found,
     case_rows: &'a [(String, Layout, Evaluation, u64)],
-    total_mass: f64,
+    total_mass: Option<(f64, &'static str)>,
     more: bool,
     stopped: Option<&'static str>,
 }

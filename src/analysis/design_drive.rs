@@ -119,8 +119,10 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
 
 /// What the answer paragraph reads besides the problem and the best layout.
 pub struct AnswerIn<'a> {
-    /// The structure's total mass, kg.
-    pub total_mass: f64,
+    /// The structure's mass a shot mass is stated against, kg ([`crate::experiment::structure_mass`]),
+    /// and its words ("mass", "mass moving vertically"); `None`: a full mass matrix, no share
+    /// is said.
+    pub total_mass: Option<(f64, &'static str)>,
     /// What the clearance profile of the best layout found.
     pub profile: Profile,
     /// The clearance bounds the profile sampled, mm.
@@ -263,10 +265,10 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         crate::model::Direction::Horizontal => " in horizontal containers",
     };
     format!(
-        "{stop}{lead}Put {}{along} ({} kg, {} % of the structure's mass), {clearance}.{lid} The worst band then reaches {} of the bare structure's (per band: {}). This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
+        "{stop}{lead}Put {}{along} ({} kg{}), {clearance}.{lid} The worst band then reaches {} of the bare structure's (per band: {}). This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
         beds.join(", "),
         fmt_sig(shot, 2),
-        fmt_sig(100.0 * shot / total_mass, 2),
+        total_mass.map_or(String::new(), |(m, what)| format!(", {} % of the structure's {what}", fmt_sig(100.0 * shot / m, 2))),
         fmt_sig(eval.objective, 3),
         bands.join(", "),
         problem.drive().name(),

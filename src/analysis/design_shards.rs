@@ -11,7 +11,8 @@ use crate::sim::SteadyOptions;
 
 /// The searches of a design: the main one, then one per Pareto budget, in that order.
 pub fn spaces(exp: &Experiment, spec: &Spec) -> Vec<Space> {
-    let total_mass = exp.structure.mass_matrix().trace();
+    // Validation refuses Pareto ratios where the structure has no mass to take them of.
+    let total_mass = exp.structure_mass().unwrap_or(f64::NAN);
     let main = Space {
         placements: placements(&spec.candidates, spec.max_beds),
         shot_kg: spec.shot_kg,

@@ -203,8 +203,9 @@ fn sdof(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<(usize, Vec<f64
 }
 
 /// The design of an experiment: required by kind "design", refused by every other kind.
-/// `total_mass`: the structure's total mass, kg (for a shot mass ratio; `None` for a full mass
-/// matrix, whose total mass the file does not give).
+/// `total_mass`: the structure's mass a shot mass is stated against, kg ([`super::structure_mass`],
+/// for a shot mass ratio and Pareto ratios; `None` for a full mass matrix, whose total mass the
+/// file does not give).
 pub fn design(
     path: &Path,
     raw: Option<RawDesign>,
@@ -259,6 +260,13 @@ pub fn design(
         pareto_mass_ratios.iter().enumerate().find(|(_, r)| !(r.is_finite() && **r > 0.0 && **r <= 10.0))
     {
         return Err(bad(&format!("pareto_mass_ratios[{i}]"), r, "total shot mass ratios in (0, 10]"));
+    }
+    if let (Some(r), None) = (pareto_mass_ratios.first(), total_mass) {
+        return Err(bad(
+            "pareto_mass_ratios[0]",
+            r,
+            "a structure given by a full mass matrix (structure.mass_matrix_kg) has no total mass to take a ratio of: leave pareto_mass_ratios out",
+        ));
     }
     distinct(
         path,

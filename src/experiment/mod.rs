@@ -469,6 +469,18 @@ impl CheckSpec {
     }
 }
 
+/// The structure's mass a shot mass is stated against, kg: a lumped structure's masses summed;
+/// a finite-element model's mass moving along the vertical
+/// ([`crate::model::fe::FeStructure::mass_along_up`], the supports' share excluded: its reduced
+/// mass matrix's trace is no mass, its coordinates are modal); `None` for a full mass matrix
+/// given as such, whose coordinates are not all displacements.
+pub fn structure_mass(structure: &Structure, fe: Option<&crate::model::fe::FeStructure>) -> Option<f64> {
+    match fe {
+        Some(f) => Some(f.mass_along_up),
+        None => structure.is_lumped().then(|| structure.mass_matrix().trace()),
+    }
+}
+
 /// A validated experiment.
 #[derive(Debug, Clone)]
 pub struct Experiment {
@@ -503,6 +515,11 @@ pub struct Experiment {
 }
 
 impl Experiment {
+    /// [`structure_mass`] of this experiment's structure.
+    pub fn structure_mass(&self) -> Option<f64> {
+        structure_mass(&self.structure, self.finite_element.as_deref())
+    }
+
     /// The run's key: the experiment id, with `/MODEL` when it runs on several models. It
     /// names the report folder, the baseline file and the exports.
     pub fn key(&self) -> String {

@@ -92,8 +92,9 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         }
     }
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
-    // A full mass matrix's coordinates are not all displacements: its trace is no mass.
-    let total_mass = structure.is_lumped().then(|| structure.mass_matrix().trace());
+    // A full mass matrix's coordinates are not all displacements: its trace is no mass; a
+    // finite-element model's is the mass moving along the vertical.
+    let total_mass = super::structure_mass(&structure, fe.as_ref());
     let design = super::design::design(path, raw.design, &raw.analysis.kind, responses, total_mass)?;
     let mut analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
     if let Analysis::Design { spec, .. } = &mut analysis {

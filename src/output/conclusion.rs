@@ -34,9 +34,12 @@ pub fn conclusions(results: &[ExperimentResult]) -> Vec<Conclusion> {
             let model = r.experiment.model.as_ref().map(|m| format!(", {}", m.label)).unwrap_or_default();
             let bands: Vec<&str> = spec.bands.iter().map(|b| b.name.as_str()).collect();
             let mut text = format!(
-                "{}{model}: properly selected mass ratios and clearances (the best layout found, {} of the structure's mass in shot) lower the worst resonance peak of {} to {} of the bare structure's",
+                "{}{model}: properly selected mass ratios and clearances (the best layout found, {} in shot) lower the worst resonance peak of {} to {} of the bare structure's",
                 r.experiment.meta.figure,
-                percent(spec.shot_kg / r.experiment.structure.mass_matrix().trace()),
+                r.experiment.structure_mass().map_or(format!("{} kg", spec.shot_kg), |m| format!(
+                    "{} of the structure's mass",
+                    percent(spec.shot_kg / m)
+                )),
                 bands.join(", "),
                 percent(best)
             );
