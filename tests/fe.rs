@@ -459,8 +459,9 @@ fn a_finite_element_structure_s_mass_is_its_mass_moving_vertically() {
     assert!(fe.mass_along_up < plate && fe.mass_along_up > 0.95 * plate, "{} kg of {plate} kg", fe.mass_along_up);
     let trace = exps[0].structure.mass_matrix().trace();
     assert!((trace - plate).abs() > 0.5 * plate, "the trace is no mass: {trace} kg");
-    let chain = shotdamp::experiment::load(&repo().join("experiments/fig05_third_mode.toml"), &repo().join("reference"))
-        .unwrap();
+    let chain =
+        shotdamp::experiment::load(&repo().join("experiments/fig05_third_mode.toml"), &repo().join("reference"))
+            .unwrap();
     let sum: f64 = chain[0].structure.masses.iter().sum();
     assert_eq!(chain[0].structure_mass(), Some(sum));
 }

@@ -245,7 +245,7 @@ impl ReferenceStore {
     /// Loads the stored answer of each design experiment that has one
     /// (`dir/designs/KEY.json`, KEY = `ID/MODEL`); a file that cannot be read is an error.
     pub fn load_designs(&mut self, dir: &Path, experiments: &[crate::experiment::Experiment]) -> Result<()> {
-        for exp in experiments.iter().filter(|e| e.analysis.kind() == "design") {
+        for exp in experiments.iter().filter(|e| e.analysis.answers()) {
             let key = exp.key();
             let path = stored_design_path(dir, &key);
             if !path.is_file() {

@@ -569,7 +569,7 @@ fn finish_with(
     }
     say!("report: {}", done.dest.join("index.html").display());
     // Designs: the answer in one line per model (the tables have the layouts).
-    for r in done.results.iter().filter(|r| r.experiment.analysis.kind() == "design") {
+    for r in done.results.iter().filter(|r| r.experiment.analysis.answers()) {
         let e = &r.exports;
         let cases: Vec<String> = e
             .iter()

@@ -94,20 +94,30 @@ pub struct KindSpec {
     /// Whether it runs the exact simulator (whose limits on degrees of freedom and bed
     /// configurations are checked before anything runs).
     pub simulates: bool,
+    /// Whether it answers a design question: its page is headed "Design question", the
+    /// command prints its answer in a line per model, and its result is stored and replayed
+    /// (`designs/KEY.json`).
+    pub answers: bool,
 }
 
 /// The analysis kinds: the one list that validation, its messages and [`Analysis::kind`]'s
 /// test read.
 pub const KINDS: &[KindSpec] = &[
-    KindSpec { name: "modal", reads: &[], simulates: false },
-    KindSpec { name: "linear_frf", reads: &["freq_hz"], simulates: false },
-    KindSpec { name: "sweep", reads: &["freq_hz", "start", "steady"], simulates: true },
+    KindSpec { name: "modal", reads: &[], simulates: false, answers: false },
+    KindSpec { name: "linear_frf", reads: &["freq_hz"], simulates: false, answers: false },
+    KindSpec { name: "sweep", reads: &["freq_hz", "start", "steady"], simulates: true, answers: false },
     KindSpec {
         name: "clearance_study",
         reads: &["freq_hz", "steady", "clearances_mm", "clearance_points", "objective_mass", "objective_case"],
         simulates: true,
+        answers: false,
     },
-    KindSpec { name: "waveform", reads: &["frequencies_hz", "labels", "periods", "steady"], simulates: true },
+    KindSpec {
+        name: "waveform",
+        reads: &["frequencies_hz", "labels", "periods", "steady"],
+        simulates: true,
+        answers: false,
+    },
     KindSpec {
         name: "impulse",
         reads: &[
@@ -120,9 +130,15 @@ pub const KINDS: &[KindSpec] = &[
             "decay_levels",
         ],
         simulates: true,
+        answers: false,
     },
-    KindSpec { name: "sdof_periodic", reads: &["mode", "freq_hz", "clearances_mm", "steady"], simulates: true },
-    KindSpec { name: "design", reads: &["steady"], simulates: true },
+    KindSpec {
+        name: "sdof_periodic",
+        reads: &["mode", "freq_hz", "clearances_mm", "steady"],
+        simulates: true,
+        answers: false,
+    },
+    KindSpec { name: "design", reads: &["steady"], simulates: true, answers: true },
 ];
 
 /// The kind named `name` in a file.
@@ -204,6 +220,11 @@ impl Analysis {
     /// which take a structure of any size).
     pub fn simulates(&self) -> bool {
         kind_spec(self.kind()).is_some_and(|k| k.simulates)
+    }
+
+    /// Whether it answers a design question ([`KindSpec::answers`]).
+    pub fn answers(&self) -> bool {
+        kind_spec(self.kind()).is_some_and(|k| k.answers)
     }
 
     /// Whether every damper's clearance is scanned (`clearance_mm = "scan"` required).

@@ -160,8 +160,8 @@ pub fn models_view(runs: &[&ExperimentResult], overlays: &[Figure]) -> ModelsVie
         figure: first.meta.figure.clone(),
         caption: first.meta.caption.clone(),
         claim: first.meta.claim.clone(),
-        caption_heading: first.meta.headings(first.analysis.kind() == "design").0.to_string(),
-        claim_heading: first.meta.headings(first.analysis.kind() == "design").1.to_string(),
+        caption_heading: first.meta.headings(first.analysis.answers()).0.to_string(),
+        claim_heading: first.meta.headings(first.analysis.answers()).1.to_string(),
         source_file: first.path.display().to_string(),
         models,
         overlays: overlays

@@ -206,7 +206,7 @@ pub fn experiment_view(r: &ExperimentResult, source_file: &str, models: &[ModelI
     let id = &r.experiment.key();
     let current = r.experiment.model.as_ref();
     let (verdict, class, words) = counts(&r.checks);
-    let headings = r.experiment.meta.headings(r.experiment.analysis.kind() == "design");
+    let headings = r.experiment.meta.headings(r.experiment.analysis.answers());
     let n = r.modes.len();
     let mut mode_header = vec!["mode".to_string(), "omega (rad/s)".into(), "f (Hz)".into()];
     mode_header.extend((0..n).map(|i| format!("phibar m{}", i + 1)));

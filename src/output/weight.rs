@@ -96,7 +96,7 @@ pub fn total(report: &Path) -> Result<(u64, Option<String>)> {
     let all = pages(report)?;
     let bytes: u64 = all.iter().map(|w| w.bytes).sum::<u64>() + rest(report)?;
     let mut heaviest: Vec<&Weight> = all.iter().collect();
-    heaviest.sort_by(|a, b| b.bytes.cmp(&a.bytes));
+    heaviest.sort_by_key(|w| std::cmp::Reverse(w.bytes));
     let named: Vec<String> =
         heaviest.iter().take(3).map(|w| format!("{} ({} bytes)", w.folder.display(), w.bytes)).collect();
     let over = (bytes > REPORT_BUDGET).then(|| {
