@@ -81,9 +81,28 @@ use super::fields::is_identifier as name_ok;
 /// The syntax, for error messages.
 pub const SYNTAX: &str = "placeholders {ID}, {ID.FIELD}, {MODEL/ID}, {EXPERIMENT#ID} or {@EXPERIMENT.EXPORT}, each optionally followed by :N (N decimals) or :N% (a ratio as a signed change in per cent), e.g. {ratio:2}";
 
-fn placeholder(inner: &str) -> std::result::Result<Placeholder, String> {
+/// Why a text does not parse (the caller names the file and key).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TextError {
+    /// A '{' never closed.
+    #[error("an unclosed '{{' at \"{0}\"; {SYNTAX}")]
+    Unclosed(String),
+    /// A '}' never opened.
+    #[error("a '}}' without '{{' in \"{0}\"; {SYNTAX}")]
+    Unopened(String),
+    /// A placeholder that is not one.
+    #[error("{text}: {why}; {SYNTAX}")]
+    Placeholder {
+        /// The placeholder with its braces.
+        text: String,
+        /// What is wrong with it.
+        why: &'static str,
+    },
+}
+
+fn placeholder(inner: &str) -> std::result::Result<Placeholder, TextError> {
     let text = format!("{{{inner}}}");
-    let bad = |why: &str| Err(format!("{text}: {why}; {SYNTAX}"));
+    let bad = |why: &'static str| Err(TextError::Placeholder { text: text.clone(), why });
     let (body, format) = match inner.split_once(':') {
         None => (inner, Format::Default),
         Some((body, f)) => {
@@ -128,7 +147,7 @@ fn placeholder(inner: &str) -> std::result::Result<Placeholder, String> {
 }
 
 /// The pieces of a text. Braces only open placeholders; an unclosed one is an error.
-pub fn parse(text: &str) -> std::result::Result<Vec<Piece>, String> {
+pub fn parse(text: &str) -> std::result::Result<Vec<Piece>, TextError> {
     let mut out = Vec::new();
     let mut rest = text;
     while let Some(open) = rest.find('{') {
@@ -136,13 +155,13 @@ pub fn parse(text: &str) -> std::result::Result<Vec<Piece>, String> {
             out.push(Piece::Literal(rest[..open].to_string()));
         }
         let Some(close) = rest[open..].find('}') else {
-            return Err(format!("an unclosed '{{' at \"{}\"; {SYNTAX}", &rest[open..]));
+            return Err(TextError::Unclosed(rest[open..].to_string()));
         };
         out.push(Piece::Value(placeholder(&rest[open + 1..open + close])?));
         rest = &rest[open + close + 1..];
     }
     if rest.contains('}') {
-        return Err(format!("a '}}' without '{{' in \"{rest}\"; {SYNTAX}"));
+        return Err(TextError::Unopened(rest.to_string()));
     }
     if !rest.is_empty() {
         out.push(Piece::Literal(rest.to_string()));
@@ -181,7 +200,7 @@ pub(super) fn validate(path: &Path, meta: &Meta, checks: &[CheckSpec]) -> Result
         texts.extend(c.known_deviation.as_deref().map(|d| (format!("checks[{i}].known_deviation"), d)));
     }
     for (key, text) in texts {
-        let pieces = parse(text).map_err(|e| Error::invalid(path, &key, "(the text)", e))?;
+        let pieces = parse(text).map_err(|e| Error::invalid(path, &key, "(the text)", e.to_string()))?;
         for p in pieces {
             let Piece::Value(p) = p else { continue };
             if let (None, Target::Check { experiment: None, id, .. }) = (&p.model, &p.target) {
@@ -251,7 +270,7 @@ mod tests {
     fn bad_placeholders_are_named() {
         for bad in ["{ratio", "x}", "{ratio:two}", "{}", "{a b}", "{@scan}", "{m/}", "{r:13}"] {
             let e = parse(bad).unwrap_err();
-            assert!(e.contains("placeholders {ID}"), "{bad}: {e}");
+            assert!(e.to_string().contains("placeholders {ID}"), "{bad}: {e}");
         }
     }
 

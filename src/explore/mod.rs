@@ -22,6 +22,7 @@ use serde_json::{json, Value};
 use crate::analysis::{self, curves};
 use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::error::{Error, Result};
+use crate::experiment::study::overrides::OverrideError;
 use crate::experiment::study::KeyPath;
 use crate::experiment::{self, Case, CurveId, Experiment, Exports, Linear};
 use crate::reference::files::Files;
@@ -216,8 +217,9 @@ impl Session {
         let mut table = model.table.clone();
         as_sweep(&mut table, req)?;
         for (i, (key, value)) in req.set.iter().enumerate() {
-            let (path, value) = allowed(key, value).map_err(|m| bad(format!("set[{i}] \"{key}\""), value, m))?;
-            path.set(&mut table, &value).map_err(|m| bad(format!("set[{i}] \"{key}\""), &value, m))?;
+            let (path, value) =
+                allowed(key, value).map_err(|m| bad(format!("set[{i}] \"{key}\""), value, m.to_string()))?;
+            path.set(&mut table, &value).map_err(|m| bad(format!("set[{i}] \"{key}\""), &value, m.to_string()))?;
         }
         Ok(table)
     }
@@ -326,22 +328,35 @@ fn as_sweep(table: &mut toml::Table, req: &Request) -> Result<()> {
     Ok(())
 }
 
+/// Why one `[path, value]` of a request is refused (the request names it).
+#[derive(Debug, thiserror::Error)]
+enum SetError {
+    /// Not a key path, or one the setup cannot take.
+    #[error(transparent)]
+    Path(#[from] OverrideError),
+    /// A bed's law that is not one.
+    #[error("a bed law: one of {LAWS:?}")]
+    Law,
+    /// A key the explorer does not set.
+    #[error("not a key the explorer sets; these are (a selector [INDEX] or [ID] may replace [*]): {0:?}")]
+    NotSet(Vec<&'static str>),
+    /// A value that is not a finite number.
+    #[error("a finite number")]
+    NotANumber,
+}
+
 /// The path and value of one `[path, value]` of a request, when [`ALLOWED`] (or a bed law).
-fn allowed(key: &str, value: &Value) -> std::result::Result<(KeyPath, toml::Value), String> {
+fn allowed(key: &str, value: &Value) -> std::result::Result<(KeyPath, toml::Value), SetError> {
     let path = KeyPath::parse(key)?;
     let general = generalise(key);
     if general == "cases[*].dampers[*].bed" {
-        let law = value.as_str().filter(|s| LAWS.contains(s));
-        let law = law.ok_or_else(|| format!("a bed law: one of {LAWS:?}"))?;
+        let law = value.as_str().filter(|s| LAWS.contains(s)).ok_or(SetError::Law)?;
         return Ok((path, toml::Value::String(law.to_string())));
     }
     if !ALLOWED.iter().any(|a| a.path == general || format!("{}[*]", a.path) == general) {
-        let paths: Vec<&str> = ALLOWED.iter().map(|a| a.path).chain(["cases[*].dampers[*].bed"]).collect();
-        return Err(format!(
-            "not a key the explorer sets; these are (a selector [INDEX] or [ID] may replace [*]): {paths:?}"
-        ));
+        return Err(SetError::NotSet(ALLOWED.iter().map(|a| a.path).chain(["cases[*].dampers[*].bed"]).collect()));
     };
-    let x = value.as_f64().filter(|x| x.is_finite()).ok_or("a finite number")?;
+    let x = value.as_f64().filter(|x| x.is_finite()).ok_or(SetError::NotANumber)?;
     Ok((path, toml::Value::Float(x)))
 }
 

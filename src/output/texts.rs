@@ -61,8 +61,25 @@ fn field(o: &CheckOutcome, name: &str) -> Option<f64> {
     }
 }
 
+/// Why a placeholder has no value (the caller names the file, the key and the placeholder).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum ValueError {
+    /// Its experiment ran, not on this model.
+    #[error("experiment {experiment} did not run on model {model}")]
+    NotOnModel { experiment: String, model: String },
+    /// No check of that id.
+    #[error("{run} has no check with id \"{id}\"; its ids are {ids:?}")]
+    NoCheck { run: String, id: String, ids: Vec<String> },
+    /// The check has no such value.
+    #[error("check {id} has no value \"{name}\"; it has {names:?}")]
+    NoField { id: String, name: String, names: Vec<String> },
+    /// The experiment exports no such value.
+    #[error("{run} exports no \"{name}\"; it exports {names:?}")]
+    NoExport { run: String, name: String, names: Vec<String> },
+}
+
 /// The value of one placeholder in a text of `r`: `Ok(None)` when its experiment did not run.
-fn value(index: &Index, r: &ExperimentResult, p: &Placeholder) -> std::result::Result<Option<f64>, String> {
+fn value(index: &Index, r: &ExperimentResult, p: &Placeholder) -> std::result::Result<Option<f64>, ValueError> {
     let model = p.model.as_deref().or(r.experiment.model.as_ref().map(|m| m.id.as_str()));
     let experiment = match &p.target {
         Target::Check { experiment, .. } => experiment.as_deref().unwrap_or(&r.experiment.meta.id),
@@ -72,32 +89,35 @@ fn value(index: &Index, r: &ExperimentResult, p: &Placeholder) -> std::result::R
         return Ok(None);
     }
     let Some(run) = index.get(experiment, model) else {
-        return Err(format!("experiment {experiment} did not run on model {}", model.unwrap_or("(none)")));
+        return Err(ValueError::NotOnModel {
+            experiment: experiment.to_string(),
+            model: model.unwrap_or("(none)").to_string(),
+        });
     };
     match &p.target {
         Target::Check { id, field: name, .. } => {
-            let ids: Vec<&str> = run.checks.iter().filter_map(|c| c.id.as_deref()).collect();
             let Some(o) = run.checks.iter().find(|c| c.id.as_deref() == Some(id)) else {
-                return Err(format!("{} has no check with id \"{id}\"; its ids are {ids:?}", run.experiment.key()));
+                let ids = run.checks.iter().filter_map(|c| c.id.clone()).collect();
+                return Err(ValueError::NoCheck { run: run.experiment.key(), id: id.clone(), ids });
             };
-            let names: Vec<&str> = FIELDS.into_iter().chain(o.values.iter().map(|(n, _)| n.as_str())).collect();
-            field(o, name).map(Some).ok_or_else(|| format!("check {id} has no value \"{name}\"; it has {names:?}"))
+            field(o, name).map(Some).ok_or_else(|| ValueError::NoField {
+                id: id.clone(),
+                name: name.clone(),
+                names: FIELDS.into_iter().map(String::from).chain(o.values.iter().map(|(n, _)| n.clone())).collect(),
+            })
         }
-        Target::Export { name, .. } => {
-            let names: Vec<&String> = run.exports.keys().collect();
-            run.exports
-                .get(name)
-                .copied()
-                .map(Some)
-                .ok_or_else(|| format!("{} exports no \"{name}\"; it exports {names:?}", run.experiment.key()))
-        }
+        Target::Export { name, .. } => run.exports.get(name).copied().map(Some).ok_or_else(|| ValueError::NoExport {
+            run: run.experiment.key(),
+            name: name.clone(),
+            names: run.exports.keys().cloned().collect(),
+        }),
     }
 }
 
 /// A text of `r` (at `key` of its file) with its placeholders filled.
 fn fill_text(index: &Index, r: &ExperimentResult, key: &str, text: &str, missing: Missing) -> Result<String> {
     let path = &r.experiment.path;
-    let pieces = parse(text).map_err(|e| Error::invalid(path, key, "(the text)", e))?;
+    let pieces = parse(text).map_err(|e| Error::invalid(path, key, "(the text)", e.to_string()))?;
     let mut out = String::with_capacity(text.len());
     for piece in pieces {
         match piece {
@@ -110,7 +130,7 @@ fn fill_text(index: &Index, r: &ExperimentResult, key: &str, text: &str, missing
                 Ok(None) => {
                     return Err(Error::invalid(path, key, &p.text, "names an experiment that is not in the report"))
                 }
-                Err(why) => return Err(Error::invalid(path, key, &p.text, why)),
+                Err(why) => return Err(Error::invalid(path, key, &p.text, why.to_string())),
             },
         }
     }

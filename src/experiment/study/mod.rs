@@ -342,7 +342,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
     let design = design_of(path, &s, &vary)?;
     let mut set = Vec::new();
     for (k, v) in &s.set {
-        let key = KeyPath::parse(k).map_err(|m| bad(&format!("study.set.\"{k}\""), &v, &m))?;
+        let key = KeyPath::parse(k).map_err(|m| bad(&format!("study.set.\"{k}\""), &v, &m.to_string()))?;
         set.push((key, v.clone()));
     }
     let map = match &s.map {
@@ -445,7 +445,7 @@ fn vary_entry(path: &Path, i: usize, v: RawVary) -> Result<Vary> {
             "this name is a column of every study table; choose another",
         ));
     }
-    let key = KeyPath::parse(&v.key).map_err(|m| bad("key", &format!("\"{}\"", v.key), &m))?;
+    let key = KeyPath::parse(&v.key).map_err(|m| bad("key", &format!("\"{}\"", v.key), &m.to_string()))?;
     let domain = match (v.values, v.range) {
         (Some(values), None) => {
             if values.is_empty() || values.iter().any(|x| !x.is_finite()) {
@@ -639,7 +639,7 @@ impl Study {
         sample: &Sample,
         applies: impl Fn(&KeyPath) -> bool,
     ) -> Result<Experiment> {
-        let on = |key: String, value: &dyn std::fmt::Display, m: String| {
+        let on = |key: String, value: &dyn std::fmt::Display, m: overrides::OverrideError| {
             Error::invalid(&self.path, key, value, format!("cannot be set in {}: {m}", file.display()))
         };
         // In a joint study a key reaches the experiments that have it (docs/studies.md).

@@ -7,6 +7,71 @@
 //! number replaces an export reference (`"@EXPERIMENT.KEY"`) too. A missing last name is
 //! added to its table, so that the experiment's own validation names a misspelt key.
 
+/// Why a key path cannot be read or set (the caller names the file and key).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum OverrideError {
+    /// Not a key path.
+    #[error("{PATH_SYNTAX}")]
+    Syntax,
+    /// The path selects nothing.
+    #[error("the path selects no value (an empty list?)")]
+    SelectsNothing,
+    /// A name on the way is not a key of its table.
+    #[error("no key \"{name}\" here (the keys are {keys:?})")]
+    NoKey {
+        /// The name.
+        name: String,
+        /// The table's keys.
+        keys: Vec<String>,
+    },
+    /// A selector on something that is not a list.
+    #[error("\"{name}\" is a {found}, not a list")]
+    NotAList {
+        /// The name.
+        name: String,
+        /// What it is.
+        found: &'static str,
+    },
+    /// A name on the way to the last holds no table.
+    #[error("\"{name}\" holds a {found}, not a table")]
+    NotATable {
+        /// The name.
+        name: String,
+        /// What it holds.
+        found: &'static str,
+    },
+    /// An index past the list's end.
+    #[error("\"{name}\" has {len} elements; index {index} is out of range (0-based)")]
+    OutOfRange {
+        /// The list's name.
+        name: String,
+        /// Its length.
+        len: usize,
+        /// The index asked for.
+        index: usize,
+    },
+    /// No element with the id asked for.
+    #[error("no element of \"{name}\" has id \"{id}\" (the ids are {ids:?})")]
+    NoId {
+        /// The list's name.
+        name: String,
+        /// The id asked for.
+        id: String,
+        /// The ids there are.
+        ids: Vec<String>,
+    },
+    /// A number set on a list of other things.
+    #[error("a list that is not of numbers: select an element with [INDEX]")]
+    NotNumbers,
+    /// A number set on a table.
+    #[error("a table, not a number: give the path of one of its keys")]
+    TableNotNumber,
+}
+
+/// What a key path is, for messages.
+pub const PATH_SYNTAX: &str = "names of letters, digits and '_' separated by '.', each optionally followed by \
+                               [INDEX], [*] or [ID], e.g. \"cases[*].dampers[*].clearance_mm\"";
+
 /// One step of a key path.
 #[derive(Debug, Clone, PartialEq, Eq)]
 enum Selector {
@@ -33,18 +98,16 @@ pub struct KeyPath {
 
 impl KeyPath {
     /// Parses `a.b[*].c`; the error says what is allowed.
-    pub fn parse(text: &str) -> Result<KeyPath, String> {
-        let allowed = "names of letters, digits and '_' separated by '.', each optionally followed by \
-                       [INDEX], [*] or [ID], e.g. \"cases[*].dampers[*].clearance_mm\"";
+    pub fn parse(text: &str) -> Result<KeyPath, OverrideError> {
         if text.is_empty() {
-            return Err(allowed.to_string());
+            return Err(OverrideError::Syntax);
         }
         let mut segments = Vec::new();
         for part in text.split('.') {
             let (name, selector) = match part.split_once('[') {
                 None => (part, None),
                 Some((name, rest)) => {
-                    let Some(inner) = rest.strip_suffix(']') else { return Err(allowed.to_string()) };
+                    let Some(inner) = rest.strip_suffix(']') else { return Err(OverrideError::Syntax) };
                     let sel = if inner == "*" {
                         Selector::All
                     } else if let Ok(i) = inner.parse::<usize>() {
@@ -52,13 +115,13 @@ impl KeyPath {
                     } else if super::super::fields::is_identifier(inner) {
                         Selector::Id(inner.to_string())
                     } else {
-                        return Err(allowed.to_string());
+                        return Err(OverrideError::Syntax);
                     };
                     (name, Some(sel))
                 }
             };
             if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-                return Err(allowed.to_string());
+                return Err(OverrideError::Syntax);
             }
             segments.push(Segment { name: name.to_string(), selector });
         }
@@ -77,10 +140,10 @@ impl KeyPath {
 
     /// Sets `value` everywhere the path points in `table`; returns how many values were set
     /// (at least one), or why none could be.
-    pub fn set(&self, table: &mut toml::Table, value: &toml::Value) -> Result<usize, String> {
+    pub fn set(&self, table: &mut toml::Table, value: &toml::Value) -> Result<usize, OverrideError> {
         let n = set_in(table, &self.segments, value)?;
         if n == 0 {
-            return Err("the path selects no value (an empty list?)".to_string());
+            return Err(OverrideError::SelectsNothing);
         }
         Ok(n)
     }
@@ -118,8 +181,8 @@ fn get_in<'a>(table: &'a toml::Table, segments: &[Segment], out: &mut Vec<&'a to
     }
 }
 
-fn set_in(table: &mut toml::Table, segments: &[Segment], value: &toml::Value) -> Result<usize, String> {
-    let (seg, rest) = segments.split_first().ok_or("empty path")?;
+fn set_in(table: &mut toml::Table, segments: &[Segment], value: &toml::Value) -> Result<usize, OverrideError> {
+    let (seg, rest) = segments.split_first().ok_or(OverrideError::Syntax)?;
     let last = rest.is_empty();
     if last && seg.selector.is_none() {
         return Ok(match table.get_mut(&seg.name) {
@@ -131,13 +194,12 @@ fn set_in(table: &mut toml::Table, segments: &[Segment], value: &toml::Value) ->
         });
     }
     let Some(slot) = table.get_mut(&seg.name) else {
-        let keys: Vec<&String> = table.keys().collect();
-        return Err(format!("no key \"{}\" here (the keys are {keys:?})", seg.name));
+        return Err(OverrideError::NoKey { name: seg.name.clone(), keys: table.keys().cloned().collect() });
     };
     let targets: Vec<&mut toml::Value> = match (&seg.selector, slot) {
         (None, v) => vec![v],
         (Some(sel), toml::Value::Array(items)) => select(&seg.name, sel, items)?,
-        (Some(_), other) => return Err(format!("\"{}\" is a {}, not a list", seg.name, other.type_str())),
+        (Some(_), other) => return Err(OverrideError::NotAList { name: seg.name.clone(), found: other.type_str() }),
     };
     let mut n = 0;
     for t in targets {
@@ -147,7 +209,7 @@ fn set_in(table: &mut toml::Table, segments: &[Segment], value: &toml::Value) ->
             match t {
                 toml::Value::Table(inner) => set_in(inner, rest, value)?,
                 other => {
-                    return Err(format!("\"{}\" holds a {}, not a table", seg.name, other.type_str()));
+                    return Err(OverrideError::NotATable { name: seg.name.clone(), found: other.type_str() });
                 }
             }
         };
@@ -155,14 +217,19 @@ fn set_in(table: &mut toml::Table, segments: &[Segment], value: &toml::Value) ->
     Ok(n)
 }
 
-fn select<'a>(name: &str, sel: &Selector, items: &'a mut [toml::Value]) -> Result<Vec<&'a mut toml::Value>, String> {
+fn select<'a>(
+    name: &str,
+    sel: &Selector,
+    items: &'a mut [toml::Value],
+) -> Result<Vec<&'a mut toml::Value>, OverrideError> {
     let len = items.len();
     match sel {
         Selector::All => Ok(items.iter_mut().collect()),
-        Selector::Index(i) => items
-            .get_mut(*i)
-            .map(|v| vec![v])
-            .ok_or_else(|| format!("\"{name}\" has {len} elements; index {i} is out of range (0-based)")),
+        Selector::Index(i) => items.get_mut(*i).map(|v| vec![v]).ok_or_else(|| OverrideError::OutOfRange {
+            name: name.to_string(),
+            len,
+            index: *i,
+        }),
         Selector::Id(id) => {
             let ids: Vec<String> =
                 items.iter().filter_map(|v| v.get("id").and_then(|x| x.as_str()).map(String::from)).collect();
@@ -170,25 +237,25 @@ fn select<'a>(name: &str, sel: &Selector, items: &'a mut [toml::Value]) -> Resul
                 .iter_mut()
                 .find(|v| v.get("id").and_then(|x| x.as_str()) == Some(id))
                 .map(|v| vec![v])
-                .ok_or_else(|| format!("no element of \"{name}\" has id \"{id}\" (the ids are {ids:?})"))
+                .ok_or_else(|| OverrideError::NoId { name: name.to_string(), id: id.clone(), ids })
         }
     }
 }
 
 /// Replaces one value; a number set on a list of numbers sets each element.
-fn assign(slot: &mut toml::Value, value: &toml::Value) -> Result<usize, String> {
+fn assign(slot: &mut toml::Value, value: &toml::Value) -> Result<usize, OverrideError> {
     let number = matches!(value, toml::Value::Float(_) | toml::Value::Integer(_));
     match slot {
         toml::Value::Array(items) if number => {
             if items.is_empty() || !items.iter().all(is_number_like) {
-                return Err("a list that is not of numbers: select an element with [INDEX]".to_string());
+                return Err(OverrideError::NotNumbers);
             }
             for item in items.iter_mut() {
                 *item = converted(item, value);
             }
             Ok(items.len())
         }
-        toml::Value::Table(_) if number => Err("a table, not a number: give the path of one of its keys".to_string()),
+        toml::Value::Table(_) if number => Err(OverrideError::TableNotNumber),
         other => {
             *other = converted(other, value);
             Ok(1)
@@ -246,12 +313,20 @@ mod tests {
     #[test]
     fn errors_say_what_exists() {
         let mut t = table("[excitation]\nforce_n = 2.6\n[[cases]]\nid = \"one\"\ndampers = []");
-        let e = KeyPath::parse("excitatio.force_n").unwrap().set(&mut t, &toml::Value::Float(1.0)).unwrap_err();
+        let set = |path: &str, t: &mut toml::Table| {
+            KeyPath::parse(path).unwrap().set(t, &toml::Value::Float(1.0)).unwrap_err().to_string()
+        };
+        let e = set("excitatio.force_n", &mut t);
         assert!(e.contains("no key \"excitatio\"") && e.contains("excitation"), "{e}");
-        let e = KeyPath::parse("cases[two].label").unwrap().set(&mut t, &toml::Value::Float(1.0)).unwrap_err();
+        let e = set("cases[two].label", &mut t);
         assert!(e.contains("[\"one\"]"), "{e}");
-        let e = KeyPath::parse("cases[*].dampers[*].mass").unwrap().set(&mut t, &toml::Value::Float(1.0)).unwrap_err();
+        let e = set("cases[*].dampers[*].mass", &mut t);
         assert!(e.contains("no value"), "{e}");
+        assert_eq!(
+            KeyPath::parse("a..b").unwrap_err().to_string(),
+            PATH_SYNTAX.to_string(),
+            "the path's syntax, as the message said it"
+        );
         assert!(KeyPath::parse("a..b").is_err());
         assert!(KeyPath::parse("a[").is_err());
         assert!(KeyPath::parse("a[b c]").is_err());
