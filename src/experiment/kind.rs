@@ -222,7 +222,7 @@ impl Analysis {
         kind_spec(self.kind()).is_some_and(|k| k.simulates)
     }
 
-    /// Whether it answers a design question ([`KindSpec::answers`]).
+    /// Whether it answers a design question (the `answers` column of its line in `KINDS`).
     pub fn answers(&self) -> bool {
         kind_spec(self.kind()).is_some_and(|k| k.answers)
     }
