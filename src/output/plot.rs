@@ -17,7 +17,7 @@ pub const WIDTH: u32 = 1100;
 pub const PANEL_HEIGHT: u32 = 560;
 
 /// Height of each panel of a figure of `panels` panels, pixels: 560 alone, 480 in two, 400
-/// in three or more (a compliance figure of four masses is 1600 px tall, not 2240: a page
+/// in three or more (a figure of four panels is 1600 px tall, not 2240: a page
 /// shows two of its panels at once and the file is a quarter lighter).
 pub fn panel_height(panels: usize) -> u32 {
     match panels {

@@ -93,9 +93,8 @@ pub fn pages(report: &Path) -> Result<Vec<Weight>> {
 /// Bytes of every file under `report`, the sentence for a report over [`REPORT_BUDGET`] with
 /// its three heaviest folders.
 pub fn total(report: &Path) -> Result<(u64, Option<String>)> {
-    let all = pages(report)?;
-    let bytes: u64 = all.iter().map(|w| w.bytes).sum::<u64>() + rest(report)?;
-    let mut heaviest: Vec<&Weight> = all.iter().collect();
+    let bytes = bytes_under(report)?;
+    let mut heaviest = pages(report)?;
     heaviest.sort_by_key(|w| std::cmp::Reverse(w.bytes));
     let named: Vec<String> =
         heaviest.iter().take(3).map(|w| format!("{} ({} bytes)", w.folder.display(), w.bytes)).collect();
@@ -105,21 +104,13 @@ pub fn total(report: &Path) -> Result<(u64, Option<String>)> {
     Ok((bytes, over))
 }
 
-/// Bytes of the files in folders that are neither a page's nor a data folder.
-fn rest(report: &Path) -> Result<u64> {
+/// Bytes of every file under `dir`, at any depth.
+fn bytes_under(dir: &Path) -> Result<u64> {
     let mut bytes = 0;
-    let mut stack = vec![report.to_path_buf()];
-    while let Some(dir) = stack.pop() {
-        let weighed = dir.join("index.html").is_file() || dir.file_name().is_some_and(|n| n == "data");
-        for e in std::fs::read_dir(&dir).map_err(|e| Error::io(&dir, e))? {
-            let e = e.map_err(|e| Error::io(&dir, e))?;
-            let meta = e.metadata().map_err(|err| Error::io(e.path(), err))?;
-            if meta.is_dir() {
-                stack.push(e.path());
-            } else if !weighed {
-                bytes += meta.len();
-            }
-        }
+    for e in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
+        let e = e.map_err(|e| Error::io(dir, e))?;
+        let meta = e.metadata().map_err(|err| Error::io(e.path(), err))?;
+        bytes += if meta.is_dir() { bytes_under(&e.path())? } else { meta.len() };
     }
     Ok(bytes)
 }
