@@ -6,6 +6,8 @@
 //! and the same layouts' objectives from rest against continued (docs/design.md).
 //!
 //!     cargo run --release --example design_measured [-- --jobs 1] [--only K]
+//!
+//! K: 0 the design's measurement, 1 the short record, 2 from rest, 3 to a 1 % interval.
 
 use std::time::Instant;
 
@@ -39,9 +41,16 @@ fn problem(sweeps: Vec<Sweep>, measure: Irregular) -> Problem {
     }
 }
 
-fn line(name: &str, e: &Evaluation, seconds: f64) {
+fn line(p: &Problem, name: &str, e: &Evaluation, seconds: f64) {
+    // Band points where the sweeps reached motions that differ beyond their intervals.
+    let mut both = 0;
+    for (b, band) in p.bands.iter().enumerate() {
+        for (row, points) in e.curves[b].iter().zip(&e.points_class[b]) {
+            both += band.masses.iter().filter(|&&m| points[m].coexisting(row[m]) == Some(true)).count();
+        }
+    }
     println!(
-        "  {name:<34} {:.4} +- {:.4}  unsettled {:>3} of {:>3} (periodic {}, quasi {}, chaotic {}, transient {})  {:.1} s",
+        "  {name:<34} {:.4} +- {:.4}  unsettled {:>3} of {:>3} (periodic {}, quasi {}, chaotic {}, transient {}; coexisting at {both})  {:.1} s",
         e.objective, e.half_width, e.unsettled, e.points, e.classes[0], e.classes[1], e.classes[2], e.classes[3], seconds
     );
 }
@@ -72,8 +81,10 @@ fn main() {
     let continued = vec![Sweep::Up, Sweep::Down];
     let runs = [
         ("measured (design default)", continued.clone(), Irregular::default()),
-        ("short record (no measurement)", continued, Irregular::periods(0, 0.01)),
+        ("short record (no measurement)", continued.clone(), Irregular::periods(0, 0.01)),
         ("measured, from rest", vec![Sweep::Rest], Irregular::default()),
+        // Coexisting motions or intervals too narrow? A 1 % interval (longer records).
+        ("measured to 1 %, continued", continued, Irregular::handed_over(100, 0.01)),
     ];
     let only: Option<usize> =
         args.iter().position(|a| a == "--only").and_then(|i| args.get(i + 1)).and_then(|j| j.parse().ok());
@@ -90,7 +101,7 @@ fn main() {
             let e = evaluate(&p, &b, l);
             let s = t.elapsed().as_secs_f64();
             total += s;
-            line(name, &e, s);
+            line(&p, name, &e, s);
         }
         println!("  total {total:.1} s");
     }

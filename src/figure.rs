@@ -27,6 +27,8 @@ pub enum Marker {
     Square,
     /// A triangle.
     Triangle,
+    /// A diamond (a square on its corner).
+    Diamond,
 }
 
 /// One drawn series.

@@ -278,3 +278,26 @@ fn beds_below_one_g_never_lift_off_and_the_evaluation_says_so() {
     let m = e.motion[0];
     assert!(m.lifting > 0 && m.flight_m > 0.0 && m.flight_m <= 0.3e-3 + 1e-12, "{m:?}");
 }
+
+/// Fig. 5's fold as a design band (the damper on m2, d = 0.5 mm): continued up and down the
+/// sweeps reach two stable orbits at 48.2 Hz (reference/independent-solver/PROVENANCE.md:
+/// c1 = 8.08e-5 up, 9.29e-5 down); the design counts the higher and its point keeps the
+/// lower, and says they coexist there and nowhere the sweeps agree.
+#[test]
+fn a_design_band_across_the_fold_reports_both_coexisting_orbits() {
+    let band = Band { name: "fold".into(), freq_hz: grid_hz(47.6, 50.4, 0.2), masses: vec![0] };
+    let p = problem(vec![band.clone()], vec![Sweep::Up, Sweep::Down]);
+    let b = bare(&p);
+    let layout = Layout { hosts: vec![1], masses_kg: vec![0.071], clearances_mm: vec![0.5] };
+    let e = evaluate(&p, &b, &layout);
+    let at = band.freq_hz.iter().position(|f| (f - 48.2).abs() < 1e-9).unwrap();
+    let (high, point) = (e.curves[0][at][0], e.points_class[0][at][0]);
+    assert!((high - 9.2922753813e-05).abs() < 1e-3 * high, "higher: {high}");
+    assert!((point.lowest - 8.0795045113e-05).abs() < 1e-3 * point.lowest, "lower: {}", point.lowest);
+    assert_eq!(point.coexisting(high), Some(true));
+    // Far from the fold both sweeps land on the one orbit.
+    let far = band.freq_hz.iter().position(|f| (f - 50.4).abs() < 1e-9).unwrap();
+    let (v, q) = (e.curves[0][far][0], e.points_class[0][far][0]);
+    assert!((v - q.lowest).abs() <= 1e-9 * v, "{v} vs {}", q.lowest);
+    assert_eq!(q.coexisting(v), Some(false));
+}

@@ -498,6 +498,43 @@ fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option<&Evaluatio
     )
 }
 
+/// What the caption says of the points where the sweeps reached different motions.
+fn coexisting_words(both: usize, untold: usize, rows: usize) -> String {
+    let told = match both {
+        0 => "At no point did the sweeps reach motions that differ beyond their intervals".to_string(),
+        _ => format!(
+            "At {both} of the {rows} points drawn the sweeps reached two motions whose compliances differ beyond their intervals (coexisting attractors: the curve is the higher, the hollow diamond the lower; the table gives both, column `coexisting`)"
+        ),
+    };
+    match untold {
+        0 => format!("{told}."),
+        _ => format!("{told}; at {untold} more they differ but an interval is not known (too short a record for its batches: `coexisting = cannot tell`)."),
+    }
+}
+
+/// The lower of two coexisting motions at a design curve's points ([`Point::coexisting`]),
+/// drawn as diamonds below the curve, the legend entry once (`labelled`).
+fn lower_attractor(at: &[(f64, f64, Point)], color: usize, labelled: &mut Vec<&'static str>) -> Option<Series> {
+    let both: Vec<&(f64, f64, Point)> = at.iter().filter(|p| p.2.coexisting(p.1) == Some(true)).collect();
+    if both.is_empty() {
+        return None;
+    }
+    const NAME: &str = "the other sweep's motion (coexisting)";
+    let label = if labelled.contains(&NAME) {
+        ""
+    } else {
+        labelled.push(NAME);
+        NAME
+    };
+    Some(Series::points(
+        label,
+        both.iter().map(|p| p.0).collect(),
+        both.iter().map(|p| p.2.lowest).collect(),
+        color,
+        Marker::Diamond,
+    ))
+}
+
 /// A design curve's points that are not certified orbits (frequency, compliance, the point
 /// behind it), drawn with their class's marker ([`super::figures::class_marker`]) and their
 /// intervals as bars, each legend entry once (`labelled`).
@@ -556,17 +593,21 @@ fn compliance_figure(
     // The points behind them (none for the bare structure, whose points are all orbits).
     let mut classes: Vec<Option<&Evaluation>> = vec![None, Some(&best.evaluation)];
     classes.extend(cases.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| Some(&c.2)));
-    // (layout, band, frequency, mass, compliance)
-    let mut rows: Vec<(String, String, f64, i64, f64)> = Vec::new();
-    for (label, curves) in &layouts {
-        for (band, c) in spec.bands.iter().zip(curves.iter()) {
-            for (&f, r) in band.freq_hz.iter().zip(c) {
+    // (layout, band, frequency, mass, compliance, the point behind it: the bare structure's
+    // are certified orbits of a linear motion, one per frequency)
+    let mut rows: Vec<(String, String, f64, i64, f64, Point)> = Vec::new();
+    for (k, (label, curves)) in layouts.iter().enumerate() {
+        for (b, (band, c)) in spec.bands.iter().zip(curves.iter()).enumerate() {
+            for (i, (&f, r)) in band.freq_hz.iter().zip(c).enumerate() {
                 for &m in &band.masses {
-                    rows.push((label.clone(), band.name.clone(), f, m as i64 + 1, r[m]));
+                    let behind = classes.get(k).copied().flatten().and_then(|e| e.points_class.get(b));
+                    let point = behind.and_then(|p| p.get(i)).and_then(|p| p.get(m)).copied().unwrap_or_default();
+                    rows.push((label.clone(), band.name.clone(), f, m as i64 + 1, r[m], point));
                 }
             }
         }
     }
+    let coexisting: Vec<Option<bool>> = rows.iter().map(|r| r.5.coexisting(r.4)).collect();
     let table = Table::new(
         "design_compliance",
         if exp.excitation.supports {
@@ -579,7 +620,26 @@ fn compliance_figure(
     .str("band", rows.iter().map(|r| r.1.clone()).collect())
     .f64("freq_hz", rows.iter().map(|r| r.2).collect())
     .i64("mass", rows.iter().map(|r| r.3).collect())
-    .f64("compliance_m_per_n", rows.iter().map(|r| r.4).collect());
+    .f64("compliance_m_per_n", rows.iter().map(|r| r.4).collect())
+    .str("motion", rows.iter().map(|r| r.5.class.name().to_string()).collect())
+    .f64("half_width_m_per_n", rows.iter().map(|r| r.5.half_width).collect())
+    .f64("lowest_over_sweeps_m_per_n", rows.iter().map(|r| r.5.lowest).collect())
+    .str("lowest_motion", rows.iter().map(|r| if r.5.lowest.is_nan() { String::new() } else { r.5.lowest_class.name().to_string() }).collect())
+    .f64("lowest_half_width_m_per_n", rows.iter().map(|r| r.5.lowest_half_width).collect())
+    .str(
+        "coexisting",
+        coexisting
+            .iter()
+            .map(|c| match c {
+                Some(true) => "yes",
+                Some(false) => "no",
+                None => "cannot tell",
+            })
+            .map(String::from)
+            .collect(),
+    );
+    let both = coexisting.iter().filter(|c| **c == Some(true)).count();
+    let untold = coexisting.iter().filter(|c| c.is_none()).count();
     let panels = spec
         .bands
         .iter()
@@ -608,6 +668,7 @@ fn compliance_figure(
                         let at: Vec<(f64, f64, Point)> =
                             band.freq_hz.iter().zip(&y).zip(points).map(|((f, v), p)| (*f, *v, p[m])).collect();
                         panel.series.extend(class_points(&at, k, &mut labelled));
+                        panel.series.extend(lower_attractor(&at, k, &mut labelled));
                     }
                 }
             }
@@ -618,7 +679,11 @@ fn compliance_figure(
     let figure = Figure {
         id: "design_compliance".into(),
         title: format!("{}: the best layout against the bare structure and the cases", exp.meta.figure),
-        caption: format!("Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}. {}", drawn_classes(&spec.bands, &classes)),
+        caption: format!(
+            "Compliance over each band: the largest over the sweeps at each frequency (where motions coexist the structure may sit on either); scenario: {first}. {} {}",
+            drawn_classes(&spec.bands, &classes),
+            coexisting_words(both, untold, rows.len())
+        ),
         panels,
     };
     (table, figure)

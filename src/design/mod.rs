@@ -457,11 +457,50 @@ pub struct Point {
     pub class: Class,
     /// The half-width of the compliance's 95 % interval, m/N.
     pub half_width: f64,
+    /// The lowest compliance over the sweeps at this frequency and mass, m/N (NaN where one
+    /// sweep was run, or none gave a value).
+    pub lowest: f64,
+    /// The class of the motion that gave the lowest.
+    pub lowest_class: Class,
+    /// The half-width of the lowest's interval, m/N.
+    pub lowest_half_width: f64,
 }
 
 impl Default for Point {
     fn default() -> Self {
-        Point { class: Class::Periodic, half_width: 0.0 }
+        Point {
+            class: Class::Periodic,
+            half_width: 0.0,
+            lowest: f64::NAN,
+            lowest_class: Class::Periodic,
+            lowest_half_width: 0.0,
+        }
+    }
+}
+
+/// Relative difference below which two certified orbits' compliances are the same motion
+/// (orbits are certified to far less).
+pub const SAME_ORBIT: f64 = 1e-6;
+
+impl Point {
+    /// Whether the sweeps reached different motions here: `Some(true)` where the highest
+    /// compliance over them (`highest`, the curve's value, with this point's interval) and
+    /// the lowest (with its interval) do not overlap, or differ by more than [`SAME_ORBIT`] of
+    /// the highest for certified orbits: two attractors coexist (the design counts the
+    /// higher, the table gives both). `None` where they differ but an interval is not known
+    /// (a measurement too short for its batches): it cannot be told. `Some(false)` otherwise,
+    /// and where one sweep was run.
+    pub fn coexisting(&self, highest: f64) -> Option<bool> {
+        if !(self.lowest.is_finite() && highest.is_finite()) {
+            return Some(false);
+        }
+        let apart = |h: f64, l: f64| highest - h > self.lowest + l + SAME_ORBIT * highest;
+        match (self.half_width.is_finite(), self.lowest_half_width.is_finite()) {
+            (true, true) => Some(apart(self.half_width, self.lowest_half_width)),
+            // Unknown intervals: apart even as points, and no more can be said.
+            _ if apart(0.0, 0.0) => None,
+            _ => Some(false),
+        }
     }
 }
 
@@ -570,6 +609,9 @@ fn band_compliance_on(
     let steady = &SteadyOptions { measure, ..*steady };
     let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
     let mut behind = vec![vec![Point::default(); n]; band.freq_hz.len()];
+    // Per frequency and mass: the lowest over the sweeps, and how many sweeps gave a value.
+    let mut least = vec![vec![(f64::INFINITY, Class::Periodic, 0.0f64); n]; band.freq_hz.len()];
+    let mut given = vec![0usize; band.freq_hz.len()];
     let mut unsettled = 0;
     let mut motion = Motion::default();
     let mut classes = [0; 6];
@@ -607,15 +649,19 @@ fn band_compliance_on(
                     // An amplitude that was never measured (a run stopped by chatter before
                     // its record) counts as a point without a steady state at all.
                     // A mass not measured ([`SteadyOptions::observe`]) has no compliance.
+                    given[i] += 1;
                     for (m, (w, a)) in worst[i].iter_mut().zip(&st.amplitude).enumerate() {
                         let was = *w;
+                        if steady.observe.contains(m) && a / sys.force < least[i][m].0 {
+                            least[i][m] = (a / sys.force, st.motion, half(m));
+                        }
                         *w = match steady.observe.contains(m) {
                             false => f64::NAN,
                             true if a.is_nan() => f64::INFINITY,
                             true => w.max(a / sys.force),
                         };
                         if *w != was || (a / sys.force == *w && st.motion != Class::Periodic) {
-                            behind[i][m] = Point { class: st.motion, half_width: half(m) };
+                            behind[i][m] = Point { class: st.motion, half_width: half(m), ..Point::default() };
                         }
                     }
                 }
@@ -623,8 +669,15 @@ fn band_compliance_on(
                     unsettled += 1;
                     classes[3] += 1;
                     worst[i].iter_mut().for_each(|w| *w = f64::INFINITY);
-                    behind[i].iter_mut().for_each(|p| *p = Point { class: Class::Transient, half_width: 0.0 });
+                    behind[i].iter_mut().for_each(|p| *p = Point { class: Class::Transient, ..Point::default() });
                 }
+            }
+        }
+    }
+    for ((row, low), &k) in behind.iter_mut().zip(&least).zip(&given) {
+        for (p, &(v, class, half)) in row.iter_mut().zip(low) {
+            if k > 1 && v.is_finite() {
+                (p.lowest, p.lowest_class, p.lowest_half_width) = (v, class, half);
             }
         }
     }
@@ -805,7 +858,27 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
 
 #[cfg(test)]
 mod tests {
-    use super::Budget;
+    use super::{Budget, Class, Point};
+
+    /// Two motions coexist where their intervals do not overlap; certified orbits within
+    /// rounding of each other are one; a point of one sweep has nothing to compare.
+    #[test]
+    fn coexisting_motions_are_those_whose_intervals_do_not_overlap() {
+        let p = |lowest: f64, lowest_half_width: f64, half_width: f64| Point {
+            class: Class::Chaotic,
+            half_width,
+            lowest,
+            lowest_class: Class::Chaotic,
+            lowest_half_width,
+        };
+        assert_eq!(p(0.8, 0.05, 0.05).coexisting(1.0), Some(true));
+        assert_eq!(p(0.8, 0.1, 0.1).coexisting(1.0), Some(false));
+        assert_eq!(p(1.0 - 1e-12, 0.0, 0.0).coexisting(1.0), Some(false));
+        assert_eq!(p(0.99, 0.0, 0.0).coexisting(1.0), Some(true));
+        assert_eq!(p(0.99, f64::NAN, 0.0).coexisting(1.0), None);
+        assert_eq!(p(1.0, f64::NAN, 0.0).coexisting(1.0), Some(false));
+        assert_eq!(Point::default().coexisting(1.0), Some(false));
+    }
 
     /// The fastest mode's factor counts up to 8 degrees of freedom and not above, where the
     /// event search skips its oscillations.

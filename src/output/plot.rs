@@ -524,10 +524,9 @@ where
                     let h = s.marker_size as i32;
                     chart.draw_series(pts.map(|p| EmptyElement::at(p) + Rectangle::new([(-h, -h), (h, h)], mstyle)))
                 }
-                Marker::Triangle | Marker::None => chart.draw_series(pts.map(|p| {
-                    EmptyElement::at(p)
-                        + Polygon::new(TRIANGLE.to_vec(), fill_style)
-                        + PathElement::new(TRIANGLE.to_vec(), style)
+                Marker::Triangle | Marker::Diamond | Marker::None => chart.draw_series(pts.map(|p| {
+                    let shape = if marker == Marker::Diamond { DIAMOND.to_vec() } else { TRIANGLE.to_vec() };
+                    EmptyElement::at(p) + Polygon::new(shape.clone(), fill_style) + PathElement::new(shape, style)
                 })),
             }
             .map_err(|e| render_err(what, e))?;
@@ -549,6 +548,10 @@ where
                             style,
                         )
                         + Rectangle::new([(-sq, -sq), (sq, sq)], if sq > 0 { mstyle } else { TRANSPARENT.into() })
+                        + PathElement::new(
+                            DIAMOND.map(|(a, b)| (a * size(Marker::Diamond), b * size(Marker::Diamond))).to_vec(),
+                            style,
+                        )
                 });
             }
         }
@@ -558,6 +561,9 @@ where
 
 /// A triangle marker around a point, pixels (closed path).
 const TRIANGLE: [(i32, i32); 4] = [(0, -5), (5, 4), (-5, 4), (0, -5)];
+
+/// A diamond marker around a point, pixels (closed path).
+const DIAMOND: [(i32, i32); 5] = [(0, -6), (6, 0), (0, 6), (-6, 0), (0, -6)];
 
 /// Segments of a legend swatch whose spacing shows the dash pattern.
 fn dash_segments(dash: Dash) -> [(i32, i32); 3] {
