@@ -624,3 +624,47 @@ fn a_screened_design_searches_the_coarse_model_and_judges_on_the_file_s() {
         assert!(err.contains(said), "expected \"{said}\" in: {err}");
     }
 }
+
+/// A model validated again from the same files is not reduced again (the explorer's requests,
+/// a study's samples, a design's phases): the second load finds the first's reduction and
+/// gives the same matrices; a matrix file edited since is reduced again.
+#[test]
+fn a_model_is_reduced_once_until_its_files_change() {
+    use shotdamp::experiment::fe::made;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let write_k = |comment: &str| {
+        std::fs::write(
+            d.join("k.mtx"),
+            format!("%%MatrixMarket matrix coordinate real symmetric\n%{comment}\n3 3 5\n1 1 46100\n2 1 -21800\n2 2 41600\n3 2 -19800\n3 3 19800\n"),
+        )
+        .unwrap()
+    };
+    write_k(" first");
+    std::fs::write(
+        d.join("m.mtx"),
+        "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 0.74\n2 2 0.71\n3 3 0.64\n",
+    )
+    .unwrap();
+    // Reduced at m1 and m3: the middle mass's mode kept.
+    let fe = "[structure.finite_element]\nformat = \"matrix-market\"\nstiffness = \"k.mtx\"\nmass = \"m.mtx\"\nup = \"x\"\npoints = [{ row = 1 }, { row = 3 }]\nmodes = 1";
+    let text = format!(
+        "{HEAD}[structure]\n{fe}\n[structure.damping]\nmodal_ratios = [0.01]\n[excitation]\nmass = 1\nforce_n = 2.6\n[analysis]\nkind = \"sweep\"\nfreq_hz = {{ start = 44.0, stop = 46.0, step = 1.0 }}\n[[cases]]\nid = \"one\"\nlabel = \"one\"\ndampers = [{{ mass = 2, mass_kg = 0.071, clearance_mm = 0.2 }}]\n"
+    );
+    let path = d.join("reduced.toml");
+    std::fs::write(&path, text).unwrap();
+    let load = || shotdamp::experiment::load(&path, &repo().join("reference")).unwrap();
+    let first = load();
+    assert_eq!(made::found_in(d), vec![0], "one reduction made");
+    let again = load();
+    assert_eq!(made::found_in(d), vec![1], "found, not made again");
+    let (a, b) = (&first[0].structure, &again[0].structure);
+    assert_eq!(a.mass_matrix(), b.mass_matrix());
+    assert_eq!(format!("{:?}", a.stiffness), format!("{:?}", b.stiffness));
+    // The stiffness file edited (a comment only): its bytes differ, so it is read and reduced
+    // again, to the same numbers.
+    write_k(" edited");
+    let edited = load();
+    assert_eq!(made::found_in(d), vec![1, 0]);
+    assert_eq!(edited[0].structure.mass_matrix(), a.mass_matrix());
+}

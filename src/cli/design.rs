@@ -72,8 +72,11 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         .into());
     }
     let threads = runner::threads(*jobs)?;
+    // The files loaded and validated once (a finite-element model reduced once) for the
+    // budgets, the dry run's probe and the run.
+    let exps = runner::designs::load(files, &cli.reference)?;
     // A merge searches nothing: no budget to print.
-    let budgets = if merge.is_some() { Vec::new() } else { runner::designs::budgets(files, &cli.reference)? };
+    let budgets = if merge.is_some() { Vec::new() } else { runner::designs::budgets_of(&exps) };
     for (key, n, b) in &budgets {
         let stepping = crate::design::Budget::stepping(b.fast, *n);
         let point = crate::design::Budget::seconds_per_point(*n) * stepping;
@@ -99,7 +102,7 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     if *dry_run {
         // The nominal cost is a rule of thumb; one layout evaluated measures this
         // structure and its beds.
-        for (probe, (_, _, b)) in runner::designs::probe(files, &cli.reference)?.into_iter().zip(budgets) {
+        for (probe, (_, _, b)) in runner::designs::probe_of(&exps)?.into_iter().zip(budgets) {
             let runner::designs::Probe {
                 key,
                 hosts,
@@ -142,7 +145,7 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     let mut stored = Vec::new();
     let mut partial = Vec::new();
     let (ok, _) = super::finish_with(Some(interrupt.clone()), |progress, log, staging| {
-        let run = runner::designs::run(files, &settings, progress, log, staging)?;
+        let run = runner::designs::run_loaded(exps, &settings, progress, log, staging)?;
         stored = run.stored;
         partial = run.finished.results.iter().filter(|r| r.partial.is_some()).map(|r| r.experiment.key()).collect();
         Ok(run.finished)

@@ -51,7 +51,26 @@ pub fn run(
     log: &(dyn Fn(String) + Sync),
     staging: &dyn Fn(PathBuf),
 ) -> crate::Result<DesignRun> {
-    let mut exps = experiment::load_all(files, &settings.reference)?;
+    run_loaded(load(files, &settings.reference)?, settings, progress, log, staging)
+}
+
+/// The design files of `files`, loaded and validated once (a finite-element model read and
+/// reduced once) for [`budgets_of`], [`probe_of`] and [`run_loaded`]; a file that is not a
+/// design is refused.
+pub fn load(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<Experiment>> {
+    let exps = experiment::load_all(files, reference)?;
+    designs_only(&exps)?;
+    Ok(exps)
+}
+
+/// [`run`] of designs already loaded ([`load`]).
+pub fn run_loaded(
+    mut exps: Vec<Experiment>,
+    settings: &DesignSettings,
+    progress: &dyn Progress,
+    log: &(dyn Fn(String) + Sync),
+    staging: &dyn Fn(PathBuf),
+) -> crate::Result<DesignRun> {
     designs_only(&exps)?;
     let started = std::time::Instant::now();
     let halt = crate::design::search::Halt {
@@ -104,17 +123,19 @@ fn designs_only(exps: &[Experiment]) -> crate::Result<()> {
 /// structure's number of masses and its [`Budget`](crate::design::Budget) (loading validates
 /// the files as [`run`] does).
 pub fn budgets(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String, usize, crate::design::Budget)>> {
-    let exps = experiment::load_all(files, reference)?;
-    designs_only(&exps)?;
-    Ok(exps
-        .iter()
+    Ok(budgets_of(&load(files, reference)?))
+}
+
+/// [`budgets`] of designs already loaded ([`load`]).
+pub fn budgets_of(exps: &[Experiment]) -> Vec<(String, usize, crate::design::Budget)> {
+    exps.iter()
         .filter_map(|e| match &e.analysis {
             experiment::Analysis::Design { spec, .. } => {
                 Some((e.key(), e.structure.dof(), crate::analysis::design_problem::budget(e, spec)))
             }
             _ => None,
         })
-        .collect())
+        .collect()
 }
 
 /// The design files of `dir` marked `report = true` (none when the folder does not exist), set to evaluate the
@@ -196,10 +217,14 @@ pub struct Probe {
 /// shot split evenly over the last `max_beds` candidates, at the geometric mean of the
 /// clearance bounds), its time over its steady states; one per design of `files`.
 pub fn probe(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<Probe>> {
-    let exps = experiment::load_all(files, reference)?;
+    probe_of(&load(files, reference)?)
+}
+
+/// [`probe`] of designs already loaded ([`load`]).
+pub fn probe_of(exps: &[Experiment]) -> crate::Result<Vec<Probe>> {
     let one = super::pool(Some(1))?;
     let mut out = Vec::new();
-    for e in &exps {
+    for e in exps {
         let experiment::Analysis::Design { spec, steady } = &e.analysis else { continue };
         let problem = crate::analysis::design::problem(e, spec, steady);
         let k = spec.max_beds.clamp(1, spec.candidates.len().max(1));

@@ -4,6 +4,7 @@
 //! experiment file.
 
 pub mod calculix;
+pub mod made;
 pub mod matrix_market;
 
 use std::path::{Path, PathBuf};
@@ -30,6 +31,7 @@ pub const MAX_CUTOFF_HZ: f64 = 1e12;
 const ANNOUNCE_FLOPS: f64 = 5e9;
 
 /// A finite-element structure: the reduced matrices and what they came from.
+#[derive(Clone)]
 pub struct FromFiles {
     /// How its coordinates follow moving supports.
     pub supports: crate::model::base::Supports,
@@ -249,7 +251,24 @@ fn matrix(file: &Path, what: &str, r: Read, n: usize, scale: f64, labels: &Optio
 /// With `limit` (the most coordinates, and what runs them: e.g. `analysis kind "sweep"
 /// runs`), a reduction that would keep more is refused once its modes are counted, before
 /// they are computed.
+///
+/// A model already reduced in this process from the same files and settings is not reduced
+/// again ([`made`]).
 pub fn build(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> Result<FromFiles> {
+    let Some(key) = made::Key::of(path, &raw, limit.map(|l| l.0)) else {
+        made::computed_without_key();
+        return reduce(path, raw, limit);
+    };
+    if let Some(found) = made::find(&key) {
+        return Ok(found);
+    }
+    let built = reduce(path, raw, limit)?;
+    made::keep(key, &built);
+    Ok(built)
+}
+
+/// [`build`] without looking for a reduction already made.
+fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> Result<FromFiles> {
     let key = |k: &str| format!("structure.finite_element.{k}");
     let invalid = |k: &str, v: &dyn std::fmt::Display, m: &str| Error::invalid(path, key(k), v, m);
     let (k_scale, m_scale) = match raw.units.as_deref() {
