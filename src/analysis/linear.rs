@@ -37,22 +37,30 @@ pub fn modal_table(exp: &Experiment, modes: &[ModeSummary]) -> Table {
     let n = modes.len();
     let mut t = Table::new(
         "modal",
-        "Modes of the bare structure: omega (rad/s), f (Hz), shape normalised to largest element +1, modal mass (kg), stiffness (N/m), damping (N s/m), damping ratio, and mu_i (Eq. 13) per case",
+        "Modes of the bare structure: omega (rad/s), f (Hz), shape normalised to largest element +1 (a reduced model's at its points only), modal mass (kg), stiffness (N/m), damping (N s/m), damping ratio, for a reduced model whether the mode moves its points (1; 0: a node at every point, no modal quantities given), and mu_i (Eq. 13) per case",
     )
     .i64("mode", modes.iter().map(|m| m.number as i64).collect())
     .f64("omega_rad_s", modes.iter().map(|m| m.omega).collect())
     .f64("freq_hz", modes.iter().map(|m| m.freq_hz).collect());
-    for r in 0..n {
+    // A reduced model's shapes at its points only (its modal coordinates are no place to read
+    // a mode at); a mode that does not move them has no modal mass there to state.
+    let points = exp.structure.points.unwrap_or(n).min(n);
+    for r in 0..points {
         t = t.f64(format!("phi_m{}", r + 1), modes.iter().map(|m| m.shape[r]).collect());
     }
+    let at = |m: &ModeSummary, v: f64| if m.at_points { v } else { f64::NAN };
     t = t
-        .f64("modal_mass_kg", modes.iter().map(|m| m.modal_mass).collect())
-        .f64("modal_stiffness_n_per_m", modes.iter().map(|m| m.modal_stiffness).collect())
-        .f64("modal_damping_ns_per_m", modes.iter().map(|m| m.modal_damping).collect())
+        .f64("modal_mass_kg", modes.iter().map(|m| at(m, m.modal_mass)).collect())
+        .f64("modal_stiffness_n_per_m", modes.iter().map(|m| at(m, m.modal_stiffness)).collect())
+        .f64("modal_damping_ns_per_m", modes.iter().map(|m| at(m, m.modal_damping)).collect())
         .f64("damping_ratio", modes.iter().map(|m| m.damping_ratio).collect());
+    if exp.structure.points.is_some() {
+        // 1: the mode moves the points; 0: a node at every point (its modal quantities blank).
+        t = t.i64("moves_the_points", modes.iter().map(|m| i64::from(m.at_points)).collect());
+    }
     for case in exp.cases.iter().filter(|c| !c.beds.is_empty()) {
         let with = modal_summary(&exp.structure, &case.dampers());
-        t = t.f64(format!("mu_{}", case.id), with.iter().map(|m| m.mass_ratio).collect());
+        t = t.f64(format!("mu_{}", case.id), with.iter().map(|m| at(m, m.mass_ratio)).collect());
     }
     t
 }

@@ -400,14 +400,26 @@ fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Result<()> {
     if let Some(fit) = &exp.fit {
         print_fit(fit);
     }
+    // A reduced model's shapes at its points only; a mode with a node at every point says so.
+    let points = exp.structure.points.unwrap_or(n).min(n);
+    if points < n {
+        say!("shapes at the {points} point{} (the modal coordinates left out)", if points == 1 { "" } else { "s" });
+    }
     say_part!("{:>4} {:>12} {:>10}", "mode", "omega rad/s", "f Hz");
-    for r in 0..n {
+    for r in 0..points {
         say_part!(" {:>9}", format!("phi_m{}", r + 1));
     }
     say!(" {:>10} {:>12} {:>11} {:>8}", "M_i kg", "K_i N/m", "C_i N s/m", "zeta_i");
     for m in &modes {
         say_part!("{:>4} {:>12.3} {:>10.4}", m.number, m.omega, m.freq_hz);
-        for v in &m.shape {
+        if !m.at_points {
+            say!(
+                "  does not move the points (a node at every point): no shape or modal mass there; zeta {:.5}",
+                m.damping_ratio
+            );
+            continue;
+        }
+        for v in &m.shape[..points] {
             say_part!(" {v:>9.4}");
         }
         say!(" {:>10.5} {:>12.2} {:>11.5} {:>8.5}", m.modal_mass, m.modal_stiffness, m.modal_damping, m.damping_ratio);

@@ -19,6 +19,11 @@ pub struct ModeSummary {
     pub shape: Vec<f64>,
     /// Index (0-based) of the mass with the largest modal amplitude.
     pub reference_mass: usize,
+    /// The mode moves the structure's points (a reduced model's physical coordinates; every
+    /// mass of a lumped one) by more than [`AT_POINTS`] of its largest coordinate. A mode that
+    /// does not (a node at every point) is normalised by rounding at the points: its shape and
+    /// modal quantities say nothing a damper at a point would feel.
+    pub at_points: bool,
     /// Modal mass `phibar^T M0 phibar`, kg.
     pub modal_mass: f64,
     /// Modal stiffness `phibar^T K phibar`, N/m.
@@ -30,6 +35,10 @@ pub struct ModeSummary {
     /// Mass ratio `mu_i` of Eq. 13 for the damper set analysed (0 without dampers).
     pub mass_ratio: f64,
 }
+
+/// The least motion of the points, relative to the mode's largest coordinate, of a mode that
+/// moves them ([`ModeSummary::at_points`]).
+pub const AT_POINTS: f64 = 1e-6;
 
 /// Modal analysis of a structure, with the mass ratios of Eq. 13 for `dampers`. Each shape
 /// is scaled to 1 at its largest component among the masses (a reduced model's points: its
@@ -44,6 +53,9 @@ pub fn modal_summary(structure: &Structure, dampers: &[Damper]) -> Vec<ModeSumma
         .map(|i| {
             let col = modes.mass_normalised.column(i);
             let moves = col.iter().take(physical).any(|v| *v != 0.0);
+            // The points move by more than rounding of the mode's largest motion.
+            let largest = |k: usize| col.iter().take(k).fold(0.0_f64, |a, v| a.max(v.abs()));
+            let at_points = largest(physical) > AT_POINTS * largest(n);
             let among = if moves { physical } else { n };
             let (imax, _) =
                 col.iter().take(among).enumerate().fold(
@@ -69,6 +81,7 @@ pub fn modal_summary(structure: &Structure, dampers: &[Damper]) -> Vec<ModeSumma
                 freq_hz: omega / (2.0 * std::f64::consts::PI),
                 shape: shape.iter().copied().collect(),
                 reference_mass: imax,
+                at_points,
                 modal_mass,
                 modal_stiffness,
                 modal_damping,
