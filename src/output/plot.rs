@@ -378,7 +378,14 @@ where
         draw_series(&mut chart, s, panel, what)?;
     }
     if panel.series.iter().any(|s| !s.label.is_empty()) {
-        let corner = clear_corner(&chart, panel);
+        // The vertical lines' labels: where each starts and how many characters it has.
+        let marks: Vec<(f64, f64, usize)> = panel
+            .vlines
+            .iter()
+            .enumerate()
+            .map(|(k, v)| (v.x, at(1.0 - 0.05 * level[k] as f64), v.label.chars().count()))
+            .collect();
+        let corner = clear_corner(&chart, panel, &marks);
         chart
             .configure_series_labels()
             .position(match corner {
@@ -400,8 +407,14 @@ where
 /// than another corner's would, then the corner hiding least (ties keep the panel's own, then
 /// upper right, upper left, lower right, lower left). The box is estimated from the labels'
 /// lengths and count at the legend's font; the data are the series' points and the midpoints
-/// of their lines, in pixels.
-fn clear_corner<'a, DB, X, Y>(chart: &ChartContext<'a, DB, Cartesian2d<X, Y>>, panel: &Panel) -> Corner
+/// of their lines, in pixels, and the vertical lines' labels (`marks`: where each starts, its
+/// characters), each of whose sampled pixels counts as [`LABEL_WEIGHT`] points: a legend over
+/// a label hides words.
+fn clear_corner<'a, DB, X, Y>(
+    chart: &ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    panel: &Panel,
+    marks: &[(f64, f64, usize)],
+) -> Corner
 where
     DB: DrawingBackend + 'a,
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
@@ -441,9 +454,18 @@ where
             last = Some(p);
         }
     }
+    // A label's text at 14 px: from its anchor, about 7.5 px a character, 14 px high; sampled
+    // every 4 px along its middle.
+    let mut words: Vec<(i32, i32)> = Vec::new();
+    for &(x, y, chars) in marks.iter().filter(|m| ok(m.0, m.1)) {
+        let (px, py) = chart.backend_coord(&(x, y));
+        let len = chars as i32 * 15 / 2;
+        words.extend((0..=len / 4).map(|k| (px + 4 * k, py + 7)));
+    }
     let hidden = |c: Corner| {
         let (bx, by) = boxes(c);
-        pixels.iter().filter(|p| bx.contains(&p.0) && by.contains(&p.1)).count()
+        let inside = |p: &&(i32, i32)| bx.contains(&p.0) && by.contains(&p.1);
+        pixels.iter().filter(inside).count() + LABEL_WEIGHT * words.iter().filter(inside).count()
     };
     let order = [panel.legend, Corner::UpperRight, Corner::UpperLeft, Corner::LowerRight, Corner::LowerLeft];
     let mut best = (panel.legend, hidden(panel.legend));
@@ -455,6 +477,10 @@ where
     }
     best.0
 }
+
+/// What one sampled pixel of a vertical line's label counts as in [`clear_corner`], in data
+/// points.
+const LABEL_WEIGHT: usize = 10;
 
 fn draw_series<'a, DB, X, Y>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
