@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use shotdamp::design::{bare, evaluate, Band, Combine, Evaluation, Layout, Measure, Problem, Sweep};
 use shotdamp::model::{Damping, Direction, Structure};
-use shotdamp::sim::settle::irregular::Measure as Irregular;
+use shotdamp::sim::settle::statistic::Measure as Irregular;
 use shotdamp::sim::SteadyOptions;
 
 fn problem(sweeps: Vec<Sweep>, measure: Irregular) -> Problem {

@@ -6,7 +6,8 @@
 use std::f64::consts::PI;
 
 use shotdamp::model::{Clearance, Damper};
-use shotdamp::sim::settle::irregular::{measure, Measure, Motion};
+use shotdamp::sim::settle::irregular::measure;
+use shotdamp::sim::settle::statistic::{Measure, Motion};
 use shotdamp::sim::{steady_state, Bed, Dynamics, Engine, Quiet, State, SteadyOptions, System};
 
 use crate::common::paper;
@@ -200,7 +201,7 @@ fn a_point_handed_over_early_gives_the_same_answer_within_one_budget() {
     let early = steady_state(&d, State::at_rest(&d), &opts);
     let (a, b) = (whole.measured.clone().unwrap(), early.measured.clone().expect("measured"));
     assert_eq!(early.motion, Motion::QuasiPeriodic, "{b:?}");
-    let spent = |s: &shotdamp::sim::Steady, x: &shotdamp::sim::settle::irregular::Measured| {
+    let spent = |s: &shotdamp::sim::Steady, x: &shotdamp::sim::settle::statistic::Measured| {
         s.transient_periods - x.discarded + s.recorded_periods
     };
     assert!(spent(&early, &b) <= opts.max_periods, "{} periods", spent(&early, &b));

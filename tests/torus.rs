@@ -10,7 +10,8 @@ use shotdamp::model::Clearance;
 use std::f64::consts::PI;
 
 use shotdamp::model::Damper;
-use shotdamp::sim::settle::steady::{Measure, NoSteady, TORUS_TOL};
+use shotdamp::sim::settle::statistic::Measure;
+use shotdamp::sim::settle::steady::{NoSteady, TORUS_TOL};
 use shotdamp::sim::{steady_state, Dynamics, State, SteadyOptions, System};
 
 fn system(hosts: &[usize]) -> System {

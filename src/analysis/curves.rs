@@ -39,7 +39,7 @@ pub struct Curve {
     pub radius: Vec<f64>,
     /// Per point: why it stopped early, if it did.
     pub stop: Vec<String>,
-    /// Per point: what the motion is ([`crate::sim::settle::steady::Motion::name`]).
+    /// Per point: what the motion is ([`crate::sim::settle::statistic::Motion::name`]).
     pub motion: Vec<&'static str>,
     /// Per point without a certified orbit: the measurement (statistic's interval, largest
     /// amplitude, Lyapunov exponent; [`crate::sim::settle::irregular`]).
@@ -62,7 +62,7 @@ pub struct Measurement {
 }
 
 impl Measurement {
-    fn of(m: &crate::sim::settle::steady::Measured, force: f64) -> Measurement {
+    fn of(m: &crate::sim::settle::statistic::Measured, force: f64) -> Measurement {
         Measurement {
             half_width: m.half_width.iter().map(|h| h / force).collect(),
             largest: m.largest.iter().map(|h| h / force).collect(),

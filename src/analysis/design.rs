@@ -13,15 +13,16 @@ use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Point, 
 use crate::experiment::Experiment;
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series, VLine};
 use crate::number::{fmt_num, fmt_sig};
-use crate::sim::settle::irregular::Motion as Class;
+use crate::sim::settle::statistic::Motion as Class;
 use crate::sim::SteadyOptions;
 use crate::table::Table;
 
 use super::kind::{Input, Kind, Output};
 
 pub use super::design_problem::{problem, screen};
-use super::design_search::{hosts_words, lowest, searched, stored};
+use super::design_search::{searched, stored};
 pub use super::design_search::{REPLAY_TOL, REPLAY_TOL_UNSETTLED};
+use crate::design::search::lowest;
 
 /// A clearance is in the robust band when its objective is within this factor of the best.
 pub const ROBUST: f64 = 1.05;
@@ -73,7 +74,7 @@ fn layouts_table(
     );
     let mut t = Table::new(name, description)
         .str("layout", rows.iter().map(|r| r.0.clone()).collect())
-        .str("hosts", rows.iter().map(|r| hosts_words(&r.1)).collect())
+        .str("hosts", rows.iter().map(|r| r.1.hosts_words()).collect())
         .f64("shot_kg", rows.iter().map(|r| r.1.shot_kg()).collect())
         .str("bed_kg", rows.iter().map(|r| joined(&r.1.masses_kg)).collect())
         .str("clearance_mm", rows.iter().map(|r| joined(&r.1.clearances_mm)).collect())
@@ -166,7 +167,7 @@ fn run(
     let best = lowest(found.clone());
     let mut page = Page::default();
     let rows: Vec<(String, Layout, Evaluation, u64)> =
-        found.iter().map(|f| (hosts_words(&f.layout), f.layout.clone(), f.evaluation.clone(), f.evaluations)).collect();
+        found.iter().map(|f| (f.layout.hosts_words(), f.layout.clone(), f.evaluation.clone(), f.evaluations)).collect();
     page.tables.push(layouts_table(
         ("design_placements", exp.excitation.per_unit()),
         &format!(
@@ -315,7 +316,7 @@ fn about_the_best(exp: &Experiment, spec: &Spec, i: &BestIn<'_>, page: &mut Page
     page.tables.push(table);
     page.figures.push(figure);
     let mut rated: Vec<super::design_drive::Rated<'_>> =
-        vec![(format!("best: {}", hosts_words(&best.layout)), &best.layout, &best.evaluation)];
+        vec![(format!("best: {}", best.layout.hosts_words()), &best.layout, &best.evaluation)];
     rated.extend(i.case_rows.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.1, &c.2)));
     let profile = match (more, page.exports.get("robust_clearance_min_mm"), page.exports.get("robust_clearance_max_mm"))
     {
@@ -404,7 +405,7 @@ fn clearance_profile(
             "design_clearance",
             format!(
                 "The objective of the best layout ({}, bed kg {}) with one clearance for every container, from {} to {} mm: the robust band is where it is within {} % of the best",
-                hosts_words(&best.layout),
+                best.layout.hosts_words(),
                 joined(&best.layout.masses_kg),
                 fmt_num(lo),
                 fmt_num(hi),
@@ -422,7 +423,7 @@ fn clearance_profile(
         (lo, hi),
     )
     .log_x();
-    let mut s = Series::line(hosts_words(&best.layout), ds.clone(), profile.clone(), 0);
+    let mut s = Series::line(best.layout.hosts_words(), ds.clone(), profile.clone(), 0);
     s.marker = Marker::Circle;
     panel.series.push(s);
     panel
@@ -588,7 +589,7 @@ fn compliance_figure(
 ) -> (Table, Figure) {
     // The curves the evaluations computed (the first scenario's) and the bare structure's.
     let mut layouts: Vec<(String, &Vec<Vec<Vec<f64>>>)> = vec![("bare".into(), bare)];
-    layouts.push((format!("best: {}", hosts_words(&best.layout)), &best.evaluation.curves));
+    layouts.push((format!("best: {}", best.layout.hosts_words()), &best.evaluation.curves));
     layouts.extend(cases.iter().filter(|c| !c.1.hosts.is_empty()).map(|c| (format!("case {}", c.0), &c.2.curves)));
     // The points behind them (none for the bare structure, whose points are all orbits).
     let mut classes: Vec<Option<&Evaluation>> = vec![None, Some(&best.evaluation)];
@@ -737,7 +738,7 @@ fn sdof_method(
             );
             let l = Layout { clearances_mm: vec![choice.clearance_mm; f.layout.hosts.len()], ..f.layout.clone() };
             let e = evaluate(p, b, &l);
-            (hosts_words(&f.layout), choice.clearance_mm, e, f.evaluation.objective)
+            (f.layout.hosts_words(), choice.clearance_mm, e, f.evaluation.objective)
         })
         .collect();
     // A pick at either end of the candidates may be the list's limit, not the technique's.

@@ -121,7 +121,7 @@ pub fn screen_words(sc: &Screen, found: &[Found]) -> Vec<String> {
             _ => Some((i, key(f))),
         })
     };
-    let words = |f: &Found| super::design_search::hosts_words(&f.layout);
+    let words = |f: &Found| f.layout.hosts_words();
     let judged = lowest(&|f| if f.judged { f.evaluation.objective } else { f64::INFINITY });
     let searched = lowest(&|f| f.screened.unwrap_or(f64::INFINITY));
     let largest = found
@@ -163,8 +163,7 @@ pub fn with_screened(spec: &Spec, found: &[Found], t: &mut crate::table::Table) 
         crate::table::ColumnData::F64(found.iter().map(|f| f.screened.unwrap_or(f64::NAN)).collect()),
     ));
     // A placement a stopped search did not judge has no objective on the file's model.
-    let unjudged: Vec<String> =
-        found.iter().filter(|f| !f.judged).map(|f| super::design_search::hosts_words(&f.layout)).collect();
+    let unjudged: Vec<String> = found.iter().filter(|f| !f.judged).map(|f| f.layout.hosts_words()).collect();
     if let Some((_, crate::table::ColumnData::F64(objective))) = t.columns.iter_mut().find(|c| c.0 == "objective") {
         objective.iter_mut().zip(found).filter(|(_, f)| !f.judged).for_each(|(o, _)| *o = f64::NAN);
     }

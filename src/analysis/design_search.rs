@@ -6,9 +6,9 @@ use rayon::prelude::*;
 
 use crate::checks::reference::ReferenceStore;
 use crate::checks::{CheckOutcome, Source, Status};
-use crate::design::search::{self, optimise_until, Found};
+use crate::design::search::{self, lowest, optimise_until, Found};
 use crate::design::stored::{fingerprint, StoredDesign, StoredLayout, StoredPareto};
-use crate::design::{evaluate, Layout, Problem, Spec};
+use crate::design::{evaluate, Problem, Spec};
 use crate::experiment::Experiment;
 use crate::number::fmt_num;
 
@@ -151,24 +151,6 @@ fn replay(
     (found, front, checks)
 }
 
-/// A layout's hosts in words: "m2 m3".
-pub(super) fn hosts_words(l: &Layout) -> String {
-    l.hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" ")
-}
-
-/// The placement with the lowest objective; of equal ones the first.
-pub(super) fn lowest(found: Vec<Found>) -> Option<Found> {
-    // A layout judged on the file's model before one that was not (a stopped screened search).
-    let any_judged = found.iter().any(|f| f.judged);
-    found.into_iter().filter(|f| f.judged || !any_judged).reduce(|a, x| {
-        if a.evaluation.objective <= x.evaluation.objective {
-            a
-        } else {
-            x
-        }
-    })
-}
-
 /// A design's search, replayed, gathered from its shards or run: the best layout of each
 /// placement, the Pareto front's, the checks of a replay and of the paper's conclusion, and
 /// whether the search stopped early (a time limit or an interrupt).
@@ -229,7 +211,7 @@ pub(super) fn stored(
         provenance: String::new(),
         placements: found
             .iter()
-            .map(|f| StoredLayout::of(hosts_words(&f.layout), &f.layout, f.evaluation.objective, f.evaluations))
+            .map(|f| StoredLayout::of(f.layout.hosts_words(), &f.layout, f.evaluation.objective, f.evaluations))
             .collect(),
         pareto: front
             .iter()

@@ -49,7 +49,7 @@ fn class_of(c: &Curve, i: usize) -> (Marker, &'static str) {
     class_marker(c.motion.get(i).copied().unwrap_or(""))
 }
 
-/// The marker and legend entry of a motion class ([`crate::sim::settle::steady::Motion::name`]) drawn
+/// The marker and legend entry of a motion class ([`crate::sim::settle::statistic::Motion::name`]) drawn
 /// as a point that is not a settled period-1 orbit (the design pages' too).
 pub fn class_marker(class: &str) -> (Marker, &'static str) {
     match class {

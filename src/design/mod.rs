@@ -15,12 +15,12 @@ use rayon::prelude::*;
 
 use crate::model::{Clearance, Damper, Structure};
 use crate::sim::motion::system::{Dynamics, SetupError};
-use crate::sim::settle::irregular::{self, Motion as Class};
+use crate::sim::settle::statistic::{self, Motion as Class};
 use crate::sim::settle::sweep::{self, Direction, SweepPoint};
 use crate::sim::{SteadyOptions, System};
 
 /// Periods of a design point's orbit search before a point with no orbit is measured
-/// ([`irregular::handed_over`]): an irregular point then costs about 550 periods of its
+/// ([`crate::sim::settle::handed_over`]): an irregular point then costs about 550 periods of its
 /// budget instead of all of it.
 pub const HAND_OVER: usize = 100;
 
@@ -388,6 +388,11 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// The hosts in words: "m2 m3".
+    pub fn hosts_words(&self) -> String {
+        self.hosts.iter().map(|h| format!("m{}", h + 1)).collect::<Vec<_>>().join(" ")
+    }
+
     /// The dampers of this layout (a bed of zero mass is no damper), moving along
     /// `direction`.
     pub fn dampers(&self, direction: crate::model::Direction) -> Vec<Damper> {
@@ -602,8 +607,8 @@ fn band_compliance_on(
     // A point with no orbit after HAND_OVER periods is measured as irregular motion within the
     // same budget, to the design's tolerance (docs/design.md); steady settings that state a
     // measurement of their own keep it (`Measure::periods(0, _)`: none, the short record).
-    let measure = match steady.measure == irregular::Measure::default() {
-        true => irregular::Measure::handed_over(HAND_OVER, INTERVAL_TOL),
+    let measure = match steady.measure == statistic::Measure::default() {
+        true => statistic::Measure::handed_over(HAND_OVER, INTERVAL_TOL),
         false => steady.measure,
     };
     let steady = &SteadyOptions { measure, ..*steady };

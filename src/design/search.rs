@@ -504,6 +504,19 @@ pub fn search_placements(
     (searched, stopped)
 }
 
+/// The placement with the lowest objective; of equal ones the first.
+pub fn lowest(found: Vec<Found>) -> Option<Found> {
+    // A layout judged on the file's model before one that was not (a stopped screened search).
+    let any_judged = found.iter().any(|f| f.judged);
+    found.into_iter().filter(|f| f.judged || !any_judged).reduce(|a, x| {
+        if a.evaluation.objective <= x.evaluation.objective {
+            a
+        } else {
+            x
+        }
+    })
+}
+
 /// The best layout of each placement of `space` from what its search ended with (`searched`,
 /// one per placement in order): the layout at its best point, evaluated again on `judged`
 /// (and on `screen`, the model searched, where that was a coarser one). In parallel, gathered

@@ -68,7 +68,7 @@ pub fn extend(d: &Dynamics, st: Steady) -> Steady {
             stored_change: stored_energy(d, &s) - e0,
         }),
         final_state: s,
-        motion: super::steady::Motion::Aperiodic,
+        motion: super::statistic::Motion::Aperiodic,
         ..st
     }
 }

@@ -7,6 +7,7 @@ pub mod irregular;
 pub mod long_record;
 pub mod orbit_search;
 pub mod rest;
+pub mod statistic;
 pub mod steady;
 pub mod sweep;
 pub mod transient;
@@ -22,12 +23,12 @@ use steady::{Steady, SteadyMethod, SteadyOptions};
 /// saltation for grain-grain collisions. [`SteadyMethod::Certify`] runs the transient method
 /// and then certifies its settled motion as a periodic orbit where it is one, for any bed
 /// ([`orbit_search::certify`]; for a column with a Jacobian by central differences). With
-/// [`irregular::Measure::hand_over`] the orbit search of the plastic single-mass beds and the
-/// measurement share the budget ([`irregular::handed_over`]).
+/// [`statistic::Measure::hand_over`] the orbit search of the plastic single-mass beds and the
+/// measurement share the budget ([`handed_over`]).
 pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady {
     let plain = d.system.columns.is_empty() && !long_record::applies(d);
     if let (Some(h), SteadyMethod::Orbit, true) = (opts.measure.hand_over, opts.method, plain) {
-        return irregular::handed_over(d, start, opts, h);
+        return handed_over(d, start, opts, h);
     }
     let st = match (opts.method, d.system.columns.is_empty()) {
         (SteadyMethod::Orbit, true) => orbit_search::orbit_steady(d, start, opts),
@@ -39,4 +40,38 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
     } else {
         irregular::measure(d, st, opts)
     }
+}
+
+/// The orbit search and the measurement sharing one budget of `opts.max_periods` periods
+/// ([`statistic::Measure::hand_over`]): the search runs at most `hand_over` periods; a point with no
+/// orbit by then is measured with the rest of the budget, the measurement judged every
+/// [`statistic::STEP`] periods from [`statistic::MIN_PERIODS`] ending as soon as its interval is met, or as soon as
+/// the exponent's interval lies below 0 (the motion contracts: a stable orbit is near; looked
+/// for every `STEP / 2` periods from `ALIGN + STEP`, before the first judgement). Then
+/// the search goes on from where the measurement stopped with what is left, and a point still
+/// without an orbit is measured with the rest. A chaotic or quasi-periodic point thus costs
+/// `hand_over` + about [`statistic::ALIGN`] + [`statistic::MIN_PERIODS`] periods instead of the whole budget, and an
+/// orbit reached later is the one the search alone would reach (the motion is the same one,
+/// run on). The plastic single-mass beds only ([`steady_state`]).
+pub fn handed_over(d: &Dynamics, start: State, opts: &SteadyOptions, hand_over: usize) -> Steady {
+    let total = opts.max_periods;
+    let first = SteadyOptions { max_periods: hand_over.min(total), ..*opts };
+    let st = orbit_search::orbit_steady(d, start, &first);
+    if st.converged || st.stop.is_some() {
+        return st;
+    }
+    let spent = st.transient_periods + st.recorded_periods;
+    let (m, back) = irregular::measure_within(d, st, opts, total.saturating_sub(spent), true);
+    let spent = spent + m.recorded_periods;
+    if !back || m.stop.is_some() || spent >= total {
+        return m;
+    }
+    let rest = SteadyOptions { max_periods: total - spent, ..*opts };
+    let again = orbit_search::orbit_steady(d, m.final_state, &rest);
+    let again = Steady { transient_periods: again.transient_periods + spent, ..again };
+    if again.converged || again.stop.is_some() {
+        return again;
+    }
+    let left = total.saturating_sub(again.transient_periods + again.recorded_periods);
+    irregular::measure_within(d, again, opts, left, false).0
 }

@@ -15,7 +15,7 @@ use num_complex::Complex64;
 
 use nalgebra::DVector;
 
-pub use super::irregular::{Measure, Measured, Motion};
+use super::statistic::{Measure, Measured, Motion};
 use crate::sim::motion::engine::{Bed, Engine, Event, Observer, State, Stop};
 pub use crate::sim::motion::observe::Observe;
 use crate::sim::motion::observe::{stored_energy, Energy, Extrema};

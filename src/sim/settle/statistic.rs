@@ -1,0 +1,288 @@
+//! The estimator of irregular motion (docs/simulator.md, "Irregular motion"): what a
+//! measurement is asked ([`Measure`]), what it gives ([`Measured`], [`Motion`]) and the
+//! statistics of a record, with no dynamics.
+//!
+//! The record's first [`ALIGN`] periods are cut, and then its start by the MSER-5 rule
+//! (White 1997): the truncation that minimises the standard error of the rest of the
+//! amplitude series, searched over the record's first half; a record whose best cut falls in
+//! its second half is not stationary yet. The statistic of a mass is the 95th percentile of
+//! its per-period amplitudes over the kept record, with a 95 % interval from [`BATCHES`]
+//! batch percentiles (batch quantiles, Seila 1982; a t quantile on `BATCHES - 1` degrees of
+//! freedom); the exponent's interval comes from the same batches' means. No I/O.
+
+/// Batches of the record for the intervals.
+pub const BATCHES: usize = 20;
+
+/// The 0.975 quantile of Student's t on `BATCHES - 1` = 19 degrees of freedom.
+pub const T_975_19: f64 = 2.093_024_054;
+
+/// Shortest kept record judged, forcing periods (batches of 20 periods).
+pub const MIN_PERIODS: usize = 400;
+
+/// Periods always cut from a record's start (a quarter of a shorter record's): the tangent
+/// vector turns towards the most stretched direction over them (its start direction is
+/// arbitrary), and the motion leaves the orbit search's end.
+pub const ALIGN: usize = 50;
+
+/// The record grows by this many periods between judgements.
+pub const STEP: usize = 100;
+
+/// The percentile of the per-period amplitudes that is the compliance of an irregular point.
+pub const PERCENTILE: f64 = 0.95;
+
+/// How an irregular motion is measured ([`SteadyOptions::measure`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measure {
+    /// Most forcing periods recorded; `None`: the steady state's own budget
+    /// ([`SteadyOptions::max_periods`], so a point costs at most twice it); `Some(0)`: no
+    /// measurement (the point keeps the orbit search's short record).
+    pub max_periods: Option<usize>,
+    /// Largest half-width of a statistic's 95 % interval, relative to the largest statistic.
+    pub tol: f64,
+    /// `Some(h)`: the orbit search hands a point with no orbit after `h` periods over to the
+    /// measurement, which hands it back when the motion contracts ([`handed_over`]); the
+    /// search and the measurement then share the steady state's one budget. `None`: the
+    /// measurement starts where the whole search ended (the report's sweeps).
+    pub hand_over: Option<usize>,
+}
+
+impl Default for Measure {
+    fn default() -> Self {
+        Measure { max_periods: None, tol: 0.01, hand_over: None }
+    }
+}
+
+impl Measure {
+    /// At most this many periods, whatever the steady state's budget.
+    pub fn periods(max_periods: usize, tol: f64) -> Measure {
+        Measure { max_periods: Some(max_periods), tol, hand_over: None }
+    }
+
+    /// Handed over after `hand_over` periods of the orbit search, to an interval of `tol`,
+    /// within the steady state's one budget ([`handed_over`]).
+    pub fn handed_over(hand_over: usize, tol: f64) -> Measure {
+        Measure { max_periods: None, tol, hand_over: Some(hand_over) }
+    }
+
+    /// The budget under steady-state options of budget `steady_max`.
+    pub fn budget(&self, steady_max: usize) -> usize {
+        self.max_periods.unwrap_or(steady_max)
+    }
+}
+
+/// What a point's motion is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motion {
+    /// A certified periodic orbit (its period in the steady state's `period`).
+    Periodic,
+    /// Quasi-periodic: recognised as a torus, or an exponent indistinguishable from 0.
+    QuasiPeriodic,
+    /// Chaotic: the largest Lyapunov exponent's interval lies above 0.
+    Chaotic,
+    /// Not over within the budget: the motion contracts (exponent below 0) or its amplitude
+    /// series never became stationary; or it was not measured.
+    Transient,
+    /// Stopped by chatter (more events in a period than allowed).
+    Chatter,
+    /// A bed with restitution or a column of grains that never settled: measured by its long
+    /// record ([`super::long_record`]).
+    Aperiodic,
+}
+
+impl Motion {
+    /// The class as tables write it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Motion::Periodic => "periodic",
+            Motion::QuasiPeriodic => "quasi-periodic",
+            Motion::Chaotic => "chaotic",
+            Motion::Transient => "transient",
+            Motion::Chatter => "chatter",
+            Motion::Aperiodic => "aperiodic",
+        }
+    }
+
+    /// Every class, in the order pages count them.
+    pub const ALL: [Motion; 6] = [
+        Motion::Periodic,
+        Motion::QuasiPeriodic,
+        Motion::Chaotic,
+        Motion::Transient,
+        Motion::Chatter,
+        Motion::Aperiodic,
+    ];
+}
+
+/// The measurement of an irregular point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measured {
+    /// Per mass: the 95th percentile of the per-period amplitudes over the kept record, m
+    /// (NaN for a mass not measured).
+    pub statistic: Vec<f64>,
+    /// Per mass: the half-width of its 95 % interval, m.
+    pub half_width: Vec<f64>,
+    /// Per mass: the largest per-period amplitude over the kept record, m.
+    pub largest: Vec<f64>,
+    /// The largest Lyapunov exponent, 1/s.
+    pub lyapunov: f64,
+    /// The half-width of its 95 % interval, 1/s.
+    pub lyapunov_half_width: f64,
+    /// Periods kept (after the cut).
+    pub periods: usize,
+    /// Periods cut from the record's start ([`ALIGN`], then the transient by MSER-5).
+    pub discarded: usize,
+    /// The record was stationary by the MSER-5 rule.
+    pub stationary: bool,
+    /// Every half-width met the tolerance.
+    pub met: bool,
+}
+
+impl Measured {
+    /// The class the exponent gives.
+    pub fn class(&self) -> Motion {
+        let (lo, hi) = (self.lyapunov - self.lyapunov_half_width, self.lyapunov + self.lyapunov_half_width);
+        if !self.lyapunov.is_finite() {
+            Motion::Transient
+        } else if lo > 0.0 {
+            Motion::Chaotic
+        } else if hi < 0.0 || !self.stationary {
+            Motion::Transient
+        } else {
+            Motion::QuasiPeriodic
+        }
+    }
+
+    /// The largest half-width relative to the largest statistic.
+    pub fn relative_half_width(&self) -> f64 {
+        let top = self.statistic.iter().copied().filter(|x| x.is_finite()).fold(0.0, f64::max);
+        let hw = self.half_width.iter().copied().filter(|x| x.is_finite()).fold(0.0, f64::max);
+        if top > 0.0 {
+            hw / top
+        } else {
+            f64::NAN
+        }
+    }
+}
+
+/// The `q` quantile of `v` (linear between order statistics, the "type 7" rule); NaN when
+/// empty.
+pub fn quantile(v: &[f64], q: f64) -> f64 {
+    let mut s: Vec<f64> = v.iter().copied().filter(|x| !x.is_nan()).collect();
+    if s.is_empty() {
+        return f64::NAN;
+    }
+    s.sort_by(f64::total_cmp);
+    let h = q * (s.len() - 1) as f64;
+    let (i, f) = (h.floor() as usize, h - h.floor());
+    if i + 1 < s.len() {
+        s[i] + f * (s[i + 1] - s[i])
+    } else {
+        s[i]
+    }
+}
+
+/// The MSER-5 cut of a series: the number of leading values to drop, or `None` when the best
+/// cut lies in the second half (the series is not stationary yet).
+pub fn mser5(y: &[f64]) -> Option<usize> {
+    let z: Vec<f64> = y.chunks_exact(5).map(|c| c.iter().sum::<f64>() / 5.0).collect();
+    let m = z.len();
+    if m < 4 {
+        return None;
+    }
+    // Suffix sums give each cut's mean and squared deviation in O(m).
+    let (mut s1, mut s2) = (vec![0.0; m + 1], vec![0.0; m + 1]);
+    for j in (0..m).rev() {
+        s1[j] = s1[j + 1] + z[j];
+        s2[j] = s2[j + 1] + z[j] * z[j];
+    }
+    let mut best = (0, f64::INFINITY);
+    for d in 0..m - 1 {
+        let k = (m - d) as f64;
+        let ss = (s2[d] - s1[d] * s1[d] / k).max(0.0);
+        let v = ss / (k * k);
+        if v < best.1 {
+            best = (d, v);
+        }
+    }
+    (best.0 <= m / 2).then_some(5 * best.0)
+}
+
+/// The mean of `v` and the half-width of its 95 % interval from [`BATCHES`] batch means
+/// (NaN for fewer than [`BATCHES`] values).
+pub fn batch_mean(v: &[f64]) -> (f64, f64) {
+    let b = v.len() / BATCHES;
+    let mean = if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 };
+    if b == 0 {
+        return (mean, f64::NAN);
+    }
+    let means: Vec<f64> = v.chunks_exact(b).take(BATCHES).map(|c| c.iter().sum::<f64>() / b as f64).collect();
+    (mean, half_width(&means))
+}
+
+/// The `q` quantile of `v` over the whole and the half-width of its 95 % interval from
+/// [`BATCHES`] batch quantiles (NaN for fewer than [`BATCHES`] values).
+pub fn batch_quantile(v: &[f64], q: f64) -> (f64, f64) {
+    let b = v.len() / BATCHES;
+    if b == 0 {
+        return (quantile(v, q), f64::NAN);
+    }
+    let qs: Vec<f64> = v.chunks_exact(b).take(BATCHES).map(|c| quantile(c, q)).collect();
+    (quantile(v, q), half_width(&qs))
+}
+
+/// `t s / sqrt(k)` of `k` = [`BATCHES`] batch values.
+fn half_width(batches: &[f64]) -> f64 {
+    let k = batches.len() as f64;
+    let mean = batches.iter().sum::<f64>() / k;
+    let var = batches.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k - 1.0);
+    T_975_19 * (var / k).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_follow_the_type_7_rule() {
+        let v = [3.0, 1.0, 2.0, 5.0, 4.0];
+        assert_eq!(quantile(&v, 0.0), 1.0);
+        assert_eq!(quantile(&v, 1.0), 5.0);
+        assert_eq!(quantile(&v, 0.5), 3.0);
+        assert!((quantile(&v, 0.95) - 4.8).abs() < 1e-12);
+    }
+
+    /// MSER-5 cuts a decaying start and keeps a stationary series whole; a trend to the end
+    /// is not stationary.
+    #[test]
+    fn mser5_cuts_the_transient() {
+        let noise = |i: usize| ((i * 7919 % 101) as f64 / 101.0 - 0.5) * 0.1;
+        let settled: Vec<f64> = (0..500).map(|i| 1.0 + noise(i)).collect();
+        assert!(mser5(&settled).is_some_and(|d| d < 50), "{:?}", mser5(&settled));
+        let decaying: Vec<f64> = (0..500).map(|i| 1.0 + 5.0 * (-(i as f64) / 30.0).exp() + noise(i)).collect();
+        let cut = mser5(&decaying).unwrap();
+        assert!((60..=250).contains(&cut), "{cut}");
+        let trend: Vec<f64> = (0..500).map(|i| i as f64 + noise(i)).collect();
+        assert_eq!(mser5(&trend), None);
+    }
+
+    /// Independent normal-ish samples: the batch interval covers the true mean about 95 % of
+    /// the time over many records (coverage, not a single draw).
+    #[test]
+    fn batch_means_cover_the_mean() {
+        let mut state = 12345u64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut covered = 0;
+        for _ in 0..400 {
+            // Sum of 12 uniforms minus 6: mean 0, variance 1.
+            let v: Vec<f64> = (0..400).map(|_| (0..12).map(|_| uniform()).sum::<f64>() - 6.0).collect();
+            let (m, h) = batch_mean(&v);
+            covered += (m.abs() <= h) as usize;
+        }
+        assert!((360..=395).contains(&covered), "{covered} of 400");
+    }
+}
