@@ -231,7 +231,7 @@ pub(super) fn stored(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::Evaluation;
+    use crate::design::{Evaluation, Layout};
 
     fn found(objective: f64, unsettled: usize) -> Found {
         let layout = Layout { hosts: vec![1], masses_kg: vec![0.1], clearances_mm: vec![0.4] };
