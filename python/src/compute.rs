@@ -9,15 +9,19 @@ use std::time::{Duration, Instant};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
-/// A library error as a Python exception with the command line's message: bad input is a
-/// `ValueError`, a file that cannot be read or written an `OSError`, anything else a
-/// `RuntimeError`.
+/// A library error as a Python exception with the command line's message: bad input (a value
+/// refused, a lower layer's refusal of one) is a `ValueError`, a file that cannot be read or
+/// written an `OSError`, anything else a `RuntimeError`.
 pub fn error(e: shotdamp::Error) -> PyErr {
     let text = e.to_string();
     match e {
-        shotdamp::Error::Invalid { .. } | shotdamp::Error::Parse { .. } => PyValueError::new_err(text),
+        shotdamp::Error::Invalid { .. } | shotdamp::Error::Refused { .. } | shotdamp::Error::Parse { .. } => {
+            PyValueError::new_err(text)
+        }
         shotdamp::Error::Io { .. } | shotdamp::Error::Destination { .. } => PyOSError::new_err(text),
-        shotdamp::Error::Table { .. } | shotdamp::Error::Render { .. } => PyRuntimeError::new_err(text),
+        shotdamp::Error::Table { .. } | shotdamp::Error::Render { .. } | shotdamp::Error::Domain(_) => {
+            PyRuntimeError::new_err(text)
+        }
     }
 }
 

@@ -19,6 +19,7 @@
 use std::path::Path;
 
 use super::{CheckSpec, Meta};
+use crate::error::file::TextError;
 use crate::error::{Error, Result};
 
 /// How a value is printed.
@@ -77,28 +78,6 @@ pub enum Piece {
 }
 
 use super::fields::is_identifier as name_ok;
-
-/// The syntax, for error messages.
-pub const SYNTAX: &str = "placeholders {ID}, {ID.FIELD}, {MODEL/ID}, {EXPERIMENT#ID} or {@EXPERIMENT.EXPORT}, each optionally followed by :N (N decimals) or :N% (a ratio as a signed change in per cent), e.g. {ratio:2}";
-
-/// Why a text does not parse (the caller names the file and key).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum TextError {
-    /// A '{' never closed.
-    #[error("an unclosed '{{' at \"{0}\"; {SYNTAX}")]
-    Unclosed(String),
-    /// A '}' never opened.
-    #[error("a '}}' without '{{' in \"{0}\"; {SYNTAX}")]
-    Unopened(String),
-    /// A placeholder that is not one.
-    #[error("{text}: {why}; {SYNTAX}")]
-    Placeholder {
-        /// The placeholder with its braces.
-        text: String,
-        /// What is wrong with it.
-        why: &'static str,
-    },
-}
 
 fn placeholder(inner: &str) -> std::result::Result<Placeholder, TextError> {
     let text = format!("{{{inner}}}");
@@ -200,7 +179,7 @@ pub(super) fn validate(path: &Path, meta: &Meta, checks: &[CheckSpec]) -> Result
         texts.extend(c.known_deviation.as_deref().map(|d| (format!("checks[{i}].known_deviation"), d)));
     }
     for (key, text) in texts {
-        let pieces = parse(text).map_err(|e| Error::invalid(path, &key, "(the text)", e.to_string()))?;
+        let pieces = parse(text).map_err(|e| Error::refused(path, &key, "(the text)", e))?;
         for p in pieces {
             let Piece::Value(p) = p else { continue };
             if let (None, Target::Check { experiment: None, id, .. }) = (&p.model, &p.target) {

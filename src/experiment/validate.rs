@@ -490,7 +490,8 @@ fn fitted(path: &Path, masses: &[f64], f: &RawFit) -> Result<StiffnessFit> {
     };
     fit_stiffness(masses, &data).map_err(|e| {
         let shown = format!("omegas {:?}, shapes {:?}", f.omegas_rad_per_s, f.shapes);
-        Error::invalid(path, "structure.fit", shown, format!("{e}; the fit needs one positive frequency and one shape of {n} elements per mass, independent shapes and data a positive definite stiffness can match"))
+        let allowed = format!("; the fit needs one positive frequency and one shape of {n} elements per mass, independent shapes and data a positive definite stiffness can match");
+        Error::refused_in(path, "structure.fit", shown, "", e, allowed)
     })
 }
 

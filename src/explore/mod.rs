@@ -21,8 +21,8 @@ use serde_json::{json, Value};
 
 use crate::analysis::{self, curves};
 use crate::checks::reference::{BaselineMode, ReferenceStore};
+use crate::error::file::OverrideError;
 use crate::error::{Error, Result};
-use crate::experiment::study::overrides::OverrideError;
 use crate::experiment::study::KeyPath;
 use crate::experiment::{self, Case, CurveId, Experiment, Exports, Linear};
 use crate::reference::files::Files;

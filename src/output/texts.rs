@@ -117,7 +117,7 @@ fn value(index: &Index, r: &ExperimentResult, p: &Placeholder) -> std::result::R
 /// A text of `r` (at `key` of its file) with its placeholders filled.
 fn fill_text(index: &Index, r: &ExperimentResult, key: &str, text: &str, missing: Missing) -> Result<String> {
     let path = &r.experiment.path;
-    let pieces = parse(text).map_err(|e| Error::invalid(path, key, "(the text)", e.to_string()))?;
+    let pieces = parse(text).map_err(|e| Error::refused(path, key, "(the text)", e))?;
     let mut out = String::with_capacity(text.len());
     for piece in pieces {
         match piece {

@@ -66,7 +66,7 @@ pub fn calibrate(file: &Path, curve: &Path, model: Option<&str>, reference: &Pat
             ));
         }
         let fit = fit_modal_damping(&exp.structure, exp.excitation.mass, &data)
-            .map_err(|e| Error::invalid(curve, "curve", exp.meta.id.clone(), e.to_string()))?;
+            .map_err(|e| Error::refused(curve, "curve", exp.meta.id.clone(), e))?;
         let label = exp.model.as_ref().map(|m| m.label.clone()).unwrap_or_else(|| exp.meta.id.clone());
         models.push(Calibration { label, fit });
     }

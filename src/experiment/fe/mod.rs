@@ -416,11 +416,13 @@ fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> R
                 }
             ),
         },
-        e @ ReductionError::TooLarge { .. } => Error::invalid(
+        e @ ReductionError::TooLarge { .. } => Error::refused_in(
             path,
             "structure.finite_element",
             format!("{n} degrees of freedom"),
-            format!("is too large to reduce here: {e} (docs/fe-models.md, section 3: condense the model in the finite-element program, or coarsen its mesh)"),
+            "is too large to reduce here: ",
+            e,
+            " (docs/fe-models.md, section 3: condense the model in the finite-element program, or coarsen its mesh)",
         ),
         ReductionError::TooMany { boundary, modes, most } => invalid(
             keep_key,
@@ -432,13 +434,10 @@ fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> R
                 most.saturating_sub(boundary),
             ),
         ),
-        e @ ReductionError::Missed { .. } => invalid(keep_key, &keep_value, &format!("the model ({n} degrees of freedom) cannot be reduced so: {e}")),
-        e => Error::invalid(
-            path,
-            "structure.finite_element",
-            format!("{} degrees of freedom", n),
-            format!("cannot be reduced: {e}"),
-        ),
+        e @ ReductionError::Missed { .. } => {
+            Error::refused_in(path, key(keep_key), &keep_value, format!("the model ({n} degrees of freedom) cannot be reduced so: "), e, "")
+        }
+        e => Error::refused_in(path, "structure.finite_element", format!("{n} degrees of freedom"), "cannot be reduced: ", e, ""),
     })?;
     // A point whose direction points down is measured upward: its coordinate changes sign.
     for (c, p) in points.iter().enumerate() {

@@ -17,6 +17,7 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
+use crate::error::file::OverrideError;
 use crate::error::{read_to_string, Error, Result};
 use crate::reference::files::Files;
 
@@ -639,8 +640,8 @@ impl Study {
         sample: &Sample,
         applies: impl Fn(&KeyPath) -> bool,
     ) -> Result<Experiment> {
-        let on = |key: String, value: &dyn std::fmt::Display, m: overrides::OverrideError| {
-            Error::invalid(&self.path, key, value, format!("cannot be set in {}: {m}", file.display()))
+        let on = |key: String, value: &dyn std::fmt::Display, m: OverrideError| {
+            Error::refused_in(&self.path, key, value, format!("cannot be set in {}: ", file.display()), m, "")
         };
         // In a joint study a key reaches the experiments that have it (docs/studies.md).
         let here = |k: &KeyPath, t: &toml::Table| !self.joint_member || !k.get(t).is_empty();

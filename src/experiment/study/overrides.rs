@@ -7,70 +7,7 @@
 //! number replaces an export reference (`"@EXPERIMENT.KEY"`) too. A missing last name is
 //! added to its table, so that the experiment's own validation names a misspelt key.
 
-/// Why a key path cannot be read or set (the caller names the file and key).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum OverrideError {
-    /// Not a key path.
-    #[error("{PATH_SYNTAX}")]
-    Syntax,
-    /// The path selects nothing.
-    #[error("the path selects no value (an empty list?)")]
-    SelectsNothing,
-    /// A name on the way is not a key of its table.
-    #[error("no key \"{name}\" here (the keys are {keys:?})")]
-    NoKey {
-        /// The name.
-        name: String,
-        /// The table's keys.
-        keys: Vec<String>,
-    },
-    /// A selector on something that is not a list.
-    #[error("\"{name}\" is a {found}, not a list")]
-    NotAList {
-        /// The name.
-        name: String,
-        /// What it is.
-        found: &'static str,
-    },
-    /// A name on the way to the last holds no table.
-    #[error("\"{name}\" holds a {found}, not a table")]
-    NotATable {
-        /// The name.
-        name: String,
-        /// What it holds.
-        found: &'static str,
-    },
-    /// An index past the list's end.
-    #[error("\"{name}\" has {len} elements; index {index} is out of range (0-based)")]
-    OutOfRange {
-        /// The list's name.
-        name: String,
-        /// Its length.
-        len: usize,
-        /// The index asked for.
-        index: usize,
-    },
-    /// No element with the id asked for.
-    #[error("no element of \"{name}\" has id \"{id}\" (the ids are {ids:?})")]
-    NoId {
-        /// The list's name.
-        name: String,
-        /// The id asked for.
-        id: String,
-        /// The ids there are.
-        ids: Vec<String>,
-    },
-    /// A number set on a list of other things.
-    #[error("a list that is not of numbers: select an element with [INDEX]")]
-    NotNumbers,
-    /// A number set on a table.
-    #[error("a table, not a number: give the path of one of its keys")]
-    TableNotNumber,
-}
-
-/// What a key path is, for messages.
-pub const PATH_SYNTAX: &str = "names of letters, digits and '_' separated by '.', each optionally followed by \
-                               [INDEX], [*] or [ID], e.g. \"cases[*].dampers[*].clearance_mm\"";
+use crate::error::file::OverrideError;
 
 /// One step of a key path.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -284,6 +221,7 @@ fn converted(old: &toml::Value, value: &toml::Value) -> toml::Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::file::PATH_SYNTAX;
 
     fn table(text: &str) -> toml::Table {
         toml::from_str(text).unwrap()
