@@ -40,8 +40,11 @@ pub struct Outcome {
 /// frequencies the analysis simulates (or its linear grid) as one band; at most
 /// [`MAX_FREQUENCIES`] in all (picked evenly in each band).
 fn bands(exp: &Experiment) -> Vec<(String, Vec<f64>)> {
+    let design = exp.analysis.design().map(|(spec, _)| spec);
     let mut bands: Vec<(String, Vec<f64>)> = match &exp.analysis {
-        Analysis::Design { spec, .. } => spec.bands.iter().map(|b| (b.name.clone(), b.freq_hz.clone())).collect(),
+        _ if design.is_some() => {
+            design.iter().flat_map(|s| &s.bands).map(|b| (b.name.clone(), b.freq_hz.clone())).collect()
+        }
         Analysis::LinearFrf { freq_hz } => vec![("the analysis' grid".into(), freq_hz.clone())],
         a => {
             let f: Vec<f64> = a.simulated_frequencies().into_iter().flat_map(|(_, v)| v).collect();

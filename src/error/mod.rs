@@ -139,6 +139,39 @@ impl Error {
         }
     }
 
+    /// The key path of an error about a value ([`Error::Invalid`], [`Error::Refused`]).
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            Error::Invalid { key, .. } | Error::Refused { key, .. } => Some(key),
+            _ => None,
+        }
+    }
+
+    /// This error with its file named anew by `f` (an error about a value or about a file's
+    /// shape: the file of a merged table, a study's sample, an explorer request); others
+    /// unchanged.
+    pub fn in_file(self, f: impl FnOnce(String) -> String) -> Error {
+        match self {
+            Error::Invalid { file, key, value, message } => Error::Invalid { file: f(file), key, value, message },
+            Error::Refused { file, key, value, before, cause, after } => {
+                Error::Refused { file: f(file), key, value, before, cause, after }
+            }
+            Error::Parse { file, message } => Error::Parse { file: f(file), message },
+            other => other,
+        }
+    }
+
+    /// This error with its key named anew by `f` (an error about a value); others unchanged.
+    pub fn with_key(self, f: impl FnOnce(String) -> String) -> Error {
+        match self {
+            Error::Invalid { file, key, value, message } => Error::Invalid { file, key: f(key), value, message },
+            Error::Refused { file, key, value, before, cause, after } => {
+                Error::Refused { file, key: f(key), value, before, cause, after }
+            }
+            other => other,
+        }
+    }
+
     /// The lower layer's error behind this one, typed, where there is one.
     pub fn cause(&self) -> Option<&Cause> {
         match self {

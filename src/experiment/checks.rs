@@ -210,7 +210,7 @@ fn kind_of(at: &At, c: &RawCheck, files: &Files) -> Result<(CheckKind, Option<Lo
         }
         "design_conclusion" => {
             let has = "a design analysis has layouts to read the conclusion on";
-            at.only(matches!(analysis, Analysis::Design { .. }), &c.kind, has)?;
+            at.only(analysis.design().is_some(), &c.kind, has)?;
             CheckKind::DesignConclusion
         }
         other => {

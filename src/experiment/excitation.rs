@@ -194,16 +194,13 @@ pub(super) fn supports_fit(path: &Path, analysis: &super::Analysis) -> Result<()
             format!("{what}: drive it with a force (mass = M, force_n = F) instead"),
         ))
     };
-    match analysis {
-        super::Analysis::SdofPeriodic { .. } => {
-            return refuse(
-                "the equivalent SDOF model (paper Eq. 12-13) of kind \"sdof_periodic\" takes a force on one mass",
-            )
-        }
-        super::Analysis::Design { spec, .. } if spec.sdof.is_some() => {
-            return refuse("[design.sdof]'s equivalent SDOF rule (paper Eq. 12-13) takes a force on one mass")
-        }
-        _ => {}
+    if matches!(analysis, super::Analysis::SdofPeriodic { .. }) {
+        return refuse(
+            "the equivalent SDOF model (paper Eq. 12-13) of kind \"sdof_periodic\" takes a force on one mass",
+        );
+    }
+    if analysis.design().is_some_and(|(spec, _)| spec.sdof.is_some()) {
+        return refuse("[design.sdof]'s equivalent SDOF rule (paper Eq. 12-13) takes a force on one mass");
     }
     Ok(())
 }

@@ -216,6 +216,23 @@ impl Analysis {
         }
     }
 
+    /// A design's problem and its sweeps' settings, where this is a design: the one way
+    /// outside the design's own rooms to reach them (no match on the variant elsewhere).
+    pub fn design(&self) -> Option<(&crate::design::Spec, &SteadyOptions)> {
+        match self {
+            Analysis::Design { spec, steady } => Some((spec, steady)),
+            _ => None,
+        }
+    }
+
+    /// [`Analysis::design`]'s problem, to change (a replay, a shard, a time limit).
+    pub fn design_mut(&mut self) -> Option<&mut crate::design::Spec> {
+        match self {
+            Analysis::Design { spec, .. } => Some(spec),
+            _ => None,
+        }
+    }
+
     /// Whether it runs the exact simulator (every kind but the modal and the linear ones,
     /// which take a structure of any size).
     pub fn simulates(&self) -> bool {

@@ -683,7 +683,7 @@ pub fn load_with(path: &Path, files: &Files) -> Result<Vec<Experiment>> {
 /// A design file with `[design.scenarios] models = true` becomes one experiment (on no single
 /// model) whose search takes every model's structure and force as scenarios.
 fn models_as_scenarios(path: &Path, mut exps: Vec<Experiment>) -> Result<Vec<Experiment>> {
-    let wanted = matches!(&exps[0].analysis, Analysis::Design { spec, .. } if spec.scenario_models);
+    let wanted = exps[0].analysis.design().is_some_and(|(spec, _)| spec.scenario_models);
     if !wanted {
         return Ok(exps);
     }
@@ -703,7 +703,7 @@ fn models_as_scenarios(path: &Path, mut exps: Vec<Experiment>) -> Result<Vec<Exp
         .collect();
     let mut one = exps.swap_remove(0);
     one.model = None;
-    if let Analysis::Design { spec, .. } = &mut one.analysis {
+    if let Some(spec) = one.analysis.design_mut() {
         spec.model_structures = structures;
         design::sized(path, spec)?;
     }
@@ -716,14 +716,15 @@ fn models_as_scenarios(path: &Path, mut exps: Vec<Experiment>) -> Result<Vec<Exp
 fn on_model(e: Error, model_file: Option<&Path>) -> Error {
     let Some(m) = model_file else { return e };
     let with = |file: String| format!("{file} (merged with the model file {})", m.display());
-    match e {
-        Error::Invalid { file, key, value, message } if key.starts_with("structure") || key.starts_with("model") => {
-            Error::Invalid { file: with(file), key, value, message }
-        }
-        Error::Parse { file, message } if message.starts_with("structure") || message.starts_with("model") => {
-            Error::Parse { file: with(file), message }
-        }
-        other => other,
+    let about_the_model = |s: &str| s.starts_with("structure") || s.starts_with("model");
+    let applies = match &e {
+        Error::Parse { message, .. } => about_the_model(message),
+        e => e.key().is_some_and(about_the_model),
+    };
+    if applies {
+        e.in_file(with)
+    } else {
+        e
     }
 }
 

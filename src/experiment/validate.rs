@@ -97,7 +97,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     let total_mass = super::structure_mass(&structure, fe.as_ref());
     let design = super::design::design(path, raw.design, &raw.analysis.kind, responses, total_mass)?;
     let mut analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
-    if let Analysis::Design { spec, .. } = &mut analysis {
+    if let Some(spec) = analysis.design_mut() {
         spec.screen = screen;
     }
     design_fits(path, &analysis, fe.as_ref(), &excitation, &structure)?;
@@ -157,12 +157,12 @@ fn design_fits(
     excitation: &super::Excitation,
     structure: &Structure,
 ) -> Result<()> {
-    if let (Analysis::Design { spec, .. }, Some(f)) = (analysis, fe) {
+    if let (Some((spec, _)), Some(f)) = (analysis.design(), fe) {
         for (i, &c) in spec.candidates.iter().enumerate() {
             super::fe::host_fits(path, f, &format!("design.candidates[{i}]"), c, spec.direction)?;
         }
     }
-    if let Analysis::Design { spec, .. } = analysis {
+    if let Some((spec, _)) = analysis.design() {
         let levels = spec.scenario_force_n.iter().map(|f| ("design.scenarios.force_n", f));
         for (i, (key, &f)) in levels.chain(spec.drive_levels_n.iter().map(|f| ("design.drive_levels_n", f))).enumerate()
         {
@@ -217,7 +217,7 @@ fn cases_fit(
         }
     }
     let simulated = analysis.simulated_frequencies();
-    if matches!(analysis, Analysis::Design { .. }) || cases.iter().any(|c| !c.beds.is_empty()) {
+    if analysis.design().is_some() || cases.iter().any(|c| !c.beds.is_empty()) {
         for (key, freq_hz) in &simulated {
             super::fields::check_frequencies(&path.display().to_string(), key, freq_hz, structure)?;
         }
@@ -661,13 +661,11 @@ fn screen(
         Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
     // The screen's modes are this table's keys: an error about them names them here.
     let who = "the design's search on the reduction of [design.screen] runs";
-    let built = structure(path, coarse, Some((MAX_DOF, who))).map_err(|e| match e {
-        Error::Invalid { file, key, value, message }
-            if key == "structure.finite_element.modes" || key == "structure.finite_element.cutoff_hz" =>
-        {
-            Error::Invalid { file, key: key.replace("structure.finite_element.", "design.screen."), value, message }
+    let built = structure(path, coarse, Some((MAX_DOF, who))).map_err(|e| match e.key() {
+        Some("structure.finite_element.modes" | "structure.finite_element.cutoff_hz") => {
+            e.with_key(|key| key.replace("structure.finite_element.", "design.screen."))
         }
-        e => e,
+        _ => e,
     })?;
     let n = built.structure.dof();
     Ok(Some(crate::design::Screen {

@@ -133,7 +133,7 @@ impl Session {
         let Some(first) = exps.first() else {
             return Err(Error::invalid(path, "(file)", "", "the file defines no experiment"));
         };
-        if matches!(first.analysis, experiment::Analysis::Design { .. }) {
+        if first.analysis.design().is_some() {
             return Err(Error::invalid(
                 path,
                 "analysis.kind",
@@ -188,11 +188,7 @@ impl Session {
             req.model,
             if set.is_empty() { "its band and start".to_string() } else { format!("values set: {}", set.join(", ")) }
         );
-        match e {
-            Error::Invalid { key, value, message, .. } => Error::Invalid { file: origin, key, value, message },
-            Error::Parse { message, .. } => Error::Parse { file: origin, message },
-            other => other,
-        }
+        e.in_file(|_| origin)
     }
 
     /// The experiment file of a request: the model's table with its values set, standalone

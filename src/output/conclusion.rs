@@ -7,7 +7,6 @@
 use serde::Serialize;
 
 use crate::analysis::ExperimentResult;
-use crate::experiment::Analysis;
 
 /// One sentence, with the design page it comes from.
 #[derive(Debug, Serialize)]
@@ -29,7 +28,7 @@ pub fn conclusions(results: &[ExperimentResult]) -> Vec<Conclusion> {
     results
         .iter()
         .filter_map(|r| {
-            let Analysis::Design { spec, .. } = &r.experiment.analysis else { return None };
+            let (spec, _) = r.experiment.analysis.design()?;
             let best = *r.exports.get("best_objective")?;
             let model = r.experiment.model.as_ref().map(|m| format!(", {}", m.label)).unwrap_or_default();
             let bands: Vec<&str> = spec.bands.iter().map(|b| b.name.as_str()).collect();

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::design_shards::{self, Share};
 use crate::design::search::Searched;
 use crate::error::{Error, Result};
-use crate::experiment::{self, Analysis, Experiment};
+use crate::experiment::{self, Experiment};
 
 /// The format of a part file, written into it.
 const FORMAT: &str = "shotdamp design search part, version 1";
@@ -66,7 +66,7 @@ pub fn part_path(dir: &Path, shard: DesignShard) -> PathBuf {
 /// The design experiments of `files` (each model of each file), refusing any other kind.
 fn designs(files: &[PathBuf], reference: &Path) -> Result<Vec<Experiment>> {
     let exps = experiment::load_all(files, reference)?;
-    if let Some(e) = exps.iter().find(|e| !matches!(e.analysis, Analysis::Design { .. })) {
+    if let Some(e) = exps.iter().find(|e| e.analysis.design().is_none()) {
         return Err(Error::invalid(
             &e.path,
             "analysis.kind",
@@ -80,18 +80,14 @@ fn designs(files: &[PathBuf], reference: &Path) -> Result<Vec<Experiment>> {
 /// Items of every design of `files` and how many of them `shard` owns.
 pub fn items(files: &[PathBuf], reference: &Path, shard: DesignShard) -> Result<(usize, usize)> {
     let exps = designs(files, reference)?;
-    let total: usize = exps
-        .iter()
-        .map(|e| match &e.analysis {
-            Analysis::Design { spec, .. } => design_shards::items(e, spec),
-            _ => 0,
-        })
-        .sum();
+    let total: usize =
+        exps.iter().map(|e| e.analysis.design().map_or(0, |(spec, _)| design_shards::items(e, spec))).sum();
     let mine = exps
         .iter()
-        .map(|e| match &e.analysis {
-            Analysis::Design { spec, .. } => (0..design_shards::items(e, spec)).filter(|&k| shard.owns(k)).count(),
-            _ => 0,
+        .map(|e| {
+            e.analysis
+                .design()
+                .map_or(0, |(spec, _)| (0..design_shards::items(e, spec)).filter(|&k| shard.owns(k)).count())
         })
         .sum();
     Ok((total, mine))
@@ -112,7 +108,7 @@ pub fn search_shard(
     let pool = super::pool(jobs)?;
     let mut designs = Vec::new();
     for e in &exps {
-        let Analysis::Design { spec, steady } = &e.analysis else { continue };
+        let Some((spec, steady)) = e.analysis.design() else { continue };
         let share: Share = pool.install(|| design_shards::share(e, spec, steady, &|k| shard.owns(k), tick));
         designs.push(PartDesign {
             experiment: e.key(),
@@ -197,7 +193,7 @@ pub fn merge_into(exps: &mut [Experiment], dir: &Path) -> Result<()> {
     }
     for e in exps.iter_mut() {
         let key = e.key();
-        let Analysis::Design { spec, steady } = &e.analysis else { continue };
+        let Some((spec, steady)) = e.analysis.design() else { continue };
         let fingerprint = crate::design::stored::fingerprint(&crate::analysis::design::problem(e, spec, steady), spec);
         let spaces = design_shards::spaces(e, spec);
         let mut merged: Vec<Vec<Option<Searched>>> = spaces.iter().map(|s| vec![None; s.placements.len()]).collect();
@@ -261,7 +257,7 @@ pub fn merge_into(exps: &mut [Experiment], dir: &Path) -> Result<()> {
         let Some(complete) = complete else {
             return Err(bad("searches", &key, "some placements were searched by no part".to_string()));
         };
-        if let Analysis::Design { spec, .. } = &mut e.analysis {
+        if let Some(spec) = e.analysis.design_mut() {
             spec.merged = Some(std::sync::Arc::new(complete));
         }
     }

@@ -79,7 +79,7 @@ pub fn run_loaded(
         after: Default::default(),
     };
     for e in &mut exps {
-        if let experiment::Analysis::Design { spec, .. } = &mut e.analysis {
+        if let Some(spec) = e.analysis.design_mut() {
             // One deadline for every design of the run; each plans and paces its own work.
             spec.halt = crate::design::search::Halt { after: Default::default(), ..halt.clone() };
         }
@@ -108,7 +108,7 @@ pub fn run_loaded(
 
 /// Refuses a file that is not a design (`shotdamp design` and its dry run alike).
 fn designs_only(exps: &[Experiment]) -> crate::Result<()> {
-    match exps.iter().find(|e| !matches!(e.analysis, experiment::Analysis::Design { .. })) {
+    match exps.iter().find(|e| e.analysis.design().is_none()) {
         Some(e) => Err(crate::Error::invalid(
             &e.path,
             "analysis.kind",
@@ -129,11 +129,9 @@ pub fn budgets(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<(String
 /// [`budgets`] of designs already loaded ([`load`]).
 pub fn budgets_of(exps: &[Experiment]) -> Vec<(String, usize, crate::design::Budget)> {
     exps.iter()
-        .filter_map(|e| match &e.analysis {
-            experiment::Analysis::Design { spec, .. } => {
-                Some((e.key(), e.structure.dof(), crate::analysis::design_problem::budget(e, spec)))
-            }
-            _ => None,
+        .filter_map(|e| {
+            let (spec, _) = e.analysis.design()?;
+            Some((e.key(), e.structure.dof(), crate::analysis::design_problem::budget(e, spec)))
         })
         .collect()
 }
@@ -146,19 +144,20 @@ pub fn report_designs(dir: &Path, reference: &Path) -> crate::Result<Vec<Experim
     }
     let mut exps = experiment::load_all(&experiment::discover(dir)?, reference)?;
     for e in &mut exps {
-        match &mut e.analysis {
-            experiment::Analysis::Design { spec, .. } => spec.replay = true,
-            other => {
+        let kind = e.analysis.kind();
+        match e.analysis.design_mut() {
+            Some(spec) => spec.replay = true,
+            None => {
                 return Err(crate::Error::invalid(
                     &e.path,
                     "analysis.kind",
-                    format!("\"{}\"", other.kind()),
+                    format!("\"{kind}\""),
                     "\"design\": the designs folder holds design files only",
                 ))
             }
         }
     }
-    exps.retain(|e| matches!(&e.analysis, experiment::Analysis::Design { spec, .. } if spec.report));
+    exps.retain(|e| e.analysis.design().is_some_and(|(spec, _)| spec.report));
     Ok(exps)
 }
 
@@ -225,7 +224,7 @@ pub fn probe_of(exps: &[Experiment]) -> crate::Result<Vec<Probe>> {
     let one = super::pool(Some(1))?;
     let mut out = Vec::new();
     for e in exps {
-        let experiment::Analysis::Design { spec, steady } = &e.analysis else { continue };
+        let Some((spec, steady)) = e.analysis.design() else { continue };
         let problem = crate::analysis::design::problem(e, spec, steady);
         let k = spec.max_beds.clamp(1, spec.candidates.len().max(1));
         let hosts: Vec<usize> = spec.candidates[spec.candidates.len().saturating_sub(k)..].to_vec();

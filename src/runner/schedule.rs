@@ -168,9 +168,9 @@ fn next<'s>(s: &rayon::Scope<'s>, plan: &'s Plan<'s>) {
 /// Runs one experiment (`work` points for its progress bar) and writes its folder.
 fn run_one(plan: &Plan<'_>, exp: &Experiment, work: u64) -> crate::Result<ExperimentResult> {
     let started = std::time::Instant::now();
-    let tick = match &exp.analysis {
+    let tick = match exp.analysis.design() {
         // A search stops when it converges: its bound is all that is known ahead.
-        crate::experiment::Analysis::Design { spec, .. } if !spec.replay => {
+        Some((spec, _)) if !spec.replay => {
             let highest = exp.structure.highest_natural_frequency_hz();
             plan.progress.start_bounded(&exp.key(), spec.budget(exp.cases.len(), highest).evaluations)
         }

@@ -667,19 +667,7 @@ impl Study {
     /// An error of a sample's experiment, with the sample's values.
     pub fn at_sample(&self, e: Error, sample: &Sample) -> Error {
         let values = self.describe(sample);
-        match e {
-            Error::Invalid { file, key, value, message } => Error::Invalid {
-                file: format!("{} (sample {} of study {}: {values})", file, sample.index, self.path.display()),
-                key,
-                value,
-                message,
-            },
-            Error::Parse { file, message } => Error::Parse {
-                file: format!("{} (sample {} of study {}: {values})", file, sample.index, self.path.display()),
-                message,
-            },
-            other => other,
-        }
+        e.in_file(|file| format!("{} (sample {} of study {}: {values})", file, sample.index, self.path.display()))
     }
 
     /// What the study computes from, as text: the merged tables of its experiment on every
