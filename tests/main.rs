@@ -18,6 +18,7 @@ mod contract;
 mod design;
 mod design_store;
 mod explore;
+mod extending;
 mod fe;
 mod follow;
 mod fuzz;
