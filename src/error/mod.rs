@@ -33,7 +33,7 @@ pub enum Error {
     /// A value a lower layer refused (its typed [`Cause`]), with the file, key and value it
     /// came from and the words around the cause. The cause is not a `source`: its text is
     /// part of the message, which a chain would print twice.
-    #[error("{file}: {key} = {}: {}", crate::number::tidy_value(.value), crate::number::tidy_numbers(&format!("{}{}{}", .before, .cause, .after)))]
+    #[error("{file}: {key} = {}: {}", crate::number::tidy_value(.value), crate::number::tidy_numbers(&format!("{}{}{}", .around[0], .cause, .around[1])))]
     Refused {
         /// The file (or the caller, outside files).
         file: String,
@@ -41,16 +41,15 @@ pub enum Error {
         key: String,
         /// The value given.
         value: String,
-        /// Words before the cause ("cannot be set in x.toml: ").
-        before: String,
-        /// The lower layer's error.
-        cause: Cause,
-        /// Words after the cause (what is allowed).
-        after: String,
+        /// The lower layer's error (boxed: the crate's error stays small).
+        cause: Box<Cause>,
+        /// The words before the cause ("cannot be set in x.toml: ") and after it (what is
+        /// allowed).
+        around: Box<[String; 2]>,
     },
     /// A lower layer's error where no file or key is at hand (a caller of the library).
     #[error(transparent)]
-    Domain(#[from] Cause),
+    Domain(Box<Cause>),
     /// An input file is not valid TOML or does not have the expected shape.
     #[error("{file}: {}", crate::number::tidy_numbers(.message))]
     Parse {
@@ -133,9 +132,8 @@ impl Error {
             file: file.as_ref().display().to_string(),
             key: key.into(),
             value: value.to_string(),
-            before: before.into(),
-            cause: cause.into(),
-            after: after.into(),
+            cause: Box::new(cause.into()),
+            around: Box::new([before.into(), after.into()]),
         }
     }
 
@@ -153,8 +151,8 @@ impl Error {
     pub fn in_file(self, f: impl FnOnce(String) -> String) -> Error {
         match self {
             Error::Invalid { file, key, value, message } => Error::Invalid { file: f(file), key, value, message },
-            Error::Refused { file, key, value, before, cause, after } => {
-                Error::Refused { file: f(file), key, value, before, cause, after }
+            Error::Refused { file, key, value, cause, around } => {
+                Error::Refused { file: f(file), key, value, cause, around }
             }
             Error::Parse { file, message } => Error::Parse { file: f(file), message },
             other => other,
@@ -165,8 +163,8 @@ impl Error {
     pub fn with_key(self, f: impl FnOnce(String) -> String) -> Error {
         match self {
             Error::Invalid { file, key, value, message } => Error::Invalid { file, key: f(key), value, message },
-            Error::Refused { file, key, value, before, cause, after } => {
-                Error::Refused { file, key: f(key), value, before, cause, after }
+            Error::Refused { file, key, value, cause, around } => {
+                Error::Refused { file, key: f(key), value, cause, around }
             }
             other => other,
         }
@@ -175,7 +173,7 @@ impl Error {
     /// The lower layer's error behind this one, typed, where there is one.
     pub fn cause(&self) -> Option<&Cause> {
         match self {
-            Error::Refused { cause, .. } | Error::Domain(cause) => Some(cause),
+            Error::Refused { cause, .. } | Error::Domain(cause) => Some(cause.as_ref()),
             _ => None,
         }
     }
@@ -227,11 +225,17 @@ macro_rules! into_error {
     ($($t:ty),*) => {$(
         impl From<$t> for Error {
             fn from(e: $t) -> Error {
-                Error::Domain(Cause::from(e))
+                Error::Domain(Box::new(Cause::from(e)))
             }
         }
     )*};
 }
+impl From<Cause> for Error {
+    fn from(c: Cause) -> Error {
+        Error::Domain(Box::new(c))
+    }
+}
+
 into_error!(SetupError, OrbitError, EigenError, ReductionError, FitError, DampingFitError, TextError, OverrideError);
 
 /// Result with the library's error.

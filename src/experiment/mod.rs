@@ -16,6 +16,7 @@ pub use fe::matrix_market;
 mod outputs;
 pub mod parts;
 pub mod raw;
+mod structure;
 pub mod study;
 pub mod texts;
 mod validate;

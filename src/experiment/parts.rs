@@ -52,7 +52,7 @@ pub fn structure_and_model(
     table: toml::Table,
 ) -> Result<(Structure, Option<std::sync::Arc<crate::model::fe::FeStructure>>)> {
     let raw: RawStructure = read(origin, "structure.", toml::Value::Table(table))?;
-    let built = super::validate::structure(origin.as_ref(), raw, None)?;
+    let built = super::structure::structure(origin.as_ref(), raw, None)?;
     Ok((built.structure, built.fe.map(std::sync::Arc::new)))
 }
 
