@@ -190,7 +190,7 @@ impl Error {
 }
 
 /// A lower layer's error, typed: each layer's own enum converts into it (`From`), and into
-/// the crate's [`Error`] through it ([`Error::Domain`], or [`Error::refused`] with the file
+/// the crate's [`enum@Error`] through it ([`Error::Domain`], or [`Error::refused`] with the file
 /// and key). Its text is the lower error's, unchanged.
 #[derive(Debug, Error)]
 pub enum Cause {

@@ -103,7 +103,7 @@ impl Series {
     }
 }
 
-/// `st`, a point with no certified orbit, measured from its final state ([`Measure`]): its
+/// `st`, a point with no certified orbit, measured from its final state ([`super::statistic::Measure`]): its
 /// amplitudes become the statistic (the impacts, flights and energy terms are those of the
 /// whole measured record), with the measurement and the class. Returns `st` unchanged when
 /// it settled, stopped, or no measurement is asked for.

@@ -30,17 +30,17 @@ pub const STEP: usize = 100;
 /// The percentile of the per-period amplitudes that is the compliance of an irregular point.
 pub const PERCENTILE: f64 = 0.95;
 
-/// How an irregular motion is measured ([`SteadyOptions::measure`]).
+/// How an irregular motion is measured ([`super::steady::SteadyOptions::measure`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Measure {
     /// Most forcing periods recorded; `None`: the steady state's own budget
-    /// ([`SteadyOptions::max_periods`], so a point costs at most twice it); `Some(0)`: no
+    /// ([`super::steady::SteadyOptions::max_periods`], so a point costs at most twice it); `Some(0)`: no
     /// measurement (the point keeps the orbit search's short record).
     pub max_periods: Option<usize>,
     /// Largest half-width of a statistic's 95 % interval, relative to the largest statistic.
     pub tol: f64,
     /// `Some(h)`: the orbit search hands a point with no orbit after `h` periods over to the
-    /// measurement, which hands it back when the motion contracts ([`handed_over`]); the
+    /// measurement, which hands it back when the motion contracts ([`super::handed_over`]); the
     /// search and the measurement then share the steady state's one budget. `None`: the
     /// measurement starts where the whole search ended (the report's sweeps).
     pub hand_over: Option<usize>,
@@ -59,7 +59,7 @@ impl Measure {
     }
 
     /// Handed over after `hand_over` periods of the orbit search, to an interval of `tol`,
-    /// within the steady state's one budget ([`handed_over`]).
+    /// within the steady state's one budget ([`super::handed_over`]).
     pub fn handed_over(hand_over: usize, tol: f64) -> Measure {
         Measure { max_periods: None, tol, hand_over: Some(hand_over) }
     }
