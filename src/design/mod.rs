@@ -7,6 +7,8 @@
 //! [`evaluate`] computes the objective of one [`Layout`] with the exact simulator; the search
 //! over layouts is in [`search`]. No I/O.
 
+mod band;
+pub mod limits;
 pub mod nelder_mead;
 pub mod search;
 pub mod stored;
@@ -14,9 +16,8 @@ pub mod stored;
 use rayon::prelude::*;
 
 use crate::model::{Clearance, Damper, Structure};
-use crate::sim::motion::system::{Dynamics, SetupError};
-use crate::sim::settle::statistic::{self, Motion as Class};
-use crate::sim::settle::sweep::{self, Direction, SweepPoint};
+use crate::sim::motion::system::Dynamics;
+use crate::sim::settle::statistic::Motion as Class;
 use crate::sim::{SteadyOptions, System};
 
 /// Periods of a design point's orbit search before a point with no orbit is measured
@@ -103,28 +104,6 @@ pub struct Screen {
     /// The forcing periods a steady state of the search may run, where not the design's
     /// `steady.max_periods` (at least its `min_periods`).
     pub max_periods: Option<usize>,
-}
-
-/// Stated limits of a design file, so that every search it can ask for ends in a time its
-/// estimate states (docs/design.md, "Limits and cost").
-pub mod limits {
-    /// Frequencies of one band.
-    pub const BAND_POINTS: usize = 1000;
-    /// Steady-state points of one layout evaluation: every band's frequencies, swept each
-    /// way asked, in every scenario.
-    pub const EVALUATION_POINTS: usize = 20_000;
-    /// Total shot mass ratios of the Pareto front (distinct).
-    pub const PARETO_RATIOS: usize = 20;
-    /// Values of each scenario list (`damping`, `force_n`; distinct).
-    pub const SCENARIO_VALUES: usize = 10;
-    /// Scenarios of one search (every combination, times the models with `models = true`).
-    pub const SCENARIOS: usize = 60;
-    /// Candidate clearances of the paper's SDOF rule (distinct).
-    pub const SDOF_CLEARANCES: usize = 50;
-    /// Nelder-Mead iterations per start.
-    pub const MAX_ITERS: usize = 10_000;
-    /// Starts per placement.
-    pub const STARTS: usize = 100;
 }
 
 /// What a design search costs at most, known before it runs (printed by `shotdamp design`).
@@ -578,115 +557,8 @@ impl Motion {
 /// Compliance of every mass at each frequency of `band` for `sys`, the largest over `sweeps`,
 /// and the number of unsettled points.
 pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &SteadyOptions) -> (Vec<Vec<f64>>, usize) {
-    let b = band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady);
+    let b = band::band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady);
     (b.compliance, b.unsettled)
-}
-
-/// A band's sweeps of one layout.
-struct BandRun {
-    /// Per frequency and mass: the largest compliance over the sweeps.
-    compliance: Vec<Vec<f64>>,
-    /// Per frequency and mass: the point that set it.
-    points: Vec<Vec<Point>>,
-    unsettled: usize,
-    motion: Motion,
-    classes: [usize; 6],
-    measured: usize,
-}
-
-/// [`band_compliance`] of a system already decomposed (`base`, [`Dynamics::unforced`] of
-/// `sys`): every band and sweep of one layout shares one decomposition.
-fn band_compliance_on(
-    base: &Result<Dynamics, SetupError>,
-    sys: &System,
-    band: &Band,
-    sweeps: &[Sweep],
-    steady: &SteadyOptions,
-) -> BandRun {
-    let n = sys.dof();
-    // A point with no orbit after HAND_OVER periods is measured as irregular motion within the
-    // same budget, to the design's tolerance (docs/design.md); steady settings that state a
-    // measurement of their own keep it (`Measure::periods(0, _)`: none, the short record).
-    let measure = match steady.measure == statistic::Measure::default() {
-        true => statistic::Measure::handed_over(HAND_OVER, INTERVAL_TOL),
-        false => steady.measure,
-    };
-    let steady = &SteadyOptions { measure, ..*steady };
-    let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
-    let mut behind = vec![vec![Point::default(); n]; band.freq_hz.len()];
-    // Per frequency and mass: the lowest over the sweeps, and how many sweeps gave a value.
-    let mut least = vec![vec![(f64::INFINITY, Class::Periodic, 0.0f64); n]; band.freq_hz.len()];
-    let mut given = vec![0usize; band.freq_hz.len()];
-    let mut unsettled = 0;
-    let mut motion = Motion::default();
-    let mut classes = [0; 6];
-    let mut measured = 0;
-    // The dynamics at each frequency, shared by the continued sweeps; the sweeps run side by
-    // side and are gathered in order.
-    let forced = sweeps.iter().any(|s| *s != Sweep::Rest).then(|| sweep::forced_at(base, &band.freq_hz));
-    let swept: Vec<Vec<SweepPoint>> = sweeps
-        .par_iter()
-        .map(|s| {
-            let continued = |dir| sweep::continued_at(forced.as_deref().unwrap_or_default(), dir, steady, &|| {});
-            match s {
-                Sweep::Rest => sweep::from_rest_on(base, &band.freq_hz, steady, &|| {}),
-                Sweep::Up => continued(Direction::Up),
-                Sweep::Down => continued(Direction::Down),
-            }
-        })
-        .collect();
-    for points in swept {
-        for p in points {
-            let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
-            motion.points += 1;
-            match p.result {
-                Ok(st) => {
-                    if !st.converged {
-                        unsettled += 1;
-                    }
-                    classes[Class::ALL.iter().position(|c| *c == st.motion).unwrap_or(3)] += 1;
-                    measured += usize::from(st.measured.is_some());
-                    let half = |m: usize| st.measured.as_ref().map_or(0.0, |x| x.half_width[m] / sys.force);
-                    if st.liftoffs.iter().any(|&l| l > 0.0) || st.max_flight.iter().any(|&f| f > 0.0) {
-                        motion.lifting += 1;
-                    }
-                    motion.flight_m = st.max_flight.iter().fold(motion.flight_m, |a, &f| a.max(f));
-                    // An amplitude that was never measured (a run stopped by chatter before
-                    // its record) counts as a point without a steady state at all.
-                    // A mass not measured ([`SteadyOptions::observe`]) has no compliance.
-                    given[i] += 1;
-                    for (m, (w, a)) in worst[i].iter_mut().zip(&st.amplitude).enumerate() {
-                        let was = *w;
-                        if steady.observe.contains(m) && a / sys.force < least[i][m].0 {
-                            least[i][m] = (a / sys.force, st.motion, half(m));
-                        }
-                        *w = match steady.observe.contains(m) {
-                            false => f64::NAN,
-                            true if a.is_nan() => f64::INFINITY,
-                            true => w.max(a / sys.force),
-                        };
-                        if *w != was || (a / sys.force == *w && st.motion != Class::Periodic) {
-                            behind[i][m] = Point { class: st.motion, half_width: half(m), ..Point::default() };
-                        }
-                    }
-                }
-                Err(_) => {
-                    unsettled += 1;
-                    classes[3] += 1;
-                    worst[i].iter_mut().for_each(|w| *w = f64::INFINITY);
-                    behind[i].iter_mut().for_each(|p| *p = Point { class: Class::Transient, ..Point::default() });
-                }
-            }
-        }
-    }
-    for ((row, low), &k) in behind.iter_mut().zip(&least).zip(&given) {
-        for (p, &(v, class, half)) in row.iter_mut().zip(low) {
-            if k > 1 && v.is_finite() {
-                (p.lowest, p.lowest_class, p.lowest_half_width) = (v, class, half);
-            }
-        }
-    }
-    BandRun { compliance: worst, points: behind, unsettled, motion, classes, measured }
 }
 
 /// The half-width of a band's measure ([`measure`]) from its points' intervals: the peak's
@@ -741,91 +613,12 @@ pub fn bare(problem: &Problem) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// One scenario of a layout.
-struct ScenarioRun {
-    /// Per band: its measure.
-    bands: Vec<f64>,
-    /// The worst band's measure relative to the bare structure's.
-    relative: f64,
-    /// Band, frequency (Hz) and mass of the worst band's largest compliance.
-    worst: (usize, f64, usize),
-    unsettled: usize,
-    points: usize,
-    /// Per band, frequency and mass: the compliance.
-    curves: Vec<Vec<Vec<f64>>>,
-    /// Per band, frequency and mass: the point behind it.
-    point_classes: Vec<Vec<Vec<Point>>>,
-    /// Per band: how the beds moved.
-    motion: Vec<Motion>,
-    /// Per band: its measure's half-width.
-    bands_half_width: Vec<f64>,
-    /// The half-width of `relative`.
-    half_width: f64,
-    classes: [usize; 6],
-    measured: usize,
-}
-
-/// One scenario of a layout: its bands' measures, its objective, where the worst is.
-fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> ScenarioRun {
-    let sys = problem.system(sc, layout.dampers(problem.direction));
-    let mut bands = Vec::with_capacity(problem.bands.len());
-    let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
-    let mut unsettled = 0;
-    let mut points = 0;
-    let mut curves = Vec::with_capacity(problem.bands.len());
-    let mut motion = Vec::with_capacity(problem.bands.len());
-    let mut all_points = Vec::with_capacity(problem.bands.len());
-    let mut bands_half_width = Vec::with_capacity(problem.bands.len());
-    let mut half_width = 0.0;
-    let mut classes = [0; 6];
-    let mut measured = 0;
-    let base = Dynamics::unforced(&sys);
-    // The bands side by side, gathered in order.
-    let swept: Vec<_> = problem
-        .bands
-        .par_iter()
-        .map(|band| band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady))
-        .collect();
-    for ((k, band), run) in problem.bands.iter().enumerate().zip(swept) {
-        unsettled += run.unsettled;
-        motion.push(run.motion);
-        classes.iter_mut().zip(run.classes).for_each(|(a, b)| *a += b);
-        measured += run.measured;
-        points += band.freq_hz.len() * problem.sweeps.len();
-        let (value, i, m) = measure(band, &run.compliance, problem.measure);
-        let hw = measure_half_width(band, &run.points, (i, m), problem.measure);
-        bands.push(value);
-        bands_half_width.push(hw);
-        let relative = value / bare[k];
-        if relative > worst.0 || relative.is_nan() {
-            worst = (relative, (k, band.freq_hz[i], m));
-            half_width = hw / bare[k];
-        }
-        curves.push(run.compliance);
-        all_points.push(run.points);
-    }
-    ScenarioRun {
-        bands,
-        relative: worst.0,
-        worst: worst.1,
-        unsettled,
-        points,
-        curves,
-        point_classes: all_points,
-        motion,
-        bands_half_width,
-        half_width,
-        classes,
-        measured,
-    }
-}
-
 /// Evaluates one layout (`bare`: per scenario, the bands' measures without dampers, from
 /// [`bare`]).
 pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evaluation {
     // The scenarios side by side, gathered in order: the same numbers for any thread count.
     let mut runs: Vec<_> =
-        problem.cases().par_iter().zip(bare).map(|(sc, b)| scenario(problem, sc, b, layout)).collect();
+        problem.cases().par_iter().zip(bare).map(|(sc, b)| band::scenario(problem, sc, b, layout)).collect();
     let objectives: Vec<f64> = runs.iter().map(|r| r.relative).collect();
     let worst_scenario =
         objectives.iter().enumerate().fold(0, |w, (i, o)| if *o > objectives[w] || o.is_nan() { i } else { w });
@@ -862,37 +655,4 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
 }
 
 #[cfg(test)]
-mod tests {
-    use super::{Budget, Class, Point};
-
-    /// Two motions coexist where their intervals do not overlap; certified orbits within
-    /// rounding of each other are one; a point of one sweep has nothing to compare.
-    #[test]
-    fn coexisting_motions_are_those_whose_intervals_do_not_overlap() {
-        let p = |lowest: f64, lowest_half_width: f64, half_width: f64| Point {
-            class: Class::Chaotic,
-            half_width,
-            lowest,
-            lowest_class: Class::Chaotic,
-            lowest_half_width,
-        };
-        assert_eq!(p(0.8, 0.05, 0.05).coexisting(1.0), Some(true));
-        assert_eq!(p(0.8, 0.1, 0.1).coexisting(1.0), Some(false));
-        assert_eq!(p(1.0 - 1e-12, 0.0, 0.0).coexisting(1.0), Some(false));
-        assert_eq!(p(0.99, 0.0, 0.0).coexisting(1.0), Some(true));
-        assert_eq!(p(0.99, f64::NAN, 0.0).coexisting(1.0), None);
-        assert_eq!(p(1.0, f64::NAN, 0.0).coexisting(1.0), Some(false));
-        assert_eq!(Point::default().coexisting(1.0), Some(false));
-    }
-
-    /// The fastest mode's factor counts up to 8 degrees of freedom and not above, where the
-    /// event search skips its oscillations.
-    #[test]
-    fn the_fast_mode_factor_counts_only_where_the_search_steps_through_it() {
-        let b = Budget { placements: 1, searches: 1, evaluations: 10, points: 100, fast: 32.2, screened: (0, 1.0, 0) };
-        let per = |n: usize| Budget::seconds_per_point(n);
-        assert_eq!(b.nominal_seconds(5, 1), 10.0 * 100.0 * per(5) * 32.2);
-        assert_eq!(b.nominal_seconds(47, 1), 10.0 * 100.0 * per(47));
-        assert!((per(47) - 0.0368).abs() < 1e-3, "{}", per(47));
-    }
-}
+mod tests;

@@ -1,0 +1,195 @@
+//! A layout's sweeps, band by band and scenario by scenario: what [`super::evaluate`] and
+//! [`super::band_compliance`] gather. No I/O.
+
+use super::*;
+use crate::sim::motion::system::{Dynamics, SetupError};
+use crate::sim::settle::statistic::{self, Motion as Class};
+use crate::sim::settle::sweep::{self, Direction, SweepPoint};
+use crate::sim::{SteadyOptions, System};
+use rayon::prelude::*;
+
+/// A band's sweeps of one layout.
+pub(super) struct BandRun {
+    /// Per frequency and mass: the largest compliance over the sweeps.
+    pub(super) compliance: Vec<Vec<f64>>,
+    /// Per frequency and mass: the point that set it.
+    pub(super) points: Vec<Vec<Point>>,
+    pub(super) unsettled: usize,
+    pub(super) motion: Motion,
+    pub(super) classes: [usize; 6],
+    pub(super) measured: usize,
+}
+
+/// [`band_compliance`] of a system already decomposed (`base`, [`Dynamics::unforced`] of
+/// `sys`): every band and sweep of one layout shares one decomposition.
+pub(super) fn band_compliance_on(
+    base: &Result<Dynamics, SetupError>,
+    sys: &System,
+    band: &Band,
+    sweeps: &[Sweep],
+    steady: &SteadyOptions,
+) -> BandRun {
+    let n = sys.dof();
+    // A point with no orbit after HAND_OVER periods is measured as irregular motion within the
+    // same budget, to the design's tolerance (docs/design.md); steady settings that state a
+    // measurement of their own keep it (`Measure::periods(0, _)`: none, the short record).
+    let measure = match steady.measure == statistic::Measure::default() {
+        true => statistic::Measure::handed_over(HAND_OVER, INTERVAL_TOL),
+        false => steady.measure,
+    };
+    let steady = &SteadyOptions { measure, ..*steady };
+    let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
+    let mut behind = vec![vec![Point::default(); n]; band.freq_hz.len()];
+    // Per frequency and mass: the lowest over the sweeps, and how many sweeps gave a value.
+    let mut least = vec![vec![(f64::INFINITY, Class::Periodic, 0.0f64); n]; band.freq_hz.len()];
+    let mut given = vec![0usize; band.freq_hz.len()];
+    let mut unsettled = 0;
+    let mut motion = Motion::default();
+    let mut classes = [0; 6];
+    let mut measured = 0;
+    // The dynamics at each frequency, shared by the continued sweeps; the sweeps run side by
+    // side and are gathered in order.
+    let forced = sweeps.iter().any(|s| *s != Sweep::Rest).then(|| sweep::forced_at(base, &band.freq_hz));
+    let swept: Vec<Vec<SweepPoint>> = sweeps
+        .par_iter()
+        .map(|s| {
+            let continued = |dir| sweep::continued_at(forced.as_deref().unwrap_or_default(), dir, steady, &|| {});
+            match s {
+                Sweep::Rest => sweep::from_rest_on(base, &band.freq_hz, steady, &|| {}),
+                Sweep::Up => continued(Direction::Up),
+                Sweep::Down => continued(Direction::Down),
+            }
+        })
+        .collect();
+    for points in swept {
+        for p in points {
+            let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
+            motion.points += 1;
+            match p.result {
+                Ok(st) => {
+                    if !st.converged {
+                        unsettled += 1;
+                    }
+                    classes[Class::ALL.iter().position(|c| *c == st.motion).unwrap_or(3)] += 1;
+                    measured += usize::from(st.measured.is_some());
+                    let half = |m: usize| st.measured.as_ref().map_or(0.0, |x| x.half_width[m] / sys.force);
+                    if st.liftoffs.iter().any(|&l| l > 0.0) || st.max_flight.iter().any(|&f| f > 0.0) {
+                        motion.lifting += 1;
+                    }
+                    motion.flight_m = st.max_flight.iter().fold(motion.flight_m, |a, &f| a.max(f));
+                    // An amplitude that was never measured (a run stopped by chatter before
+                    // its record) counts as a point without a steady state at all.
+                    // A mass not measured ([`SteadyOptions::observe`]) has no compliance.
+                    given[i] += 1;
+                    for (m, (w, a)) in worst[i].iter_mut().zip(&st.amplitude).enumerate() {
+                        let was = *w;
+                        if steady.observe.contains(m) && a / sys.force < least[i][m].0 {
+                            least[i][m] = (a / sys.force, st.motion, half(m));
+                        }
+                        *w = match steady.observe.contains(m) {
+                            false => f64::NAN,
+                            true if a.is_nan() => f64::INFINITY,
+                            true => w.max(a / sys.force),
+                        };
+                        if *w != was || (a / sys.force == *w && st.motion != Class::Periodic) {
+                            behind[i][m] = Point { class: st.motion, half_width: half(m), ..Point::default() };
+                        }
+                    }
+                }
+                Err(_) => {
+                    unsettled += 1;
+                    classes[3] += 1;
+                    worst[i].iter_mut().for_each(|w| *w = f64::INFINITY);
+                    behind[i].iter_mut().for_each(|p| *p = Point { class: Class::Transient, ..Point::default() });
+                }
+            }
+        }
+    }
+    for ((row, low), &k) in behind.iter_mut().zip(&least).zip(&given) {
+        for (p, &(v, class, half)) in row.iter_mut().zip(low) {
+            if k > 1 && v.is_finite() {
+                (p.lowest, p.lowest_class, p.lowest_half_width) = (v, class, half);
+            }
+        }
+    }
+    BandRun { compliance: worst, points: behind, unsettled, motion, classes, measured }
+}
+
+/// One scenario of a layout.
+pub(super) struct ScenarioRun {
+    /// Per band: its measure.
+    pub(super) bands: Vec<f64>,
+    /// The worst band's measure relative to the bare structure's.
+    pub(super) relative: f64,
+    /// Band, frequency (Hz) and mass of the worst band's largest compliance.
+    pub(super) worst: (usize, f64, usize),
+    pub(super) unsettled: usize,
+    pub(super) points: usize,
+    /// Per band, frequency and mass: the compliance.
+    pub(super) curves: Vec<Vec<Vec<f64>>>,
+    /// Per band, frequency and mass: the point behind it.
+    pub(super) point_classes: Vec<Vec<Vec<Point>>>,
+    /// Per band: how the beds moved.
+    pub(super) motion: Vec<Motion>,
+    /// Per band: its measure's half-width.
+    pub(super) bands_half_width: Vec<f64>,
+    /// The half-width of `relative`.
+    pub(super) half_width: f64,
+    pub(super) classes: [usize; 6],
+    pub(super) measured: usize,
+}
+
+/// One scenario of a layout: its bands' measures, its objective, where the worst is.
+pub(super) fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> ScenarioRun {
+    let sys = problem.system(sc, layout.dampers(problem.direction));
+    let mut bands = Vec::with_capacity(problem.bands.len());
+    let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
+    let mut unsettled = 0;
+    let mut points = 0;
+    let mut curves = Vec::with_capacity(problem.bands.len());
+    let mut motion = Vec::with_capacity(problem.bands.len());
+    let mut all_points = Vec::with_capacity(problem.bands.len());
+    let mut bands_half_width = Vec::with_capacity(problem.bands.len());
+    let mut half_width = 0.0;
+    let mut classes = [0; 6];
+    let mut measured = 0;
+    let base = Dynamics::unforced(&sys);
+    // The bands side by side, gathered in order.
+    let swept: Vec<_> = problem
+        .bands
+        .par_iter()
+        .map(|band| band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady))
+        .collect();
+    for ((k, band), run) in problem.bands.iter().enumerate().zip(swept) {
+        unsettled += run.unsettled;
+        motion.push(run.motion);
+        classes.iter_mut().zip(run.classes).for_each(|(a, b)| *a += b);
+        measured += run.measured;
+        points += band.freq_hz.len() * problem.sweeps.len();
+        let (value, i, m) = measure(band, &run.compliance, problem.measure);
+        let hw = measure_half_width(band, &run.points, (i, m), problem.measure);
+        bands.push(value);
+        bands_half_width.push(hw);
+        let relative = value / bare[k];
+        if relative > worst.0 || relative.is_nan() {
+            worst = (relative, (k, band.freq_hz[i], m));
+            half_width = hw / bare[k];
+        }
+        curves.push(run.compliance);
+        all_points.push(run.points);
+    }
+    ScenarioRun {
+        bands,
+        relative: worst.0,
+        worst: worst.1,
+        unsettled,
+        points,
+        curves,
+        point_classes: all_points,
+        motion,
+        bands_half_width,
+        half_width,
+        classes,
+        measured,
+    }
+}
