@@ -12,6 +12,8 @@ use super::buf::Terms;
 use super::eigen;
 use super::forced::{forced_into, Drive, Forced, ModalParts};
 
+mod forcing;
+
 /// Most degrees of freedom (masses, or generalised coordinates) the closed form takes.
 pub const MAX_DOF: usize = 256;
 
@@ -686,117 +688,7 @@ impl Dynamics {
     pub fn forced(&self, slot: usize) -> &[Forced] {
         &self.forced[slot * self.dof..(slot + 1) * self.dof]
     }
-
-    /// The forced (particular) displacement and velocity of `mask` at time `t`.
-    pub fn particular(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
-        let slot = self.slot(mask);
-        let (cfg, f) = (&self.configs[slot], self.forced(slot));
-        let (s, c) = (self.omega * t).sin_cos();
-        let n = self.dof;
-        let x = DVector::from_fn(n, |i, _| f[i].p * c + f[i].q * s + cfg.modes.offset[i]);
-        let v = DVector::from_fn(n, |i, _| (f[i].q * c - f[i].p * s) * self.omega);
-        (x, v)
-    }
-
-    /// The derivatives of [`Dynamics::particular`] in the forcing frequency at fixed `t`.
-    pub fn particular_d_omega(&self, mask: usize, t: f64) -> (DVector<f64>, DVector<f64>) {
-        let f = self.forced(self.slot(mask));
-        let w = self.omega;
-        let (s, c) = (w * t).sin_cos();
-        // x_p = P cos(w t) + Q sin(w t) + s, v_p = w (Q cos(w t) - P sin(w t)).
-        let n = self.dof;
-        let x = DVector::from_fn(n, |i, _| f[i].dp * c + f[i].dq * s + (f[i].q * c - f[i].p * s) * t);
-        let v = DVector::from_fn(n, |i, _| {
-            let Forced { p, q, dp, dq, .. } = f[i];
-            (q * c - p * s) + (dq * c - dp * s) * w - (p * c + q * s) * (w * t)
-        });
-        (x, v)
-    }
-
-    /// The force on the driven mass at `t` and its time derivative (0 under moving supports:
-    /// [`Dynamics::load_at`]).
-    pub fn force(&self, t: f64) -> (f64, f64) {
-        let (s, c) = (self.omega * t).sin_cos();
-        (self.system.force * s, self.system.force * self.omega * c)
-    }
-
-    /// The moving supports' load on coordinate `i` and its time derivative, given `sin(omega
-    /// t)` and `cos(omega t)`; 0 under a force.
-    #[inline]
-    pub fn load_at(&self, i: usize, sin: f64, cos: f64) -> (f64, f64) {
-        match self.load.get(i) {
-            Some(l) => (l.re * sin + l.im * cos, self.omega * (l.re * cos - l.im * sin)),
-            None => (0.0, 0.0),
-        }
-    }
-
-    /// The power the drive puts into the structure at `t` with velocities `v`: the force times
-    /// the driven mass's velocity, or the supports' load on every coordinate.
-    pub fn power(&self, t: f64, v: &DVector<f64>) -> f64 {
-        if self.load.is_empty() {
-            return self.force(t).0 * v[self.system.driven];
-        }
-        let (s, c) = (self.omega * t).sin_cos();
-        (0..v.len()).map(|i| self.load_at(i, s, c).0 * v[i]).sum()
-    }
-
-    /// Derivative `order` of the supports' displacement along coordinate `i`, `r_i x_g(t)`,
-    /// at a forcing phase (`sin(omega t)`, `cos(omega t)`): what turns the simulator's
-    /// coordinates into displacements relative to the supports (0 under a force).
-    #[inline]
-    pub fn support_motion(&self, i: usize, order: usize, sin: f64, cos: f64) -> f64 {
-        let Some(b) = &self.system.base else {
-            return 0.0;
-        };
-        let phase = match order % 4 {
-            0 => sin,
-            1 => cos,
-            2 => -sin,
-            _ => -cos,
-        };
-        b.follow[i] * self.support * self.omega_pow[order] * phase
-    }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The response from the decomposition is the factorisation's, for a point force and a
-    /// complex load, in every configuration of a 12-mass chain with non-proportional damping
-    /// (Rayleigh plus a dashpot) and three beds, at frequencies below, between and above its
-    /// modes, with the frequency derivatives.
-    #[test]
-    fn the_modal_response_is_the_factorised_one() {
-        use crate::model::{Clearance, Damper, Damping, Structure};
-        let n = 12;
-        let masses: Vec<f64> = (0..n).map(|i| 0.2 + 0.03 * i as f64).collect();
-        let mut s = Structure::chain(&masses, &vec![8e4; n], Damping::Rayleigh { alpha: 3.0, beta: 2e-5 });
-        s.damping[(4, 4)] += 7.0;
-        let dampers = (n - 3..n).map(|h| Damper::new(h, 0.05, Clearance::from_m(5e-4))).collect();
-        let d = Dynamics::unforced(&System::plastic(s, dampers, 0, 2.0)).unwrap();
-        let load: Vec<Complex64> = (0..n).map(|i| Complex64::new((i as f64).sin(), 0.3 * (i as f64).cos())).collect();
-        let d_load: Vec<Complex64> = load.iter().map(|z| z * 1e-3).collect();
-        for cfg in &d.configs {
-            for omega in [20.0, 333.0, 1500.0, 9000.0] {
-                for drive in [Drive::Point(2, 2.6), Drive::Load(&load, &d_load)] {
-                    let mut by_lu = vec![Forced::default(); n];
-                    forced_into(&d.k, &d.c, &cfg.modes.mass, omega, drive, &mut by_lu).unwrap();
-                    let mut out = vec![Forced::default(); n];
-                    super::super::forced::forced_modal((&d.k, &d.c), &modal_parts(&cfg.modes), omega, drive, &mut out)
-                        .unwrap();
-                    let sx = by_lu.iter().map(|f| f.amp).fold(0.0, f64::max);
-                    let sdx = by_lu.iter().map(|f| f.dp.hypot(f.dq)).fold(0.0, f64::max);
-                    for i in 0..n {
-                        let Forced { p, q, dp, dq, .. } = by_lu[i];
-                        assert!((out[i].p - p).abs().max((out[i].q - q).abs()) <= 1e-13 * sx, "omega {omega}: {i}");
-                        assert!(
-                            (out[i].dp - dp).abs().max((out[i].dq - dq).abs()) <= 1e-13 * sdx,
-                            "omega {omega}: d{i}"
-                        );
-                    }
-                }
-            }
-        }
-    }
-}
+mod tests;
