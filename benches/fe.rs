@@ -15,7 +15,7 @@ use shotdamp::sim::{Dynamics, SteadyOptions, System};
 fn plate() -> Experiment {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/plate/plate.toml");
     let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("reference");
-    shotdamp::experiment::load(&path, &reference).expect("the plate loads").remove(0)
+    shotdamp::experiment::loader::load(&path, &reference).expect("the plate loads").remove(0)
 }
 
 fn fe(c: &mut Criterion) {
@@ -58,7 +58,8 @@ fn plate_answer(c: &mut Criterion) {
             .collect::<Vec<_>>()
             .join("\n");
         std::fs::write(&path, file).expect("written");
-        let exp = shotdamp::experiment::load(&path, &root.join("reference")).expect("the answer loads").remove(0);
+        let exp =
+            shotdamp::experiment::loader::load(&path, &root.join("reference")).expect("the answer loads").remove(0);
         let case = &exp.cases[0];
         let sys = System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force);
         let base = Dynamics::unforced(&sys);

@@ -75,7 +75,7 @@
 //!
 //! let files = [PathBuf::from("experiments/fig04b_no_damper.toml")];
 //! let reference = PathBuf::from("reference");
-//! let exps = shotdamp::experiment::load_all(&files, &reference)?;
+//! let exps = shotdamp::experiment::loader::load_all(&files, &reference)?;
 //! let settings = Settings {
 //!     reference,
 //!     out: PathBuf::from("runs"),

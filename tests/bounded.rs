@@ -269,7 +269,7 @@ fn a_design_band_below_the_floor_is_an_input_error_naming_the_band() {
     let bad = bad.replace("extends = \"", &format!("extends = \"{}/", common::repo().join("designs").display()));
     let file = dir.path().join("low_band.toml");
     std::fs::write(&file, bad).unwrap();
-    let err = shotdamp::experiment::load(&file, &common::repo().join("reference")).unwrap_err();
+    let err = shotdamp::experiment::loader::load(&file, &common::repo().join("reference")).unwrap_err();
     let text = err.to_string();
     assert!(
         err.is_input() && text.contains("design.bands[0].freq_hz[0] = 0.000001: a forcing frequency must be at least"),

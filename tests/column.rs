@@ -207,7 +207,7 @@ freq_hz = { start = 47.0, stop = 49.0, step = 1.0 }"#;
 fn a_column_in_an_experiment_file_is_the_column_of_the_library() {
     let dir = tempfile::tempdir().unwrap();
     let file = experiment_file(dir.path(), SWEEP, r#", bed = "column", grains = 4, restitution = 0.3"#);
-    let exps = shotdamp::experiment::load(&file, &common::repo().join("reference")).unwrap();
+    let exps = shotdamp::experiment::loader::load(&file, &common::repo().join("reference")).unwrap();
     let exp = exps.iter().find(|e| e.model.as_ref().is_none_or(|m| m.id == "stated")).unwrap();
     assert_eq!(exp.cases[0].grains(), vec![4, 4, 4]);
     let sys = shotdamp::analysis::curves::system(exp, &exp.cases[0]);

@@ -59,9 +59,11 @@ fn zero_shot_gives_the_bare_structures_exact_linear_response() {
 #[test]
 fn an_infinite_clearance_layout_gives_the_fig08_sweep_of_case_d() {
     let root = common::repo();
-    let exps =
-        shotdamp::experiment::load(&root.join("experiments/fig08_number_of_dampers.toml"), &root.join("reference"))
-            .unwrap();
+    let exps = shotdamp::experiment::loader::load(
+        &root.join("experiments/fig08_number_of_dampers.toml"),
+        &root.join("reference"),
+    )
+    .unwrap();
     let exp = exps.iter().find(|e| e.model.as_ref().is_some_and(|m| m.id == "stated")).unwrap();
     let refs = shotdamp::checks::reference::ReferenceStore::load(&root.join("reference"), &exps).unwrap();
     let result = shotdamp::analysis::run(exp, &refs, &|| {}).unwrap();

@@ -102,14 +102,16 @@ fn stored_answers_are_evaluated_again_and_tied_to_the_problem() {
 fn models_become_scenarios_of_one_search() {
     let root = common::repo();
     let exps =
-        shotdamp::experiment::load(&root.join("designs/third_mode_every_model.toml"), &root.join("reference")).unwrap();
+        shotdamp::experiment::loader::load(&root.join("designs/third_mode_every_model.toml"), &root.join("reference"))
+            .unwrap();
     assert_eq!(exps.len(), 1, "one search, not one per model");
     assert!(exps[0].model.is_none());
     let shotdamp::experiment::Analysis::Design { spec, steady } = &exps[0].analysis else { panic!("a design") };
     assert_eq!(spec.model_structures.len(), 3);
     let p = shotdamp::analysis::design::problem(&exps[0], spec, steady);
     assert_eq!(p.scenarios.len(), 3);
-    let per_model = shotdamp::experiment::load(&root.join("designs/third_mode.toml"), &root.join("reference")).unwrap();
+    let per_model =
+        shotdamp::experiment::loader::load(&root.join("designs/third_mode.toml"), &root.join("reference")).unwrap();
     for (s, e) in p.scenarios.iter().zip(&per_model) {
         assert_eq!(s.structure, e.structure, "{}", s.name);
         assert!(s.name.starts_with(&e.model.as_ref().unwrap().label), "{}", s.name);
@@ -120,7 +122,7 @@ fn models_become_scenarios_of_one_search() {
     let bad = dir.path().join("bad.toml");
     std::fs::write(&bad, text.replacen("[[design.bands]]", "[design.scenarios]\nmodels = true\n\n[[design.bands]]", 1))
         .unwrap();
-    let err = shotdamp::experiment::load(&bad, &root.join("reference")).unwrap_err().to_string();
+    let err = shotdamp::experiment::loader::load(&bad, &root.join("reference")).unwrap_err().to_string();
     assert!(err.contains("design.scenarios.models") && err.contains("bad.toml"), "{err}");
 }
 

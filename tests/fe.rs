@@ -451,17 +451,19 @@ fn calculix_meshes_and_solves_the_plate() {
 /// modal: the plate design's 94 g are 5.1 % of the plate (they read 0.22 %).
 #[test]
 fn a_finite_element_structure_s_mass_is_its_mass_moving_vertically() {
-    let exps =
-        shotdamp::experiment::load(&repo().join("examples/plate/plate.toml"), &repo().join("reference")).unwrap();
+    let exps = shotdamp::experiment::loader::load(&repo().join("examples/plate/plate.toml"), &repo().join("reference"))
+        .unwrap();
     let fe = exps[0].finite_element.as_ref().unwrap();
     assert_eq!(exps[0].structure_mass(), Some(fe.mass_along_up));
     let plate = 0.30 * 0.20 * 0.004 * 7850.0;
     assert!(fe.mass_along_up < plate && fe.mass_along_up > 0.95 * plate, "{} kg of {plate} kg", fe.mass_along_up);
     let trace = exps[0].structure.mass_matrix().trace();
     assert!((trace - plate).abs() > 0.5 * plate, "the trace is no mass: {trace} kg");
-    let chain =
-        shotdamp::experiment::load(&repo().join("experiments/fig05_third_mode.toml"), &repo().join("reference"))
-            .unwrap();
+    let chain = shotdamp::experiment::loader::load(
+        &repo().join("experiments/fig05_third_mode.toml"),
+        &repo().join("reference"),
+    )
+    .unwrap();
     let sum: f64 = chain[0].structure.masses.iter().sum();
     assert_eq!(chain[0].structure_mass(), Some(sum));
 }
@@ -471,8 +473,8 @@ fn a_reduced_model_s_modes_are_read_at_its_points() {
     // Eq. 12-13 scale each mode to 1 at a mass: on a reduced model, at one of its points, never
     // at a modal coordinate (modes that hardly move the points then get a huge equivalent mass,
     // which is what they are to a damper there).
-    let exps =
-        shotdamp::experiment::load(&repo().join("examples/plate/plate.toml"), &repo().join("reference")).unwrap();
+    let exps = shotdamp::experiment::loader::load(&repo().join("examples/plate/plate.toml"), &repo().join("reference"))
+        .unwrap();
     let s = &exps[0].structure;
     assert_eq!(s.points, Some(4));
     let modes = shotdamp::model::modal::modal_summary(s, &[]);
@@ -653,7 +655,7 @@ fn a_model_is_reduced_once_until_its_files_change() {
     );
     let path = d.join("reduced.toml");
     std::fs::write(&path, text).unwrap();
-    let load = || shotdamp::experiment::load(&path, &repo().join("reference")).unwrap();
+    let load = || shotdamp::experiment::loader::load(&path, &repo().join("reference")).unwrap();
     let first = load();
     assert_eq!(made::found_in(d), vec![0], "one reduction made");
     let again = load();

@@ -198,7 +198,7 @@ proptest! {
         };
         let bytes = apply(&std::fs::read(&target).unwrap(), &muts);
         std::fs::write(&target, bytes).unwrap();
-        if let Err(e) = shotdamp::experiment::load(&exps.join(name), &common::repo().join("reference")) {
+        if let Err(e) = shotdamp::experiment::loader::load(&exps.join(name), &common::repo().join("reference")) {
             prop_assert!(names(&e, &target) || names(&e, &exps.join(name)), "{e}");
         }
     }
@@ -289,16 +289,16 @@ fn extends_cycles_and_deep_chains_are_input_errors() {
     let d = dir.path();
     std::fs::write(d.join("a.toml"), "extends = \"b.toml\"\n").unwrap();
     std::fs::write(d.join("b.toml"), "extends = \"a.toml\"\n").unwrap();
-    let e = shotdamp::experiment::load(&d.join("a.toml"), &common::repo().join("reference")).unwrap_err();
+    let e = shotdamp::experiment::loader::load(&d.join("a.toml"), &common::repo().join("reference")).unwrap_err();
     assert!(format!("{e}").contains("extends") && format!("{e}").contains("cycle"), "{e}");
     for k in 0..40 {
         std::fs::write(d.join(format!("c{k}.toml")), format!("extends = \"c{}.toml\"\n", k + 1)).unwrap();
     }
     std::fs::write(d.join("c40.toml"), "").unwrap();
-    let e = shotdamp::experiment::load(&d.join("c0.toml"), &common::repo().join("reference")).unwrap_err();
+    let e = shotdamp::experiment::loader::load(&d.join("c0.toml"), &common::repo().join("reference")).unwrap_err();
     assert!(format!("{e}").contains("limited"), "{e}");
     std::fs::write(d.join("m.toml"), "extends = \"nowhere.toml\"\n").unwrap();
-    let e = shotdamp::experiment::load(&d.join("m.toml"), &common::repo().join("reference")).unwrap_err();
+    let e = shotdamp::experiment::loader::load(&d.join("m.toml"), &common::repo().join("reference")).unwrap_err();
     assert!(format!("{e}").contains("nowhere.toml"), "{e}");
 }
 

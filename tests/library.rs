@@ -51,7 +51,7 @@ fn a_library_run_writes_the_report_the_command_line_writes() {
     assert!(status.code().is_some_and(|c| c <= 1), "{status:?}");
 
     let lib = dir.path().join("lib");
-    let loaded = shotdamp::experiment::load_all(&paths, &reference).unwrap();
+    let loaded = shotdamp::experiment::loader::load_all(&paths, &reference).unwrap();
     let settings = Settings {
         reference,
         out: lib.clone(),
@@ -118,8 +118,8 @@ fn each_reference_file_is_parsed_once() {
     common::copy_tree(&common::repo().join("reference"), &reference);
     let refs = Files::new(&reference);
     let mut exps = Vec::new();
-    for p in shotdamp::experiment::discover(&common::repo().join("experiments")).unwrap() {
-        exps.extend(shotdamp::experiment::load_with(&p, &refs).unwrap());
+    for p in shotdamp::experiment::loader::discover(&common::repo().join("experiments")).unwrap() {
+        exps.extend(shotdamp::experiment::loader::load_with(&p, &refs).unwrap());
     }
     let parsed: std::collections::BTreeSet<&str> =
         exps.iter().flat_map(|e| &e.checks).filter(|c| c.loaded.is_some()).map(|c| c.reference_file.as_str()).collect();

@@ -15,8 +15,11 @@ fn stderr(out: &std::process::Output) -> String {
 
 #[test]
 fn the_paper_data_fit_to_its_stated_residuals() {
-    let exps = shotdamp::experiment::load(&repo().join("experiments/fig04b_no_damper.toml"), &repo().join("reference"))
-        .unwrap();
+    let exps = shotdamp::experiment::loader::load(
+        &repo().join("experiments/fig04b_no_damper.toml"),
+        &repo().join("reference"),
+    )
+    .unwrap();
     let ids: Vec<&str> = exps.iter().map(|e| e.model.as_ref().unwrap().id.as_str()).collect();
     assert_eq!(ids, ["stated", "coil", "fitted"]);
     let fit = exps[2].fit.as_ref().expect("the fitted model carries its fit");

@@ -78,7 +78,8 @@ fn a_symmetric_structure_with_a_repeated_pair_decomposes_well() {
 #[test]
 fn the_square_plate_from_calculix_keeps_its_equal_pairs() {
     let repo = crate::common::repo();
-    let exps = shotdamp::experiment::load(&repo.join("examples/plate/square.toml"), &repo.join("reference")).unwrap();
+    let exps =
+        shotdamp::experiment::loader::load(&repo.join("examples/plate/square.toml"), &repo.join("reference")).unwrap();
     let modes = shotdamp::model::modal::modal_summary(&exps[0].structure, &[]);
     let f: Vec<f64> = modes.iter().map(|m| m.freq_hz).collect();
     for (a, b) in [(1, 2), (6, 7), (8, 9)] {

@@ -22,7 +22,7 @@ fn experiment_file(dir: &std::path::Path, restitution: &str) -> std::path::PathB
 fn each_containers_law_reaches_the_simulator() {
     let dir = tempfile::tempdir().unwrap();
     let file = experiment_file(dir.path(), ", restitution = 0.5, stick_speed_m_s = 0.002");
-    let exps = shotdamp::experiment::load(&file, &common::repo().join("reference")).unwrap();
+    let exps = shotdamp::experiment::loader::load(&file, &common::repo().join("reference")).unwrap();
     let exp = exps.iter().find(|e| e.model.as_ref().is_none_or(|m| m.id == "stated")).unwrap();
     let case = &exp.cases[0];
     let bounce = ImpactLaw::with_restitution(0.5, 0.002);

@@ -429,7 +429,7 @@ fn coarse_windows_find_the_events_ordinary_windows_find() {
     let plate = {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/plate/plate.toml");
         let reference = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference");
-        let exp = shotdamp::experiment::load(&path, &reference).unwrap().remove(0);
+        let exp = shotdamp::experiment::loader::load(&path, &reference).unwrap().remove(0);
         let case = exp.cases.iter().find(|c| c.id == "corners").unwrap().clone();
         System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force)
     };
@@ -484,7 +484,7 @@ fn one_damping_ratio_serves_every_mode_of_a_long_chain() {
             list("1.0e5", n)
         );
         std::fs::write(&file, text).unwrap();
-        shotdamp::experiment::load(&file, &crate::common::repo().join("reference"))
+        shotdamp::experiment::loader::load(&file, &crate::common::repo().join("reference"))
     };
     let once = load("once", "0.02").unwrap();
     let each = load("each", &list("0.02", n)).unwrap();

@@ -138,7 +138,7 @@ fn paths(files: &Bound<'_, PyAny>) -> PyResult<Vec<PathBuf>> {
 #[pyfunction]
 #[pyo3(signature = (path, *, reference=PathBuf::from("reference")))]
 pub fn load(path: PathBuf, reference: PathBuf) -> PyResult<Vec<Experiment>> {
-    let exps = experiment::load(&path, &reference).map_err(error)?;
+    let exps = experiment::loader::load(&path, &reference).map_err(error)?;
     Ok(exps
         .into_iter()
         .map(|e| Experiment {
@@ -241,7 +241,7 @@ pub fn run_experiment<'py>(
         bless: false,
     };
     let done = compute::run(py, jobs, progress, |t| {
-        let exps = experiment::load_all(&files, &reference)?;
+        let exps = experiment::loader::load_all(&files, &reference)?;
         runner::run_and_write(&exps, &[], &settings, t, &|_| {}, &|_| {})
     })?;
     finished(py, &done)

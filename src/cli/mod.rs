@@ -269,8 +269,8 @@ pub fn main() -> ExitCode {
 pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
     match &cli.command {
         Command::List => {
-            for path in experiment::discover(&cli.experiments)? {
-                let exps = experiment::load(&path, &cli.reference)?;
+            for path in experiment::loader::discover(&cli.experiments)? {
+                let exps = experiment::loader::load(&path, &cli.reference)?;
                 let Some(exp) = exps.first() else { continue };
                 let models: Vec<&str> = exps.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.as_str())).collect();
                 let on = if models.is_empty() { String::new() } else { format!(" [models: {}]", models.join(", ")) };
@@ -279,7 +279,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
             Ok(true)
         }
         Command::Modal { file, case } => {
-            for exp in experiment::load(file, &cli.reference)? {
+            for exp in experiment::loader::load(file, &cli.reference)? {
                 print_modal(&exp, case.as_deref())?;
             }
             Ok(true)
@@ -290,7 +290,7 @@ pub fn dispatch(cli: &Cli) -> anyhow::Result<bool> {
         }
         Command::Run { files, out, jobs, writing } => {
             cli.project().refuse_overlap(out)?;
-            let mut exps = experiment::load_all(files, &cli.reference)?;
+            let mut exps = experiment::loader::load_all(files, &cli.reference)?;
             // Experiments whose exports these use run too, from the same folders.
             let needed = experiment::missing_dependencies(&exps, &crate::reference::files::Files::new(&cli.reference))?;
             if !needed.is_empty() {

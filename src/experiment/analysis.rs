@@ -7,7 +7,7 @@ use crate::sim::motion::impulse::{ImpulseOptions, Kick};
 use crate::sim::settle::steady::SteadyMethod;
 use crate::sim::SteadyOptions;
 
-use super::raw::{RawAnalysis, RawGrid, RawSteady};
+use super::file::raw::{RawAnalysis, RawGrid, RawSteady};
 use super::{Analysis, Number, Start};
 
 /// Most grid points a frequency axis may have.

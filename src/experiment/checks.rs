@@ -9,7 +9,7 @@ use crate::reference::digitised::DigitisedFile;
 use crate::reference::files::{Files, Loaded};
 
 use super::fields::mass_index;
-use super::raw::RawCheck;
+use super::file::raw::RawCheck;
 use super::{Analysis, CheckKind, CheckSpec, CurveId, Start};
 use crate::number::Tolerance;
 use crate::sim::settle::sweep::Direction;

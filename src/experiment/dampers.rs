@@ -12,7 +12,7 @@ use crate::sim::motion::system::{configurations, MAX_BEDS, MAX_CONFIGS};
 
 use super::analysis::export_ref;
 use super::fields::mass_index;
-use super::raw::RawDamper;
+use super::file::raw::RawDamper;
 use super::{Bed, ClearanceSource};
 
 /// The containers of a case, one row each: damper, clearance spec, impact law and grains. Keys

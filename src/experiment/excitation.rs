@@ -9,7 +9,7 @@ use crate::number::fmt_num;
 use crate::sim::System;
 
 use super::fields::mass_index;
-use super::raw::RawExcitation;
+use super::file::raw::RawExcitation;
 
 /// What drives the structure: `F sin(omega t)` on one mass, or its supports accelerating as
 /// `A sin(omega t)`.

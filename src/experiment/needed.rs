@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 use crate::reference::files::Files;
 
-use super::{discover, load_with, Experiment};
+use super::loader::{discover, load_with};
+use super::Experiment;
 
 /// One folder's experiment files, loaded once: the experiments, and the first file that did
 /// not load (reported only if an id is then missing from the folder).

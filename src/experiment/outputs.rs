@@ -5,7 +5,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 use super::fields::{is_identifier, mass_index};
-use super::raw::RawPlot;
+use super::file::raw::RawPlot;
 use super::{Analysis, Linear, PlotSpec, Scale};
 
 fn case_list(path: &Path, key: &str, cs: &[String], case_ids: &[String]) -> Result<()> {

@@ -10,14 +10,14 @@ use crate::model::Structure;
 use crate::sim::motion::impulse::ImpulseOptions;
 use crate::sim::{SteadyOptions, System};
 
-use super::raw::{RawAnalysis, RawDamper, RawExcitation, RawSteady, RawStructure};
+use super::file::raw::{RawAnalysis, RawDamper, RawExcitation, RawSteady, RawStructure};
 use super::{Analysis, Case, ClearanceSource, Excitation};
 
 pub use super::fields::{check_frequencies, MIN_FREQUENCY_RATIO};
 
 /// Reads `value` as a `T`, naming a wrong key `{prefix}KEY` as an experiment file would.
 fn read<T: DeserializeOwned>(origin: &str, prefix: &str, mut value: toml::Value) -> Result<T> {
-    super::load::whole_floats(&mut value);
+    super::file::read::whole_floats(&mut value);
     serde_path_to_error::deserialize(value).map_err(|e: serde_path_to_error::Error<toml::de::Error>| {
         let key = e.path().to_string();
         let inner = e.into_inner();
@@ -29,9 +29,9 @@ fn read<T: DeserializeOwned>(origin: &str, prefix: &str, mut value: toml::Value)
         Error::Parse {
             file: origin.to_string(),
             message: if key.is_empty() {
-                super::load::serde_words(inner.message())
+                super::file::read::serde_words(inner.message())
             } else {
-                format!("{key}: {}", super::load::serde_words(inner.message()))
+                format!("{key}: {}", super::file::read::serde_words(inner.message()))
             },
         }
     })

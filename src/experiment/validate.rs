@@ -14,8 +14,8 @@ use super::checks::check;
 use super::dampers::dampers;
 use super::excitation::{accel_fits, excitation, force_fits};
 use super::fields::is_identifier;
+use super::file::raw::{RawCase, RawExperiment, RawScreen, RawStructure};
 use super::outputs::plot;
-use super::raw::{RawCase, RawExperiment, RawScreen, RawStructure};
 use super::structure::{structure, Built};
 use super::{Analysis, Case, ClearanceSource, Experiment, Meta, ModelInfo};
 
@@ -410,7 +410,7 @@ fn screen(
     };
     let mut coarse = given.clone();
     coarse.finite_element =
-        Some(super::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
+        Some(super::file::raw::RawFiniteElement { modes: raw.modes, cutoff_hz: raw.cutoff_hz, ..fe.clone() });
     // The screen's modes are this table's keys: an error about them names them here.
     let who = "the design's search on the reduction of [design.screen] runs";
     let built = structure(path, coarse, Some((MAX_DOF, who))).map_err(|e| match e.key() {

@@ -129,7 +129,7 @@ impl Session {
     /// once here) with the reference data in `reference`.
     pub fn open(path: &Path, reference: &Path) -> Result<Session> {
         let files = Files::new(reference);
-        let exps = experiment::load_with(path, &files)?;
+        let exps = experiment::loader::load_with(path, &files)?;
         let Some(first) = exps.first() else {
             return Err(Error::invalid(path, "(file)", "", "the file defines no experiment"));
         };
@@ -172,7 +172,7 @@ impl Session {
     /// a file, its export references resolved.
     pub fn experiment(&self, req: &Request) -> Result<Experiment> {
         let table = self.table(req)?;
-        experiment::from_table(&self.path, table, &self.files)
+        experiment::loader::from_table(&self.path, table, &self.files)
             .and_then(|e| e.resolve(&self.exports))
             .map_err(|e| self.of_request(e, req))
     }
@@ -196,7 +196,7 @@ impl Session {
     /// computes the curves the page shows.
     pub fn export(&self, req: &Request) -> Result<String> {
         let mut table = self.table(req)?;
-        let exp = experiment::from_table(&self.path, table.clone(), &self.files)?.resolve(&self.exports)?;
+        let exp = experiment::loader::from_table(&self.path, table.clone(), &self.files)?.resolve(&self.exports)?;
         resolve_exports(&mut table, &exp);
         absolute_files(&mut table, &self.path);
         let text = toml::to_string(&table).map_err(|e| bad("(export)", "", e.to_string()))?;
@@ -585,7 +585,7 @@ fn dependencies(exps: &[Experiment], files: &Files, reference: &Path) -> Result<
     if chosen.is_empty() {
         return Ok(Exports::new());
     }
-    let graph = experiment::dependency_graph(&chosen)?;
+    let graph = experiment::loader::dependency_graph(&chosen)?;
     let mut refs = ReferenceStore::load(reference, &chosen)?;
     refs.baseline_mode = BaselineMode::Off;
     let mut exports = Exports::new();

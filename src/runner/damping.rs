@@ -48,7 +48,7 @@ pub fn calibrate(file: &Path, curve: &Path, model: Option<&str>, reference: &Pat
             "no curve is mapped to a mass: import it with --map \"DATASET=bare:1\" (one per mass)",
         ));
     }
-    let exps = experiment::load(file, reference)?;
+    let exps = experiment::loader::load(file, reference)?;
     let ids: Vec<String> = exps.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
     let chosen: Vec<&Experiment> =
         exps.iter().filter(|e| model.is_none_or(|id| e.model.as_ref().is_some_and(|m| m.id == id))).collect();

@@ -65,7 +65,7 @@ pub fn part_path(dir: &Path, shard: DesignShard) -> PathBuf {
 
 /// The design experiments of `files` (each model of each file), refusing any other kind.
 fn designs(files: &[PathBuf], reference: &Path) -> Result<Vec<Experiment>> {
-    let exps = experiment::load_all(files, reference)?;
+    let exps = experiment::loader::load_all(files, reference)?;
     if let Some(e) = exps.iter().find(|e| e.analysis.design().is_none()) {
         return Err(Error::invalid(
             &e.path,

@@ -58,7 +58,7 @@ pub fn run(
 /// reduced once) for [`budgets_of`], [`probe_of`] and [`run_loaded`]; a file that is not a
 /// design is refused.
 pub fn load(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<Experiment>> {
-    let exps = experiment::load_all(files, reference)?;
+    let exps = experiment::loader::load_all(files, reference)?;
     designs_only(&exps)?;
     Ok(exps)
 }
@@ -142,7 +142,7 @@ pub fn report_designs(dir: &Path, reference: &Path) -> crate::Result<Vec<Experim
     if !dir.is_dir() {
         return Ok(Vec::new());
     }
-    let mut exps = experiment::load_all(&experiment::discover(dir)?, reference)?;
+    let mut exps = experiment::loader::load_all(&experiment::loader::discover(dir)?, reference)?;
     for e in &mut exps {
         let kind = e.analysis.kind();
         match e.analysis.design_mut() {

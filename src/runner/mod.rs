@@ -156,7 +156,7 @@ pub fn report_studies(dir: &Path, reference: &Path) -> Result<Vec<Study>> {
         return Ok(Vec::new());
     }
     let mut out = Vec::new();
-    for file in experiment::discover(dir)? {
+    for file in experiment::loader::discover(dir)? {
         let s = experiment::study::load(&file, reference)?;
         if s.report || s.stored {
             out.push(s);
@@ -178,7 +178,7 @@ pub fn run_and_write(
     staging: &dyn Fn(PathBuf),
 ) -> Result<Finished> {
     let (reference, out) = (settings.reference.as_path(), settings.out.as_path());
-    let graph = experiment::dependency_graph(exps)?;
+    let graph = experiment::loader::dependency_graph(exps)?;
     let mut refs = ReferenceStore::load(reference, exps)?;
     refs.load_baselines(reference, exps, settings.baseline_mode)?;
     refs.load_designs(reference, exps)?;
@@ -306,14 +306,14 @@ pub fn report(
     staging: &dyn Fn(PathBuf),
 ) -> Result<Finished> {
     let reference = inputs.reference.as_path();
-    let files = experiment::discover(&inputs.experiments)?;
+    let files = experiment::loader::discover(&inputs.experiments)?;
     if files.is_empty() {
         return Err(Error::Parse {
             file: inputs.experiments.display().to_string(),
             message: "no experiment files (*.toml) found".into(),
         });
     }
-    let mut exps = experiment::load_all(&files, reference)?;
+    let mut exps = experiment::loader::load_all(&files, reference)?;
     let designs_dir = inputs.designs_dir();
     exps.extend(designs::report_designs(&designs_dir, reference)?);
     let studies_dir = inputs.studies_dir();

@@ -56,7 +56,7 @@ impl Plan<'_> {
 }
 
 /// Runs every experiment on `pool`, writing each one's folder as it finishes; the results in
-/// the order of `exps`. `graph` is [`crate::experiment::dependency_graph`] of `exps`. The
+/// the order of `exps`. `graph` is [`crate::experiment::loader::dependency_graph`] of `exps`. The
 /// first error stops new experiments from starting and is returned.
 pub fn run(
     exps: &[Experiment],
@@ -108,7 +108,7 @@ pub fn run(
 }
 
 /// Longest chain of dependents below each experiment (0: nothing uses its exports). The graph
-/// is acyclic ([`crate::experiment::dependency_graph`] checked it).
+/// is acyclic ([`crate::experiment::loader::dependency_graph`] checked it).
 fn chain_lengths(dependents: &[Vec<usize>]) -> Vec<usize> {
     fn length(i: usize, dependents: &[Vec<usize>], memo: &mut [Option<usize>]) -> usize {
         if let Some(l) = memo[i] {

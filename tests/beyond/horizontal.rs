@@ -450,7 +450,7 @@ fn an_experiment_files_horizontal_container_reaches_the_simulator() {
     let dir = tempfile::tempdir().expect("tempdir");
     let analysis = "kind = \"sweep\"\nfreq_hz = { start = 12.0, stop = 14.0, step = 1.0 }";
     let file = common::three_containers(dir.path(), "h", analysis, "c", [", direction = \"horizontal\"", "", ""]);
-    let exps = shotdamp::experiment::load(&file, &common::repo().join("reference")).expect("loads");
+    let exps = shotdamp::experiment::loader::load(&file, &common::repo().join("reference")).expect("loads");
     let exp = &exps[0];
     let along: Vec<Direction> = exp.cases[0].beds.iter().map(|b| &b.damper).map(|d| d.direction).collect();
     assert_eq!(along, [Direction::Horizontal, Direction::Vertical, Direction::Vertical]);

@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use super::FromFiles;
-use crate::experiment::raw::RawFiniteElement;
+use crate::experiment::file::raw::RawFiniteElement;
 
 /// Reductions kept at most.
 pub const KEPT: usize = 8;

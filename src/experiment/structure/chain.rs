@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::{lumped_or_full, positive_list, Limit, Matrices, Source};
 use crate::error::{Error, Result};
-use crate::experiment::raw::RawStructure;
+use crate::experiment::file::raw::RawStructure;
 
 /// `chain_stiffness_n_per_m`.
 pub struct Chain;

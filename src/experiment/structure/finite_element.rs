@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::{Limit, Matrices, Source};
 use crate::error::{Error, Result};
-use crate::experiment::raw::RawStructure;
+use crate::experiment::file::raw::RawStructure;
 
 /// `finite_element`.
 pub struct FiniteElement;

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::{lumped_or_full, Limit, Matrices, Source};
 use crate::error::{Error, Result};
-use crate::experiment::raw::{RawFit, RawStructure};
+use crate::experiment::file::raw::{RawFit, RawStructure};
 use crate::model::fit::{fit_stiffness, ModalData, StiffnessFit, FREQUENCY_WEIGHT};
 
 /// `fit`.

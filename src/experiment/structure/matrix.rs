@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::{lumped_or_full, symmetric_positive, Limit, Matrices, Source};
 use crate::error::Result;
-use crate::experiment::raw::RawStructure;
+use crate::experiment::file::raw::RawStructure;
 
 /// `stiffness_matrix_n_per_m`.
 pub struct Matrix;

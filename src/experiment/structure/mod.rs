@@ -15,7 +15,7 @@ use std::path::Path;
 
 use nalgebra::DMatrix;
 
-use super::raw::RawStructure;
+use super::file::raw::RawStructure;
 use crate::error::{Error, Result};
 use crate::model::fe::FeStructure;
 use crate::model::fit::StiffnessFit;

@@ -21,7 +21,8 @@ use crate::error::file::OverrideError;
 use crate::error::{read_to_string, Error, Result};
 use crate::reference::files::Files;
 
-use super::{load as loader, CheckKind, Experiment};
+use super::file::read;
+use super::{CheckKind, Experiment};
 pub use design::{Design, Domain, Refine};
 pub use overrides::KeyPath;
 
@@ -208,13 +209,13 @@ pub fn is_claim(kind: &CheckKind) -> bool {
 /// bad value is reported before anything runs).
 pub fn load(path: &Path, reference_dir: &Path) -> Result<Study> {
     let text = read_to_string(path)?;
-    let mut table = loader::parse_table(path, &text)?;
-    table.iter_mut().for_each(|(_, v)| loader::whole_floats(v));
+    let mut table = read::parse_table(path, &text)?;
+    table.iter_mut().for_each(|(_, v)| read::whole_floats(v));
     let raw: RawFile = serde_path_to_error::deserialize(table).map_err(|e| {
         let key = e.path().to_string();
         Error::Parse {
             file: path.display().to_string(),
-            message: format!("{key}: {}", loader::serde_words(e.into_inner().message())),
+            message: format!("{key}: {}", read::serde_words(e.into_inner().message())),
         }
     })?;
     let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
@@ -287,7 +288,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
             &format!("no such experiment file: {} (the path is relative to the study file)", experiment_path.display()),
         ));
     }
-    let all = super::load_with(&experiment_path, files)?;
+    let all = super::loader::load_with(&experiment_path, files)?;
     let known: Vec<String> = all.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
     let base: Vec<Experiment> = match &s.models {
         None => all,
@@ -391,7 +392,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
         }
     }
     let tables: BTreeMap<String, toml::Table> =
-        loader::read_models(&experiment_path)?.into_iter().map(|(_, t)| (model_of(&t), t)).collect();
+        read::read_models(&experiment_path)?.into_iter().map(|(_, t)| (model_of(&t), t)).collect();
     let mut study = Study {
         path: path.to_path_buf(),
         id: s.id,
@@ -562,8 +563,8 @@ fn load_dependencies(study: &mut Study) -> Result<()> {
     }
     let dir = study.experiment_path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut files = BTreeMap::new();
-    for file in super::discover(&dir)? {
-        let t = loader::read_merged(&file)?;
+    for file in super::loader::discover(&dir)? {
+        let t = read::read_merged(&file)?;
         if let Some(id) = t.get("experiment").and_then(|m| m.get("id")).and_then(|v| v.as_str()) {
             files.insert(id.to_string(), file);
         }
@@ -581,11 +582,11 @@ fn load_dependencies(study: &mut Study) -> Result<()> {
                 format!("no experiment with id \"{id}\" in {}", dir.display()),
             ));
         };
-        for e in super::load_with(file, &study.files)? {
+        for e in super::loader::load_with(file, &study.files)? {
             wanted.extend(e.dependencies());
             study.dependencies.push(e);
         }
-        for (_, t) in loader::read_models(file)? {
+        for (_, t) in read::read_models(file)? {
             study.dependency_tables.insert((id.clone(), model_of(&t)), (file.clone(), t));
         }
         done.push(id);
@@ -659,7 +660,7 @@ impl Study {
                     .map_err(|m| on(format!("vary[{i}].key (\"{}\")", v.key.as_str()), x, m))?;
             }
         }
-        let mut exp = super::from_table(file, table, &self.files).map_err(|e| self.at_sample(e, sample))?;
+        let mut exp = super::loader::from_table(file, table, &self.files).map_err(|e| self.at_sample(e, sample))?;
         exp.models = self.base.iter().filter_map(|e| e.model.clone()).collect();
         Ok(exp)
     }

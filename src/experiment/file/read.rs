@@ -124,7 +124,7 @@ pub fn read_models(path: &Path) -> Result<Vec<(Option<PathBuf>, toml::Table)>> {
                 )
             },
         )?;
-        if !super::fields::is_identifier(&id) {
+        if !crate::experiment::fields::is_identifier(&id) {
             return Err(Error::invalid(
                 &model_path,
                 "model.id",
@@ -132,7 +132,7 @@ pub fn read_models(path: &Path) -> Result<Vec<(Option<PathBuf>, toml::Table)>> {
                 "use letters, digits, '_' and '-' only",
             ));
         }
-        super::fields::id_length(&model_path, "model.id", &id)?;
+        crate::experiment::fields::id_length(&model_path, "model.id", &id)?;
         if ids.contains(&id) {
             return Err(Error::invalid(path, "models", format!("\"{id}\""), "each model may be listed once"));
         }
@@ -235,7 +235,7 @@ pub fn read_raw(path: &Path, mut table: toml::Table) -> Result<RawExperiment> {
 /// reads them and its validation states the allowed range (`max_iters = 1e9`: "give a whole
 /// number from 1 to 10000"); a key taking a float reads an integer as the same float.
 /// Beyond 2^53 a float stays a float.
-pub(super) fn whole_floats(v: &mut toml::Value) {
+pub(in crate::experiment) fn whole_floats(v: &mut toml::Value) {
     match v {
         toml::Value::Float(f) if f.fract() == 0.0 && f.abs() <= 9_007_199_254_740_992.0 => {
             *v = toml::Value::Integer(*f as i64);
@@ -248,7 +248,7 @@ pub(super) fn whole_floats(v: &mut toml::Value) {
 
 /// A deserialiser's message in the words of the files: Rust's type names become what a
 /// file gives ("expected i64" is "expected a whole number").
-pub(super) fn serde_words(message: &str) -> String {
+pub(in crate::experiment) fn serde_words(message: &str) -> String {
     [
         ("expected i64", "expected a whole number"),
         ("expected u64", "expected a whole number >= 0"),
