@@ -267,69 +267,22 @@ pub fn build(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -
     Ok(built)
 }
 
-/// [`build`] without looking for a reduction already made.
-fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> Result<FromFiles> {
+/// The points of `[structure.finite_element]` (`raw.points`) on the model's rows: each by its
+/// node and direction or its row, distinct, named, and measured upward where `up` (the
+/// global axis 1-3 and its sign) says which way is up.
+fn points_of(
+    path: &Path,
+    raw: &RawFiniteElement,
+    labels: &Option<Vec<DofLabel>>,
+    n: usize,
+    (up_axis, up_sign): (usize, f64),
+) -> Result<Vec<Point>> {
     let key = |k: &str| format!("structure.finite_element.{k}");
     let invalid = |k: &str, v: &dyn std::fmt::Display, m: &str| Error::invalid(path, key(k), v, m);
-    let (k_scale, m_scale) = match raw.units.as_deref() {
-        None | Some("N-m-kg") => (1.0, 1.0),
-        Some("N-mm-t") => (1e3, 1e3),
-        Some(u) => {
-            return Err(invalid("units", &format!("\"{u}\""), "\"N-m-kg\" (default) or \"N-mm-t\" (N/mm and tonnes)"))
-        }
-    };
-    let axis = |k: &str, v: &str| match v {
-        "x" | "+x" => Ok((1, 1.0)),
-        "y" | "+y" => Ok((2, 1.0)),
-        "z" | "+z" => Ok((3, 1.0)),
-        "-x" => Ok((1, -1.0)),
-        "-y" => Ok((2, -1.0)),
-        "-z" => Ok((3, -1.0)),
-        u => Err(invalid(
-            k,
-            &format!("\"{u}\""),
-            &format!(
-                "the global direction that {}: x, y, z, -x, -y or -z",
-                if k == "up" { "points up" } else { "moving supports accelerate along" }
-            ),
-        )),
-    };
-    let (up_axis, up_sign) = axis("up", &raw.up)?;
-    let base = axis("base_direction", raw.base_direction.as_deref().unwrap_or(&raw.up))?;
-    let keep = match (raw.modes, raw.cutoff_hz) {
-        (Some(m), None) if (0..=10_000).contains(&m) => Keep::Count(m as usize),
-        (Some(m), None) => return Err(invalid("modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000")),
-        (None, Some(f)) if f.is_finite() && f > 0.0 && f <= MAX_CUTOFF_HZ => Keep::Below(2.0 * std::f64::consts::PI * f),
-        (None, Some(f)) => {
-            return Err(invalid("cutoff_hz", &f, &format!("a positive frequency, Hz, at most {MAX_CUTOFF_HZ:e}")))
-        }
-        _ => {
-            return Err(invalid(
-                "modes / cutoff_hz",
-                &"(both or neither)",
-                "give at most one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F); without either, every mode below twice the highest frequency the analysis simulates (a modal analysis has none: give one)",
-            ))
-        }
-    };
-    let tolerance = raw.tolerance.unwrap_or(1e-3);
-    if !(tolerance > 0.0 && tolerance < 1.0) {
-        return Err(invalid("tolerance", &tolerance, "a relative difference between 0 and 1 (default 1e-3)"));
-    }
-    let (labels, k_read, m_read, n) = read(path, &raw)?;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let stiffness = matrix(&dir.join(&raw.stiffness), "stiffness", k_read, n, k_scale, &labels)?;
-    let mass = matrix(&dir.join(&raw.mass), "mass", m_read, n, m_scale, &labels)?;
-    if raw.points.is_empty() {
-        return Err(invalid(
-            "points",
-            &"[]",
-            "name at least one point: { node = N, dof = D } (container hosts, the force, responses)",
-        ));
-    }
     let mut points: Vec<Point> = Vec::with_capacity(raw.points.len());
     for (i, p) in raw.points.iter().enumerate() {
         let pk = format!("points[{i}]");
-        let (row, label) = match (p.node, p.dof, p.row, &labels) {
+        let (row, label) = match (p.node, p.dof, p.row, labels) {
             (Some(node), Some(dof), None, Some(l)) => {
                 if !(1..=3).contains(&dof) {
                     return Err(invalid(&format!("{pk}.dof"), &dof, "a translation: 1 (x), 2 (y) or 3 (z)"));
@@ -371,7 +324,7 @@ fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> R
             _ => return Err(invalid(&pk, &"(incomplete)", "give node and dof, or row")),
         };
         if let Some(j) = points.iter().position(|q| q.row == row) {
-            return Err(invalid(&pk, &row_name(&labels, row), &format!("the same degree of freedom as points[{j}]")));
+            return Err(invalid(&pk, &row_name(labels, row), &format!("the same degree of freedom as points[{j}]")));
         }
         // Without names every point is taken along the vertical (a chain's coordinates).
         let vertical = label.is_none_or(|l| usize::from(l.dof) == up_axis);
@@ -382,6 +335,92 @@ fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> R
         });
         points.push(Point { name, row, label, vertical, horizontal, sign: if vertical { up_sign } else { 1.0 } });
     }
+    Ok(points)
+}
+
+/// The settings of `[structure.finite_element]` other than its files and points, checked.
+struct Settings {
+    /// Stiffness and mass scales to N/m and kg.
+    k_scale: f64,
+    m_scale: f64,
+    /// The global axis (1-3) that points up, and its sign.
+    up: (usize, f64),
+    /// The axis moving supports accelerate along, and its sign.
+    base: (usize, f64),
+    /// The fixed-interface modes kept.
+    keep: Keep,
+    /// The reduction check's tolerance.
+    tolerance: f64,
+}
+
+/// [`Settings`] of `raw`, each refused with its key, value and what is allowed.
+fn settings(path: &Path, raw: &RawFiniteElement) -> Result<Settings> {
+    let key = |k: &str| format!("structure.finite_element.{k}");
+    let invalid = |k: &str, v: &dyn std::fmt::Display, m: &str| Error::invalid(path, key(k), v, m);
+    let (k_scale, m_scale) = match raw.units.as_deref() {
+        None | Some("N-m-kg") => (1.0, 1.0),
+        Some("N-mm-t") => (1e3, 1e3),
+        Some(u) => {
+            return Err(invalid("units", &format!("\"{u}\""), "\"N-m-kg\" (default) or \"N-mm-t\" (N/mm and tonnes)"))
+        }
+    };
+    let axis = |k: &str, v: &str| match v {
+        "x" | "+x" => Ok((1, 1.0)),
+        "y" | "+y" => Ok((2, 1.0)),
+        "z" | "+z" => Ok((3, 1.0)),
+        "-x" => Ok((1, -1.0)),
+        "-y" => Ok((2, -1.0)),
+        "-z" => Ok((3, -1.0)),
+        u => Err(invalid(
+            k,
+            &format!("\"{u}\""),
+            &format!(
+                "the global direction that {}: x, y, z, -x, -y or -z",
+                if k == "up" { "points up" } else { "moving supports accelerate along" }
+            ),
+        )),
+    };
+    let up = axis("up", &raw.up)?;
+    let base = axis("base_direction", raw.base_direction.as_deref().unwrap_or(&raw.up))?;
+    let keep = match (raw.modes, raw.cutoff_hz) {
+        (Some(m), None) if (0..=10_000).contains(&m) => Keep::Count(m as usize),
+        (Some(m), None) => return Err(invalid("modes", &m, "the fixed-interface modes kept: a whole number from 0 to 10000")),
+        (None, Some(f)) if f.is_finite() && f > 0.0 && f <= MAX_CUTOFF_HZ => Keep::Below(2.0 * std::f64::consts::PI * f),
+        (None, Some(f)) => {
+            return Err(invalid("cutoff_hz", &f, &format!("a positive frequency, Hz, at most {MAX_CUTOFF_HZ:e}")))
+        }
+        _ => {
+            return Err(invalid(
+                "modes / cutoff_hz",
+                &"(both or neither)",
+                "give at most one: modes = N (the lowest N fixed-interface modes) or cutoff_hz = F (every one below F); without either, every mode below twice the highest frequency the analysis simulates (a modal analysis has none: give one)",
+            ))
+        }
+    };
+    let tolerance = raw.tolerance.unwrap_or(1e-3);
+    if !(tolerance > 0.0 && tolerance < 1.0) {
+        return Err(invalid("tolerance", &tolerance, "a relative difference between 0 and 1 (default 1e-3)"));
+    }
+    Ok(Settings { k_scale, m_scale, up, base, keep, tolerance })
+}
+
+/// [`build`] without looking for a reduction already made.
+fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> Result<FromFiles> {
+    let key = |k: &str| format!("structure.finite_element.{k}");
+    let invalid = |k: &str, v: &dyn std::fmt::Display, m: &str| Error::invalid(path, key(k), v, m);
+    let Settings { k_scale, m_scale, up: (up_axis, up_sign), base, keep, tolerance } = settings(path, &raw)?;
+    let (labels, k_read, m_read, n) = read(path, &raw)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let stiffness = matrix(&dir.join(&raw.stiffness), "stiffness", k_read, n, k_scale, &labels)?;
+    let mass = matrix(&dir.join(&raw.mass), "mass", m_read, n, m_scale, &labels)?;
+    if raw.points.is_empty() {
+        return Err(invalid(
+            "points",
+            &"[]",
+            "name at least one point: { node = N, dof = D } (container hosts, the force, responses)",
+        ));
+    }
+    let points = points_of(path, &raw, &labels, n, (up_axis, up_sign))?;
     let boundary: Vec<usize> = points.iter().map(|p| p.row).collect();
     // The key that sets how many modes are kept, as given.
     let (keep_key, keep_value) = match (raw.modes, raw.cutoff_hz) {
