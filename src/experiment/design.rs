@@ -202,6 +202,45 @@ fn sdof(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<(usize, Vec<f64
     })
 }
 
+/// The Nelder-Mead search's options of `raw` (`starts`, `max_iters`, `tolerance`, `seed`,
+/// `step_tolerance`), each within its stated limit.
+fn search_options(path: &Path, raw: &RawDesign) -> Result<Options> {
+    let bad = bad_at(path);
+    let defaults = Options::default();
+    Ok(Options {
+        starts: whole(path, "design.starts", raw.starts, defaults.starts, limits::STARTS)?,
+        max_iters: whole(path, "design.max_iters", raw.max_iters, defaults.max_iters as usize, limits::MAX_ITERS)?
+            as u64,
+        tolerance: match raw.tolerance {
+            None => defaults.tolerance,
+            Some(t) if t.is_finite() && t > 0.0 && t < 1.0 => t,
+            Some(t) => {
+                return Err(bad(
+                    "tolerance",
+                    &t,
+                    "the spread of a simplex's objectives at which a start ends: between 0 and 1 (default 1e-6)",
+                ))
+            }
+        },
+        seed: match raw.seed {
+            None => defaults.seed,
+            Some(s) if s >= 0 => s as u64,
+            Some(s) => return Err(bad("seed", &s, "a whole number >= 0")),
+        },
+        step_tolerance: match raw.step_tolerance {
+            None => defaults.step_tolerance,
+            Some(t) if t.is_finite() && (0.0..1.0).contains(&t) => t,
+            Some(t) => {
+                return Err(bad(
+                    "step_tolerance",
+                    &t,
+                    "the size of a simplex (in the search's free coordinates, its first steps 1 long) at which a start ends: from 0 (never, the default) to below 1",
+                ))
+            }
+        },
+    })
+}
+
 /// The design of an experiment: required by kind "design", refused by every other kind.
 /// `total_mass`: the structure's mass a shot mass is stated against, kg ([`super::structure_mass`],
 /// for a shot mass ratio and Pareto ratios; `None` for a full mass matrix, whose total mass the
@@ -278,39 +317,7 @@ pub fn design(
     let scenario_models = raw.scenarios.as_ref().and_then(|sc| sc.models).unwrap_or(false);
     let (scenario_damping, scenario_force_n, combine) = scenarios(path, &raw, scenario_models)?;
     let sdof = sdof(path, &raw, n)?;
-    let defaults = Options::default();
-    let search = Options {
-        starts: whole(path, "design.starts", raw.starts, defaults.starts, limits::STARTS)?,
-        max_iters: whole(path, "design.max_iters", raw.max_iters, defaults.max_iters as usize, limits::MAX_ITERS)?
-            as u64,
-        tolerance: match raw.tolerance {
-            None => defaults.tolerance,
-            Some(t) if t.is_finite() && t > 0.0 && t < 1.0 => t,
-            Some(t) => {
-                return Err(bad(
-                    "tolerance",
-                    &t,
-                    "the spread of a simplex's objectives at which a start ends: between 0 and 1 (default 1e-6)",
-                ))
-            }
-        },
-        seed: match raw.seed {
-            None => defaults.seed,
-            Some(s) if s >= 0 => s as u64,
-            Some(s) => return Err(bad("seed", &s, "a whole number >= 0")),
-        },
-        step_tolerance: match raw.step_tolerance {
-            None => defaults.step_tolerance,
-            Some(t) if t.is_finite() && (0.0..1.0).contains(&t) => t,
-            Some(t) => {
-                return Err(bad(
-                    "step_tolerance",
-                    &t,
-                    "the size of a simplex (in the search's free coordinates, its first steps 1 long) at which a start ends: from 0 (never, the default) to below 1",
-                ))
-            }
-        },
-    };
+    let search = search_options(path, &raw)?;
     let direction = match raw.direction.as_deref() {
         None => Direction::Vertical,
         Some(name) => match Direction::from_name(name) {

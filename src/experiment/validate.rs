@@ -21,28 +21,7 @@ use super::{Analysis, Case, ClearanceSource, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
 pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experiment> {
-    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
-
-    let m = raw.experiment;
-    if !is_identifier(&m.id) {
-        return Err(bad(
-            "experiment.id",
-            &format!("\"{}\"", m.id),
-            "use letters, digits, '_' and '-' only (it names the report folder)",
-        ));
-    }
-    super::fields::id_length(path, "experiment.id", &m.id)?;
-    let meta = Meta {
-        id: m.id,
-        title: m.title,
-        figure: m.figure,
-        caption: m.caption,
-        claim: m.claim,
-        assumptions: m.assumptions,
-        notes: m.notes,
-        deviation: m.deviation,
-    };
-
+    let meta = meta(path, raw.experiment)?;
     let model = raw.model.map(|m| ModelInfo { id: m.id, label: m.label, description: m.description });
     let mut raw_structure = raw.structure;
     if let Some(fe) = raw_structure.finite_element.as_mut() {
@@ -140,6 +119,29 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         cases,
         plots,
         checks,
+    })
+}
+
+/// `[experiment]`: its id (it names the report folder) and its words.
+fn meta(path: &Path, m: super::file::raw::RawMeta) -> Result<Meta> {
+    if !is_identifier(&m.id) {
+        return Err(Error::invalid(
+            path,
+            "experiment.id",
+            format!("\"{}\"", m.id),
+            "use letters, digits, '_' and '-' only (it names the report folder)",
+        ));
+    }
+    super::fields::id_length(path, "experiment.id", &m.id)?;
+    Ok(Meta {
+        id: m.id,
+        title: m.title,
+        figure: m.figure,
+        caption: m.caption,
+        claim: m.claim,
+        assumptions: m.assumptions,
+        notes: m.notes,
+        deviation: m.deviation,
     })
 }
 

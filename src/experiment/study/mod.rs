@@ -289,34 +289,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
         ));
     }
     let all = super::loader::load_with(&experiment_path, files)?;
-    let known: Vec<String> = all.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
-    let base: Vec<Experiment> = match &s.models {
-        None => all,
-        Some(list) => {
-            if list.is_empty() || known.is_empty() {
-                return Err(bad(
-                    "study.models",
-                    &format!("{list:?}"),
-                    &format!("a non-empty list of the experiment's models {known:?}"),
-                ));
-            }
-            let mut chosen = Vec::new();
-            for id in list {
-                let Some(e) = all.iter().find(|e| e.model.as_ref().is_some_and(|m| &m.id == id)) else {
-                    return Err(bad(
-                        "study.models",
-                        &format!("\"{id}\""),
-                        &format!("one of the experiment's models {known:?}"),
-                    ));
-                };
-                if chosen.iter().any(|c: &Experiment| c.model == e.model) {
-                    return Err(bad("study.models", &format!("\"{id}\""), "each model may be listed once"));
-                }
-                chosen.push(e.clone());
-            }
-            chosen
-        }
-    };
+    let base = chosen_models(path, all, s.models.as_deref())?;
     if !base[0].checks.iter().any(|c| is_claim(&c.kind)) {
         return Err(bad(
             key,
@@ -347,23 +320,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
         let key = KeyPath::parse(k).map_err(|m| bad(&format!("study.set.\"{k}\""), &v, &m.to_string()))?;
         set.push((key, v.clone()));
     }
-    let map = match &s.map {
-        None => (vary.len() >= 2).then_some((0, 1)),
-        Some(names) => {
-            let names_all: Vec<&str> = vary.iter().map(|v| v.name.as_str()).collect();
-            let idx: Option<Vec<usize>> = names.iter().map(|n| vary.iter().position(|v| &v.name == n)).collect();
-            match idx.as_deref() {
-                Some([x, y]) if x != y => Some((*x, *y)),
-                _ => {
-                    return Err(bad(
-                        "study.map",
-                        &format!("{names:?}"),
-                        &format!("two different names of varied keys, x then y (the names are {names_all:?})"),
-                    ))
-                }
-            }
-        }
-    };
+    let map = map_of(path, s.map.as_deref(), &vary)?;
 
     let domains: Vec<Domain> = vary.iter().map(|v| v.domain.clone()).collect();
     // The size before the samples are made: a grid grows as the product of its keys.
@@ -428,6 +385,61 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
     };
     load_dependencies(&mut study)?;
     Ok(study)
+}
+
+/// The experiments of the study's `models` (every model when none is listed), each once.
+fn chosen_models(path: &Path, all: Vec<Experiment>, models: Option<&[String]>) -> Result<Vec<Experiment>> {
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
+    let known: Vec<String> = all.iter().filter_map(|e| e.model.as_ref().map(|m| m.id.clone())).collect();
+    match models {
+        None => Ok(all),
+        Some(list) => {
+            if list.is_empty() || known.is_empty() {
+                return Err(bad(
+                    "study.models",
+                    &format!("{list:?}"),
+                    &format!("a non-empty list of the experiment's models {known:?}"),
+                ));
+            }
+            let mut chosen = Vec::new();
+            for id in list {
+                let Some(e) = all.iter().find(|e| e.model.as_ref().is_some_and(|m| &m.id == id)) else {
+                    return Err(bad(
+                        "study.models",
+                        &format!("\"{id}\""),
+                        &format!("one of the experiment's models {known:?}"),
+                    ));
+                };
+                if chosen.iter().any(|c: &Experiment| c.model == e.model) {
+                    return Err(bad("study.models", &format!("\"{id}\""), "each model may be listed once"));
+                }
+                chosen.push(e.clone());
+            }
+            Ok(chosen)
+        }
+    }
+}
+
+/// The two varied keys a study's map draws (`map`, x then y; the first two by default).
+fn map_of(path: &Path, names: Option<&[String]>, vary: &[Vary]) -> Result<Option<(usize, usize)>> {
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: &str| Error::invalid(path, key, value, msg);
+    Ok(match names {
+        None => (vary.len() >= 2).then_some((0, 1)),
+        Some(names) => {
+            let names_all: Vec<&str> = vary.iter().map(|v| v.name.as_str()).collect();
+            let idx: Option<Vec<usize>> = names.iter().map(|n| vary.iter().position(|v| &v.name == n)).collect();
+            match idx.as_deref() {
+                Some([x, y]) if x != y => Some((*x, *y)),
+                _ => {
+                    return Err(bad(
+                        "study.map",
+                        &format!("{names:?}"),
+                        &format!("two different names of varied keys, x then y (the names are {names_all:?})"),
+                    ))
+                }
+            }
+        }
+    })
 }
 
 fn vary_entry(path: &Path, i: usize, v: RawVary) -> Result<Vary> {
