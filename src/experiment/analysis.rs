@@ -7,7 +7,8 @@ use crate::sim::motion::impulse::{ImpulseOptions, Kick};
 use crate::sim::settle::steady::SteadyMethod;
 use crate::sim::SteadyOptions;
 
-use super::file::raw::{RawAnalysis, RawGrid, RawSteady};
+use super::file::grid::RawGrid;
+use super::file::raw::{RawAnalysis, RawSteady};
 use super::{Analysis, Number, Start};
 
 /// Most grid points a frequency axis may have.

@@ -11,7 +11,7 @@ use crate::number::fmt_list as fmt_num_list;
 
 use super::analysis::grid;
 use super::fields::distinct;
-use super::file::raw::RawDesign;
+use super::file::raw_design::RawDesign;
 
 /// A 1-based mass list as 0-based indices, each in range and distinct.
 fn masses(path: &Path, key: &str, list: &[i64], n: usize) -> Result<Vec<usize>> {

@@ -5,5 +5,7 @@
 //! setup is one function away: `validate` of the experiment room turns a [`raw::RawExperiment`]
 //! into an `Experiment` ([`super::loader`] runs both).
 
+pub mod grid;
 pub mod raw;
+pub mod raw_design;
 pub mod read;

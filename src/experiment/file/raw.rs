@@ -1,9 +1,13 @@
 //! Raw experiment files: serde structs that mirror the TOML exactly.
 //!
-//! Nothing here is validated; [`super::validate`] turns these into typed values once.
+//! Nothing here is validated; [`crate::experiment::validate`] turns these into typed values
+//! once. A design's tables are in [`super::raw_design`].
 //! The format is documented in `docs/experiment-format.md`.
 
 use serde::Deserialize;
+
+use super::grid::RawGrid;
+use super::raw_design::RawDesign;
 
 /// A whole experiment file after `extends` has been merged in.
 #[derive(Debug, Deserialize)]
@@ -319,180 +323,6 @@ pub struct RawSteady {
     /// (default false; true in designs).
     #[serde(default)]
     pub follow: Option<bool>,
-}
-
-/// `[design]`: what a design search may vary and what it lowers (docs/design.md).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawDesign {
-    /// 1-based masses that may carry a container.
-    pub candidates: Vec<i64>,
-    /// Most containers in one layout (default: every candidate).
-    #[serde(default)]
-    pub max_beds: Option<i64>,
-    /// The shot budget: total shot mass over the structure's total mass ...
-    #[serde(default)]
-    pub shot_mass_ratio: Option<f64>,
-    /// ... or in kg.
-    #[serde(default)]
-    pub shot_kg: Option<f64>,
-    /// Bounds of the clearance, mm: `[min, max]`.
-    pub clearance_mm: Vec<f64>,
-    /// Forces (N) at which the best layout and the cases are evaluated after the search, to
-    /// draw the reduction against the drive level (not part of the objective).
-    #[serde(default)]
-    pub drive_levels_n: Option<Vec<f64>>,
-    /// The direction every container's bed moves in: "vertical" (default, the paper's) or
-    /// "horizontal".
-    #[serde(default)]
-    pub direction: Option<String>,
-    /// One clearance for every container (default) or one each.
-    #[serde(default)]
-    pub shared_clearance: Option<bool>,
-    /// "peak" (default) or "rms".
-    #[serde(default)]
-    pub measure: Option<String>,
-    /// Sweeps whose worst value counts: any of "rest", "up", "down" (default ["up", "down"]).
-    #[serde(default)]
-    pub sweeps: Option<Vec<String>>,
-    /// Nelder-Mead starts per placement (default 3), iterations per start (default 100).
-    #[serde(default)]
-    pub starts: Option<i64>,
-    #[serde(default)]
-    /// Nelder-Mead iterations per start (default 100).
-    pub max_iters: Option<i64>,
-    /// A start ends when the standard deviation of its simplex's objectives falls below this
-    /// (default 1e-6).
-    #[serde(default)]
-    pub tolerance: Option<f64>,
-    /// A start also ends when its simplex has shrunk below this in every free coordinate (the
-    /// search's coordinates; default 0: never).
-    #[serde(default)]
-    pub step_tolerance: Option<f64>,
-    #[serde(default)]
-    /// Seed of the starts (default 1).
-    pub seed: Option<i64>,
-    /// Total shot mass ratios of the Pareto front (optional).
-    #[serde(default)]
-    pub pareto_mass_ratios: Option<Vec<f64>>,
-    /// `shotdamp report` shows this design (its stored answer evaluated again); default false.
-    #[serde(default)]
-    pub report: Option<bool>,
-    /// The bands whose response is lowered.
-    pub bands: Vec<RawBand>,
-    /// Values the objective is taken over (the paper leaves them unstated).
-    #[serde(default)]
-    pub scenarios: Option<RawScenarios>,
-    /// The paper's SDOF technique beside the search.
-    #[serde(default)]
-    pub sdof: Option<RawDesignSdof>,
-    /// `[design.screen]`: search on a coarser reduction of a finite-element structure.
-    #[serde(default)]
-    pub screen: Option<RawScreen>,
-}
-
-/// `[design.screen]`: the reduction the search runs on (fixed-interface modes kept, as
-/// `[structure.finite_element]`'s keys); each placement's best is then evaluated on the
-/// file's own.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawScreen {
-    /// Fixed-interface modes kept (instead of `cutoff_hz`).
-    #[serde(default)]
-    pub modes: Option<i64>,
-    /// Keep every fixed-interface mode below this, Hz (instead of `modes`).
-    #[serde(default)]
-    pub cutoff_hz: Option<f64>,
-    /// Forcing periods a steady state of the search may run (default: `steady.max_periods`).
-    #[serde(default)]
-    pub max_periods: Option<i64>,
-}
-
-/// `[design.sdof]`: the mode and the candidate clearances of the SDOF rule (Fig. 9).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawDesignSdof {
-    /// 1-based mode.
-    pub mode: i64,
-    /// Candidate clearances, mm.
-    pub clearances_mm: Vec<f64>,
-}
-
-/// `[design.scenarios]`: every combination of the lists.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawScenarios {
-    /// Modal damping ratio of every mode.
-    #[serde(default)]
-    pub damping: Option<Vec<f64>>,
-    /// Force amplitudes, N.
-    #[serde(default)]
-    pub force_n: Option<Vec<f64>>,
-    /// The file's models as scenarios of one search (instead of a search per model).
-    #[serde(default)]
-    pub models: Option<bool>,
-    /// "worst" (default) or "mean".
-    #[serde(default)]
-    pub combine: Option<String>,
-}
-
-/// One band of `[design]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawBand {
-    /// The band's name.
-    pub name: String,
-    /// Its frequency grid.
-    pub freq_hz: RawGrid,
-    /// 1-based masses whose compliance counts.
-    pub masses: Vec<i64>,
-}
-
-/// Frequencies: a table `{ start, stop, points or step }`, or a list of values. (Read by
-/// hand: a derived struct would also take an array as its fields in order, so that
-/// `[30.0, 40.0, 50]` would silently be a grid of 50 points from 30 to 40 Hz.)
-#[derive(Debug)]
-pub enum RawGrid {
-    /// Evenly spaced.
-    Range(RawRange),
-    /// Each value, Hz.
-    List(Vec<f64>),
-}
-
-impl<'de> Deserialize<'de> for RawGrid {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<RawGrid, D::Error> {
-        use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
-        struct Either;
-        impl<'de> serde::de::Visitor<'de> for Either {
-            type Value = RawGrid;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a grid { start, stop, points or step } or a list of frequencies (Hz)")
-            }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> std::result::Result<RawGrid, A::Error> {
-                Vec::<f64>::deserialize(SeqAccessDeserializer::new(seq)).map(RawGrid::List)
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> std::result::Result<RawGrid, A::Error> {
-                RawRange::deserialize(MapAccessDeserializer::new(map)).map(RawGrid::Range)
-            }
-        }
-        d.deserialize_any(Either)
-    }
-}
-
-/// An evenly spaced grid: `start`, `stop` and either `points` or `step`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawRange {
-    /// First frequency, Hz.
-    pub start: f64,
-    /// Last frequency, Hz.
-    pub stop: f64,
-    #[serde(default)]
-    /// Number of points (or `step`).
-    pub points: Option<i64>,
-    #[serde(default)]
-    /// Spacing, Hz (or `points`).
-    pub step: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
