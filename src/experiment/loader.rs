@@ -73,7 +73,7 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Vec<Experiment>> {
     load_with(path, &Files::new(reference_dir))
 }
 
-/// An experiment from a table (one model's, as [`read_models`] gives it, possibly changed by a
+/// An experiment from a table (one model's, as [`read::read_models`] gives it, possibly changed by a
 /// caller such as a study or the explorer): read and validated as a file's would be, its
 /// errors naming `path`.
 pub fn from_table(path: &Path, table: toml::Table, files: &Files) -> Result<Experiment> {

@@ -28,7 +28,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     if let Some(fe) = raw_structure.finite_element.as_mut() {
         // Default: every fixed-interface mode below twice the highest frequency analysed.
         if fe.modes.is_none() && fe.cutoff_hz.is_none() {
-            fe.cutoff_hz = super::fe::highest_analysed(&raw.analysis, raw.design.as_ref()).map(|f| 2.0 * f);
+            fe.cutoff_hz = super::file::raw::highest_analysed(&raw.analysis, raw.design.as_ref()).map(|f| 2.0 * f);
         }
     }
     let models_as_scenarios = raw.design.as_ref().and_then(|d| d.scenarios.as_ref()).and_then(|s| s.models);

@@ -10,6 +10,7 @@
 //! ([`Session::open`]); the server is [`http`].
 
 pub mod http;
+pub mod keys;
 mod page;
 mod point;
 
@@ -21,11 +22,12 @@ use serde_json::{json, Value};
 
 use crate::analysis::{self, curves};
 use crate::checks::reference::{BaselineMode, ReferenceStore};
-use crate::error::file::OverrideError;
 use crate::error::{Error, Result};
 use crate::experiment::study::KeyPath;
 use crate::experiment::{self, Case, CurveId, Experiment, Exports, Linear};
+
 use crate::reference::files::Files;
+use keys::{allowed, Allowed, ALLOWED, LAWS};
 
 pub use point::PointRequest;
 
@@ -34,35 +36,6 @@ pub const MAX_POINTS: usize = 2001;
 
 /// Longest time one request may compute before it is abandoned.
 pub const MAX_TIME: Duration = Duration::from_secs(30);
-
-/// The key paths a request may set (a selector `[...]` after `cases` or `dampers` picks one
-/// case or container), what each takes and the range the page's control spans. The
-/// experiment's validation has the last word on every value.
-pub const ALLOWED: &[Allowed] = &[
-    Allowed { path: "cases[*].dampers[*].clearance_mm", label: "clearance, mm", min: 0.01, max: 20.0, log: true },
-    Allowed { path: "cases[*].dampers[*].mass_ratio", label: "mass ratio", min: 0.005, max: 0.5, log: true },
-    Allowed { path: "cases[*].dampers[*].restitution", label: "restitution", min: 0.0, max: 0.95, log: false },
-    Allowed { path: "structure.damping.modal_ratios", label: "modal damping ratio", min: 0.0005, max: 0.1, log: true },
-    Allowed { path: "excitation.force_n", label: "force, N", min: 0.05, max: 50.0, log: true },
-];
-
-/// One settable key path and its control's range.
-#[derive(Debug, Clone, Copy)]
-pub struct Allowed {
-    /// The path with `[*]` where a request may also name one element.
-    pub path: &'static str,
-    /// The control's label.
-    pub label: &'static str,
-    /// The control's range (the validation's is wider or equal).
-    pub min: f64,
-    /// Upper end of the control's range.
-    pub max: f64,
-    /// Whether the control moves on a logarithmic scale.
-    pub log: bool,
-}
-
-/// The bed laws a request may choose (`cases[*].dampers[*].bed`).
-const LAWS: &[&str] = &["plastic", "restitution"];
 
 /// One model of the file: its id, label and merged table.
 #[derive(Debug, Clone)]
@@ -324,57 +297,6 @@ fn as_sweep(table: &mut toml::Table, req: &Request) -> Result<()> {
     Ok(())
 }
 
-/// Why one `[path, value]` of a request is refused (the request names it).
-#[derive(Debug, thiserror::Error)]
-enum SetError {
-    /// Not a key path, or one the setup cannot take.
-    #[error(transparent)]
-    Path(#[from] OverrideError),
-    /// A bed's law that is not one.
-    #[error("a bed law: one of {LAWS:?}")]
-    Law,
-    /// A key the explorer does not set.
-    #[error("not a key the explorer sets; these are (a selector [INDEX] or [ID] may replace [*]): {0:?}")]
-    NotSet(Vec<&'static str>),
-    /// A value that is not a finite number.
-    #[error("a finite number")]
-    NotANumber,
-}
-
-/// The path and value of one `[path, value]` of a request, when [`ALLOWED`] (or a bed law).
-fn allowed(key: &str, value: &Value) -> std::result::Result<(KeyPath, toml::Value), SetError> {
-    let path = KeyPath::parse(key)?;
-    let general = generalise(key);
-    if general == "cases[*].dampers[*].bed" {
-        let law = value.as_str().filter(|s| LAWS.contains(s)).ok_or(SetError::Law)?;
-        return Ok((path, toml::Value::String(law.to_string())));
-    }
-    if !ALLOWED.iter().any(|a| a.path == general || format!("{}[*]", a.path) == general) {
-        return Err(SetError::NotSet(ALLOWED.iter().map(|a| a.path).chain(["cases[*].dampers[*].bed"]).collect()));
-    };
-    let x = value.as_f64().filter(|x| x.is_finite()).ok_or(SetError::NotANumber)?;
-    Ok((path, toml::Value::Float(x)))
-}
-
-/// `cases[single].dampers[0].clearance_mm` -> `cases[*].dampers[*].clearance_mm`: every
-/// selector replaced by `[*]`.
-fn generalise(key: &str) -> String {
-    let mut out = String::with_capacity(key.len());
-    let mut inside = false;
-    for ch in key.chars() {
-        match ch {
-            '[' => {
-                inside = true;
-                out.push_str("[*]");
-            }
-            ']' => inside = false,
-            _ if inside => {}
-            _ => out.push(ch),
-        }
-    }
-    out
-}
-
 /// The values of export references (`"@EXPERIMENT.KEY"`) written into an exported table, so
 /// that it runs alone: the clearances the request's experiment resolved them to.
 fn resolve_exports(table: &mut toml::Table, exp: &Experiment) {
@@ -601,33 +523,4 @@ fn dependencies(exps: &[Experiment], files: &Files, reference: &Path) -> Result<
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn req(start: f64, stop: f64, step: f64) -> Request {
-        Request { model: 0, set: Vec::new(), band: Band { start, stop, step }, start: "rest".into(), seq: 0 }
-    }
-
-    #[test]
-    fn a_selector_is_read_as_any_element() {
-        assert_eq!(generalise("cases[single].dampers[0].clearance_mm"), "cases[*].dampers[*].clearance_mm");
-        assert_eq!(generalise("structure.damping.modal_ratios[2]"), "structure.damping.modal_ratios[*]");
-        assert!(allowed("cases[triple].dampers[2].clearance_mm", &json!(0.4)).is_ok());
-        assert!(allowed("structure.damping.modal_ratios[1]", &json!(0.02)).is_ok());
-        assert!(allowed("cases[*].dampers[*].bed", &json!("restitution")).is_ok());
-        assert!(allowed("cases[*].dampers[*].bed", &json!("column")).is_err());
-        assert!(allowed("structure.finite_element.mass", &json!("/etc/passwd")).is_err());
-        assert!(allowed("cases[*].dampers[*].clearance_mm", &json!("inf")).is_err());
-        assert!(allowed("cases[*].dampers[*].clearance_mm", &json!(null)).is_err());
-    }
-
-    #[test]
-    fn a_band_has_at_most_max_points() {
-        assert_eq!(band(&req(44.0, 56.0, 0.1)).unwrap().len(), 121);
-        assert_eq!(band(&req(1.0, 21.0, 0.01)).unwrap().len(), MAX_POINTS);
-        assert!(band(&req(1.0, 21.01, 0.01)).is_err());
-        assert!(band(&req(50.0, 44.0, 0.1)).is_err());
-        assert!(band(&req(44.0, 56.0, 0.0)).is_err());
-        assert!(band(&req(f64::NAN, 56.0, 0.1)).is_err());
-    }
-}
+mod tests;

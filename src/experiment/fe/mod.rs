@@ -561,24 +561,6 @@ fn supports(
     crate::model::base::Supports { follow, load, direction: direction.to_string() }
 }
 
-/// The highest frequency an experiment file's analysis asks for, Hz, as written (its grid,
-/// its listed frequencies, its design bands), if any: the default cutoff's base.
-pub fn highest_analysed(
-    a: &super::file::raw::RawAnalysis,
-    d: Option<&super::file::raw_design::RawDesign>,
-) -> Option<f64> {
-    let grids = a.freq_hz.iter().chain(d.into_iter().flat_map(|d| d.bands.iter().map(|b| &b.freq_hz)));
-    let listed = a.frequencies_hz.iter().flatten().filter_map(toml::Value::as_float);
-    grids
-        .flat_map(|g| match g {
-            super::file::grid::RawGrid::Range(r) => vec![r.start, r.stop],
-            super::file::grid::RawGrid::List(l) => l.clone(),
-        })
-        .chain(listed)
-        .filter(|f| f.is_finite() && *f > 0.0)
-        .fold(None, |m: Option<f64>, f| Some(m.map_or(f, |m| m.max(f))))
-}
-
 /// Checks that `host` (0-based coordinate, named `key`) is a point a container moving along
 /// `direction` may sit on: a translation along the vertical for a vertical container, at a
 /// right angle to it for a horizontal one.

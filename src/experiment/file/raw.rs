@@ -514,3 +514,18 @@ pub struct RawCheck {
     #[serde(default)]
     pub level: Option<f64>,
 }
+
+/// The highest frequency an experiment file's analysis asks for, Hz, as written (its grid,
+/// its listed frequencies, its design bands), if any: the default cutoff's base.
+pub fn highest_analysed(a: &RawAnalysis, d: Option<&RawDesign>) -> Option<f64> {
+    let grids = a.freq_hz.iter().chain(d.into_iter().flat_map(|d| d.bands.iter().map(|b| &b.freq_hz)));
+    let listed = a.frequencies_hz.iter().flatten().filter_map(toml::Value::as_float);
+    grids
+        .flat_map(|g| match g {
+            RawGrid::Range(r) => vec![r.start, r.stop],
+            RawGrid::List(l) => l.clone(),
+        })
+        .chain(listed)
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .fold(None, |m: Option<f64>, f| Some(m.map_or(f, |m| m.max(f))))
+}
