@@ -8,4 +8,5 @@
 pub mod grid;
 pub mod raw;
 pub mod raw_design;
+pub mod raw_study;
 pub mod read;

@@ -15,12 +15,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use serde::Deserialize;
-
 use crate::error::file::OverrideError;
 use crate::error::{read_to_string, Error, Result};
 use crate::reference::files::Files;
 
+use super::file::raw_study::{RawFile, RawStudy, RawVary};
 use super::file::read;
 use super::{CheckKind, Experiment};
 pub use design::{Design, Domain, Refine};
@@ -113,49 +112,6 @@ pub struct Study {
     files: Arc<Files>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawFile {
-    study: RawStudy,
-    #[serde(default)]
-    vary: Vec<RawVary>,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawStudy {
-    id: String,
-    title: String,
-    #[serde(default)]
-    experiment: Option<String>,
-    #[serde(default)]
-    experiments: Option<Vec<String>>,
-    #[serde(default)]
-    description: Option<String>,
-    #[serde(default)]
-    models: Option<Vec<String>>,
-    #[serde(default)]
-    design: Option<String>,
-    #[serde(default)]
-    samples: Option<i64>,
-    #[serde(default)]
-    seed: Option<i64>,
-    #[serde(default)]
-    levels: Option<i64>,
-    #[serde(default)]
-    refine: Option<toml::Value>,
-    #[serde(default)]
-    map: Option<Vec<String>>,
-    #[serde(default)]
-    report: bool,
-    #[serde(default)]
-    stored: bool,
-    #[serde(default)]
-    section: Option<String>,
-    #[serde(default)]
-    set: toml::Table,
-}
-
 /// Where the report shows a study on its experiment's page.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -166,32 +122,6 @@ pub enum Section {
     /// "Does the bed model matter?": the claims over bed models, each compared with the
     /// sample at the first value of every varied key (the paper's bed).
     Bed,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawVary {
-    name: String,
-    key: String,
-    #[serde(default)]
-    label: Option<String>,
-    #[serde(default)]
-    values: Option<Vec<f64>>,
-    #[serde(default)]
-    range: Option<RawRange>,
-    #[serde(default)]
-    experiments: Option<Vec<String>>,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawRange {
-    start: f64,
-    stop: f64,
-    #[serde(default)]
-    count: Option<i64>,
-    #[serde(default)]
-    scale: Option<String>,
 }
 
 /// Whether a check states one of the paper's claims as a number (what a study re-evaluates).
