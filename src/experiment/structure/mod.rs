@@ -70,16 +70,15 @@ pub(super) fn structure(path: &Path, s: RawStructure, limit: Limit<'_>) -> Resul
     let made = match given.as_slice() {
         [one] => one.build(path, &s, limit)?,
         // A finite-element model with other keys: it names the first of them.
-        more if more.iter().any(|x| x.key() == "finite_element") => {
-            finite_element::FiniteElement.build(path, &s, limit)?
-        }
+        _ if finite_element::FiniteElement.given(&s) => finite_element::FiniteElement.build(path, &s, limit)?,
         _ => {
             // The masses are checked first, as a source would.
             lumped_or_full(path, &s)?;
             return Err(Error::invalid(
                 path,
                 "structure",
-                "chain_stiffness_n_per_m / stiffness_matrix_n_per_m / fit",
+                // The keys of the sources beside a finite-element model's.
+                SOURCES.iter().map(|x| x.key()).filter(|k| *k != "finite_element").collect::<Vec<_>>().join(" / "),
                 "give exactly one of chain_stiffness_n_per_m, stiffness_matrix_n_per_m and fit (measured modes)",
             ));
         }
