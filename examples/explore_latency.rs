@@ -2,9 +2,11 @@
 //! costs now that a reduction is made once a process (docs/extending.md, "One setup, built
 //! once"): the plate CalculiX meshed (`examples/plate/plate.toml`), the same session asked
 //! for a setup at several clearances; each request's validation (the file read, checked and
-//! its model reduced or found reduced) and its whole sweep over a short band are timed.
+//! its model reduced or found reduced) and its whole sweep over a short band are timed. Then
+//! a study's samples (Fig. 5's map of damping and clearance, `studies/fig05_damping_clearance.toml`,
+//! 336 samples on three models): each sample's experiment validated, timed.
 //!
-//!     cargo run --release --example explore_latency [-- FILE]
+//!     cargo run --release --example explore_latency [-- FILE [STUDY]]
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -34,6 +36,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "  request {k} (d = {d} mm): validated in {validated:.1} ms ({} reduction(s) computed), answered in {:.1} ms",
             made::computed() - before,
             ms(t)
+        );
+    }
+    let study =
+        std::env::args().nth(2).map(PathBuf::from).unwrap_or_else(|| "studies/fig05_damping_clearance.toml".into());
+    let t = Instant::now();
+    let study = shotdamp::experiment::study::load(&study, "reference".as_ref())?;
+    println!("{}: study read in {:.1} ms", study.path.display(), ms(t));
+    for round in 0..2 {
+        let t = Instant::now();
+        for sample in &study.samples {
+            study.experiment(sample)?;
+        }
+        let n = study.samples.len();
+        println!(
+            "  round {round}: {n} samples validated in {:.1} ms ({:.0} us a sample)",
+            ms(t),
+            ms(t) * 1e3 / n as f64
         );
     }
     Ok(())

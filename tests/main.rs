@@ -46,3 +46,4 @@ mod study;
 mod sweep;
 mod texts;
 mod torus;
+mod vary;

@@ -5,9 +5,11 @@
 //! [`super::fe::made`]), and orders a run's experiments by the exports they use.
 
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
 
 use super::file::read;
-use super::{design, validate, Experiment, ModelInfo};
+use super::validate::validate_keeping;
+use super::{design, validate, Experiment, Kept, ModelInfo};
 use crate::error::{Error, Result};
 use crate::reference::files::Files;
 
@@ -78,6 +80,46 @@ pub fn load(path: &Path, reference_dir: &Path) -> Result<Vec<Experiment>> {
 /// errors naming `path`.
 pub fn from_table(path: &Path, table: toml::Table, files: &Files) -> Result<Experiment> {
     read::read_raw(path, table).and_then(|raw| validate(path, raw, files))
+}
+
+/// A table of `path` validated as [`from_table`] validates it, its structure taken from
+/// `kept` (what an earlier validation of the file's table built) where `[structure]` and the
+/// analysis' coordinate limit are unchanged (a damping changed alone is computed on the kept
+/// matrices): the same experiment, without building its structure again (no
+/// finite-element file read, no reduction). Returns what this validation built, kept for
+/// the next.
+pub fn vary(path: &Path, table: toml::Table, files: &Files, kept: Option<&Kept>) -> Result<(Experiment, Kept)> {
+    read::read_raw(path, table).and_then(|raw| validate_keeping(path, raw, files, kept))
+}
+
+/// One file's table validated again and again with values set (the explorer's requests, a
+/// study's samples): each validation takes the structure the last one built where it can
+/// ([`vary`]). Shared between threads; the experiments are the same whichever validation
+/// kept what (a kept structure is used only where the inputs it was built from are equal).
+#[derive(Default)]
+pub struct Varying(Mutex<Option<Kept>>);
+
+impl Varying {
+    /// `table` (the file's, values set) validated, errors naming `path`.
+    pub fn validate(&self, path: &Path, table: toml::Table, files: &Files) -> Result<Experiment> {
+        let kept = self.0.lock().unwrap_or_else(PoisonError::into_inner).clone();
+        let (exp, built) = vary(path, table, files, kept.as_ref())?;
+        *self.0.lock().unwrap_or_else(PoisonError::into_inner) = Some(built);
+        Ok(exp)
+    }
+}
+
+impl Clone for Varying {
+    fn clone(&self) -> Varying {
+        Varying(Mutex::new(self.0.lock().unwrap_or_else(PoisonError::into_inner).clone()))
+    }
+}
+
+impl std::fmt::Debug for Varying {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kept = self.0.lock().map(|k| k.is_some()).unwrap_or(false);
+        f.debug_struct("Varying").field("kept", &kept).finish()
+    }
 }
 
 /// [`load`] with the reference files parsed so far (each parsed once, [`Files`]).

@@ -35,6 +35,7 @@ pub use excitation::{Excitation, MAX_FORCE_G};
 pub use file::read::{parse_table, read_merged, read_models};
 pub use kind::Analysis;
 pub use needed::missing_dependencies;
+pub use structure::Kept;
 pub use validate::validate;
 
 /// Titles and texts that describe an experiment.

@@ -53,7 +53,7 @@ pub fn structure_and_model(
 ) -> Result<(Structure, Option<std::sync::Arc<crate::model::fe::FeStructure>>)> {
     let raw: RawStructure = read(origin, "structure.", toml::Value::Table(table))?;
     let built = super::structure::structure(origin.as_ref(), raw, None)?;
-    Ok((built.structure, built.fe.map(std::sync::Arc::new)))
+    Ok((built.structure, built.fe))
 }
 
 /// The dampers of one case from tables with the keys of an experiment file's

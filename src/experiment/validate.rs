@@ -17,11 +17,23 @@ use super::fields::is_identifier;
 use super::file::raw::{RawCase, RawExperiment, RawStructure};
 use super::file::raw_design::RawScreen;
 use super::outputs::plot;
-use super::structure::{structure, Built};
+use super::structure::{structure, structure_kept, Built, Kept};
 use super::{Analysis, Case, ClearanceSource, Experiment, Meta, ModelInfo};
 
 /// Validates a raw experiment read from `path`.
 pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experiment> {
+    validate_keeping(path, raw, files, None).map(|(e, _)| e)
+}
+
+/// [`validate`], its structure taken from `kept` where the experiment's `[structure]` is the
+/// one kept (its damping aside), and what was built kept for the next (an explorer request,
+/// a study sample: [`super::loader::vary`]).
+pub(super) fn validate_keeping(
+    path: &Path,
+    raw: RawExperiment,
+    files: &Files,
+    kept: Option<&Kept>,
+) -> Result<(Experiment, Kept)> {
     let meta = meta(path, raw.experiment)?;
     let model = raw.model.map(|m| ModelInfo { id: m.id, label: m.label, description: m.description });
     let mut raw_structure = raw.structure;
@@ -43,12 +55,14 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     let runs = format!("analysis kind \"{}\" runs", raw.analysis.kind);
     let simulated = super::kind::kind_spec(&raw.analysis.kind).is_some_and(|k| k.simulates);
     let limit = simulated.then_some((MAX_DOF, runs.as_str()));
-    let Built { structure, source, damping_assumption, fit, fe } = structure(path, raw_structure, limit)?;
+    let kept = structure_kept(path, raw_structure, limit, kept)?;
+    let Built { structure, source, damping_assumption, fit, fe: finite_element } = kept.built().clone();
+    let fe = finite_element.as_deref();
     let n = structure.dof();
     // A finite-element structure reports its points only (its other coordinates are modal).
-    let responses = fe.as_ref().map_or(n, |f| f.points.len());
+    let responses = fe.map_or(n, |f| f.points.len());
 
-    if let Some(f) = fe.as_ref().filter(|f| raw.excitation.mass.is_some_and(|m| m > f.points.len() as i64)) {
+    if let Some(f) = fe.filter(|f| raw.excitation.mass.is_some_and(|m| m > f.points.len() as i64)) {
         return Err(Error::invalid(
             path,
             "excitation.mass",
@@ -62,7 +76,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     let excitation = excitation(path, &raw.excitation, &structure.masses[..responses])?;
 
     let cases = cases(path, raw.cases, &structure)?;
-    if let Some(f) = &fe {
+    if let Some(f) = fe {
         for (ci, case) in cases.iter().enumerate() {
             for (di, d) in case.beds.iter().map(|b| &b.damper).enumerate() {
                 super::fe::host_fits(path, f, &format!("cases[{ci}].dampers[{di}].mass"), d.host, d.direction)?;
@@ -72,17 +86,17 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
     let case_ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
     // A full mass matrix's coordinates are not all displacements: its trace is no mass; a
     // finite-element model's is the mass moving along the vertical.
-    let total_mass = super::structure_mass(&structure, fe.as_ref());
+    let total_mass = super::structure_mass(&structure, fe);
     let design = super::design::design(path, raw.design, &raw.analysis.kind, responses, total_mass)?;
     let mut analysis = analysis(path, raw.analysis, n, &case_ids, design)?;
     if let Some(spec) = analysis.design_mut() {
         spec.screen = screen;
     }
-    design_fits(path, &analysis, fe.as_ref(), &excitation, &structure)?;
+    design_fits(path, &analysis, fe, &excitation, &structure)?;
     if excitation.supports {
         super::excitation::supports_fit(path, &analysis)?;
     }
-    cases_fit(path, &analysis, &cases, &structure, fe.as_ref().map(|f| f.points.len()))?;
+    cases_fit(path, &analysis, &cases, &structure, fe.map(|f| f.points.len()))?;
     if raw.plots.len() > MAX_PLOTS {
         return Err(Error::invalid(
             path,
@@ -105,7 +119,7 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         .collect::<Result<Vec<_>>>()?;
     super::texts::validate(path, &meta, &checks)?;
 
-    Ok(Experiment {
+    let exp = Experiment {
         path: path.to_path_buf(),
         meta,
         model,
@@ -113,14 +127,15 @@ pub fn validate(path: &Path, raw: RawExperiment, files: &Files) -> Result<Experi
         structure,
         fit,
         structure_source: source,
-        finite_element: fe.map(std::sync::Arc::new),
+        finite_element,
         damping_assumption,
         excitation,
         analysis,
         cases,
         plots,
         checks,
-    })
+    };
+    Ok((exp, kept))
 }
 
 /// `[experiment]`: its id (it names the report folder) and its words.

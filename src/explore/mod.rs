@@ -43,6 +43,8 @@ struct Model {
     id: String,
     label: String,
     table: toml::Table,
+    /// Its table as the last request set it, validated ([`experiment::loader::Varying`]).
+    varying: experiment::loader::Varying,
     /// The curves the file's checks compare with on this model (independent solver,
     /// digitised), as markers.
     references: Vec<Value>,
@@ -123,6 +125,7 @@ impl Session {
                 id: e.model.as_ref().map_or_else(|| "structure".to_string(), |m| m.id.clone()),
                 label: e.model.as_ref().map_or_else(|| "the file's structure".to_string(), |m| m.label.clone()),
                 table,
+                varying: Default::default(),
                 references: references(e, &store),
             })
             .collect();
@@ -141,11 +144,14 @@ impl Session {
     }
 
     /// The experiment a request describes: the model's table with the request's values set,
-    /// run as a sweep over its band without the file's checks and plots, read and validated as
-    /// a file, its export references resolved.
+    /// run as a sweep over its band without the file's checks and plots, validated as a file
+    /// (its structure taken from the model's last request where `[structure]` is unchanged,
+    /// [`experiment::loader::vary`]), its export references resolved.
     pub fn experiment(&self, req: &Request) -> Result<Experiment> {
-        let table = self.table(req)?;
-        experiment::loader::from_table(&self.path, table, &self.files)
+        let (model, table) = self.table(req)?;
+        model
+            .varying
+            .validate(&self.path, table, &self.files)
             .and_then(|e| e.resolve(&self.exports))
             .map_err(|e| self.of_request(e, req))
     }
@@ -168,8 +174,8 @@ impl Session {
     /// (the model merged in, files it names made absolute), as TOML text. `shotdamp run` on it
     /// computes the curves the page shows.
     pub fn export(&self, req: &Request) -> Result<String> {
-        let mut table = self.table(req)?;
-        let exp = experiment::loader::from_table(&self.path, table.clone(), &self.files)?.resolve(&self.exports)?;
+        let (model, mut table) = self.table(req)?;
+        let exp = model.varying.validate(&self.path, table.clone(), &self.files)?.resolve(&self.exports)?;
         resolve_exports(&mut table, &exp);
         absolute_files(&mut table, &self.path);
         let text = toml::to_string(&table).map_err(|e| bad("(export)", "", e.to_string()))?;
@@ -179,7 +185,8 @@ impl Session {
         ))
     }
 
-    fn table(&self, req: &Request) -> Result<toml::Table> {
+    /// The request's model and its table with the request's band, start and values.
+    fn table(&self, req: &Request) -> Result<(&Model, toml::Table)> {
         let model = self.models.get(req.model).ok_or_else(|| {
             bad("model", req.model, format!("a model index from 0 to {}", self.models.len().saturating_sub(1)))
         })?;
@@ -190,7 +197,7 @@ impl Session {
                 allowed(key, value).map_err(|m| bad(format!("set[{i}] \"{key}\""), value, m.to_string()))?;
             path.set(&mut table, &value).map_err(|m| bad(format!("set[{i}] \"{key}\""), &value, m.to_string()))?;
         }
-        Ok(table)
+        Ok((model, table))
     }
 
     /// Runs a request: the curves of every case (sweeps; the bare structure and each case with

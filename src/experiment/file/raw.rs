@@ -79,7 +79,7 @@ pub struct RawModel {
     pub description: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 /// `[structure]`: masses, stiffness, damping.
 pub struct RawStructure {
@@ -112,8 +112,34 @@ pub struct RawStructure {
     pub source: Option<String>,
 }
 
+impl RawStructure {
+    /// Whether `other` gives the same mass and stiffness: every key but `[structure.damping]`
+    /// equal (a key added to `[structure]` joins the comparison, or this does not compile).
+    pub fn same_matrices(&self, other: &RawStructure) -> bool {
+        let RawStructure {
+            masses_kg,
+            mass_matrix_kg,
+            chain_stiffness_n_per_m,
+            stiffness_matrix_n_per_m,
+            fit,
+            ground_stiffness_n_per_m,
+            finite_element,
+            damping: _,
+            source,
+        } = self;
+        *masses_kg == other.masses_kg
+            && *mass_matrix_kg == other.mass_matrix_kg
+            && *chain_stiffness_n_per_m == other.chain_stiffness_n_per_m
+            && *stiffness_matrix_n_per_m == other.stiffness_matrix_n_per_m
+            && *fit == other.fit
+            && *ground_stiffness_n_per_m == other.ground_stiffness_n_per_m
+            && *finite_element == other.finite_element
+            && *source == other.source
+    }
+}
+
 /// `[structure.finite_element]`: files written by a finite-element program.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawFiniteElement {
     /// `"calculix"`, `"matrix-market"` or `"abaqus"`.
@@ -152,7 +178,7 @@ pub struct RawFiniteElement {
 
 /// A point of a finite-element model: a node and direction, or (a Matrix Market model
 /// without names) a row.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPoint {
     /// Its name in reports.
@@ -170,7 +196,7 @@ pub struct RawPoint {
 }
 
 /// Measured natural frequencies and mode shapes (model updating).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawFit {
     /// Measured natural frequencies, rad/s.
@@ -188,7 +214,7 @@ pub struct RawFit {
     pub source: Option<String>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 /// `[structure.damping]`: modal ratios, or Rayleigh coefficients.
 pub struct RawDamping {

@@ -12,6 +12,7 @@ mod fitted;
 mod matrix;
 
 use std::path::Path;
+use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
@@ -56,12 +57,52 @@ pub struct Matrices {
 }
 
 /// A validated structure with where its numbers come from.
+#[derive(Clone)]
 pub(super) struct Built {
     pub(super) structure: Structure,
     pub(super) source: Option<String>,
     pub(super) damping_assumption: Option<String>,
     pub(super) fit: Option<StiffnessFit>,
-    pub(super) fe: Option<FeStructure>,
+    pub(super) fe: Option<Arc<FeStructure>>,
+}
+
+/// What [`structure`] built from a `[structure]` table, kept with the table (as validated)
+/// and the coordinate limit it was built under: the same table gives the same matrices, so a
+/// setup varied in other keys takes them from here, and one varied in its damping alone
+/// computes only the damping (docs/extending.md, "One setup, built once").
+#[derive(Clone)]
+pub struct Kept {
+    path: std::path::PathBuf,
+    raw: RawStructure,
+    limit: Option<usize>,
+    built: Built,
+}
+
+/// [`structure`], taking what `kept` holds where `s` and `limit` are those it was built from
+/// (the damping aside: a new damping is computed on the kept matrices), and what it built,
+/// kept.
+pub(super) fn structure_kept(path: &Path, s: RawStructure, limit: Limit<'_>, kept: Option<&Kept>) -> Result<Kept> {
+    let limit_n = limit.map(|l| l.0);
+    let built = match kept.filter(|k| k.path == path && k.limit == limit_n && k.raw.same_matrices(&s)) {
+        Some(k) if k.raw.damping == s.damping => k.built.clone(),
+        Some(k) => {
+            let d = damping(path, &s, k.built.structure.dof())?;
+            Built {
+                structure: k.built.structure.with_damping(d),
+                damping_assumption: s.damping.assumption.clone(),
+                ..k.built.clone()
+            }
+        }
+        None => structure(path, s.clone(), limit)?,
+    };
+    Ok(Kept { path: path.to_path_buf(), raw: s, limit: limit_n, built })
+}
+
+impl Kept {
+    /// What it built.
+    pub(super) fn built(&self) -> &Built {
+        &self.built
+    }
 }
 
 /// The structure of `[structure]` (`s`), from the one source it names.
@@ -97,7 +138,7 @@ pub(super) fn structure(path: &Path, s: RawStructure, limit: Limit<'_>) -> Resul
         source: s.source,
         damping_assumption: s.damping.assumption,
         fit,
-        fe: fe.map(|f| f.0),
+        fe: fe.map(|f| Arc::new(f.0)),
     })
 }
 

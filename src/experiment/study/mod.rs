@@ -21,6 +21,7 @@ use crate::reference::files::Files;
 
 use super::file::raw_study::{RawFile, RawStudy, RawVary};
 use super::file::read;
+use super::loader::Varying;
 use super::{CheckKind, Experiment};
 pub use design::{Design, Domain, Refine};
 pub use overrides::KeyPath;
@@ -96,11 +97,15 @@ pub struct Study {
     pub samples: Vec<Sample>,
     /// Merged tables of the experiment, by model id (`""` without models).
     tables: BTreeMap<String, toml::Table>,
+    /// Each model's table as the last sample set it, validated (samples vary it without
+    /// building its structure again where they leave `[structure]` alone).
+    varying: BTreeMap<String, Varying>,
     /// The experiments it takes values from (`"@ID.KEY"`), recursively, at their own values
     /// on every model (for their references).
     pub dependencies: Vec<Experiment>,
-    /// Their merged tables, by experiment id and model id, with their files.
-    dependency_tables: BTreeMap<(String, String), (PathBuf, toml::Table)>,
+    /// Their merged tables, by experiment id and model id, with their files and their tables
+    /// as the last sample set them.
+    dependency_tables: BTreeMap<(String, String), (PathBuf, toml::Table, Varying)>,
     /// A joint study (`experiments = [...]`, docs/studies.md "Joint studies"): the other
     /// experiments, each a study of its own with the same samples (this one is the first).
     /// Empty for a study of one experiment.
@@ -306,6 +311,7 @@ fn load_one(path: &Path, raw: RawFile, key: &str, file: &str, joint: bool, files
         set,
         map,
         samples,
+        varying: tables.keys().map(|k| (k.clone(), Varying::default())).collect(),
         tables,
         dependencies: Vec::new(),
         dependency_tables: BTreeMap::new(),
@@ -529,7 +535,7 @@ fn load_dependencies(study: &mut Study) -> Result<()> {
             study.dependencies.push(e);
         }
         for (_, t) in read::read_models(file)? {
-            study.dependency_tables.insert((id.clone(), model_of(&t)), (file.clone(), t));
+            study.dependency_tables.insert((id.clone(), model_of(&t)), (file.clone(), t, Varying::default()));
         }
         done.push(id);
     }
@@ -551,24 +557,25 @@ impl Study {
     /// The experiment at one sample: the model's merged table with `[study.set]` and the
     /// sample's values set, validated.
     pub fn experiment(&self, sample: &Sample) -> Result<Experiment> {
-        let table = self.tables.get(&sample.model).cloned().ok_or_else(|| {
-            Error::invalid(&self.path, "study.models", &sample.model, "not a model of the experiment")
-        })?;
-        self.build(&self.experiment_path, table, sample, |_| true)
+        let (Some(table), Some(varying)) = (self.tables.get(&sample.model), self.varying.get(&sample.model)) else {
+            return Err(Error::invalid(&self.path, "study.models", &sample.model, "not a model of the experiment"));
+        };
+        self.build(&self.experiment_path, table.clone(), varying, sample, |_| true)
     }
 
     /// Experiment `id` (a dependency) at one sample: only values under `structure` and
     /// `excitation` carry over (the other keys are the studied experiment's own).
     pub fn dependency(&self, id: &str, sample: &Sample) -> Result<Experiment> {
-        let (file, table) = self.dependency_tables.get(&(id.to_string(), sample.model.clone())).ok_or_else(|| {
-            Error::invalid(
-                &self.experiment_path,
-                "(export reference)",
-                format!("@{id}"),
-                format!("experiment \"{id}\" does not run on model \"{}\"", sample.model),
-            )
-        })?;
-        self.build(file, table.clone(), sample, carries_over)
+        let (file, table, varying) =
+            self.dependency_tables.get(&(id.to_string(), sample.model.clone())).ok_or_else(|| {
+                Error::invalid(
+                    &self.experiment_path,
+                    "(export reference)",
+                    format!("@{id}"),
+                    format!("experiment \"{id}\" does not run on model \"{}\"", sample.model),
+                )
+            })?;
+        self.build(file, table.clone(), varying, sample, carries_over)
     }
 
     /// The values of the sample that reach its dependencies (those of `carries_over` keys).
@@ -580,6 +587,7 @@ impl Study {
         &self,
         file: &Path,
         mut table: toml::Table,
+        varying: &Varying,
         sample: &Sample,
         applies: impl Fn(&KeyPath) -> bool,
     ) -> Result<Experiment> {
@@ -602,7 +610,7 @@ impl Study {
                     .map_err(|m| on(format!("vary[{i}].key (\"{}\")", v.key.as_str()), x, m))?;
             }
         }
-        let mut exp = super::loader::from_table(file, table, &self.files).map_err(|e| self.at_sample(e, sample))?;
+        let mut exp = varying.validate(file, table, &self.files).map_err(|e| self.at_sample(e, sample))?;
         exp.models = self.base.iter().filter_map(|e| e.model.clone()).collect();
         Ok(exp)
     }
@@ -621,7 +629,7 @@ impl Study {
         for (model, table) in &self.tables {
             text.push_str(&format!("[experiment on {model}]\n{}\n", toml::to_string(table).unwrap_or_default()));
         }
-        for ((id, model), (_, table)) in &self.dependency_tables {
+        for ((id, model), (_, table, _)) in &self.dependency_tables {
             text.push_str(&format!("[dependency {id} on {model}]\n{}\n", toml::to_string(table).unwrap_or_default()));
         }
         for part in &self.joint {
