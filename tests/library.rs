@@ -74,7 +74,7 @@ fn a_library_run_writes_the_report_the_command_line_writes() {
 
 #[test]
 fn a_library_study_writes_what_the_command_line_writes() {
-    use shotdamp::output::study::Shard;
+    use shotdamp::output::manifest::Shard;
     use shotdamp::runner::study::{run_shard, Quiet, ShardEnd};
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("small.toml");

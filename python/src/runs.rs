@@ -9,7 +9,7 @@ use pyo3::types::{PyDict, PyList};
 use shotdamp::analysis::ExperimentResult;
 use shotdamp::checks::reference::BaselineMode;
 use shotdamp::experiment::{self, Analysis, ClearanceSource};
-use shotdamp::output::study::Shard;
+use shotdamp::output::manifest::Shard;
 use shotdamp::output::ReportOptions;
 use shotdamp::runner::designs::DesignSettings;
 use shotdamp::runner::{self, study as studies, Finished, ReportInputs, ReportSettings, Settings};

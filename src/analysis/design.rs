@@ -245,7 +245,7 @@ fn run(
     }
 }
 
-/// Reserves, under a time limit, what runs after the searches ([`search::Halt::plan_after`]):
+/// Reserves, under a time limit, what runs after the searches ([`crate::design::halt::Halt::plan_after`]):
 /// on the file's model, each placement's best evaluated for the page in every search (a
 /// screened search's first round only: the rest is judged until the deadline), the
 /// drive levels and the bare curves, at `per_judged` an evaluation (the cases' mean, measured

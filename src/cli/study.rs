@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 
 use crate::error::Error;
 use crate::experiment::study::{self, Design, Study};
-use crate::output::study::{self as folder, Manifest, Shard};
+use crate::output::manifest::{Manifest, Shard};
+use crate::output::study as folder;
 use crate::runner::study as shards;
 
 /// Nominal cost of one simulated point on one core, for the estimate printed before a run

@@ -8,6 +8,8 @@
 //! over layouts is in [`search`]. No I/O.
 
 mod band;
+mod evaluation;
+pub mod halt;
 pub mod limits;
 pub mod nelder_mead;
 pub mod search;
@@ -15,9 +17,10 @@ pub mod stored;
 
 use rayon::prelude::*;
 
+pub use evaluation::{Evaluation, Motion, Point, SAME_ORBIT};
+
 use crate::model::{Clearance, Damper, Structure};
 use crate::sim::motion::system::Dynamics;
-use crate::sim::settle::statistic::Motion as Class;
 use crate::sim::{SteadyOptions, System};
 
 /// Periods of a design point's orbit search before a point with no orbit is measured
@@ -81,7 +84,7 @@ pub struct Spec {
     /// When the searches end early, each placement keeping its best layout so far
     /// (`shotdamp design --time-limit`, Ctrl-C; never from the file, not part of the
     /// fingerprint).
-    pub halt: search::Halt,
+    pub halt: halt::Halt,
     /// What every search ended with, gathered from a sharded search's parts (`shotdamp
     /// design --merge`): per search (the main one, then one per Pareto budget) and
     /// placement. The design then searches nothing and reports the unsharded answer.
@@ -387,170 +390,6 @@ impl Layout {
     /// Total shot mass, kg.
     pub fn shot_kg(&self) -> f64 {
         self.masses_kg.iter().sum()
-    }
-}
-
-/// The objective of one layout and where it comes from.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Evaluation {
-    /// Per band: the band's measure (compliance, m/N).
-    pub bands: Vec<f64>,
-    /// Per band: the measure of the bare structure (the same sweeps without dampers).
-    pub bare: Vec<f64>,
-    /// The objective: the worst band's measure relative to the bare structure's (1: no gain),
-    /// combined over the scenarios (the worst, or the mean).
-    pub objective: f64,
-    /// Per scenario: its objective. `bands`, `bare` and `worst` are those of the scenario
-    /// with the largest.
-    pub scenarios: Vec<f64>,
-    /// Index of the scenario with the largest objective.
-    pub worst_scenario: usize,
-    /// The band, frequency (Hz) and mass of the largest compliance of the worst band.
-    pub worst: (usize, f64, usize),
-    /// The first scenario's compliance per band, frequency and mass (m/N; the nominal
-    /// structure when there are no scenarios), for figures.
-    pub curves: Vec<Vec<Vec<f64>>>,
-    /// Points without a settled stable periodic orbit (their compliance is the statistic of
-    /// their measured motion, [`Point`]: see docs/design.md).
-    pub unsettled: usize,
-    /// Steady states computed.
-    pub points: usize,
-    /// Per band: how the beds moved (the worst scenario's): the layout's drive level.
-    pub motion: Vec<Motion>,
-    /// The half-width of the objective's 95 % interval (0 where every point it rests on is
-    /// a certified orbit; from the measured points' intervals, [`Point::half_width`]).
-    pub half_width: f64,
-    /// Per band: the half-width of its measure's interval (the worst scenario's).
-    pub bands_half_width: Vec<f64>,
-    /// Steady states of each class ([`Class::ALL`]'s order), over every scenario.
-    pub classes: [usize; 6],
-    /// Steady states measured as irregular motion (a statistic with its interval), over every
-    /// scenario.
-    pub measured: usize,
-    /// The first scenario's points per band, frequency and mass, beside `curves`: the class
-    /// of the motion that set each compliance and its interval.
-    pub points_class: Vec<Vec<Vec<Point>>>,
-}
-
-/// The point behind one compliance of a band's curve: its motion's class and the half-width
-/// of its 95 % interval (m/N; 0 for a certified orbit or a point not measured; where the
-/// interval did not meet its tolerance, the one the measurement gave).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Point {
-    /// The class of the motion.
-    pub class: Class,
-    /// The half-width of the compliance's 95 % interval, m/N.
-    pub half_width: f64,
-    /// The lowest compliance over the sweeps at this frequency and mass, m/N (NaN where one
-    /// sweep was run, or none gave a value).
-    pub lowest: f64,
-    /// The class of the motion that gave the lowest.
-    pub lowest_class: Class,
-    /// The half-width of the lowest's interval, m/N.
-    pub lowest_half_width: f64,
-}
-
-impl Default for Point {
-    fn default() -> Self {
-        Point {
-            class: Class::Periodic,
-            half_width: 0.0,
-            lowest: f64::NAN,
-            lowest_class: Class::Periodic,
-            lowest_half_width: 0.0,
-        }
-    }
-}
-
-/// Relative difference below which two certified orbits' compliances are the same motion
-/// (orbits are certified to far less).
-pub const SAME_ORBIT: f64 = 1e-6;
-
-impl Point {
-    /// Whether the sweeps reached different motions here: `Some(true)` where the highest
-    /// compliance over them (`highest`, the curve's value, with this point's interval) and
-    /// the lowest (with its interval) do not overlap, or differ by more than [`SAME_ORBIT`] of
-    /// the highest for certified orbits: two attractors coexist (the design counts the
-    /// higher, the table gives both). `None` where they differ but an interval is not known
-    /// (a measurement too short for its batches): it cannot be told. `Some(false)` otherwise,
-    /// and where one sweep was run.
-    pub fn coexisting(&self, highest: f64) -> Option<bool> {
-        if !(self.lowest.is_finite() && highest.is_finite()) {
-            return Some(false);
-        }
-        let apart = |h: f64, l: f64| highest - h > self.lowest + l + SAME_ORBIT * highest;
-        match (self.half_width.is_finite(), self.lowest_half_width.is_finite()) {
-            (true, true) => Some(apart(self.half_width, self.lowest_half_width)),
-            // Unknown intervals: apart even as points, and no more can be said.
-            _ if apart(0.0, 0.0) => None,
-            _ => Some(false),
-        }
-    }
-}
-
-impl Evaluation {
-    /// The objective's interval, (low, high).
-    pub fn interval(&self) -> (f64, f64) {
-        (self.objective - self.half_width, self.objective + self.half_width)
-    }
-
-    /// Whether this evaluation and `other` are equal within their intervals.
-    pub fn overlaps(&self, other: &Evaluation) -> bool {
-        let (a, b) = (self.interval(), other.interval());
-        a.0 <= b.1 && b.0 <= a.1
-    }
-
-    /// Points measured as irregular motion.
-    pub fn measured(&self) -> usize {
-        self.measured
-    }
-}
-
-#[cfg(test)]
-impl Evaluation {
-    /// An evaluation of one band (the worst at 50 Hz on m2) with this objective, for tests.
-    pub fn with_objective(objective: f64, unsettled: usize, points: usize) -> Evaluation {
-        Evaluation {
-            bands: vec![objective],
-            bare: vec![1.0],
-            objective,
-            scenarios: vec![objective],
-            worst_scenario: 0,
-            worst: (0, 50.0, 1),
-            curves: Vec::new(),
-            unsettled,
-            points,
-            motion: Vec::new(),
-            half_width: 0.0,
-            bands_half_width: vec![0.0],
-            classes: [points.saturating_sub(unsettled), 0, 0, unsettled, 0, 0],
-            measured: 0,
-            points_class: Vec::new(),
-        }
-    }
-}
-
-/// How the beds of a layout moved over a band: whether the drive makes them work. Beds that
-/// never leave their containers only add mass.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Motion {
-    /// Steady states (over the band's frequencies and sweeps) in which some bed left its
-    /// container's bottom.
-    pub lifting: usize,
-    /// Steady states computed.
-    pub points: usize,
-    /// The highest flight of any bed above its container's bottom, m.
-    pub flight_m: f64,
-}
-
-impl Motion {
-    /// The share of the band's steady states in which the beds lift off.
-    pub fn share(&self) -> f64 {
-        if self.points == 0 {
-            0.0
-        } else {
-            self.lifting as f64 / self.points as f64
-        }
     }
 }
 

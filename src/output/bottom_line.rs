@@ -10,7 +10,7 @@ use crate::analysis::study::ClaimRow;
 use crate::analysis::study_samples::{best, per_sample, SampleSummary};
 use crate::number::fmt_num;
 
-use super::study::StudyRun;
+use super::manifest::StudyRun;
 
 /// One joint study's bottom line.
 #[derive(Debug, Serialize)]
@@ -283,7 +283,7 @@ pub fn of(run: &StudyRun, file_dir: &str) -> BottomLine {
 
 /// The bottom line of a stored joint study: what its whole run found on each model, and
 /// whether its best samples give the same now.
-fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -> BottomLine {
+fn of_stored(run: &StudyRun, stored: &super::manifest::StoredRun, file_dir: &str) -> BottomLine {
     let m = &run.manifest;
     let a = &stored.answer;
     let label = |id: &str| m.models.iter().find(|x| x.0 == id).map_or(id.to_string(), |x| x.1.clone());
@@ -405,7 +405,7 @@ fn of_stored(run: &StudyRun, stored: &super::study::StoredRun, file_dir: &str) -
 mod tests {
     use super::*;
     use crate::analysis::study::Verdict;
-    use crate::output::study::{Axis, Manifest};
+    use crate::output::manifest::{Axis, Manifest};
 
     fn row(sample: usize, x: f64, claim: &str, holds: bool) -> ClaimRow {
         ClaimRow {
@@ -514,7 +514,7 @@ mod tests {
         };
         // Run again: sample 4 gives 1 of 2, as stored.
         let mut r = run(vec![row(4, 0.004, "a: one", true), row(4, 0.004, "b: one", false)]);
-        r.stored = Some(crate::output::study::StoredRun { answer: answer.clone(), fresh: true });
+        r.stored = Some(crate::output::manifest::StoredRun { answer: answer.clone(), fresh: true });
         let b = of(&r, "j");
         // At a glance: the count and whether all ever hold together, under 60 words; how the
         // setups were searched comes next.
@@ -535,7 +535,7 @@ mod tests {
         let mut answer = answer;
         answer.models[0].apart = vec![["a: one".into(), "b: one".into()]];
         let mut r = run(vec![row(4, 0.004, "a: one", true), row(4, 0.004, "b: one", true)]);
-        r.stored = Some(crate::output::study::StoredRun { answer, fresh: false });
+        r.stored = Some(crate::output::manifest::StoredRun { answer, fresh: false });
         let b = of(&r, "j");
         let text = b.sentences.join(" ");
         assert!(text.contains("gives 2 of 2 (stored: 1 of 2): the stored answer is out of date"), "{text}");

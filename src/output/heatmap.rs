@@ -11,7 +11,7 @@ use crate::analysis::study::{ClaimRow, Verdict};
 use crate::error::{Error, Result};
 use crate::number::fmt_num;
 
-use super::study::Manifest;
+use super::manifest::Manifest;
 
 /// How a sample is marked on a map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -334,7 +334,7 @@ fn draw_panel<DB: DrawingBackend>(
             let lo = tx(all[0], log, all);
             let hi = tx(all[all.len() - 1], log, all);
             let pad = ((hi - lo) * 0.05).max(1e-9);
-            super::plot::axis_range(lo - pad, hi + pad, false)
+            super::axis::axis_range(lo - pad, hi + pad, false)
         }
     };
     let (x0, x1) = range(&xs, map.x_log);

@@ -1,13 +1,16 @@
 //! Everything that leaves the program: tables, plots, pages. [`ReportWriter`] is the one
 //! owner of destinations; exporters render to bytes or draw to a path it gives them.
 
+mod axis;
 pub mod bottom_line;
 pub mod compare;
 pub mod conclusion;
 pub mod destination;
 pub mod files;
 pub mod heatmap;
+pub mod index_page;
 pub mod junit;
+pub mod manifest;
 pub mod models_page;
 pub mod plot;
 pub mod report;
@@ -260,7 +263,7 @@ impl ReportWriter {
     /// Writes the index, the stylesheet and `checks.json`, then moves the report into place.
     /// `studies`: the studies run with the report, shown on their experiment's page.
     /// The texts of `results` are filled first ([`texts::fill`]).
-    pub fn finish(self, results: &mut [ExperimentResult], studies: &[study::StudyRun]) -> Result<PathBuf> {
+    pub fn finish(self, results: &mut [ExperimentResult], studies: &[manifest::StudyRun]) -> Result<PathBuf> {
         texts::fill(results, if self.complete { texts::Missing::Error } else { texts::Missing::Say })?;
         if self.complete {
             for s in &self.scans {
@@ -283,14 +286,14 @@ impl ReportWriter {
             self.write_models(&runs, studies)?;
         }
         write(&dir.join("style.css"), report::STYLE_CSS.as_bytes())?;
-        let mut index_view = report::index_view(results);
-        let bed = |s: &&study::StudyRun| {
+        let mut index_view = index_page::index_view(results);
+        let bed = |s: &&manifest::StudyRun| {
             s.manifest.joint.is_empty() && s.manifest.section == crate::experiment::study::Section::Bed
         };
         for s in studies.iter().filter(bed) {
             let m = &s.manifest;
             let names: Vec<String> = m.vary.iter().map(|a| a.name.clone()).collect();
-            index_view.bed.push(report::BedRow {
+            index_view.bed.push(index_page::BedRow {
                 figure: m.figure.clone(),
                 link: format!("{}/index.html#{}", m.experiment, m.study),
                 sentence: crate::output::study_words::deviation_summary(&m.models, &names, &s.rows),
@@ -298,7 +301,7 @@ impl ReportWriter {
         }
         // Joint studies: their tables in `ID/`, their bottom line on the index (a stored
         // answer, the widest search, first).
-        let mut joint_runs: Vec<&study::StudyRun> = studies.iter().filter(|s| !s.manifest.joint.is_empty()).collect();
+        let mut joint_runs: Vec<&manifest::StudyRun> = studies.iter().filter(|s| !s.manifest.joint.is_empty()).collect();
         joint_runs.sort_by_key(|s| s.stored.is_none());
         for s in joint_runs {
             let m = &s.manifest;
@@ -314,7 +317,7 @@ impl ReportWriter {
         }
         let joint: Vec<bottom_line::AtJointSetup> =
             studies.iter().filter(|s| !s.manifest.joint.is_empty()).flat_map(bottom_line::at_joint_setup).collect();
-        report::mark_joint(&mut index_view, &joint);
+        index_page::mark_joint(&mut index_view, &joint);
         // Thumbnails of figures written as SVG only.
         let shown = |rel: &mut String| {
             let mut links =
@@ -334,7 +337,7 @@ impl ReportWriter {
 
     /// Writes the page of one experiment run on several models (`ID/index.html`) with the
     /// figures that overlay them.
-    fn write_models(&self, runs: &[&ExperimentResult], studies: &[study::StudyRun]) -> Result<()> {
+    fn write_models(&self, runs: &[&ExperimentResult], studies: &[manifest::StudyRun]) -> Result<()> {
         let id = &runs[0].experiment.meta.id;
         let dir = self.staging.dir().join(id);
         mkdir_below(self.staging.dir(), Path::new(id))?;

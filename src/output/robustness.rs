@@ -12,7 +12,7 @@ use crate::output::study_words::{claim_sentences, deviation_sentences};
 use crate::table;
 
 use super::heatmap;
-use super::study::StudyRun;
+use super::manifest::StudyRun;
 
 /// One study on a figure's page.
 #[derive(Debug, Serialize)]

@@ -73,7 +73,7 @@ pub fn run_loaded(
 ) -> crate::Result<DesignRun> {
     designs_only(&exps)?;
     let started = std::time::Instant::now();
-    let halt = crate::design::search::Halt {
+    let halt = crate::design::halt::Halt {
         deadline: settings.time_limit.map(|limit| started + std::time::Duration::from_secs_f64(limit)),
         interrupt: settings.interrupt.clone(),
         after: Default::default(),
@@ -81,7 +81,7 @@ pub fn run_loaded(
     for e in &mut exps {
         if let Some(spec) = e.analysis.design_mut() {
             // One deadline for every design of the run; each plans and paces its own work.
-            spec.halt = crate::design::search::Halt { after: Default::default(), ..halt.clone() };
+            spec.halt = crate::design::halt::Halt { after: Default::default(), ..halt.clone() };
         }
     }
     if let Some(dir) = &settings.merge {

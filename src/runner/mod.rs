@@ -21,7 +21,7 @@ use crate::checks::reference::{BaselineMode, ReferenceStore};
 use crate::error::{Error, Result};
 use crate::experiment::study::{Sample, Study};
 use crate::experiment::{self, Experiment};
-use crate::output::study::{Manifest, StudyRun};
+use crate::output::manifest::{Manifest, StudyRun};
 use crate::output::{ReportOptions, ReportWriter};
 
 /// How a run is written.
@@ -128,7 +128,7 @@ pub fn study_references(study: &Study, reference: &Path) -> Result<ReferenceStor
 
 /// The stored answer of a study marked `stored = true` (`reference/studies/ID.json`), and
 /// whether this version of the study computed it.
-fn stored_run(s: &Study, reference: &Path) -> Result<crate::output::study::StoredRun> {
+fn stored_run(s: &Study, reference: &Path) -> Result<crate::output::manifest::StoredRun> {
     let path = crate::checks::reference::stored_study_path(reference, &s.id);
     if !path.is_file() {
         return Err(Error::invalid(
@@ -146,7 +146,7 @@ fn stored_run(s: &Study, reference: &Path) -> Result<crate::output::study::Store
     let answer: crate::experiment::study::stored::StoredStudy = serde_json::from_str(&text)
         .map_err(|e| Error::Parse { file: path.display().to_string(), message: e.to_string() })?;
     let fresh = answer.fingerprint == Manifest::of(s, &s.path.display().to_string()).fingerprint;
-    Ok(crate::output::study::StoredRun { answer, fresh })
+    Ok(crate::output::manifest::StoredRun { answer, fresh })
 }
 
 /// The studies `shotdamp report` runs: those of `dir` marked `report = true` or `stored = true`

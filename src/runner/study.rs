@@ -12,7 +12,8 @@ use crate::analysis::study::{self as run, ClaimRow};
 use crate::error::{Error, Result};
 use crate::experiment::study::{Sample, Study};
 use crate::experiment::Experiment;
-use crate::output::study::{self as folder, Shard};
+use crate::output::manifest::Shard;
+use crate::output::study as folder;
 
 pub use super::study_shard::{compute_shard, write_outputs, Merged, Quiet, ShardEnd, StudyProgress};
 

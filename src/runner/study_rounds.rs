@@ -11,7 +11,8 @@ use crate::analysis::study::{self as run, ClaimRow};
 use crate::analysis::study_adaptive;
 use crate::error::Result;
 use crate::experiment::study::{Sample, Study};
-use crate::output::study::{self as folder, Manifest, Shard};
+use crate::output::manifest::{Manifest, Shard};
+use crate::output::study as folder;
 
 use super::study_shard::{compute_shard, write_outputs, Merged, ShardEnd, StudyProgress};
 

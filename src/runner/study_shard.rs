@@ -12,7 +12,8 @@ use crate::error::{Error, Result};
 use crate::experiment::study::{Sample, Study};
 use crate::experiment::Experiment;
 use crate::output::heatmap;
-use crate::output::study::{self as folder, Manifest, Shard};
+use crate::output::manifest::{Manifest, Shard};
+use crate::output::study as folder;
 
 /// What a shard's run says as it goes (every method does nothing by default).
 pub trait StudyProgress: Sync {

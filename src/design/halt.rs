@@ -1,0 +1,106 @@
+//! When a design's searches end early: at a deadline, at a flag, or never ([`Halt`]), with
+//! what runs after them reserved at the pace the searches measure ([`After`]).
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// When the searches end early, each keeping its best layout so far: at a deadline
+/// (`shotdamp design --time-limit`), when a flag is raised (Ctrl-C), or never (the default).
+/// A setting of the run, not of the design: every halt compares equal, and none enters a
+/// stored answer's fingerprint.
+///
+/// A deadline bounds the whole design, not the searches only: what runs after them (each
+/// placement's best evaluated for the page, the drive levels; [`Halt::plan_after`])
+/// is reserved at the pace the searches measure, so the searches end that much earlier
+/// ([`Halt::reached`]).
+#[derive(Debug, Clone, Default)]
+pub struct Halt {
+    /// The design ends by this instant: its searches at their first evaluation after it, less
+    /// the time reserved for what follows them.
+    pub deadline: Option<Instant>,
+    /// The searches end at their first evaluation after this flag is set.
+    pub interrupt: Option<Arc<AtomicBool>>,
+    /// The evaluations planned after the searches and the pace measured so far.
+    pub after: Arc<After>,
+}
+
+/// The work a design plans after its searches, and the searches' measured pace.
+#[derive(Debug, Default)]
+pub struct After {
+    /// Layout evaluations planned after the searches on the searched model, at its pace.
+    evaluations: AtomicU64,
+    /// Layout evaluations planned after the searches on the file's model (when the searches
+    /// run on a coarser one), and what one costs there on one thread, ns.
+    judged: AtomicU64,
+    judged_nanos: AtomicU64,
+    /// Evaluations timed, and their total wall time, ns.
+    timed: AtomicU64,
+    nanos: AtomicU64,
+}
+
+impl PartialEq for Halt {
+    fn eq(&self, _: &Halt) -> bool {
+        true
+    }
+}
+
+impl Halt {
+    /// Whether the searches should end now: the flag is raised, or the deadline is nearer
+    /// than the time reserved for what follows them ([`Halt::reserve`]).
+    pub fn reached(&self) -> bool {
+        self.interrupted()
+            || self.deadline.is_some_and(|d| Instant::now().checked_add(self.reserve()).is_none_or(|t| t >= d))
+    }
+
+    /// Whether the deadline itself has passed (no reserve) or the flag was raised: what runs
+    /// after the searches stops there.
+    pub fn passed(&self) -> bool {
+        self.interrupted() || self.deadline.is_some_and(|d| Instant::now() >= d)
+    }
+
+    /// Whether the flag was raised.
+    pub fn interrupted(&self) -> bool {
+        self.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
+    /// Plans `searched` layout evaluations after the searches at the searches' pace, and
+    /// `judged` more at `per_judged` each (measured on the file's model; set before the
+    /// design searches).
+    pub fn plan_after(&self, searched: u64, judged: u64, per_judged: Option<Duration>) {
+        self.after.evaluations.store(searched, Ordering::Relaxed);
+        self.after.judged.store(judged, Ordering::Relaxed);
+        let ns = per_judged.map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX));
+        self.after.judged_nanos.store(ns, Ordering::Relaxed);
+    }
+
+    /// `f`, one layout evaluation, timed for the pace.
+    pub fn timed<T>(&self, f: impl FnOnce() -> T) -> T {
+        let started = Instant::now();
+        let out = f();
+        let ns = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.after.nanos.fetch_add(ns, Ordering::Relaxed);
+        self.after.timed.fetch_add(1, Ordering::Relaxed);
+        out
+    }
+
+    /// The mean wall time of an evaluation so far (zero before the first).
+    pub fn pace(&self) -> Duration {
+        let n = self.after.timed.load(Ordering::Relaxed);
+        Duration::from_nanos(self.after.nanos.load(Ordering::Relaxed).checked_div(n).unwrap_or(0))
+    }
+
+    /// The time reserved after the searches: the planned evaluations spread over the threads,
+    /// and one more (those in flight when the searches end), at the measured pace; and those
+    /// planned on the file's model at theirs.
+    pub fn reserve(&self) -> Duration {
+        let threads = rayon::current_num_threads().max(1) as u64;
+        let times = |n: u64| u32::try_from(n).unwrap_or(u32::MAX);
+        let planned = self.after.evaluations.load(Ordering::Relaxed);
+        let judged = self.after.judged.load(Ordering::Relaxed).div_ceil(threads);
+        let per_judged = Duration::from_nanos(self.after.judged_nanos.load(Ordering::Relaxed));
+        self.pace()
+            .saturating_mul(times(planned.div_ceil(threads) + 1))
+            .saturating_add(per_judged.saturating_mul(times(judged)))
+    }
+}

@@ -1,0 +1,101 @@
+//! A figure's axes: the range a panel's values span (finite, positive on a logarithmic axis,
+//! clamped to what plotters can draw) and how its ticks are written.
+
+use crate::figure::Panel;
+
+/// Finite y values of all series (positive ones for log axes).
+pub(super) fn y_extent(panel: &Panel) -> (f64, f64) {
+    if let Some(r) = panel.y_range {
+        return r;
+    }
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for s in &panel.series {
+        for (&x, &y) in s.x.iter().zip(&s.y) {
+            if y.is_finite() && x >= panel.x_range.0 && x <= panel.x_range.1 && (!panel.y_log || y > 0.0) {
+                lo = lo.min(y);
+                hi = hi.max(y);
+            }
+        }
+    }
+    if !lo.is_finite() {
+        return if panel.y_log { (1e-6, 1e-3) } else { (0.0, 1.0) };
+    }
+    if panel.y_log {
+        (lo / 1.5, hi * 1.5)
+    } else {
+        let pad = ((hi - lo) * 0.06).max(1e-12 * hi.abs().max(1.0));
+        (lo - pad, hi + pad)
+    }
+}
+
+/// The largest magnitude an axis end may have (beyond it a tick's arithmetic overflows).
+const AXIS_MAX: f64 = 1e300;
+
+/// The most decades a logarithmic axis spans (its key points are computed per decade).
+const AXIS_DECADES: f64 = 30.0;
+
+/// An axis range that plotters can draw whatever the data: finite ends inside
+/// +-[`AXIS_MAX`], `lo < hi` with a width tick labels can resolve, and on a logarithmic axis
+/// positive ends at most [`AXIS_DECADES`] apart (the upper end kept: the largest values
+/// matter). Every axis of every plot passes here.
+pub(crate) fn axis_range(lo: f64, hi: f64, log: bool) -> (f64, f64) {
+    if log {
+        let (mut lo, mut hi) = (lo.clamp(1.0 / AXIS_MAX, AXIS_MAX), hi.clamp(1.0 / AXIS_MAX, AXIS_MAX));
+        if lo.is_nan() || hi.is_nan() || lo <= 0.0 {
+            return (1e-6, 1e-3);
+        }
+        if lo > hi {
+            std::mem::swap(&mut lo, &mut hi);
+        }
+        if hi / lo < 1.0 + 1e-9 {
+            // One value: a decade around it.
+            let (a, b) = (lo / 10f64.sqrt(), hi * 10f64.sqrt());
+            return (a.max(1.0 / AXIS_MAX), b.min(AXIS_MAX));
+        }
+        if (hi / lo).log10() > AXIS_DECADES {
+            lo = hi / 10f64.powf(AXIS_DECADES);
+        }
+        (lo, hi)
+    } else {
+        if lo.is_nan() || hi.is_nan() {
+            return (0.0, 1.0);
+        }
+        let (mut lo, mut hi) = (lo.clamp(-AXIS_MAX, AXIS_MAX), hi.clamp(-AXIS_MAX, AXIS_MAX));
+        if lo > hi {
+            std::mem::swap(&mut lo, &mut hi);
+        }
+        // Tick labels resolve about 1e-9 of the ends' magnitude; a narrower range is widened
+        // around its middle (or to +-1 around 0).
+        let scale = lo.abs().max(hi.abs());
+        let least = if scale > 0.0 { (scale * 1e-9).max(1e-300) } else { 1.0 };
+        if hi - lo < least {
+            let mid = 0.5 * (lo + hi);
+            (mid - least, mid + least)
+        } else {
+            (lo, hi)
+        }
+    }
+}
+
+/// Tick labels of a value axis: scientific notation for small or large values.
+pub(super) fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> String> {
+    let big = lo.abs().max(hi.abs());
+    let plain = |v: f64| {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    };
+    if log && lo >= 1e-2 && hi < 1e5 {
+        // A log axis over everyday values (mm, N, Hz): 0.5, 2, 40 read better than 5e-1.
+        Box::new(move |v: &f64| plain(*v))
+    } else if log {
+        Box::new(|v: &f64| format!("{v:.0e}"))
+    } else if !(1e-2..1e5).contains(&big) {
+        // Enough mantissa digits to tell ticks about a tenth of the range apart.
+        let step = ((hi - lo).abs() / 10.0).max(f64::MIN_POSITIVE);
+        let digits = ((big / step).log10().ceil() as i32).clamp(1, 4) as usize;
+        Box::new(move |v: &f64| if v.abs() < 1e-9 * big { "0".into() } else { format!("{v:.digits$e}") })
+    } else {
+        Box::new(move |v: &f64| plain(if v.abs() < 1e-12 * big { 0.0 } else { *v }))
+    }
+}
