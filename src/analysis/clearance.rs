@@ -100,52 +100,9 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
             ));
         }
     }
-    // Peak compliance of the objective mass per case and clearance.
-    let mut rows: Vec<(String, f64, f64, f64, f64)> = Vec::new(); // case, d mm, peak, f, top impacts at peak
-    for c in &scanned {
-        let (case, Some(mm)) = (&c.id.case, c.id.clearance_mm()) else { continue };
-        if let Some((f, v)) = c.peak(m) {
-            let i = c.index_of(f).unwrap_or(0);
-            let tops: f64 = c.top_impacts.get(i).map(|t| t.iter().sum()).unwrap_or(0.0);
-            rows.push((case.clone(), mm, v, f, tops));
-        }
-    }
-    let mut exports = BTreeMap::new();
-    for (case, lim) in cases.iter().zip(&limits_mm) {
-        exports.insert(format!("limit_mm_{}", case.id), *lim);
-    }
-    for u in &unbounded {
-        if let Some((f, v)) = u.peak(m) {
-            exports.insert(format!("peak_{}_m{}", u.id, m + 1), v);
-            exports.insert(format!("peak_hz_{}_m{}", u.id, m + 1), f);
-        }
-    }
-    let best = rows.iter().filter(|r| r.0 == study.objective_case).min_by(|a, b| a.2.total_cmp(&b.2)).cloned();
-    if let Some(b) = &best {
-        exports.insert("best_clearance_mm".into(), b.1);
-        exports.insert("best_peak".into(), b.2);
-    }
-    // Every other case's peak over the objective case's at the same clearance: the largest
-    // ratio of the scan and its clearance.
-    for case in cases.iter().filter(|c| c.id != study.objective_case) {
-        let ratios = rows.iter().filter(|r| r.0 == case.id).filter_map(|r| {
-            let own = rows.iter().find(|o| o.0 == study.objective_case && o.1 == r.1)?;
-            Some((r.2 / own.2, r.1))
-        });
-        if let Some((ratio, mm)) = ratios.max_by(|a, b| a.0.total_cmp(&b.0)) {
-            exports.insert(format!("max_ratio_{}", case.id), ratio);
-            exports.insert(format!("max_ratio_mm_{}", case.id), mm);
-        }
-    }
-    let table = Table::new(
-        "clearance_scan",
-        format!("Peak compliance ({}) of the objective mass over the band per case and clearance (mm), its frequency (Hz), and the top impacts per period of all beds there", exp.excitation.per_unit()),
-    )
-    .str("case", rows.iter().map(|r| r.0.clone()).collect())
-    .f64("clearance_mm", rows.iter().map(|r| r.1).collect())
-    .f64(format!("peak_c{}", m + 1), rows.iter().map(|r| r.2).collect())
-    .f64("peak_freq_hz", rows.iter().map(|r| r.3).collect())
-    .f64("top_impacts_per_period_at_peak", rows.iter().map(|r| r.4).collect());
+    let rows = peak_rows(&scanned, m);
+    let (exports, best) = scan_exports(&cases, &unbounded, &limits_mm, &rows, study);
+    let table = scan_table(exp, &rows, m);
     let limits = Table::new("flight_limits", "Highest flight of the beds of each case above their bottoms over the band with no top (mm): larger clearances are never reached")
         .str("case", cases.iter().map(|c| c.id.clone()).collect())
         .f64("limit_mm", limits_mm.clone());
@@ -174,7 +131,7 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
             let mut series = Vec::new();
             let mut vlines = Vec::new();
             for (ci, case) in cases.iter().enumerate() {
-                let pts: Vec<&(String, f64, f64, f64, f64)> = rows.iter().filter(|r| r.0 == case.id).collect();
+                let pts: Vec<&PeakRow> = rows.iter().filter(|r| r.0 == case.id).collect();
                 let mut s = Series::line(case.label.clone(), pts.iter().map(|r| r.1).collect(), pts.iter().map(|r| r.2).collect(), ci);
                 s.marker = Marker::Circle;
                 series.push(s);
@@ -214,4 +171,75 @@ pub fn run(exp: &Experiment, refs: &ReferenceStore, study: &Study, tick: &Tick) 
     let mut curves_out = unbounded;
     curves_out.extend(scanned);
     Output { tables: vec![table, limits, curves_table], figures, curves: curves_out, exports, ..Output::default() }
+}
+
+/// The scan's table: one [`PeakRow`] a row.
+fn scan_table(exp: &Experiment, rows: &[PeakRow], m: usize) -> Table {
+    Table::new(
+        "clearance_scan",
+        format!("Peak compliance ({}) of the objective mass over the band per case and clearance (mm), its frequency (Hz), and the top impacts per period of all beds there", exp.excitation.per_unit()),
+    )
+    .str("case", rows.iter().map(|r| r.0.clone()).collect())
+    .f64("clearance_mm", rows.iter().map(|r| r.1).collect())
+    .f64(format!("peak_c{}", m + 1), rows.iter().map(|r| r.2).collect())
+    .f64("peak_freq_hz", rows.iter().map(|r| r.3).collect())
+    .f64("top_impacts_per_period_at_peak", rows.iter().map(|r| r.4).collect())
+}
+
+/// A case, a clearance (mm), the objective mass's peak compliance, its frequency (Hz) and the
+/// top impacts per period of all beds there.
+type PeakRow = (String, f64, f64, f64, f64);
+
+/// The peak compliance of mass `m` on every scanned curve, one [`PeakRow`] each.
+fn peak_rows(scanned: &[Curve], m: usize) -> Vec<PeakRow> {
+    let mut rows: Vec<PeakRow> = Vec::new();
+    for c in scanned {
+        let (case, Some(mm)) = (&c.id.case, c.id.clearance_mm()) else { continue };
+        if let Some((f, v)) = c.peak(m) {
+            let i = c.index_of(f).unwrap_or(0);
+            let tops: f64 = c.top_impacts.get(i).map(|t| t.iter().sum()).unwrap_or(0.0);
+            rows.push((case.clone(), mm, v, f, tops));
+        }
+    }
+    rows
+}
+
+/// What a scan exports (each case's flight limit and peak without top, the best clearance of
+/// the objective case and its peak, every other case's largest ratio to it) and its best row.
+fn scan_exports(
+    cases: &[&Case],
+    unbounded: &[Curve],
+    limits_mm: &[f64],
+    rows: &[PeakRow],
+    study: &Study,
+) -> (BTreeMap<String, f64>, Option<PeakRow>) {
+    let m = study.objective_mass;
+    let mut exports = BTreeMap::new();
+    for (case, lim) in cases.iter().zip(limits_mm) {
+        exports.insert(format!("limit_mm_{}", case.id), *lim);
+    }
+    for u in unbounded {
+        if let Some((f, v)) = u.peak(m) {
+            exports.insert(format!("peak_{}_m{}", u.id, m + 1), v);
+            exports.insert(format!("peak_hz_{}_m{}", u.id, m + 1), f);
+        }
+    }
+    let best = rows.iter().filter(|r| r.0 == study.objective_case).min_by(|a, b| a.2.total_cmp(&b.2)).cloned();
+    if let Some(b) = &best {
+        exports.insert("best_clearance_mm".into(), b.1);
+        exports.insert("best_peak".into(), b.2);
+    }
+    // Every other case's peak over the objective case's at the same clearance: the largest
+    // ratio of the scan and its clearance.
+    for case in cases.iter().filter(|c| c.id != study.objective_case) {
+        let ratios = rows.iter().filter(|r| r.0 == case.id).filter_map(|r| {
+            let own = rows.iter().find(|o| o.0 == study.objective_case && o.1 == r.1)?;
+            Some((r.2 / own.2, r.1))
+        });
+        if let Some((ratio, mm)) = ratios.max_by(|a, b| a.0.total_cmp(&b.0)) {
+            exports.insert(format!("max_ratio_{}", case.id), ratio);
+            exports.insert(format!("max_ratio_mm_{}", case.id), mm);
+        }
+    }
+    (exports, best)
 }

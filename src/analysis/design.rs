@@ -142,25 +142,7 @@ fn run(
     let total_mass =
         exp.structure_mass().map(|m| (m, if exp.finite_element.is_some() { "mass moving vertically" } else { "mass" }));
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
-    // The experiment's cases as reference layouts (the paper's, one container on the loop
-    // point, ...), evaluated with the same objective, before the searches: under a time limit
-    // they measure what an evaluation on the file's model costs ([`plan_after`]).
-    let judged = std::sync::atomic::AtomicU64::new(0);
-    let case_rows: Vec<(String, Layout, Evaluation, u64)> = exp
-        .cases
-        .par_iter()
-        .map(|c| {
-            let l = case_layout(c);
-            let started = std::time::Instant::now();
-            let e = evaluate(&p, &b, &l);
-            judged.fetch_add(started.elapsed().as_nanos() as u64, std::sync::atomic::Ordering::Relaxed);
-            (c.id.clone(), l, e, 1)
-        })
-        .collect();
-    let with_beds = exp.cases.iter().filter(|c| c.beds.iter().any(|b| b.damper.mass > 0.0)).count();
-    let per_judged =
-        (with_beds > 0).then(|| std::time::Duration::from_nanos(judged.into_inner() / exp.cases.len() as u64));
-    plan_after(exp, spec, per_judged);
+    let case_rows = cases_evaluated(exp, spec, &p, &b);
     let (found, front, checks, stopped) = searched(exp, spec, (&p, &b), screen, refs, tick);
     tick();
     let stored = stored(exp, &p, spec, &found, &front);
@@ -243,6 +225,34 @@ fn run(
         partial: why.map(|w| format!("{w}: the layouts are the best found so far")),
         ..Output::default()
     }
+}
+
+/// The experiment's cases as reference layouts (the paper's, one container on the loop
+/// point, ...), evaluated with the same objective, before the searches: under a time limit
+/// they measure what an evaluation on the file's model costs ([`plan_after`]).
+fn cases_evaluated(
+    exp: &Experiment,
+    spec: &Spec,
+    p: &Problem,
+    b: &[Vec<f64>],
+) -> Vec<(String, Layout, Evaluation, u64)> {
+    let judged = std::sync::atomic::AtomicU64::new(0);
+    let case_rows: Vec<(String, Layout, Evaluation, u64)> = exp
+        .cases
+        .par_iter()
+        .map(|c| {
+            let l = case_layout(c);
+            let started = std::time::Instant::now();
+            let e = evaluate(p, b, &l);
+            judged.fetch_add(started.elapsed().as_nanos() as u64, std::sync::atomic::Ordering::Relaxed);
+            (c.id.clone(), l, e, 1)
+        })
+        .collect();
+    let with_beds = exp.cases.iter().filter(|c| c.beds.iter().any(|b| b.damper.mass > 0.0)).count();
+    let per_judged =
+        (with_beds > 0).then(|| std::time::Duration::from_nanos(judged.into_inner() / exp.cases.len() as u64));
+    plan_after(exp, spec, per_judged);
+    case_rows
 }
 
 /// Reserves, under a time limit, what runs after the searches ([`crate::design::halt::Halt::plan_after`]):

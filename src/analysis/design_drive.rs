@@ -165,33 +165,8 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         .filter(|(_, m)| **m > 1e-9 * shot)
         .map(|(h, m)| format!("{} kg on m{}", fmt_sig(*m, 2), h + 1))
         .collect();
-    let clearances: Vec<f64> = layout.clearances_mm.clone();
-    let same = clearances.windows(2).all(|w| w[0] == w[1]);
-    let clearance = match (inputs.profile, same, clearances.first()) {
-        (Profile::Within(lo, hi), true, Some(d)) if fmt_sig(lo, 2) == fmt_sig(hi, 2) => format!(
-            "clearance {} mm (of the clearances sampled, only {} mm is within 5 % of the best: a narrow optimum)",
-            fmt_sig(*d, 2),
-            fmt_sig(lo, 2)
-        ),
-        (Profile::Within(lo, hi), true, Some(d)) => {
-            format!(
-                "clearance {} mm (of the clearances sampled, those from {} to {} mm are within 5 % of the best)",
-                fmt_sig(*d, 2),
-                fmt_sig(lo, 2),
-                fmt_sig(hi, 2)
-            )
-        }
-        (Profile::Narrow, true, Some(d)) => format!(
-            "clearance {} mm (none of the other clearances sampled from {} to {} mm comes within 5 % of it: a narrow optimum)",
-            fmt_sig(*d, 2),
-            fmt_sig(inputs.sampled.0, 2),
-            fmt_sig(inputs.sampled.1, 2)
-        ),
-        (Profile::NotComputed, true, Some(d)) => {
-            format!("clearance {} mm (how the answer varies with the clearance was not computed)", fmt_sig(*d, 2))
-        }
-        _ => format!("clearances {} mm", clearances.iter().map(|d| fmt_sig(*d, 2)).collect::<Vec<_>>().join(" / ")),
-    };
+    let clearances = &layout.clearances_mm;
+    let clearance = clearance_words(inputs, clearances);
     // Beds that never reach their lid: every clearance above their highest flight gives the
     // same motion (the lid is never touched), which the answer says rather than a precision.
     let flight_mm = 1e3 * eval.motion.iter().map(|m| m.flight_m).fold(0.0, f64::max);
@@ -277,6 +252,37 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         eval.unsettled,
         eval.points
     )
+}
+
+/// The layout's clearance in words, with how the answer varies with it (within 5 % from
+/// where to where, a narrow optimum, or not computed); several clearances listed.
+fn clearance_words(inputs: &AnswerIn<'_>, clearances: &[f64]) -> String {
+    let same = clearances.windows(2).all(|w| w[0] == w[1]);
+    match (inputs.profile, same, clearances.first()) {
+        (Profile::Within(lo, hi), true, Some(d)) if fmt_sig(lo, 2) == fmt_sig(hi, 2) => format!(
+            "clearance {} mm (of the clearances sampled, only {} mm is within 5 % of the best: a narrow optimum)",
+            fmt_sig(*d, 2),
+            fmt_sig(lo, 2)
+        ),
+        (Profile::Within(lo, hi), true, Some(d)) => {
+            format!(
+                "clearance {} mm (of the clearances sampled, those from {} to {} mm are within 5 % of the best)",
+                fmt_sig(*d, 2),
+                fmt_sig(lo, 2),
+                fmt_sig(hi, 2)
+            )
+        }
+        (Profile::Narrow, true, Some(d)) => format!(
+            "clearance {} mm (none of the other clearances sampled from {} to {} mm comes within 5 % of it: a narrow optimum)",
+            fmt_sig(*d, 2),
+            fmt_sig(inputs.sampled.0, 2),
+            fmt_sig(inputs.sampled.1, 2)
+        ),
+        (Profile::NotComputed, true, Some(d)) => {
+            format!("clearance {} mm (how the answer varies with the clearance was not computed)", fmt_sig(*d, 2))
+        }
+        _ => format!("clearances {} mm", clearances.iter().map(|d| fmt_sig(*d, 2)).collect::<Vec<_>>().join(" / ")),
+    }
 }
 
 #[cfg(test)]

@@ -157,46 +157,7 @@ fn tables(
     levels: &[f64],
 ) -> Vec<Table> {
     let n = exp.structure.dof();
-    let beds =
-        exp.cases.iter().map(|c| c.beds.iter().map(|b| &b.grains).map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
-    // Histories: one row per case and sample.
-    let rows: Vec<(&Decay, usize)> =
-        decays.iter().flat_map(|d| (0..d.run.samples.a.len()).map(move |i| (*d, i))).collect();
-    let mut h = Table::new(
-        "histories",
-        format!(
-            "Free response after {}: time (s), displacement x (m), velocity v (m/s) and acceleration a (m/s^2) of each mass, position y (m) and state (B bottom, T top, F free) of each bed",
-            kick_words(o)
-        ),
-    )
-    .str("case", rows.iter().map(|(d, _)| d.id.clone()).collect())
-    .f64("t", rows.iter().map(|(d, i)| d.run.samples.times[*i]).collect());
-    for (name, pick) in [("x", 0), ("v", 1), ("a", 2)] {
-        for k in 0..n {
-            h = h.f64(
-                format!("{name}{}", k + 1),
-                rows.iter()
-                    .map(|(d, i)| {
-                        let s = &d.run.samples;
-                        [&s.x, &s.v, &s.a][pick][*i][k]
-                    })
-                    .collect(),
-            );
-        }
-    }
-    for j in 0..beds {
-        h = h
-            .f64(
-                format!("y{}", j + 1),
-                rows.iter().map(|(d, i)| d.run.samples.y[*i].get(j).copied().unwrap_or(f64::NAN)).collect(),
-            )
-            .str(
-                format!("state{}", j + 1),
-                rows.iter()
-                    .map(|(d, i)| d.run.samples.state[*i].get(j).map(|c| c.to_string()).unwrap_or_default())
-                    .collect(),
-            );
-    }
+    let h = histories(exp, decays, o);
     let ev: Vec<(&Decay, &crate::sim::Event)> =
         decays.iter().flat_map(|d| d.run.samples.events.iter().map(move |e| (*d, e))).collect();
     let events = Table::new(
@@ -283,6 +244,53 @@ fn tables(
     vec![h, events, decay, energy, energy_history, damping, spec]
 }
 
+/// The histories table: one row per case and sample, every mass's x, v, a and every bed's
+/// position and state.
+fn histories(exp: &Experiment, decays: &[&Decay], o: &ImpulseOptions) -> Table {
+    let n = exp.structure.dof();
+    let beds =
+        exp.cases.iter().map(|c| c.beds.iter().map(|b| &b.grains).map(|g| g.max(&1)).sum::<usize>()).max().unwrap_or(0);
+    // Histories: one row per case and sample.
+    let rows: Vec<(&Decay, usize)> =
+        decays.iter().flat_map(|d| (0..d.run.samples.a.len()).map(move |i| (*d, i))).collect();
+    let mut h = Table::new(
+        "histories",
+        format!(
+            "Free response after {}: time (s), displacement x (m), velocity v (m/s) and acceleration a (m/s^2) of each mass, position y (m) and state (B bottom, T top, F free) of each bed",
+            kick_words(o)
+        ),
+    )
+    .str("case", rows.iter().map(|(d, _)| d.id.clone()).collect())
+    .f64("t", rows.iter().map(|(d, i)| d.run.samples.times[*i]).collect());
+    for (name, pick) in [("x", 0), ("v", 1), ("a", 2)] {
+        for k in 0..n {
+            h = h.f64(
+                format!("{name}{}", k + 1),
+                rows.iter()
+                    .map(|(d, i)| {
+                        let s = &d.run.samples;
+                        [&s.x, &s.v, &s.a][pick][*i][k]
+                    })
+                    .collect(),
+            );
+        }
+    }
+    for j in 0..beds {
+        h = h
+            .f64(
+                format!("y{}", j + 1),
+                rows.iter().map(|(d, i)| d.run.samples.y[*i].get(j).copied().unwrap_or(f64::NAN)).collect(),
+            )
+            .str(
+                format!("state{}", j + 1),
+                rows.iter()
+                    .map(|(d, i)| d.run.samples.state[*i].get(j).map(|c| c.to_string()).unwrap_or_default())
+                    .collect(),
+            );
+    }
+    h
+}
+
 fn figures(
     exp: &Experiment,
     modes: &[ModeSummary],
@@ -324,54 +332,7 @@ fn figures(
                     ),
                 )
             }
-            PlotKind::Decay => {
-                let mut panels: Vec<Panel> = p
-                    .masses
-                    .iter()
-                    .map(|&k| {
-                        let mut panel =
-                            Panel::new(format!("envelope of |a| at m{}", k + 1), "time (s)", "|a| (m/s^2)", span).log_y();
-                        for &(ci, d) in &shown {
-                            let (t, v): (Vec<f64>, Vec<f64>) = d.envelopes[k].iter().copied().unzip();
-                            panel.series.push(Series::points("", t, v, ci, Marker::Cross));
-                            let (t, v): (Vec<f64>, Vec<f64>) = falling_envelope(&d.envelopes[k]).into_iter().unzip();
-                            panel.series.push(Series::line(d.label.clone(), t, v, ci));
-                            let first = d.envelopes[k].first().map_or(f64::NAN, |p| p.1);
-                            let (tx, ty): (Vec<f64>, Vec<f64>) = levels
-                                .iter()
-                                .zip(&d.decay_times[k])
-                                .filter_map(|(l, td)| td.map(|td| (td, l * first)))
-                                .unzip();
-                            panel.series.push(Series::points("", tx, ty, ci, Marker::Circle).filled());
-                        }
-                        panel
-                    })
-                    .collect();
-                let mut energy = Panel::new("energy", "time (s)", "energy / energy given", span).log_y();
-                for &(ci, d) in &shown {
-                    let s = &d.run.samples;
-                    let e0 = d.run.initial_energy;
-                    let r: Vec<f64> = d.run.remaining.iter().map(|e| e / e0).collect();
-                    energy.series.push(Series::dense(format!("{}: remaining", d.label), &s.times[..r.len()], &r, ci, BINS));
-                    if d.run.impact_loss > 0.0 {
-                        let imp: Vec<f64> = d.run.impact_loss_until.iter().map(|e| e / e0).collect();
-                        energy.series.push(
-                            Series::dense(format!("{}: lost in impacts", d.label), &s.times[..imp.len()], &imp, ci, BINS)
-                                .dashed(Dash::Dashed),
-                        );
-                    }
-                }
-                energy.y_range = Some((1e-4, 1.5));
-                panels.push(energy);
-                let levels_words: Vec<String> = levels.iter().map(|l| format!("{} %", fmt_num(100.0 * l))).collect();
-                (
-                    panels,
-                    format!(
-                        "Peaks of |acceleration| (crosses, log scale) and the envelope as it falls for good (line); filled circles where it reaches {} of its first peak. Bottom: energy above the rest state and the energy lost in impacts, as fractions of the energy given (the viscous loss is the rest).",
-                        levels_words.join(", ")
-                    ),
-                )
-            }
+            PlotKind::Decay => decay_panels(&p.masses, &shown, span, levels),
             PlotKind::Spectrum => (
                 p.masses
                     .iter()
@@ -396,51 +357,102 @@ fn figures(
                     fmt_num(spectrum_hz.get(1).map_or(0.0, |f| f - spectrum_hz[0]))
                 ),
             ),
-            PlotKind::Damping => {
-                let accel = |k: usize, z: &Decrement| z.amplitude * modes[k].omega.powi(2) / GRAVITY;
-                let all: Vec<f64> = shown
-                    .iter()
-                    .flat_map(|(_, d)| d.decrements.iter().enumerate().flat_map(move |(k, z)| z.iter().map(move |z| accel(k, z))))
-                    .filter(|a| *a > 0.0)
-                    .collect();
-                let lo = all.iter().copied().fold(f64::INFINITY, f64::min).max(1e-6);
-                let hi = all.iter().copied().fold(0.0, f64::max).max(lo * 10.0);
-                let mut panel = Panel::new(
-                    title.clone(),
-                    "acceleration amplitude of the mode, omega_i^2 q_i / g",
-                    "equivalent damping ratio",
-                    (lo / 1.3, hi * 1.3),
-                )
-                .log_x()
-                .log_y();
-                panel.legend = Corner::LowerLeft;
-                panel.y_range = Some((2e-3, 0.3));
-                for &(ci, d) in &shown {
-                    for (k, z) in d.decrements.iter().enumerate() {
-                        let marker = [Marker::Circle, Marker::Square, Marker::Triangle][k % 3];
-                        let lifting = |z: &&Decrement| d.last_liftoff.is_some_and(|tl| z.t <= tl);
-                        let part = |keep: bool| -> (Vec<f64>, Vec<f64>) {
-                            z.iter().filter(|z| z.zeta > 0.0 && lifting(z) == keep).map(|z| (accel(k, z), z.zeta)).unzip()
-                        };
-                        let (x, y) = part(false);
-                        panel.series.push(Series::points(format!("{}, mode {}", d.label, k + 1), x, y, ci, marker));
-                        let (x, y) = part(true);
-                        if !x.is_empty() {
-                            panel.series.push(Series::points("", x, y, ci, marker).filled());
-                        }
-                    }
-                }
-                (
-                    vec![panel],
-                    format!(
-                        "Equivalent damping ratio of each mode from the log decrement of its modal coordinate (modes of the bare structure) over {} half cycles, against the mode's acceleration amplitude at its largest modal displacement, in g. Filled: while beds still lift off; hollow: after the last lift-off, when only the structure's own damping acts (with the beds' mass added). While beds fly, impacts also pass energy between modes, so single values scatter (values outside the axis are in the damping table).",
-                        DECREMENT_SPAN
-                    ),
-                )
-            }
+            PlotKind::Damping => damping_panels(&title, &shown, modes),
             _ => continue,
         };
         out.push(Figure { id: p.id.clone(), title: title.clone(), caption, panels });
     }
     out
+}
+
+/// The decay figure's panels: the peaks of |a| and their falling envelope at each mass, with
+/// where it reaches each level, and the energy left and lost in impacts; and its caption.
+fn decay_panels(masses: &[usize], shown: &[(usize, &Decay)], span: (f64, f64), levels: &[f64]) -> (Vec<Panel>, String) {
+    let mut panels: Vec<Panel> = masses
+        .iter()
+        .map(|&k| {
+            let mut panel =
+                Panel::new(format!("envelope of |a| at m{}", k + 1), "time (s)", "|a| (m/s^2)", span).log_y();
+            for &(ci, d) in shown {
+                let (t, v): (Vec<f64>, Vec<f64>) = d.envelopes[k].iter().copied().unzip();
+                panel.series.push(Series::points("", t, v, ci, Marker::Cross));
+                let (t, v): (Vec<f64>, Vec<f64>) = falling_envelope(&d.envelopes[k]).into_iter().unzip();
+                panel.series.push(Series::line(d.label.clone(), t, v, ci));
+                let first = d.envelopes[k].first().map_or(f64::NAN, |p| p.1);
+                let (tx, ty): (Vec<f64>, Vec<f64>) =
+                    levels.iter().zip(&d.decay_times[k]).filter_map(|(l, td)| td.map(|td| (td, l * first))).unzip();
+                panel.series.push(Series::points("", tx, ty, ci, Marker::Circle).filled());
+            }
+            panel
+        })
+        .collect();
+    let mut energy = Panel::new("energy", "time (s)", "energy / energy given", span).log_y();
+    for &(ci, d) in shown {
+        let s = &d.run.samples;
+        let e0 = d.run.initial_energy;
+        let r: Vec<f64> = d.run.remaining.iter().map(|e| e / e0).collect();
+        energy.series.push(Series::dense(format!("{}: remaining", d.label), &s.times[..r.len()], &r, ci, BINS));
+        if d.run.impact_loss > 0.0 {
+            let imp: Vec<f64> = d.run.impact_loss_until.iter().map(|e| e / e0).collect();
+            energy.series.push(
+                Series::dense(format!("{}: lost in impacts", d.label), &s.times[..imp.len()], &imp, ci, BINS)
+                    .dashed(Dash::Dashed),
+            );
+        }
+    }
+    energy.y_range = Some((1e-4, 1.5));
+    panels.push(energy);
+    let levels_words: Vec<String> = levels.iter().map(|l| format!("{} %", fmt_num(100.0 * l))).collect();
+    (
+            panels,
+            format!(
+                "Peaks of |acceleration| (crosses, log scale) and the envelope as it falls for good (line); filled circles where it reaches {} of its first peak. Bottom: energy above the rest state and the energy lost in impacts, as fractions of the energy given (the viscous loss is the rest).",
+                levels_words.join(", ")
+            ),
+        )
+}
+
+/// The damping figure's panel: each mode's equivalent damping ratio against its acceleration
+/// amplitude (filled while beds lift off); and its caption.
+fn damping_panels(title: &str, shown: &[(usize, &Decay)], modes: &[ModeSummary]) -> (Vec<Panel>, String) {
+    let accel = |k: usize, z: &Decrement| z.amplitude * modes[k].omega.powi(2) / GRAVITY;
+    let all: Vec<f64> = shown
+        .iter()
+        .flat_map(|(_, d)| d.decrements.iter().enumerate().flat_map(move |(k, z)| z.iter().map(move |z| accel(k, z))))
+        .filter(|a| *a > 0.0)
+        .collect();
+    let lo = all.iter().copied().fold(f64::INFINITY, f64::min).max(1e-6);
+    let hi = all.iter().copied().fold(0.0, f64::max).max(lo * 10.0);
+    let mut panel = Panel::new(
+        title,
+        "acceleration amplitude of the mode, omega_i^2 q_i / g",
+        "equivalent damping ratio",
+        (lo / 1.3, hi * 1.3),
+    )
+    .log_x()
+    .log_y();
+    panel.legend = Corner::LowerLeft;
+    panel.y_range = Some((2e-3, 0.3));
+    for &(ci, d) in shown {
+        for (k, z) in d.decrements.iter().enumerate() {
+            let marker = [Marker::Circle, Marker::Square, Marker::Triangle][k % 3];
+            let lifting = |z: &&Decrement| d.last_liftoff.is_some_and(|tl| z.t <= tl);
+            let part = |keep: bool| -> (Vec<f64>, Vec<f64>) {
+                z.iter().filter(|z| z.zeta > 0.0 && lifting(z) == keep).map(|z| (accel(k, z), z.zeta)).unzip()
+            };
+            let (x, y) = part(false);
+            panel.series.push(Series::points(format!("{}, mode {}", d.label, k + 1), x, y, ci, marker));
+            let (x, y) = part(true);
+            if !x.is_empty() {
+                panel.series.push(Series::points("", x, y, ci, marker).filled());
+            }
+        }
+    }
+    (
+            vec![panel],
+            format!(
+                "Equivalent damping ratio of each mode from the log decrement of its modal coordinate (modes of the bare structure) over {} half cycles, against the mode's acceleration amplitude at its largest modal displacement, in g. Filled: while beds still lift off; hollow: after the last lift-off, when only the structure's own damping acts (with the beds' mass added). While beds fly, impacts also pass energy between modes, so single values scatter (values outside the axis are in the damping table).",
+                DECREMENT_SPAN
+            ),
+        )
 }

@@ -250,57 +250,7 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
                     curves::linear(exp, &r.case, CurveId::whole("stuck"), "damper mass stuck (linear)", &fine, true);
                 let mut panels = Vec::new();
                 for &m in &masses {
-                    let mut panel = Panel::new(
-                        format!("{title}: compliance of m{}", m + 1),
-                        "frequency (Hz)",
-                        format!("compliance of m{} (m/N)", m + 1),
-                        range,
-                    );
-                    // Where the beds rest all the time, the SDOF solution is its linear response
-                    // with the bed's mass added (valid while the acceleration stays below g).
-                    let (xs, ys) = resting_sdof(r, &fine, m);
-                    panel.series.push(Series::line("equivalent SDOF, bed resting (linear)", xs, ys, 0));
-                    panel.series.extend(branch_series(&r.sdof, "equivalent SDOF", 0, false, &|x| x.compliance[m]));
-                    panel.series.extend(branch_series(&r.exact, "exact 3-mass orbit", 1, false, &|x| x.compliance[m]));
-                    let sim = &r.simulation;
-                    let (reg, irr): (Vec<usize>, Vec<usize>) = (0..sim.freq_hz.len()).partition(|&i| sim.regular(i));
-                    panel.series.push(Series::points(
-                        "3-mass simulation",
-                        reg.iter().map(|&i| sim.freq_hz[i]).collect(),
-                        reg.iter().map(|&i| sim.compliance[i][m]).collect(),
-                        2,
-                        Marker::Circle,
-                    ));
-                    if !irr.is_empty() {
-                        panel.series.push(Series::points(
-                            "simulation, not settled or not period-1",
-                            irr.iter().map(|&i| sim.freq_hz[i]).collect(),
-                            irr.iter().map(|&i| sim.compliance[i][m]).collect(),
-                            2,
-                            Marker::Cross,
-                        ));
-                    }
-                    panel.series.push(
-                        Series::line(
-                            bare.label.clone(),
-                            fine.clone(),
-                            bare.compliance.iter().map(|c| c[m]).collect(),
-                            7,
-                        )
-                        .dashed(Dash::Dotted),
-                    );
-                    panel.series.push(
-                        Series::line(
-                            stuck.label.clone(),
-                            fine.clone(),
-                            stuck.compliance.iter().map(|c| c[m]).collect(),
-                            7,
-                        )
-                        .dashed(Dash::DashDot),
-                    );
-                    panel.series.extend(special_markers(&r.sdof, "SDOF", 0, &|x| x.compliance[m]));
-                    panel.series.extend(special_markers(&r.exact, "exact", 1, &|x| x.compliance[m]));
-                    panels.push(panel);
+                    panels.push(compliance_panel(&title, r, m, range, &fine, &bare, &stuck));
                 }
                 let mut phases = Panel::new(
                     "equivalent SDOF: impact phase and event times (the paper's right-hand axis)",
@@ -383,6 +333,61 @@ pub fn figures(exp: &Experiment, modes: &[ModeSummary], r: &OrbitsResult, freq_h
         }
     }
     out
+}
+
+/// The compliance of mass `m` in `range`: the SDOF's and the exact orbits (stable solid,
+/// unstable dashed), the simulation from rest, the bare and stuck linear curves, the folds and
+/// doublings.
+fn compliance_panel(
+    title: &str,
+    r: &OrbitsResult,
+    m: usize,
+    range: (f64, f64),
+    fine: &[f64],
+    bare: &Curve,
+    stuck: &Curve,
+) -> Panel {
+    let mut panel = Panel::new(
+        format!("{title}: compliance of m{}", m + 1),
+        "frequency (Hz)",
+        format!("compliance of m{} (m/N)", m + 1),
+        range,
+    );
+    // Where the beds rest all the time, the SDOF solution is its linear response
+    // with the bed's mass added (valid while the acceleration stays below g).
+    let (xs, ys) = resting_sdof(r, fine, m);
+    panel.series.push(Series::line("equivalent SDOF, bed resting (linear)", xs, ys, 0));
+    panel.series.extend(branch_series(&r.sdof, "equivalent SDOF", 0, false, &|x| x.compliance[m]));
+    panel.series.extend(branch_series(&r.exact, "exact 3-mass orbit", 1, false, &|x| x.compliance[m]));
+    let sim = &r.simulation;
+    let (reg, irr): (Vec<usize>, Vec<usize>) = (0..sim.freq_hz.len()).partition(|&i| sim.regular(i));
+    panel.series.push(Series::points(
+        "3-mass simulation",
+        reg.iter().map(|&i| sim.freq_hz[i]).collect(),
+        reg.iter().map(|&i| sim.compliance[i][m]).collect(),
+        2,
+        Marker::Circle,
+    ));
+    if !irr.is_empty() {
+        panel.series.push(Series::points(
+            "simulation, not settled or not period-1",
+            irr.iter().map(|&i| sim.freq_hz[i]).collect(),
+            irr.iter().map(|&i| sim.compliance[i][m]).collect(),
+            2,
+            Marker::Cross,
+        ));
+    }
+    panel.series.push(
+        Series::line(bare.label.clone(), fine.to_vec(), bare.compliance.iter().map(|c| c[m]).collect(), 7)
+            .dashed(Dash::Dotted),
+    );
+    panel.series.push(
+        Series::line(stuck.label.clone(), fine.to_vec(), stuck.compliance.iter().map(|c| c[m]).collect(), 7)
+            .dashed(Dash::DashDot),
+    );
+    panel.series.extend(special_markers(&r.sdof, "SDOF", 0, &|x| x.compliance[m]));
+    panel.series.extend(special_markers(&r.exact, "exact", 1, &|x| x.compliance[m]));
+    panel
 }
 
 /// The SDOF model's linear response with its bed resting, where the bed never lifts off

@@ -10,7 +10,7 @@ use crate::checks::{compare_scalar, CheckOutcome, Source, Subject};
 use crate::experiment::{Analysis, Experiment};
 use crate::figure::{Figure, Marker, Panel, Series};
 use crate::model::fe::FeStructure;
-use crate::model::lanczos::{lowest, Failure, Want};
+use crate::model::lanczos::{lowest, Eigen, Failure, Want};
 use crate::model::modes::symmetric_modes;
 use crate::model::reduction::{compliance_pairs, largest_difference, peaks, CompliancePair, Damped};
 use crate::model::sparse::{rcm, Skyline};
@@ -87,41 +87,13 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
     freqs.dedup();
     let full = &fe.full;
     let reduced_modes = symmetric_modes(&fe.reduced.mass, &fe.reduced.stiffness);
-    // The full model's lowest modes, as many as the reduced model has.
-    let mut factor = Skyline::pattern(&full.stiffness, Some(&full.mass), rcm(&full.stiffness));
-    let found = match factor.factor(&full.stiffness, None) {
-        Ok(0) => {
-            lowest(&full.stiffness, &full.mass, &factor, Want::Count(reduced_modes.omegas.len())).map_err(|e| match e {
-                Failure::Singular(s) => format!("a shift fell on an eigenvalue at row {}", s.row + 1),
-                Failure::Missed { found, counted } => {
-                    format!("shift-invert Lanczos found {found} modes where the inertia counts {counted}")
-                }
-            })
-        }
-        Ok(n) => Err(format!("the stiffness matrix has {n} negative pivots (it is not positive definite)")),
-        Err(e) => Err(format!("the stiffness matrix is singular at row {}", e.row + 1)),
-    };
-    let warning = found.as_ref().err().map(|why| {
-        format!(
-            "{}: the full model's natural frequencies could not be computed ({why}): the reduction's frequency table is empty and its compliance comparison undamped",
-            full.files
-        )
-    });
-    let full_modes = found.ok();
+    let (full_modes, warning) = full_modes(fe, reduced_modes.omegas.len());
     let full_hz: Vec<f64> = full_modes
         .as_ref()
         .map(|e| e.values.iter().map(|l| l.sqrt() / (2.0 * std::f64::consts::PI)).collect())
         .unwrap_or_default();
     let red_hz: Vec<f64> = reduced_modes.omegas.iter().map(|w| w / (2.0 * std::f64::consts::PI)).collect();
-    let count = red_hz.len().min(full_hz.len());
-    let freq_table = Table::new(
-        "reduction_frequencies",
-        "Natural frequencies of the full finite-element model (shift-invert Lanczos, certified by inertia counts) and of the reduced model (Hz), and their relative difference",
-    )
-    .i64("mode", (1..=count as i64).collect())
-    .f64("full_hz", full_hz[..count].to_vec())
-    .f64("reduced_hz", red_hz[..count].to_vec())
-    .f64("rel_diff", (0..count).map(|i| (red_hz[i] - full_hz[i]) / full_hz[i]).collect());
+    let freq_table = frequency_table(&full_hz, &red_hz);
     let mut tables = vec![freq_table];
     if freqs.is_empty() {
         return Outcome { tables, check: None, figure: None, warning };
@@ -129,19 +101,7 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
     let omegas: Vec<f64> = freqs.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     // The full model's compliance in the reduced model's coordinates (points whose
     // direction points down are measured upward there).
-    let zetas: Vec<f64> = match damped.map(|s| &s.damping_spec) {
-        Some(Damping::ModalRatios(z)) => {
-            (0..full_hz.len()).map(|k| z.get(k).or(z.last()).copied().unwrap_or(0.0)).collect()
-        }
-        Some(Damping::Rayleigh { alpha, beta }) => full_hz
-            .iter()
-            .map(|f| {
-                let w = 2.0 * std::f64::consts::PI * f;
-                alpha / (2.0 * w) + beta * w / 2.0
-            })
-            .collect(),
-        None => Vec::new(),
-    };
+    let zetas = full_zetas(damped, &full_hz);
     let damping = match (damped, &full_modes) {
         (Some(s), Some(modes)) => Some(Damped { full_modes: modes, zetas: &zetas, reduced: &s.damping }),
         _ => None,
@@ -236,6 +196,62 @@ pub fn compare(fe: &FeStructure, force: usize, bands: &[(String, Vec<f64>)], dam
             Some(format!("{} frequencies fell on a natural frequency and were skipped", freqs.len() - pairs.len()));
     }
     Outcome { tables, check: Some(check), figure: Some(figure), warning }
+}
+
+/// The natural frequencies of both models side by side, and their relative difference.
+fn frequency_table(full_hz: &[f64], red_hz: &[f64]) -> Table {
+    let count = red_hz.len().min(full_hz.len());
+    Table::new(
+        "reduction_frequencies",
+        "Natural frequencies of the full finite-element model (shift-invert Lanczos, certified by inertia counts) and of the reduced model (Hz), and their relative difference",
+    )
+    .i64("mode", (1..=count as i64).collect())
+    .f64("full_hz", full_hz[..count].to_vec())
+    .f64("reduced_hz", red_hz[..count].to_vec())
+    .f64("rel_diff", (0..count).map(|i| (red_hz[i] - full_hz[i]) / full_hz[i]).collect())
+}
+
+/// The full model's lowest modes, as many as the reduced model has (shift-invert Lanczos,
+/// certified by inertia counts), or the warning saying why they could not be computed.
+fn full_modes(fe: &FeStructure, count: usize) -> (Option<Eigen>, Option<String>) {
+    let full = &fe.full;
+    let mut factor = Skyline::pattern(&full.stiffness, Some(&full.mass), rcm(&full.stiffness));
+    let found = match factor.factor(&full.stiffness, None) {
+        Ok(0) => lowest(&full.stiffness, &full.mass, &factor, Want::Count(count)).map_err(|e| match e {
+            Failure::Singular(s) => format!("a shift fell on an eigenvalue at row {}", s.row + 1),
+            Failure::Missed { found, counted } => {
+                format!("shift-invert Lanczos found {found} modes where the inertia counts {counted}")
+            }
+        }),
+        Ok(n) => Err(format!("the stiffness matrix has {n} negative pivots (it is not positive definite)")),
+        Err(e) => Err(format!("the stiffness matrix is singular at row {}", e.row + 1)),
+    };
+    let warning = found.as_ref().err().map(|why| {
+        format!(
+            "{}: the full model's natural frequencies could not be computed ({why}): the reduction's frequency table is empty and its compliance comparison undamped",
+            full.files
+        )
+    });
+    (found.ok(), warning)
+}
+
+/// The modal damping ratio of each of the full model's modes (at `full_hz`) under the reduced
+/// model's damping: its ratios (the last for modes beyond them), or Rayleigh's at each
+/// frequency; none undamped.
+fn full_zetas(damped: Option<&Structure>, full_hz: &[f64]) -> Vec<f64> {
+    match damped.map(|s| &s.damping_spec) {
+        Some(Damping::ModalRatios(z)) => {
+            (0..full_hz.len()).map(|k| z.get(k).or(z.last()).copied().unwrap_or(0.0)).collect()
+        }
+        Some(Damping::Rayleigh { alpha, beta }) => full_hz
+            .iter()
+            .map(|f| {
+                let w = 2.0 * std::f64::consts::PI * f;
+                alpha / (2.0 * w) + beta * w / 2.0
+            })
+            .collect(),
+        None => Vec::new(),
+    }
 }
 
 /// Two panels: the magnitude of each point's compliance, full model (lines) and reduced

@@ -100,35 +100,7 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
             );
     }
     if *dry_run {
-        // The nominal cost is a rule of thumb; one layout evaluated measures this
-        // structure and its beds.
-        for (probe, (_, _, b)) in runner::designs::probe_of(&exps)?.into_iter().zip(budgets) {
-            let runner::designs::Probe {
-                key,
-                hosts,
-                clearance_mm: d,
-                seconds_per_point: point,
-                screen_seconds_per_point,
-            } = probe;
-            let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
-            let ms = |p: f64| if p < 1e-3 { format!("{:.0} us", p * 1e6) } else { format!("{:.1} ms", p * 1e3) };
-            let screen = screen_seconds_per_point.map_or(String::new(), |s| {
-                format!(
-                    " ({} on the searched model of [design.screen], {} of the {} evaluations)",
-                    ms(s),
-                    b.screened.0,
-                    b.evaluations
-                )
-            });
-            say!(
-                    "design {key}: measured {} a steady state{screen} (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
-                    ms(point),
-                    on.join(" "),
-                    crate::number::fmt_sig(d, 2),
-                    super::study::duration(b.seconds_at(point, screen_seconds_per_point.unwrap_or(point), threads)),
-                    if threads == 1 { "" } else { "s" },
-                );
-        }
+        dry_run_lines(&exps, budgets, threads)?;
         return Ok(true);
     }
     let interrupt = Interrupt::default();
@@ -178,6 +150,40 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         std::process::exit(i32::from(super::PARTIAL));
     }
     Ok(ok)
+}
+
+/// The dry run's lines: one layout of each design evaluated on one thread, and the most the
+/// design would then take.
+fn dry_run_lines(
+    exps: &[crate::experiment::Experiment],
+    budgets: Vec<(String, usize, crate::design::Budget)>,
+    threads: usize,
+) -> anyhow::Result<()> {
+    // The nominal cost is a rule of thumb; one layout evaluated measures this
+    // structure and its beds.
+    for (probe, (_, _, b)) in runner::designs::probe_of(exps)?.into_iter().zip(budgets) {
+        let runner::designs::Probe { key, hosts, clearance_mm: d, seconds_per_point: point, screen_seconds_per_point } =
+            probe;
+        let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
+        let ms = |p: f64| if p < 1e-3 { format!("{:.0} us", p * 1e6) } else { format!("{:.1} ms", p * 1e3) };
+        let screen = screen_seconds_per_point.map_or(String::new(), |s| {
+            format!(
+                " ({} on the searched model of [design.screen], {} of the {} evaluations)",
+                ms(s),
+                b.screened.0,
+                b.evaluations
+            )
+        });
+        say!(
+                "design {key}: measured {} a steady state{screen} (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
+                ms(point),
+                on.join(" "),
+                crate::number::fmt_sig(d, 2),
+                super::study::duration(b.seconds_at(point, screen_seconds_per_point.unwrap_or(point), threads)),
+                if threads == 1 { "" } else { "s" },
+            );
+    }
+    Ok(())
 }
 
 /// The shard this process searches, when it searches one: `--shard I/N`, else with `--parts`

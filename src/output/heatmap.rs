@@ -379,37 +379,8 @@ fn draw_panel<DB: DrawingBackend>(
     mesh.draw().map_err(|e| err(map, e))?;
     let colour = |v: f64| if v.is_finite() { viridis(scale.t(v)) } else { RGBColor(200, 200, 200) };
     if map.grid {
-        let cells = panel.points.iter().map(|&(x, y, v, _)| {
-            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
-            Rectangle::new([(i - 0.5, j - 0.5), (i + 0.5, j + 0.5)], colour(v).filled())
-        });
-        chart.draw_series(cells).map_err(|e| err(map, e))?;
-        let held = panel.points.iter().filter(|p| p.3 == Mark::Holds).map(|&(x, y, _, _)| {
-            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
-            Rectangle::new([(i - 0.45, j - 0.45), (i + 0.45, j + 0.45)], ShapeStyle::from(&BLACK).stroke_width(3))
-        });
-        chart.draw_series(held).map_err(|e| err(map, e))?;
-        // Not evaluable: three diagonal strokes across the cell.
-        let hatch = panel.points.iter().filter(|p| p.3 == Mark::NotEvaluable).flat_map(|&(x, y, _, _)| {
-            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
-            [-0.5, 0.0, 0.5].map(|o: f64| {
-                let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
-                PathElement::new(vec![(i + a, j + a - o), (i + b, j + b - o)], ShapeStyle::from(&WHITE).stroke_width(2))
-            })
-        });
-        chart.draw_series(hatch).map_err(|e| err(map, e))?;
-        // Unsettled: three strokes the other way, in the colour the pages use for it.
-        let hatch = panel.points.iter().filter(|p| p.3 == Mark::Unsettled).flat_map(|&(x, y, _, _)| {
-            let (i, j) = (tx(x, false, &xs), tx(y, false, &ys));
-            [-0.5, 0.0, 0.5].map(|o: f64| {
-                let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
-                PathElement::new(
-                    vec![(i + a, j - a + o), (i + b, j - b + o)],
-                    ShapeStyle::from(&UNSETTLED).stroke_width(3),
-                )
-            })
-        });
-        chart.draw_series(hatch).map_err(|e| err(map, e))?;
+        let index = |x: f64, y: f64| (tx(x, false, &xs), tx(y, false, &ys));
+        draw_cells(&mut chart, map, panel, &index, &colour)?;
     } else {
         let dots = panel
             .points
@@ -446,6 +417,51 @@ fn draw_panel<DB: DrawingBackend>(
                 .map_err(|e| err(map, e))?;
         }
     }
+    Ok(())
+}
+
+/// A grid map's cells: each in the colour of its value, outlined where the claim holds, hatched
+/// white where it cannot be evaluated and in the unsettled colour where points did not settle.
+/// `index` gives a sample's cell.
+fn draw_cells<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    map: &HeatMap,
+    panel: &MapPanel,
+    index: &dyn Fn(f64, f64) -> (f64, f64),
+    colour: &dyn Fn(f64) -> RGBColor,
+) -> Result<()> {
+    let cells = panel.points.iter().map(|&(x, y, v, _)| {
+        let (i, j) = index(x, y);
+        Rectangle::new([(i - 0.5, j - 0.5), (i + 0.5, j + 0.5)], colour(v).filled())
+    });
+    chart.draw_series(cells).map_err(|e| err(map, e))?;
+    let held = panel.points.iter().filter(|p| p.3 == Mark::Holds).map(|&(x, y, _, _)| {
+        let (i, j) = index(x, y);
+        Rectangle::new([(i - 0.45, j - 0.45), (i + 0.45, j + 0.45)], ShapeStyle::from(&BLACK).stroke_width(3))
+    });
+    chart.draw_series(held).map_err(|e| err(map, e))?;
+    // Not evaluable: three diagonal strokes across the cell.
+    let hatch = panel.points.iter().filter(|p| p.3 == Mark::NotEvaluable).flat_map(|&(x, y, _, _)| {
+        let (i, j) = index(x, y);
+        [-0.5, 0.0, 0.5].map(|o: f64| {
+            let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
+            PathElement::new(vec![(i + a, j + a - o), (i + b, j + b - o)], ShapeStyle::from(&WHITE).stroke_width(2))
+        })
+    });
+    chart.draw_series(hatch).map_err(|e| err(map, e))?;
+    // Unsettled: three strokes the other way, in the colour the pages use for it.
+    let hatch = panel.points.iter().filter(|p| p.3 == Mark::Unsettled).flat_map(|&(x, y, _, _)| {
+        let (i, j) = index(x, y);
+        [-0.5, 0.0, 0.5].map(|o: f64| {
+            let (a, b) = ((-0.5f64).max(o - 0.5), 0.5f64.min(o + 0.5));
+            PathElement::new(vec![(i + a, j - a + o), (i + b, j - b + o)], ShapeStyle::from(&UNSETTLED).stroke_width(3))
+        })
+    });
+    chart.draw_series(hatch).map_err(|e| err(map, e))?;
     Ok(())
 }
 

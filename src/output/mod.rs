@@ -301,7 +301,8 @@ impl ReportWriter {
         }
         // Joint studies: their tables in `ID/`, their bottom line on the index (a stored
         // answer, the widest search, first).
-        let mut joint_runs: Vec<&manifest::StudyRun> = studies.iter().filter(|s| !s.manifest.joint.is_empty()).collect();
+        let mut joint_runs: Vec<&manifest::StudyRun> =
+            studies.iter().filter(|s| !s.manifest.joint.is_empty()).collect();
         joint_runs.sort_by_key(|s| s.stored.is_none());
         for s in joint_runs {
             let m = &s.manifest;

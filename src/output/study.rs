@@ -20,8 +20,8 @@ use crate::error::{Error, Result};
 use crate::table::{self, Table};
 
 use super::files::{sync_dir, temporary, write_synced};
-use super::manifest::{Manifest, Shard};
 pub use super::files::{write_atomic, ShardLock};
+use super::manifest::{Manifest, Shard};
 
 const MANIFEST: &str = "study.json";
 

@@ -144,53 +144,7 @@ pub fn search_shard(
 /// designs (their fingerprints), each item searched by exactly one of them.
 pub fn merge_into(exps: &mut [Experiment], dir: &Path) -> Result<()> {
     let bad = |key: &str, value: &dyn std::fmt::Display, msg: String| Error::invalid(dir, key, value, msg);
-    let mut parts = Vec::new();
-    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
-    for entry in entries {
-        let path = entry.map_err(|e| Error::io(dir, e))?.path();
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
-        if !(name.starts_with("design-part-") && name.ends_with(".json")) {
-            continue;
-        }
-        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        let part: Part = serde_json::from_str(&text)
-            .map_err(|e| Error::invalid(&path, "(part)", "(unreadable)", format!("not a design search part: {e}")))?;
-        if part.format != FORMAT {
-            return Err(Error::invalid(&path, "format", &part.format, format!("\"{FORMAT}\"")));
-        }
-        parts.push((path, part));
-    }
-    let Some(count) = parts.first().map(|(_, p)| p.shards) else {
-        return Err(bad(
-            "design-part-I-of-N.json",
-            &"(none)",
-            "no part in this folder: run `shotdamp design FILE --shard I/N --parts DIR` for every I first".into(),
-        ));
-    };
-    for (path, p) in &parts {
-        if p.shards != count || p.shard >= count {
-            return Err(Error::invalid(
-                path,
-                "shard",
-                format!("{}/{}", p.shard, p.shards),
-                format!("the folder holds parts of a split into {count}: give every shard's part of one split"),
-            ));
-        }
-    }
-    parts.sort_by_key(|(_, p)| p.shard);
-    for i in 0..count {
-        match parts.iter().filter(|(_, p)| p.shard == i).count() {
-            1 => {}
-            0 => {
-                return Err(bad(
-                    "shard",
-                    &format!("{i}/{count}"),
-                    format!("its part is missing: run `shotdamp design FILE --shard {i}/{count} --parts DIR`"),
-                ))
-            }
-            _ => return Err(bad("shard", &format!("{i}/{count}"), "its part is there twice".to_string())),
-        }
-    }
+    let parts = read_parts(dir)?;
     for e in exps.iter_mut() {
         let key = e.key();
         let Some((spec, steady)) = e.analysis.design() else { continue };
@@ -262,4 +216,58 @@ pub fn merge_into(exps: &mut [Experiment], dir: &Path) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Every part in `dir` (`design-part-I-of-N.json`), in shard order: each of one split, each
+/// shard exactly once.
+fn read_parts(dir: &Path) -> Result<Vec<(PathBuf, Part)>> {
+    let bad = |key: &str, value: &dyn std::fmt::Display, msg: String| Error::invalid(dir, key, value, msg);
+    let mut parts = Vec::new();
+    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+    for entry in entries {
+        let path = entry.map_err(|e| Error::io(dir, e))?.path();
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+        if !(name.starts_with("design-part-") && name.ends_with(".json")) {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        let part: Part = serde_json::from_str(&text)
+            .map_err(|e| Error::invalid(&path, "(part)", "(unreadable)", format!("not a design search part: {e}")))?;
+        if part.format != FORMAT {
+            return Err(Error::invalid(&path, "format", &part.format, format!("\"{FORMAT}\"")));
+        }
+        parts.push((path, part));
+    }
+    let Some(count) = parts.first().map(|(_, p)| p.shards) else {
+        return Err(bad(
+            "design-part-I-of-N.json",
+            &"(none)",
+            "no part in this folder: run `shotdamp design FILE --shard I/N --parts DIR` for every I first".into(),
+        ));
+    };
+    for (path, p) in &parts {
+        if p.shards != count || p.shard >= count {
+            return Err(Error::invalid(
+                path,
+                "shard",
+                format!("{}/{}", p.shard, p.shards),
+                format!("the folder holds parts of a split into {count}: give every shard's part of one split"),
+            ));
+        }
+    }
+    parts.sort_by_key(|(_, p)| p.shard);
+    for i in 0..count {
+        match parts.iter().filter(|(_, p)| p.shard == i).count() {
+            1 => {}
+            0 => {
+                return Err(bad(
+                    "shard",
+                    &format!("{i}/{count}"),
+                    format!("its part is missing: run `shotdamp design FILE --shard {i}/{count} --parts DIR`"),
+                ))
+            }
+            _ => return Err(bad("shard", &format!("{i}/{count}"), "its part is there twice".to_string())),
+        }
+    }
+    Ok(parts)
 }

@@ -107,6 +107,47 @@ fn evaluate_one(
     };
     let known = spec.known_deviation.as_deref();
     match &spec.kind {
+        CheckKind::NaturalFrequency { .. } | CheckKind::ModeShape { .. } => {
+            out.extend(mode_checks(spec, file, modes, known))
+        }
+        CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
+        CheckKind::PeakRatio { case, over_case, mass, bound, window, reading } => {
+            out.push(claim::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window, *reading));
+        }
+        CheckKind::MotionTypes { case, present, absent } => match spec.quantity(file) {
+            Some(q) => {
+                out.push(claim::motion_types(spec, file, q, case, computed.motion_types.get(case), present, absent))
+            }
+            None => out.push(CheckOutcome::missing(spec, "claim not found")),
+        },
+        CheckKind::RatioOrder { case, over_case, mass, window, than_window } => {
+            out.push(claim::ratio_order(spec, file, curves, (case, over_case), *mass, *window, *than_window));
+        }
+        CheckKind::DecayRatio { case, over_case, mass, level } => {
+            match (spec.quantity(file), computed.decays.get(case), computed.decays.get(over_case)) {
+                (Some(q), Some(a), Some(b)) => out.push(decay::ratio(spec, file, q, a, b, *mass, *level)),
+                _ => out.push(CheckOutcome::missing(spec, "bound or impulse runs missing")),
+            }
+        }
+        CheckKind::SdofVsSimulation => match (spec.quantity(file), computed.orbits) {
+            (Some(q), Some(r)) => out.push(orbit::sdof_vs_simulation(spec, file, q, r, modes)),
+            _ => out.push(CheckOutcome::missing(spec, "claim or periodic orbits missing")),
+        },
+        CheckKind::Curve { .. }
+        | CheckKind::Tube { .. }
+        | CheckKind::Peak { .. }
+        | CheckKind::ImpulseHistory { .. }
+        | CheckKind::DecayTime { .. }
+        | CheckKind::OrbitVsSimulation
+        | CheckKind::DesignConclusion => {}
+    }
+}
+
+/// A natural frequency's check, or a mode shape's (one per element compared), against the
+/// bare structure's modes.
+fn mode_checks(spec: &CheckSpec, file: &ValueFile, modes: &[ModeSummary], known: Option<&str>) -> Vec<CheckOutcome> {
+    let mut out = Vec::new();
+    match &spec.kind {
         CheckKind::NaturalFrequency { mode } => match spec.quantity(file) {
             Some(q) => {
                 let subject = Subject::new(
@@ -140,37 +181,9 @@ fn evaluate_one(
                 None => out.push(CheckOutcome::missing(spec, "no such vector quantity")),
             }
         }
-        CheckKind::PaperParameters => out.extend(parameters(exp, file, spec)),
-        CheckKind::PeakRatio { case, over_case, mass, bound, window, reading } => {
-            out.push(claim::peak_ratio(spec, file, curves, (case, over_case), *mass, bound, *window, *reading));
-        }
-        CheckKind::MotionTypes { case, present, absent } => match spec.quantity(file) {
-            Some(q) => {
-                out.push(claim::motion_types(spec, file, q, case, computed.motion_types.get(case), present, absent))
-            }
-            None => out.push(CheckOutcome::missing(spec, "claim not found")),
-        },
-        CheckKind::RatioOrder { case, over_case, mass, window, than_window } => {
-            out.push(claim::ratio_order(spec, file, curves, (case, over_case), *mass, *window, *than_window));
-        }
-        CheckKind::DecayRatio { case, over_case, mass, level } => {
-            match (spec.quantity(file), computed.decays.get(case), computed.decays.get(over_case)) {
-                (Some(q), Some(a), Some(b)) => out.push(decay::ratio(spec, file, q, a, b, *mass, *level)),
-                _ => out.push(CheckOutcome::missing(spec, "bound or impulse runs missing")),
-            }
-        }
-        CheckKind::SdofVsSimulation => match (spec.quantity(file), computed.orbits) {
-            (Some(q), Some(r)) => out.push(orbit::sdof_vs_simulation(spec, file, q, r, modes)),
-            _ => out.push(CheckOutcome::missing(spec, "claim or periodic orbits missing")),
-        },
-        CheckKind::Curve { .. }
-        | CheckKind::Tube { .. }
-        | CheckKind::Peak { .. }
-        | CheckKind::ImpulseHistory { .. }
-        | CheckKind::DecayTime { .. }
-        | CheckKind::OrbitVsSimulation
-        | CheckKind::DesignConclusion => {}
+        _ => {}
     }
+    out
 }
 
 /// The experiment's masses, stiffnesses and force against the paper's.

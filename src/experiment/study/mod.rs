@@ -23,9 +23,9 @@ use crate::reference::files::Files;
 use super::file::raw_study::RawFile;
 use super::file::read;
 use super::loader::Varying;
-use entries::{chosen_models, design_of, map_of, vary_entry};
 use super::{CheckKind, Experiment};
 pub use design::{Design, Domain, Refine};
+use entries::{chosen_models, design_of, map_of, vary_entry};
 pub use overrides::KeyPath;
 
 /// Most samples a study may have (the Sobol sequence's limit, and a sane size for one table).
