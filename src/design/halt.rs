@@ -104,3 +104,28 @@ impl Halt {
             .saturating_add(per_judged.saturating_mul(times(judged)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_deadline_keeps_the_planned_work_after_the_searches_inside_it() {
+        let threads = rayon::current_num_threads().max(1) as u32;
+        let halt = Halt { deadline: Some(Instant::now() + Duration::from_secs(3600)), ..Halt::default() };
+        assert_eq!(halt.reserve(), Duration::ZERO, "nothing timed, nothing planned");
+        halt.timed(|| std::thread::sleep(Duration::from_millis(20)));
+        let pace = halt.pace();
+        assert!(pace >= Duration::from_millis(20), "{pace:?}");
+        // Two evaluations a thread on the searched model, and one a thread at 100 s on the
+        // file's: one round in flight more.
+        halt.plan_after(2 * u64::from(threads), u64::from(threads), Some(Duration::from_secs(100)));
+        assert_eq!(halt.reserve(), pace * 3 + Duration::from_secs(100));
+        assert!(!halt.reached(), "an hour ahead holds the reserve");
+        let near = Halt { deadline: Some(Instant::now() + Duration::from_secs(60)), ..halt.clone() };
+        assert!(near.reached() && !near.passed(), "a minute ahead does not hold 100 s of work");
+        // A reserve too large to add to an instant ends the searches; it does not overflow.
+        near.plan_after(u64::MAX, u64::MAX, Some(Duration::MAX));
+        assert!(near.reached());
+    }
+}

@@ -1,4 +1,5 @@
-use super::{Budget, Class, Point};
+use super::{Budget, Point};
+use crate::sim::settle::statistic::Motion as Class;
 
 /// Two motions coexist where their intervals do not overlap; certified orbits within
 /// rounding of each other are one; a point of one sweep has nothing to compare.

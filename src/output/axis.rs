@@ -30,10 +30,10 @@ pub(super) fn y_extent(panel: &Panel) -> (f64, f64) {
 }
 
 /// The largest magnitude an axis end may have (beyond it a tick's arithmetic overflows).
-const AXIS_MAX: f64 = 1e300;
+pub(super) const AXIS_MAX: f64 = 1e300;
 
 /// The most decades a logarithmic axis spans (its key points are computed per decade).
-const AXIS_DECADES: f64 = 30.0;
+pub(super) const AXIS_DECADES: f64 = 30.0;
 
 /// An axis range that plotters can draw whatever the data: finite ends inside
 /// +-[`AXIS_MAX`], `lo < hi` with a width tick labels can resolve, and on a logarithmic axis

@@ -509,6 +509,7 @@ fn dash_segments(dash: Dash) -> [(i32, i32); 3] {
 mod tests {
     use super::*;
     use crate::figure::{Figure, Panel, Series};
+    use crate::output::axis::{AXIS_DECADES, AXIS_MAX};
 
     /// Data no run should produce, but a guard must survive: every plot's axes pass through
     /// `axis_range`, so every kind of panel (linear or logarithmic on either axis, ranges from

@@ -104,48 +104,7 @@ pub(in crate::sim) fn resolve(
     let dm = sys.dampers[g0];
     let p = dm.host;
     let law = sys.impact_law(g0);
-    // Link k (0..=n) joins the node below grain k (the bottom for k = 0) and grain k (the top
-    // for k = n). Which links touch now, and which were hit.
-    let mut touching = vec![false; n + 1];
-    let mut hit = vec![false; n + 1];
-    for (i, j) in col.clone().enumerate() {
-        match s.beds[j] {
-            Bed::Bottom => touching[i] = true,
-            Bed::Top => touching[i + 1] = true,
-            Bed::Free { .. } => {
-                if i > 0 && s.beds[j - 1] == s.beds[j] {
-                    touching[i] = true;
-                }
-            }
-        }
-    }
-    for w in hits {
-        let link = match *w {
-            Watch::GapBottom { bed, .. } if col.contains(&bed) => bed - g0,
-            Watch::GapTop { bed, .. } if col.contains(&bed) => bed - g0 + 1,
-            Watch::Pair { upper, .. } if col.contains(&upper) => upper - g0,
-            _ => continue,
-        };
-        touching[link] = true;
-        hit[link] = true;
-    }
-    // Runs of touching links that contain a hit: the grains the resolution may change.
-    let mut involved = vec![false; n];
-    let mut k = 0;
-    while k <= n {
-        if !touching[k] {
-            k += 1;
-            continue;
-        }
-        let start = k;
-        while k <= n && touching[k] {
-            k += 1;
-        }
-        if hit[start..k].iter().any(|&h| h) {
-            // Links start..k touch grains start-1 ..= k-1 (within the column).
-            involved[start.saturating_sub(1)..k.min(n)].iter_mut().for_each(|g| *g = true);
-        }
-    }
+    let (touching, involved) = links(s, col.clone(), hits);
     // Bodies: grains 0..n, the host n (with every bed resting on it, this column's too).
     let host = n;
     let host_side = super::single::host_side(d, p, |k| !col.contains(&k) && side[k].is_some());
@@ -246,4 +205,53 @@ pub(in crate::sim) fn resolve(
         };
         s.beds[j] = Bed::Free { t0: s.t, y0, u0: b.vel[r] };
     }
+}
+
+/// Which links of column `col` touch now (link k joins the node below grain k, the bottom for
+/// k = 0, and grain k, the top for k = n), with those `hits` hit; and the grains the
+/// resolution may change: those of runs of touching links that contain a hit.
+fn links(s: &State, col: Range<usize>, hits: &[Watch]) -> (Vec<bool>, Vec<bool>) {
+    let n = col.len();
+    let g0 = col.start;
+    let mut touching = vec![false; n + 1];
+    let mut hit = vec![false; n + 1];
+    for (i, j) in col.clone().enumerate() {
+        match s.beds[j] {
+            Bed::Bottom => touching[i] = true,
+            Bed::Top => touching[i + 1] = true,
+            Bed::Free { .. } => {
+                if i > 0 && s.beds[j - 1] == s.beds[j] {
+                    touching[i] = true;
+                }
+            }
+        }
+    }
+    for w in hits {
+        let link = match *w {
+            Watch::GapBottom { bed, .. } if col.contains(&bed) => bed - g0,
+            Watch::GapTop { bed, .. } if col.contains(&bed) => bed - g0 + 1,
+            Watch::Pair { upper, .. } if col.contains(&upper) => upper - g0,
+            _ => continue,
+        };
+        touching[link] = true;
+        hit[link] = true;
+    }
+    // Runs of touching links that contain a hit: the grains the resolution may change.
+    let mut involved = vec![false; n];
+    let mut k = 0;
+    while k <= n {
+        if !touching[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k <= n && touching[k] {
+            k += 1;
+        }
+        if hit[start..k].iter().any(|&h| h) {
+            // Links start..k touch grains start-1 ..= k-1 (within the column).
+            involved[start.saturating_sub(1)..k.min(n)].iter_mut().for_each(|g| *g = true);
+        }
+    }
+    (touching, involved)
 }

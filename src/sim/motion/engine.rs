@@ -331,6 +331,39 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
+    /// Where watch `w`'s search for its next zero starts: just past a fresh zero (within
+    /// `span`), or at `s.t`; `None` when it fires at `s.t`.
+    #[inline]
+    fn search_start(
+        &self,
+        w: &Watch,
+        seg: &Segment,
+        s: &State,
+        first: &Point,
+        decided: &Decided,
+        span: f64,
+    ) -> Option<f64> {
+        let (d, t_a) = (self.d, s.t);
+        let mut ta = w.taylor(seg, d, first);
+        let big = d.dof > ROUNDED_CONTACTS_ABOVE;
+        if big {
+            exact_start(w, d, s, &mut ta);
+        }
+        let mut tol = fresh_tol(w, d.omega);
+        if let Watch::Contact { host, .. } = *w {
+            tol[0] = contact_zero(seg, d, first, host)[0];
+        }
+        if big {
+            tol = decided.raise(w, t_a, tol);
+        }
+        if ta.h[0] <= tol[0] {
+            let tol = rounded_tol(w, tol, seg, d, first);
+            fresh_window(&ta, TIME_TOL, tol, span).map(|win| t_a + win)
+        } else {
+            Some(t_a)
+        }
+    }
+
     /// The earliest event in `(t_a, t_b]`, with the watches that fire there in `hits`
     /// (cleared first).
     fn next_event(
@@ -361,30 +394,11 @@ impl<'a> Engine<'a> {
         let mut n_starts = 0;
         let first = seg.point(d, t_a);
         for w in watches {
-            let mut ta = w.taylor(seg, d, &first);
-            let big = d.dof > ROUNDED_CONTACTS_ABOVE;
-            if big {
-                exact_start(w, d, s, &mut ta);
-            }
-            let mut tol = fresh_tol(w, d.omega);
-            if let Watch::Contact { host, .. } = *w {
-                tol[0] = contact_zero(seg, d, &first, host)[0];
-            }
-            if big {
-                tol = decided.raise(w, t_a, tol);
-            }
-            if ta.h[0] <= tol[0] {
-                let tol = rounded_tol(w, tol, seg, d, &first);
-                match fresh_window(&ta, TIME_TOL, tol, step.min(t_b - t_a)) {
-                    Some(win) => starts[n_starts] = t_a + win,
-                    None => {
-                        hits.push(*w);
-                        return Some(t_a);
-                    }
-                }
-            } else {
-                starts[n_starts] = t_a;
-            }
+            let Some(start) = self.search_start(w, seg, s, &first, decided, step.min(t_b - t_a)) else {
+                hits.push(*w);
+                return Some(t_a);
+            };
+            starts[n_starts] = start;
             n_starts += 1;
         }
         // The windows' starts are equally spaced: with the default step each point is carried
@@ -458,15 +472,7 @@ impl<'a> Engine<'a> {
                     w.taylor(seg, d, &near)
                 };
                 if let Some(r) = first_root_from(&mut eval, lo, ta, tau, b) {
-                    match best {
-                        Some(t) if (r - t).abs() <= 10.0 * TIME_TOL => hits.push(*w),
-                        Some(t) if r > t => {}
-                        _ => {
-                            best = Some(r);
-                            hits.clear();
-                            hits.push(*w);
-                        }
-                    }
+                    earliest(&mut best, hits, r, *w);
                 }
             }
             if best.is_some() {
@@ -714,6 +720,21 @@ fn subsets_largest_first(m: usize) -> impl Iterator<Item = usize> {
 pub fn watch_at(d: &Dynamics, seg: &Segment, w: &Watch, t: f64) -> Taylor {
     let pt: Point = seg.point(d, t);
     w.taylor(seg, d, &pt)
+}
+
+/// Keeps the earliest root found so far in `best` and the watches that fire there in `hits`:
+/// a root within `10 TIME_TOL` of the best joins it, an earlier one replaces it.
+#[inline]
+fn earliest(best: &mut Option<f64>, hits: &mut Vec<Watch>, r: f64, w: Watch) {
+    match *best {
+        Some(t) if (r - t).abs() <= 10.0 * TIME_TOL => hits.push(w),
+        Some(t) if r > t => {}
+        _ => {
+            *best = Some(r);
+            hits.clear();
+            hits.push(w);
+        }
+    }
 }
 
 #[cfg(test)]

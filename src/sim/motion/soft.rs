@@ -89,19 +89,7 @@ pub fn amplitude(
     let groups = sys.groups();
     let nb = sys.dampers.len();
     let kc = opts.stiffness;
-    // Each container's damping ratio from its own restitution, and the dashpots of its
-    // contacts with the walls and between its grains.
-    let mut dashpots = Vec::with_capacity(groups.len());
-    let mut dt = f64::INFINITY;
-    for g in &groups {
-        let dm = sys.dampers[g.start];
-        let zeta = damping_ratio(sys.impact_law(g.start).restitution())?;
-        // The host's effective mass (a coupled mass matrix: `1 / (M0^-1)_pp`).
-        let m0p = m0_inv.as_ref().map_or(m0[dm.host], |inv| 1.0 / inv[(dm.host, dm.host)]);
-        let (mu_wall, mu_pair) = (dm.mass * m0p / (dm.mass + m0p), 0.5 * dm.mass);
-        dashpots.push((2.0 * zeta * (kc * mu_wall).sqrt(), 2.0 * zeta * (kc * mu_pair).sqrt()));
-        dt = dt.min(contact_time(mu_pair, kc, zeta) / opts.steps_per_contact as f64);
-    }
+    let (dashpots, dt) = dashpots(sys, &groups, m0_inv.as_ref(), opts)?;
     // Start at rest in static equilibrium with every grain on its bottom (the event-driven
     // start), the grains at zero overlap.
     let rest = Dynamics::unforced(sys).map(|d| d.config((1usize << nb) - 1).modes.offset.clone());
@@ -196,4 +184,28 @@ pub fn amplitude(
         }
     }
     Some((lo.iter().zip(&hi).map(|(a, b)| 0.5 * (b - a)).collect(), steps))
+}
+
+/// Each container's dashpots (its contacts with the walls, and between its grains), from its
+/// own restitution's damping ratio, and the step: `1 / steps_per_contact` of the shortest
+/// grain-grain contact. `None` below [`MIN_RESTITUTION`].
+fn dashpots(
+    sys: &System,
+    groups: &[std::ops::Range<usize>],
+    m0_inv: Option<&nalgebra::DMatrix<f64>>,
+    opts: &SoftOptions,
+) -> Option<(Vec<(f64, f64)>, f64)> {
+    let (m0, kc) = (&sys.structure.masses, opts.stiffness);
+    let mut dashpots = Vec::with_capacity(groups.len());
+    let mut dt = f64::INFINITY;
+    for g in groups {
+        let dm = sys.dampers[g.start];
+        let zeta = damping_ratio(sys.impact_law(g.start).restitution())?;
+        // The host's effective mass (a coupled mass matrix: `1 / (M0^-1)_pp`).
+        let m0p = m0_inv.map_or(m0[dm.host], |inv| 1.0 / inv[(dm.host, dm.host)]);
+        let (mu_wall, mu_pair) = (dm.mass * m0p / (dm.mass + m0p), 0.5 * dm.mass);
+        dashpots.push((2.0 * zeta * (kc * mu_wall).sqrt(), 2.0 * zeta * (kc * mu_pair).sqrt()));
+        dt = dt.min(contact_time(mu_pair, kc, zeta) / opts.steps_per_contact as f64);
+    }
+    Some((dashpots, dt))
 }

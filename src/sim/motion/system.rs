@@ -521,96 +521,7 @@ impl Dynamics {
         let mut configs = Vec::with_capacity(slots);
         for slot in 0..slots {
             let mask = representative(&groups, slot);
-            let m = system.mass_matrix(mask);
-            let m_inv = m.clone().try_inverse().ok_or(SetupError::Singular { mask })?;
-            let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
-            let mk = -&m_inv * &k;
-            let mc = -&m_inv * &c;
-            for i in 0..n {
-                a[(i, n + i)] = 1.0;
-                for j in 0..n {
-                    a[(n + i, j)] = mk[(i, j)];
-                    a[(n + i, n + j)] = mc[(i, j)];
-                }
-            }
-            // Above LARGE_ABOVE degrees of freedom the eigenpairs come from the second-order
-            // problem ([`eigen::decompose_second_order`]: a stiff structure's state matrix
-            // leaves the slow modes' vectors inconsistent); the paper's structures keep the
-            // state matrix's own, bit for bit.
-            let eig = match n > LARGE_ABOVE {
-                true => eigen::decompose_second_order(&a, &m, &c, &k),
-                false => eigen::decompose(&a),
-            }
-            .ok_or(SetupError::Defective { mask })?;
-            // A passive structure has no growing mode; nearly dependent eigenvectors make the
-            // closed form meaningless (e.g. one mass 1e20 times another).
-            let rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
-            let condition = eig.vectors.iter().map(|z| z.norm()).fold(0.0, f64::max)
-                * eig.inverse.iter().map(|z| z.norm()).fold(0.0, f64::max);
-            if condition.is_nan() || condition >= MAX_CONDITION || eig.values.iter().any(|l| l.re > 1e-9 * rate) {
-                return Err(SetupError::IllConditioned { mask, condition });
-            }
-            // Above LARGE_ABOVE degrees of freedom the terms are ordered by |lambda| (slowest
-            // first): the event search's coarse windows sum the slow ones as a prefix
-            // (`sim::motion::coarse`). The paper's structures keep the decomposition's own order.
-            let mut reps = eig.representatives.clone();
-            if n > LARGE_ABOVE {
-                reps.sort_by(|a, b| eig.values[a.0].norm().total_cmp(&eig.values[b.0].norm()));
-            }
-            let reps = &reps;
-            let vl: Vec<[Vec<Complex64>; ORDERS]> = (0..n)
-                .map(|p| {
-                    std::array::from_fn(|order| {
-                        reps.iter()
-                            .map(|&(kk, w)| eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32) * w)
-                            .collect()
-                    })
-                })
-                .collect();
-            let inverse = DMatrix::from_fn(reps.len(), 2 * n, |r, j| eig.inverse[(reps[r].0, j)]);
-            let lambda: Vec<Complex64> = reps.iter().map(|&(kk, _)| eig.values[kk]).collect();
-            let vl_abs = vl
-                .iter()
-                .map(|rows| std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect()))
-                .collect();
-            // The forced response (K - omega^2 M + i omega C) X = F e_k, x_p = Im(X e^{i omega t}),
-            // is added by `at_omega`.
-            let offset = &k_inv * system.weight_load(mask);
-            let max_rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
-            let host_rows = match n > LARGE_ABOVE {
-                true => super::host_rows::host_rows(&a, &m_inv, system.dampers.iter().map(|d| d.host)),
-                false => Vec::new(),
-            };
-            let by_term = std::array::from_fn(|order| {
-                std::array::from_fn(|part| {
-                    let mut out = vec![0.0; reps.len() * n];
-                    for (p, rows) in vl.iter().enumerate() {
-                        for (r, z) in rows[order].iter().enumerate() {
-                            out[r * n + p] = if part == 0 { z.re } else { z.im };
-                        }
-                    }
-                    out
-                })
-            });
-            let inverse_parts = match n > LARGE_ABOVE {
-                true => [inverse.map(|z| z.re), inverse.map(|z| z.im)],
-                false => [DMatrix::zeros(0, 0), DMatrix::zeros(0, 0)],
-            };
-            let modes = Modes {
-                lambda,
-                by_term,
-                vl,
-                vl_abs,
-                inverse,
-                inverse_parts,
-                offset,
-                mass: m,
-                mass_inv: m_inv,
-                max_rate,
-                residual: eig.residual,
-                condition,
-                host_rows,
-            };
+            let modes = configuration(system, mask, &k, &c, &k_inv)?;
             configs.push(Config { mask, modes: Arc::new(modes) });
         }
         let max_rate = configs.iter().map(|c| c.modes.max_rate).fold(omega, f64::max);
@@ -688,6 +599,105 @@ impl Dynamics {
     pub fn forced(&self, slot: usize) -> &[Forced] {
         &self.forced[slot * self.dof..(slot + 1) * self.dof]
     }
+}
+
+/// The closed form of configuration `mask` (the beds of its bits attached to their hosts):
+/// the state matrix's eigenpairs, refused where nearly dependent eigenvectors or a growing
+/// mode make the closed form meaningless, with what the event search needs of them.
+fn configuration(
+    system: &System,
+    mask: usize,
+    k: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    k_inv: &DMatrix<f64>,
+) -> Result<Modes, SetupError> {
+    let n = system.dof();
+    let m = system.mass_matrix(mask);
+    let m_inv = m.clone().try_inverse().ok_or(SetupError::Singular { mask })?;
+    let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+    let mk = -&m_inv * k;
+    let mc = -&m_inv * c;
+    for i in 0..n {
+        a[(i, n + i)] = 1.0;
+        for j in 0..n {
+            a[(n + i, j)] = mk[(i, j)];
+            a[(n + i, n + j)] = mc[(i, j)];
+        }
+    }
+    // Above LARGE_ABOVE degrees of freedom the eigenpairs come from the second-order
+    // problem ([`eigen::decompose_second_order`]: a stiff structure's state matrix
+    // leaves the slow modes' vectors inconsistent); the paper's structures keep the
+    // state matrix's own, bit for bit.
+    let eig = match n > LARGE_ABOVE {
+        true => eigen::decompose_second_order(&a, &m, c, k),
+        false => eigen::decompose(&a),
+    }
+    .ok_or(SetupError::Defective { mask })?;
+    // A passive structure has no growing mode; nearly dependent eigenvectors make the
+    // closed form meaningless (e.g. one mass 1e20 times another).
+    let rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+    let condition = eig.vectors.iter().map(|z| z.norm()).fold(0.0, f64::max)
+        * eig.inverse.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    if condition.is_nan() || condition >= MAX_CONDITION || eig.values.iter().any(|l| l.re > 1e-9 * rate) {
+        return Err(SetupError::IllConditioned { mask, condition });
+    }
+    // Above LARGE_ABOVE degrees of freedom the terms are ordered by |lambda| (slowest
+    // first): the event search's coarse windows sum the slow ones as a prefix
+    // (`sim::motion::coarse`). The paper's structures keep the decomposition's own order.
+    let mut reps = eig.representatives.clone();
+    if n > LARGE_ABOVE {
+        reps.sort_by(|a, b| eig.values[a.0].norm().total_cmp(&eig.values[b.0].norm()));
+    }
+    let reps = &reps;
+    let vl: Vec<[Vec<Complex64>; ORDERS]> = (0..n)
+        .map(|p| {
+            std::array::from_fn(|order| {
+                reps.iter().map(|&(kk, w)| eig.vectors[(p, kk)] * eig.values[kk].powu(order as u32) * w).collect()
+            })
+        })
+        .collect();
+    let inverse = DMatrix::from_fn(reps.len(), 2 * n, |r, j| eig.inverse[(reps[r].0, j)]);
+    let lambda: Vec<Complex64> = reps.iter().map(|&(kk, _)| eig.values[kk]).collect();
+    let vl_abs =
+        vl.iter().map(|rows| std::array::from_fn(|order| rows[order].iter().map(|z| z.norm()).collect())).collect();
+    // The forced response (K - omega^2 M + i omega C) X = F e_k, x_p = Im(X e^{i omega t}),
+    // is added by `at_omega`.
+    let offset = k_inv * system.weight_load(mask);
+    let max_rate = eig.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+    let host_rows = match n > LARGE_ABOVE {
+        true => super::host_rows::host_rows(&a, &m_inv, system.dampers.iter().map(|d| d.host)),
+        false => Vec::new(),
+    };
+    let by_term = std::array::from_fn(|order| {
+        std::array::from_fn(|part| {
+            let mut out = vec![0.0; reps.len() * n];
+            for (p, rows) in vl.iter().enumerate() {
+                for (r, z) in rows[order].iter().enumerate() {
+                    out[r * n + p] = if part == 0 { z.re } else { z.im };
+                }
+            }
+            out
+        })
+    });
+    let inverse_parts = match n > LARGE_ABOVE {
+        true => [inverse.map(|z| z.re), inverse.map(|z| z.im)],
+        false => [DMatrix::zeros(0, 0), DMatrix::zeros(0, 0)],
+    };
+    Ok(Modes {
+        lambda,
+        by_term,
+        vl,
+        vl_abs,
+        inverse,
+        inverse_parts,
+        offset,
+        mass: m,
+        mass_inv: m_inv,
+        max_rate,
+        residual: eig.residual,
+        condition,
+        host_rows,
+    })
 }
 
 #[cfg(test)]

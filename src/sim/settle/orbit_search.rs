@@ -75,6 +75,29 @@ fn torus_angle(radius: f64, lead: Complex64) -> Option<f64> {
     (radius > 1.0 && radius <= 1.0 + TORUS_MARGIN && angle > 1e-3 && angle < PI - 1e-3).then_some(angle)
 }
 
+/// [`attempt`], and where it finds the p-orbit unstable, the 2p-orbit with the same events
+/// (after a period doubling the events per period can stay the same): an unstable p-orbit
+/// may have a stable 2p-orbit beside it.
+fn attempt_or_doubled(
+    d: &Dynamics,
+    at: &State,
+    p: usize,
+    length: f64,
+    wanted: &[(usize, Mark, usize)],
+    opts: &SteadyOptions,
+) -> Result<(Strobe, Orbit, Option<Recorded>), Miss> {
+    let result = attempt(d, at, p, length, wanted, opts);
+    if let Err(Miss::Unstable { .. }) = &result {
+        if 2 * p <= opts.max_subharmonic {
+            let doubled: Pattern = wanted.iter().map(|&(b, k, c)| (b, k, 2 * c)).collect();
+            if let Ok(found) = attempt(d, at, 2 * p, length, &doubled, opts) {
+                return Ok(found);
+            }
+        }
+    }
+    result
+}
+
 /// One attempt: the section through the state `at`, Newton on the `p`-period map, and the
 /// checks that make the orbit the motion's own. With the orbit, its record when Newton's final
 /// evaluation was recorded and the orbit's period is `p`.
@@ -248,18 +271,7 @@ pub fn orbit_steady(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
             stop = Some(e);
             break;
         }
-        let mut result = attempt(d, &at, p, length, &wanted, opts);
-        // An unstable p-orbit with the motion's events may have a stable 2p-orbit beside it
-        // (after a period doubling the events per period can stay the same).
-        if let Err(Miss::Unstable { .. }) = &result {
-            if 2 * p <= opts.max_subharmonic {
-                let doubled: Pattern = wanted.iter().map(|&(b, k, c)| (b, k, 2 * c)).collect();
-                if let Ok(found) = attempt(d, &at, 2 * p, length, &doubled, opts) {
-                    result = Ok(found);
-                }
-            }
-        }
-        match result {
+        match attempt_or_doubled(d, &at, p, length, &wanted, opts) {
             Ok((strobe, orbit, recorded)) => {
                 return on_whole_period(d, record(d, &strobe, &orbit, simulated, attempts, opts, recorded))
             }
