@@ -66,7 +66,7 @@ pub(super) struct Built {
     pub(super) fe: Option<Arc<FeStructure>>,
 }
 
-/// What [`structure`] built from a `[structure]` table, kept with the table (as validated)
+/// What validation built from a `[structure]` table, kept with the table (as validated)
 /// and the coordinate limit it was built under: the same table gives the same matrices, so a
 /// setup varied in other keys takes them from here, and one varied in its damping alone
 /// computes only the damping (docs/extending.md, "One setup, built once").
