@@ -252,20 +252,22 @@ pub fn design(
     n: usize,
     total_mass: Option<f64>,
 ) -> Result<Option<Spec>> {
-    let raw = match (raw, kind) {
-        (None, "design") => {
+    // The kind that answers a design question is the one that reads `[design]`.
+    let designs = super::kind::kind_spec(kind).is_some_and(|k| k.answers);
+    let raw = match (raw, designs) {
+        (None, true) => {
             return Err(Error::invalid(path, "design", "(missing)", "analysis kind \"design\" needs a [design] table"))
         }
-        (None, _) => return Ok(None),
-        (Some(_), k) if k != "design" => {
+        (None, false) => return Ok(None),
+        (Some(_), false) => {
             return Err(Error::invalid(
                 path,
                 "design",
                 "(given)",
-                format!("only analysis kind \"design\" reads [design] (this file's kind is \"{k}\")"),
+                format!("only analysis kind \"design\" reads [design] (this file's kind is \"{kind}\")"),
             ))
         }
-        (Some(r), _) => r,
+        (Some(r), true) => r,
     };
     let bad = bad_at(path);
     let candidates = masses(path, "design.candidates", &raw.candidates, n)?;
