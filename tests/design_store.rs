@@ -143,7 +143,12 @@ fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
     let design = root.join("frame.toml");
     std::fs::write(&design, &text).unwrap();
     let run = |limit: &str, out: &str| {
-        design_cmd(&design, root, out).arg("--store").arg(format!("--time-limit={limit}")).output().unwrap()
+        design_cmd(&design, root, out)
+            .arg("--store")
+            .arg("--confirm")
+            .arg(format!("--time-limit={limit}"))
+            .output()
+            .unwrap()
     };
     let o = run("0", "d");
     let stdout = String::from_utf8_lossy(&o.stdout);
@@ -173,6 +178,19 @@ fn a_time_limit_writes_the_best_so_far_marked_and_stores_nothing() {
     }
     let levels = std::fs::read_to_string(root.join("d/design_five_storey/data/design_drive_levels.csv")).unwrap();
     assert_eq!(levels.lines().count(), 1 + 2, "the best layout at 2 and 5 N: {levels}");
+    // How far each placement got, from the placements table: its converged column counted.
+    assert!(rows.lines().next().unwrap().ends_with(",converged"), "{rows}");
+    let converged = rows.lines().skip(1).filter(|l| l.ends_with(",yes")).count();
+    assert!(
+        answer.contains(&format!("{converged} of the 3 placements were searched to convergence")),
+        "{converged}: {answer}"
+    );
+    // Far above its limit, a design is refused unless confirmed: nothing is written.
+    let o = design_cmd(&design, root, "f").arg("--time-limit=0").output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--time-limit") && err.contains("--confirm"), "{err}");
+    assert!(!root.join("f").exists());
 
     let o = run("-1", "e");
     assert_eq!(o.status.code(), Some(2));

@@ -101,6 +101,35 @@ fn layouts_table(
     .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
 }
 
+/// How far each placement's search got, in words: how many converged, and the evaluations of
+/// the others (from the placements table's `converged` and `evaluations`).
+fn convergence_words(found: &[Found]) -> String {
+    let converged = found.iter().filter(|f| f.ended == Some(search::Ended::Converged)).count();
+    let others: Vec<u64> =
+        found.iter().filter(|f| f.ended != Some(search::Ended::Converged)).map(|f| f.evaluations).collect();
+    let (lo, hi) = (others.iter().min(), others.iter().max());
+    match (lo, hi) {
+        (Some(lo), Some(hi)) => format!(
+            "{converged} of the {} placements were searched to convergence, the other {} stopped after {} evaluations (the placements table's converged and evaluations)",
+            found.len(),
+            others.len(),
+            if lo == hi { lo.to_string() } else { format!("{lo}-{hi}") }
+        ),
+        _ => format!("every one of the {} placements was searched to convergence", found.len()),
+    }
+}
+
+/// The placements table's column `converged`: whether each placement's search converged (every
+/// start's simplex agreed to its tolerance), spent its iterations, or was stopped; blank
+/// where the placement was not searched here (a stored answer replayed).
+fn with_converged(found: &[Found], t: &mut Table) {
+    t.description += "; converged: whether the placement's search converged (\"yes\": every start's simplex agreed to its tolerance), spent its iterations or was stopped (time limit or interrupt), blank for a stored answer replayed; evaluations: the layouts its search evaluated";
+    t.columns.push((
+        "converged".into(),
+        crate::table::ColumnData::Str(found.iter().map(|f| f.ended.map_or("", |e| e.word()).to_string()).collect()),
+    ));
+}
+
 /// The layout of a case of the experiment (its dampers as they are).
 fn case_layout(case: &crate::experiment::Case) -> Layout {
     Layout {
@@ -142,8 +171,18 @@ fn run(
     let total_mass =
         exp.structure_mass().map(|m| (m, if exp.finite_element.is_some() { "mass moving vertically" } else { "mass" }));
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
+    let outlook = &spec.halt.outlook;
+    outlook.set_phase("evaluating the experiment's cases", 0);
     let case_rows = cases_evaluated(exp, spec, &p, &b);
+    outlook.set_phase("searching", 0);
     let (found, front, checks, stopped) = searched(exp, spec, (&p, &b), screen, refs, tick);
+    // What follows: the best layout's clearance profile (not after a stop), its drive levels,
+    // the maps near it, the SDOF method's layouts.
+    let budget = super::design_problem::budget(exp, spec);
+    let levels = spec.drive_levels_n.len() as u64;
+    let profile =
+        if stopped { 0 } else { PROFILE_POINTS as u64 + budget.placements as u64 * u64::from(spec.sdof.is_some()) };
+    outlook.set_phase("evaluating the best layout again (clearance profile, drive levels, maps)", levels + profile);
     tick();
     let stored = stored(exp, &p, spec, &found, &front);
     let best = lowest(found.clone());
@@ -165,6 +204,7 @@ fn run(
     ));
     if let Some(t) = page.tables.last_mut() {
         page.warnings.extend(super::design_problem::with_screened(spec, &found, t));
+        with_converged(&found, t);
     }
     for (id, _, e, _) in &case_rows {
         page.exports.insert(format!("objective_{id}"), e.objective);
@@ -187,9 +227,20 @@ fn run(
             "the search stopped at its time limit (--time-limit)"
         }
     });
+    // How far the stopped search got, placement by placement (the placements table's
+    // `evaluations` and `converged`).
+    let stop_words = why.map(|w| format!("{w}; {}", convergence_words(&found)));
     let answer = best.as_ref().map(|best| {
-        let best_in =
-            BestIn { p: &p, judged: (&p, &b), screen, best, case_rows: &case_rows, total_mass, more, stopped: why };
+        let best_in = BestIn {
+            p: &p,
+            judged: (&p, &b),
+            screen,
+            best,
+            case_rows: &case_rows,
+            total_mass,
+            more,
+            stopped: stop_words.as_deref(),
+        };
         about_the_best(exp, spec, &best_in, &mut page)
     });
     if let Some((mode, candidates)) = spec.sdof.as_ref().filter(|_| more) {
@@ -291,7 +342,7 @@ struct BestIn<'a> {
     case_rows: &'a [(String, Layout, Evaluation, u64)],
     total_mass: Option<(f64, &'static str)>,
     more: bool,
-    stopped: Option<&'static str>,
+    stopped: Option<&'a str>,
 }
 
 /// The best layout's pages: its clearance profile, its compliance against the bare structure's

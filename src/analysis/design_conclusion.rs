@@ -102,6 +102,7 @@ mod tests {
             evaluations: 1,
             screened: None,
             judged: true,
+            ended: None,
         }
     }
 

@@ -25,6 +25,51 @@ fn peak_g(curves: &[Vec<f64>], freq_hz: &[f64], hosts: &[usize], force: f64) -> 
         .fold(0.0, f64::max)
 }
 
+/// The largest displacement amplitude of the masses the bands read, m (with its band,
+/// frequency and mass), and the largest `(2 pi f)^2 x amplitude / g` among them, over the
+/// bands' curves (`curves`: per band, frequency and mass, compliance per unit of `force`).
+fn peaks(bands: &[crate::design::Band], curves: &[Vec<Vec<f64>>], force: f64) -> (f64, (usize, f64, usize), f64) {
+    let mut x = (0.0, (0, f64::NAN, 0));
+    let mut g = 0.0f64;
+    for (b, (band, rows)) in bands.iter().zip(curves).enumerate() {
+        for (f, row) in band.freq_hz.iter().zip(rows) {
+            let w = 2.0 * std::f64::consts::PI * f;
+            for &m in &band.masses {
+                let amp = row.get(m).copied().unwrap_or(f64::NAN) * force;
+                if amp > x.0 {
+                    x = (amp, (b, *f, m));
+                }
+                g = g.max(w * w * amp / GRAVITY);
+            }
+        }
+    }
+    (x.0, x.1, g)
+}
+
+/// The engineer's quantities of the answer at the design's drive: the largest displacement
+/// amplitude in mm and acceleration in g of the masses the bands read, with the shot and bare.
+fn quantities(problem: &Problem, eval: &Evaluation, bare: &[Vec<Vec<f64>>], force: f64) -> String {
+    let (x, (b, f, m), g) = peaks(&problem.bands, &eval.curves, force);
+    let (x0, (b0, f0, m0), g0) = peaks(&problem.bands, bare, force);
+    if !(x > 0.0 && x0 > 0.0) {
+        return String::new();
+    }
+    let relative = if problem.supports { " relative to the supports" } else { "" };
+    format!(
+        " Its largest displacement amplitude{relative} is {} mm (m{} at {} Hz, {}) against {} mm bare (m{} at {} Hz, {}), and its largest acceleration (2 pi f)^2 x {} g against {} g bare (the smooth part of the motion: each landing jumps the host's velocity, a spike the plastic-impact model does not resolve).",
+        fmt_sig(1e3 * x, 3),
+        m + 1,
+        fmt_sig(f, 3),
+        problem.bands[b].name,
+        fmt_sig(1e3 * x0, 3),
+        m0 + 1,
+        fmt_sig(f0, 3),
+        problem.bands[b0].name,
+        fmt_sig(g, 2),
+        fmt_sig(g0, 2)
+    )
+}
+
 /// A row of the table: layout, band, hosts, bare g, g, lift-off points, points, flight mm.
 type Row = (String, String, String, f64, f64, i64, i64, f64);
 
@@ -240,12 +285,13 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         crate::model::Direction::Horizontal => " in horizontal containers",
     };
     format!(
-        "{stop}{lead}Put {}{along} ({} kg{}), {clearance}.{lid} The worst band then reaches {} of the bare structure's (per band: {}). This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
+        "{stop}{lead}Put {}{along} ({} kg{}), {clearance}.{lid} The worst band then reaches {} of the bare structure's (per band: {}).{} This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
         beds.join(", "),
         fmt_sig(shot, 2),
         total_mass.map_or(String::new(), |(m, what)| format!(", {} % of the structure's {what}", fmt_sig(100.0 * shot / m, 2))),
         fmt_sig(eval.objective, 3),
         bands.join(", "),
+        quantities(problem, eval, bare, force),
         problem.drive().name(),
         problem.drive().amount(&fmt_sig(force, 3)),
         drive.join("; "),
@@ -297,5 +343,21 @@ mod tests {
         let want = (20.0 * std::f64::consts::PI).powi(2) * 2e-3 / GRAVITY;
         assert!((g - want).abs() < 1e-12 * want, "{g} {want}");
         assert_eq!(peak_g(&curves, &[10.0, 12.0], &[0], 2.0), 0.0);
+    }
+
+    #[test]
+    fn the_largest_amplitude_and_acceleration_over_the_bands_masses() {
+        // Two bands; the second reads m1 only: m2's larger compliance there does not count.
+        let band = |name: &str, freq_hz: Vec<f64>, masses: Vec<usize>| crate::design::Band {
+            name: name.into(),
+            freq_hz,
+            masses,
+        };
+        let bands = [band("a", vec![10.0, 12.0], vec![0, 1]), band("b", vec![30.0], vec![0])];
+        let curves = vec![vec![vec![1e-4, 2e-4], vec![1e-4, 3e-4]], vec![vec![1e-4, 9e-3]]];
+        let (x, at, g) = peaks(&bands, &curves, 2.0);
+        assert_eq!((x, at), (6e-4, (0, 12.0, 1)));
+        let w = |f: f64| (2.0 * std::f64::consts::PI * f).powi(2);
+        assert_eq!(g, (w(30.0) * 2e-4 / GRAVITY).max(w(12.0) * 6e-4 / GRAVITY));
     }
 }

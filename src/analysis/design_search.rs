@@ -90,7 +90,16 @@ fn replay(
     let again = |s: &StoredLayout| {
         let layout = s.layout();
         let evaluation = evaluate(p, b, &layout);
-        Found { layout, evaluation, x: Vec::new(), starts: 0, evaluations: s.evaluations, screened: None, judged: true }
+        Found {
+            layout,
+            evaluation,
+            x: Vec::new(),
+            starts: 0,
+            evaluations: s.evaluations,
+            screened: None,
+            judged: true,
+            ended: None,
+        }
     };
     let mut found: Vec<Found> = stored.placements.par_iter().map(again).collect();
     // A screened design's page shows what its search saw, as the search's own run does.
@@ -171,10 +180,23 @@ pub(super) fn searched(
     let (found, front, mut checks) = if spec.replay {
         replay(exp, spec, judged, screen, refs)
     } else {
+        // What each search usually takes, until it says better as it goes; then what follows
+        // the searches (the budget's evaluations besides the searches').
+        let budget = super::design_problem::budget(exp, spec);
+        for (k, space) in spaces.iter().enumerate() {
+            spec.halt.outlook.set_search(k, search::expected_evaluations(space, &spec.search)[1]);
+        }
+        let searches_most: u64 = spaces.iter().map(|s| search::most_evaluations(s, &spec.search)).sum();
+        spec.halt.outlook.set_later(budget.evaluations.saturating_sub(searches_most));
         let search = |k: usize| match &spec.merged {
             // Gathered from a sharded search's parts.
             Some(merged) => (search::found(judged, screen, &spaces[k], &merged[k]), false),
-            None => optimise_until(judged, screen, &spaces[k], &spec.search, tick, &spec.halt),
+            None => {
+                let halt = crate::design::halt::Halt { search: k, ..spec.halt.clone() };
+                let out = optimise_until(judged, screen, &spaces[k], &spec.search, tick, &halt);
+                halt.expect(0);
+                out
+            }
         };
         // The main search first (under a time limit it has the machine to itself), then the
         // Pareto budgets' searches side by side, gathered in order.
@@ -236,7 +258,16 @@ mod tests {
     fn found(objective: f64, unsettled: usize) -> Found {
         let layout = Layout { hosts: vec![1], masses_kg: vec![0.1], clearances_mm: vec![0.4] };
         let evaluation = Evaluation::with_objective(objective, unsettled, 10);
-        Found { layout, evaluation, x: Vec::new(), starts: 1, evaluations: 1, screened: None, judged: true }
+        Found {
+            layout,
+            evaluation,
+            x: Vec::new(),
+            starts: 1,
+            evaluations: 1,
+            screened: None,
+            judged: true,
+            ended: None,
+        }
     }
 
     #[test]

@@ -54,9 +54,15 @@ pub trait Progress: Sync {
     /// A counter for an experiment that will run `total` simulated points.
     fn start(&self, id: &str, total: u64) -> Box<Tick<'static>>;
 
-    /// A counter of unknown total that is at most `ceiling` (a design search's layout
-    /// evaluations); by default one of unknown total.
-    fn start_bounded(&self, id: &str, _ceiling: u64) -> Box<Tick<'static>> {
+    /// A counter of a design search's layout evaluations: of unknown total, at most
+    /// `ceiling`, with what is expected to be left and what the design is doing in `outlook`
+    /// (updated as it goes); by default one of unknown total.
+    fn start_search(
+        &self,
+        id: &str,
+        _ceiling: u64,
+        _outlook: std::sync::Arc<crate::design::halt::Outlook>,
+    ) -> Box<Tick<'static>> {
         self.start(id, 0)
     }
 }

@@ -25,14 +25,19 @@ pub struct DesignArgs {
     /// designs/, where `shotdamp report` evaluates them again instead of searching.
     #[arg(long)]
     pub store: bool,
-    /// Print what each search costs at most (placements, layout evaluations, steady
-    /// states, time); search nothing.
+    /// Print each design's estimate (its counts, a layout evaluation's cost measured on the
+    /// layouts of its coarse scans for about 2 s, the wall time such a design usually takes)
+    /// and search nothing. A run prints the same line before it searches.
     #[arg(long)]
     pub dry_run: bool,
     /// Stop the searches after this many seconds (of the whole run) and write the best
     /// layouts found so far, marked as such (not stored).
     #[arg(long, value_name = "SECONDS")]
     pub time_limit: Option<f64>,
+    /// Run a design whose estimate is over ten times its --time-limit, or over four hours
+    /// without one (refused otherwise).
+    #[arg(long)]
+    pub confirm: bool,
     /// Search only shard I of N (0-based; item k of the placements of every search belongs to
     /// shard k mod N) and write its part into --parts DIR. Default with --parts: from
     /// SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT, or JOB_COMPLETION_INDEX with --shards.
@@ -47,7 +52,7 @@ pub struct DesignArgs {
     pub parts: Option<PathBuf>,
     /// Gather the parts of a sharded search from DIR and write the report (and with --store
     /// the answers) the whole search writes; search nothing.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["shard", "shards", "parts", "dry_run", "time_limit"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["shard", "shards", "parts", "dry_run", "time_limit", "confirm"])]
     pub merge: Option<PathBuf>,
 }
 
@@ -77,32 +82,16 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     let exps = runner::designs::load(files, &cli.reference)?;
     // A merge searches nothing: no budget to print.
     let budgets = if merge.is_some() { Vec::new() } else { runner::designs::budgets_of(&exps) };
-    for (key, n, b) in &budgets {
-        let stepping = crate::design::Budget::stepping(b.fast, *n);
-        let point = crate::design::Budget::seconds_per_point(*n) * stepping;
-        let fast = if stepping > 1.0 {
-            format!(
-                ", the structure's fastest mode oscillating {:.0} times a period of the lowest forcing frequency",
-                b.fast * crate::design::Budget::FAST_RATIO
-            )
-        } else {
-            String::new()
-        };
-        say!(
-                "design {key}: {} placements x {} search(es), at most {} layout evaluations of {} steady states each, about {} on {threads} thread{} at {} a steady state{fast} (a search usually stops far sooner, when its simplex agrees to its tolerance; points of violent motion cost more)",
-                b.placements,
-                b.searches,
-                b.evaluations,
-                b.points,
-                super::study::duration(b.nominal_seconds(*n, threads)),
-                if threads == 1 { "" } else { "s" },
-                if point < 1e-3 { format!("{:.0} us", point * 1e6) } else { format!("{:.0} ms", point * 1e3) },
-            );
+    // The estimate: one layout of each design evaluated on one thread at a few frequencies
+    // (seconds), times the evaluations such a design usually makes.
+    let estimates = if merge.is_some() { Vec::new() } else { estimates(&exps, &budgets, threads)? };
+    for e in &estimates {
+        say!("{}", e.line);
     }
     if *dry_run {
-        dry_run_lines(&exps, budgets, threads)?;
         return Ok(true);
     }
+    refuse_long(&estimates, *time_limit, args.confirm)?;
     let interrupt = Interrupt::default();
     let settings = runner::designs::DesignSettings {
         reference: cli.reference.clone(),
@@ -152,38 +141,111 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
     Ok(ok)
 }
 
-/// The dry run's lines: one layout of each design evaluated on one thread, and the most the
-/// design would then take.
-fn dry_run_lines(
+/// One design's estimate, measured before it runs.
+struct Estimate {
+    key: String,
+    /// Wall seconds, low and high.
+    seconds: (f64, f64),
+    /// The line printed.
+    line: String,
+}
+
+/// Each design's estimate: its counts ([`crate::design::Budget`]), the cost of a steady state
+/// measured on one layout (the probe, on one thread), and the wall time the evaluations such
+/// a design usually makes take at that cost ([`crate::design::Budget::expected_seconds`]).
+fn estimates(
     exps: &[crate::experiment::Experiment],
-    budgets: Vec<(String, usize, crate::design::Budget)>,
+    budgets: &[(String, usize, crate::design::Budget)],
     threads: usize,
-) -> anyhow::Result<()> {
-    // The nominal cost is a rule of thumb; one layout evaluated measures this
-    // structure and its beds.
+) -> anyhow::Result<Vec<Estimate>> {
+    let secs = |p: f64| if p < 1.0 { format!("{:.0} ms", p * 1e3) } else { format!("{p:.1} s") };
+    let mut out = Vec::new();
     for (probe, (_, _, b)) in runner::designs::probe_of(exps)?.into_iter().zip(budgets) {
-        let runner::designs::Probe { key, hosts, clearance_mm: d, seconds_per_point: point, screen_seconds_per_point } =
-            probe;
-        let on: Vec<String> = hosts.iter().map(|h| format!("m{}", h + 1)).collect();
-        let ms = |p: f64| if p < 1e-3 { format!("{:.0} us", p * 1e6) } else { format!("{:.1} ms", p * 1e3) };
-        let screen = screen_seconds_per_point.map_or(String::new(), |s| {
+        let runner::designs::Probe {
+            key,
+            layouts,
+            seconds_per_evaluation: searched,
+            judged_seconds_per_evaluation,
+            spends_iterations,
+        } = probe;
+        let screen = judged_seconds_per_evaluation.map_or(String::new(), |j| {
             format!(
-                " ({} on the searched model of [design.screen], {} of the {} evaluations)",
-                ms(s),
-                b.screened.0,
-                b.evaluations
+                " on the searched model of [design.screen], {} on the file's model (their ratio on one layout at {} frequencies of each band)",
+                secs(j),
+                runner::designs::PROBE_FREQUENCIES
             )
         });
-        say!(
-                "design {key}: measured {} a steady state{screen} (one layout evaluated on one thread: the shot on {} at d = {} mm): at most about {} on {threads} thread{}, the searches usually far less",
-                ms(point),
-                on.join(" "),
-                crate::number::fmt_sig(d, 2),
-                super::study::duration(b.seconds_at(point, screen_seconds_per_point.unwrap_or(point), threads)),
-                if threads == 1 { "" } else { "s" },
-            );
+        let (low, high) =
+            b.expected_seconds(searched, judged_seconds_per_evaluation.unwrap_or(searched), threads, spends_iterations);
+        let k = if spends_iterations { 2 } else { 0 };
+        let usually = if spends_iterations {
+            " (some of its steady states never settle and it has no step_tolerance: its starts are expected to spend their iterations)"
+        } else {
+            ""
+        };
+        let line = format!(
+            "design {key}: {} placements x {} search(es), usually {}-{} layout evaluations{usually} (at most {}) of {} steady states each; measured {} a layout evaluation{screen} (the mean of {layouts} layouts of the coarse scans on one thread): about {} on {threads} thread{} (an estimate: docs/design.md gives it against measured runs)",
+            b.placements,
+            b.searches,
+            b.expected[k].0,
+            b.expected[k + 1].0,
+            b.evaluations,
+            b.points,
+            secs(searched),
+            span(low, high),
+            if threads == 1 { "" } else { "s" },
+        );
+        out.push(Estimate { key, seconds: (low, high), line });
     }
-    Ok(())
+    Ok(out)
+}
+
+/// A span of seconds in words, "2-7 min".
+fn span(low: f64, high: f64) -> String {
+    let (lo, hi) = (super::study::duration(low), super::study::duration(high));
+    match (lo.rsplit_once(' '), hi.rsplit_once(' ')) {
+        (Some((a, u)), Some((b, v))) if u == v => format!("{a}-{b} {u}"),
+        _ => format!("{lo} to {hi}"),
+    }
+}
+
+/// The most a design may be expected to take, without a time limit, before it is refused
+/// unless confirmed (`--confirm`).
+pub const CONFIRM_ABOVE_S: f64 = 4.0 * 3600.0;
+
+/// How many times its time limit a design's low estimate may be before it is refused unless
+/// confirmed: under a tenth of what such a search usually needs gives a best so far of little
+/// worth.
+pub const CONFIRM_LIMIT_RATIO: f64 = 10.0;
+
+/// Refuses (bad input, exit 2) a design expected to take far longer than its time limit, or
+/// more than [`CONFIRM_ABOVE_S`] without one, unless `confirmed`.
+fn refuse_long(estimates: &[Estimate], time_limit: Option<f64>, confirmed: bool) -> anyhow::Result<()> {
+    if confirmed {
+        return Ok(());
+    }
+    let low: f64 = estimates.iter().map(|e| e.seconds.0).sum();
+    let keys: Vec<&str> = estimates.iter().map(|e| e.key.as_str()).collect();
+    let (value, why) = match time_limit {
+        Some(limit) if low > CONFIRM_LIMIT_RATIO * limit => (
+            format!("{limit} s"),
+            format!(
+                "{} usually take at least {}, over {CONFIRM_LIMIT_RATIO} times the limit: the searches would stop long before any converged; give a longer limit, a smaller search, or --confirm to run it anyway",
+                keys.join(", "),
+                super::study::duration(low)
+            ),
+        ),
+        None if low > CONFIRM_ABOVE_S => (
+            "(none)".to_string(),
+            format!(
+                "{} usually take at least {}; give --time-limit SECONDS (the best so far is written when it is reached) or --confirm to run it anyway",
+                keys.join(", "),
+                super::study::duration(low)
+            ),
+        ),
+        _ => return Ok(()),
+    };
+    Err(crate::Error::invalid("(command line)", "--time-limit", value, why).into())
 }
 
 /// The shard this process searches, when it searches one: `--shard I/N`, else with `--parts`

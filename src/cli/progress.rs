@@ -81,53 +81,118 @@ const LOG_EVERY_S: f64 = 5.0;
 /// far; a total of 0 is not known ahead, as a design search's evaluations: then the count
 /// alone). A run shorter than that prints nothing.
 fn log_lines(id: &str, total: u64) -> Box<Tick<'static>> {
-    log_lines_bounded(id, total, 0)
+    log_search(id, total, 0, None)
 }
 
-/// [`log_lines`] of a count of unknown total at most `ceiling` (0: no bound known): the
-/// lines add the bound and the time it would take at the pace so far.
-fn log_lines_bounded(id: &str, total: u64, ceiling: u64) -> Box<Tick<'static>> {
+/// Seconds without a line after which a design's log says what it is doing (a phase
+/// of few, long evaluations ticks seldom).
+const HEARTBEAT_S: u64 = 20;
+
+/// The log's lines of a count (see [`log_lines`]); for a design search (`outlook`), the lines
+/// say what is expected to be left, from the evaluations the design expects still
+/// ([`Outlook::left`](crate::design::halt::Outlook::left)) at the pace so far, and a line
+/// comes at least every [`HEARTBEAT_S`] seconds however long an evaluation takes.
+fn log_search(
+    id: &str,
+    total: u64,
+    ceiling: u64,
+    outlook: Option<std::sync::Arc<crate::design::halt::Outlook>>,
+) -> Box<Tick<'static>> {
     use std::sync::atomic::{AtomicU64, Ordering};
-    let id = id.to_string();
-    let start = std::time::Instant::now();
-    let done = AtomicU64::new(0);
-    // The next line is due at this many milliseconds after the start.
-    let due = AtomicU64::new((LOG_EVERY_S * 1e3) as u64);
+    struct State {
+        id: String,
+        start: std::time::Instant,
+        done: AtomicU64,
+        /// The next line is due at this many milliseconds after the start.
+        due: AtomicU64,
+        outlook: Option<std::sync::Arc<crate::design::halt::Outlook>>,
+        ceiling: u64,
+    }
+    impl State {
+        fn line(&self, n: u64, spent: f64) -> String {
+            let id = &self.id;
+            let Some(o) = &self.outlook else {
+                return format!("{id}: {n} evaluated, {} so far", study::duration(spent));
+            };
+            let phase = match o.phase() {
+                "" => String::new(),
+                p => format!("; {p}"),
+            };
+            let left = match o.left() {
+                Some(left) if n > 0 => format!(
+                    ", about {} left ({left} more evaluations expected)",
+                    study::duration(spent * left as f64 / n as f64)
+                ),
+                _ => String::new(),
+            };
+            format!("{id}: {n} evaluated (at most {}), {} so far{left}{phase}", self.ceiling, study::duration(spent))
+        }
+    }
+    let state = std::sync::Arc::new(State {
+        id: id.to_string(),
+        start: std::time::Instant::now(),
+        done: AtomicU64::new(0),
+        due: AtomicU64::new((LOG_EVERY_S * 1e3) as u64),
+        outlook,
+        ceiling,
+    });
+    if state.outlook.is_some() {
+        // The heartbeat: ends with the run (when the counter is dropped).
+        let weak = std::sync::Arc::downgrade(&state);
+        std::thread::spawn(move || loop {
+            std::thread::sleep(std::time::Duration::from_secs(1));
+            let Some(st) = weak.upgrade() else { return };
+            let ms = st.start.elapsed().as_millis() as u64;
+            let next = st.due.load(Ordering::Relaxed);
+            let quiet = ms.saturating_sub(next.saturating_sub((LOG_EVERY_S * 1e3) as u64));
+            if quiet >= HEARTBEAT_S * 1000
+                && st
+                    .due
+                    .compare_exchange(next, ms + (LOG_EVERY_S * 1e3) as u64, Ordering::Relaxed, Ordering::Relaxed)
+                    .is_ok()
+            {
+                eprintln!("{}", st.line(st.done.load(Ordering::Relaxed), ms as f64 / 1e3));
+            }
+        });
+    }
     Box::new(move || {
-        let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-        let elapsed = start.elapsed();
+        let st = &state;
+        let n = st.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let elapsed = st.start.elapsed();
         let ms = elapsed.as_millis() as u64;
-        let next = due.load(Ordering::Relaxed);
+        let next = st.due.load(Ordering::Relaxed);
         if ms < next || (total > 0 && n >= total) {
             return;
         }
         // One thread prints a given line.
-        if due.compare_exchange(next, ms + (LOG_EVERY_S * 1e3) as u64, Ordering::Relaxed, Ordering::Relaxed).is_err() {
+        if st.due.compare_exchange(next, ms + (LOG_EVERY_S * 1e3) as u64, Ordering::Relaxed, Ordering::Relaxed).is_err()
+        {
             return;
         }
         let spent = elapsed.as_secs_f64();
-        if total == 0 && ceiling > n {
-            let most = spent * (ceiling - n) as f64 / n as f64;
-            eprintln!(
-                "{id}: {n} evaluated (at most {ceiling}), {} so far, at most about {} left (a search usually stops far sooner)",
-                study::duration(spent),
-                study::duration(most)
-            );
-            return;
-        }
         if total == 0 {
-            eprintln!("{id}: {n} evaluated, {} so far", study::duration(spent));
+            eprintln!("{}", st.line(n, spent));
             return;
         }
         let left = spent * (total - n) as f64 / n as f64;
-        eprintln!("{id}: {n}/{total} points, {} so far, about {} left", study::duration(spent), study::duration(left));
+        eprintln!(
+            "{}: {n}/{total} points, {} so far, about {} left",
+            st.id,
+            study::duration(spent),
+            study::duration(left)
+        );
     })
 }
 
 impl Progress for Bars {
-    fn start_bounded(&self, id: &str, ceiling: u64) -> Box<Tick<'static>> {
+    fn start_search(
+        &self,
+        id: &str,
+        ceiling: u64,
+        outlook: std::sync::Arc<crate::design::halt::Outlook>,
+    ) -> Box<Tick<'static>> {
         match &self.multi {
-            None => log_lines_bounded(id, 0, ceiling),
+            None => log_search(id, 0, ceiling, Some(outlook)),
             Some(multi) => counter(multi, id, &format!(" (at most {ceiling})")),
         }
     }

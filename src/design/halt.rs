@@ -23,6 +23,76 @@ pub struct Halt {
     pub interrupt: Option<Arc<AtomicBool>>,
     /// The evaluations planned after the searches and the pace measured so far.
     pub after: Arc<After>,
+    /// What is expected to be left of the design, updated as its searches go.
+    pub outlook: Arc<Outlook>,
+    /// Which of the design's searches this halt stops (0 the main one, then one per Pareto
+    /// budget): its share of the outlook.
+    pub search: usize,
+}
+
+/// A design's work expected to be left, in layout evaluations: the search going on updates
+/// its own share after each round (runs that ended leave nothing; a run going on is expected
+/// to need what a placement of its size usually needs, [`crate::design::search::expected_per_start`],
+/// or half again what it has done when it has already done more), the design the rest
+/// (searches not yet begun, what follows them). A progress line divides it by the pace.
+#[derive(Debug, Default)]
+pub struct Outlook {
+    /// Of each search (by [`Halt::search`]).
+    searches: std::sync::Mutex<Vec<u64>>,
+    /// Of what follows the searches.
+    later: AtomicU64,
+    /// Whether anything was set (else nothing is known).
+    known: AtomicBool,
+    /// What the design is doing, in words.
+    phase: std::sync::Mutex<&'static str>,
+    /// Layout evaluations made, and how many had been made when a share was last set.
+    evaluated: AtomicU64,
+    evaluated_at_set: AtomicU64,
+}
+
+impl Outlook {
+    /// Says what the design is doing now and how many evaluations follow it.
+    pub fn set_phase(&self, words: &'static str, later: u64) {
+        if let Ok(mut p) = self.phase.lock() {
+            *p = words;
+        }
+        self.set_later(later);
+    }
+
+    /// What the design is doing, in words ("" before it says).
+    pub fn phase(&self) -> &'static str {
+        self.phase.lock().map_or("", |p| *p)
+    }
+
+    /// Sets search `k`'s share.
+    pub fn set_search(&self, k: usize, evaluations: u64) {
+        if let Ok(mut s) = self.searches.lock() {
+            if s.len() <= k {
+                s.resize(k + 1, 0);
+            }
+            s[k] = evaluations;
+        }
+        self.evaluated_at_set.store(self.evaluated.load(Ordering::Relaxed), Ordering::Relaxed);
+        self.known.store(true, Ordering::Relaxed);
+    }
+
+    /// Sets what follows the searches.
+    pub fn set_later(&self, evaluations: u64) {
+        self.later.store(evaluations, Ordering::Relaxed);
+        self.evaluated_at_set.store(self.evaluated.load(Ordering::Relaxed), Ordering::Relaxed);
+        self.known.store(true, Ordering::Relaxed);
+    }
+
+    /// The evaluations expected to be left, if known: the shares as last set, less the
+    /// evaluations made since (down to a quarter of them: a share is set again at the end of
+    /// every round of its search).
+    pub fn left(&self) -> Option<u64> {
+        let searches: u64 = self.searches.lock().map_or(0, |s| s.iter().sum());
+        let set = searches.saturating_add(self.later.load(Ordering::Relaxed));
+        let since =
+            self.evaluated.load(Ordering::Relaxed).saturating_sub(self.evaluated_at_set.load(Ordering::Relaxed));
+        self.known.load(Ordering::Relaxed).then(|| set.saturating_sub(since).max(set / 4))
+    }
 }
 
 /// The work a design plans after its searches, and the searches' measured pace.
@@ -74,11 +144,17 @@ impl Halt {
         self.after.judged_nanos.store(ns, Ordering::Relaxed);
     }
 
+    /// Sets this halt's search's share of the outlook ([`Outlook`]).
+    pub fn expect(&self, evaluations: u64) {
+        self.outlook.set_search(self.search, evaluations);
+    }
+
     /// `f`, one layout evaluation, timed for the pace.
     pub fn timed<T>(&self, f: impl FnOnce() -> T) -> T {
         let started = Instant::now();
         let out = f();
         let ns = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.outlook.evaluated.fetch_add(1, Ordering::Relaxed);
         self.after.nanos.fetch_add(ns, Ordering::Relaxed);
         self.after.timed.fetch_add(1, Ordering::Relaxed);
         out

@@ -12,6 +12,7 @@ mod evaluation;
 pub mod halt;
 pub mod limits;
 pub mod nelder_mead;
+pub mod rounds;
 pub mod search;
 pub mod stored;
 
@@ -129,6 +130,12 @@ pub struct Budget {
     /// Of `evaluations`, those on the coarser model of `[design.screen]` (the searches and
     /// the maps near the optimum; 0 without a screen), that model's `fast` and its size.
     pub screened: (u64, f64, usize),
+    /// The evaluations a design like it usually makes, and of them those on the screen's
+    /// model: low and high when its starts converge (the searches at the low and high
+    /// [`search::EXPECTED_C`], the rest as `evaluations` counts it), then low and high when
+    /// they spend their iterations ([`search::spent_evaluations`]). What the estimates
+    /// ([`Budget::expected_seconds`]) count.
+    pub expected: [(u64, u64); 4],
 }
 
 impl Budget {
@@ -179,6 +186,34 @@ impl Budget {
         }
     }
 
+    /// How far the mean cost of a layout evaluation over a whole design may fall below and rise
+    /// above the one the dry run's probe measures on the layouts of the coarse scans (the
+    /// search's simplexes close in on layouts whose points may settle sooner or later).
+    pub const EVALUATION_SPREAD: (f64, f64) = (0.5, 2.0);
+
+    /// Of the threads' time, the share a design keeps busy at the least (the last rounds of
+    /// its searches hold fewer runs than threads).
+    pub const THREAD_USE: f64 = 0.75;
+
+    /// Wall seconds a design usually takes on `threads` threads at `searched` seconds a layout
+    /// evaluation on the model its searches run on and `judged` on the file's model (the same
+    /// without a screen), each measured on one thread: low (the low evaluation count, cheaper
+    /// evaluations, every thread busy) and high. An estimate: a search may still stop sooner or
+    /// later; [`Budget::evaluations`] bounds.
+    /// `spent`: the design's starts are expected to spend their iterations (its objective is
+    /// noisy and it has no `step_tolerance`).
+    pub fn expected_seconds(&self, searched: f64, judged: f64, threads: usize, spent: bool) -> (f64, f64) {
+        let at = |(all, screened): (u64, u64), f: f64, threads: f64| {
+            let on_file = all.saturating_sub(screened);
+            let (searched_n, judged_n) = if self.screened.0 == 0 { (all, 0) } else { (screened, on_file) };
+            (searched_n as f64 * searched + judged_n as f64 * judged) * f / threads
+        };
+        let t = threads.max(1) as f64;
+        let (lo, hi) = Self::EVALUATION_SPREAD;
+        let k = if spent { 2 } else { 0 };
+        (at(self.expected[k], lo, t), at(self.expected[k + 1], hi, (t * Self::THREAD_USE).max(1.0)))
+    }
+
     /// Wall seconds of the most evaluations on `threads` threads at `point` seconds a steady
     /// state on the file's model and `screen_point` on the screen's (the searches of a
     /// screened design).
@@ -215,6 +250,9 @@ impl Spec {
             shared_clearance: self.shared_clearance,
         };
         let search = if self.replay { placements.len() as u64 } else { search::most_evaluations(&space, &self.search) };
+        let usual = search::expected_evaluations(&space, &self.search);
+        let spent = search::spent_evaluations(&space, &self.search);
+        let usual = if self.replay { [search; 4] } else { [usual[0], usual[2], spent[0], spent[1]] };
         let sdof = if self.sdof.is_some() { placements.len() as u64 } else { 0 };
         // The drive levels evaluate the best layout and the cases once at each force.
         let levels = (self.drive_levels_n.len() * (1 + cases)) as u64;
@@ -231,7 +269,18 @@ impl Spec {
             Some(_) => (placements.len() as u64 + map, placements.len() as u64 + 1),
             None => (0, 0),
         };
+        // The same counts with the searches' usual evaluations.
+        let expected = usual.map(|one| {
+            let searched = one.saturating_mul(searches as u64);
+            let screened_one = match &self.screen {
+                Some(_) if !self.replay => searched.saturating_add(map),
+                Some(_) => screened.0,
+                None => 0,
+            };
+            (searched.saturating_add(after).saturating_add(screened.1), screened_one)
+        });
         Budget {
+            expected,
             placements: placements.len(),
             searches,
             evaluations: searched.saturating_add(after).saturating_add(screened.1),

@@ -20,6 +20,76 @@ pub struct Settings {
 /// A vertex of the simplex and its objective.
 type Vertex = (Vec<f64>, f64);
 
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum End {
+    /// The simplex's objectives agree to the tolerance, or it shrank below its size.
+    Converged,
+    /// It spent its iterations.
+    Iterations,
+}
+
+/// A run of the method that can be advanced a few iterations at a time: advanced in any
+/// number of pieces it makes the same steps, evaluation for evaluation, as [`minimise`] (a
+/// search advances all its runs in rounds, so that a time limit leaves none far behind).
+#[derive(Debug, Clone)]
+pub struct Simplex {
+    p: Vec<Vertex>,
+    iter: u64,
+}
+
+impl Simplex {
+    /// The simplex of `vertices` (`d + 1` points of `d` coordinates), each evaluated.
+    pub fn new<E>(mut cost: impl FnMut(&[f64]) -> Result<f64, E>, vertices: Vec<Vec<f64>>) -> Result<Self, E> {
+        let mut p = Vec::with_capacity(vertices.len());
+        for v in vertices {
+            let c = cost(&v)?;
+            p.push((v, c));
+        }
+        sort(&mut p);
+        Ok(Simplex { p, iter: 0 })
+    }
+
+    /// How the run has ended, if it has.
+    pub fn ended(&self, s: &Settings) -> Option<End> {
+        if self.p.len() <= 1 || spread(&self.p) < s.sd_tolerance || small(&self.p, s.step_tolerance) {
+            Some(End::Converged)
+        } else if self.iter >= s.max_iters {
+            Some(End::Iterations)
+        } else {
+            None
+        }
+    }
+
+    /// At most `iterations` more iterations, fewer when the run ends; the first error of
+    /// `cost` ends the piece with it (the simplex keeps what it had).
+    pub fn advance<E>(
+        &mut self,
+        mut cost: impl FnMut(&[f64]) -> Result<f64, E>,
+        s: &Settings,
+        iterations: u64,
+    ) -> Result<Option<End>, E> {
+        for _ in 0..iterations {
+            if let Some(end) = self.ended(s) {
+                return Ok(Some(end));
+            }
+            step(&mut self.p, &mut cost)?;
+            self.iter += 1;
+        }
+        Ok(self.ended(s))
+    }
+
+    /// Iterations made.
+    pub fn iterations(&self) -> u64 {
+        self.iter
+    }
+
+    /// The best vertex and its objective.
+    pub fn best(&self) -> &Vertex {
+        &self.p[0]
+    }
+}
+
 /// Minimises `cost` from the simplex `vertices` (`d + 1` points of `d` coordinates) and
 /// returns the best vertex and its objective. The first error of `cost` ends the run with it.
 pub fn minimise<E>(
@@ -27,18 +97,9 @@ pub fn minimise<E>(
     vertices: Vec<Vec<f64>>,
     s: &Settings,
 ) -> Result<Vertex, E> {
-    let mut p = Vec::with_capacity(vertices.len());
-    for v in vertices {
-        let c = cost(&v)?;
-        p.push((v, c));
-    }
-    sort(&mut p);
-    let mut iter = 0;
-    while p.len() > 1 && !(spread(&p) < s.sd_tolerance || small(&p, s.step_tolerance) || iter >= s.max_iters) {
-        step(&mut p, &mut cost)?;
-        iter += 1;
-    }
-    Ok(p.swap_remove(0))
+    let mut run = Simplex::new(&mut cost, vertices)?;
+    run.advance(&mut cost, s, u64::MAX)?;
+    Ok(run.p.swap_remove(0))
 }
 
 /// Sorts the vertices by objective (a stable sort: of equal ones the earlier stays first).
@@ -190,6 +251,34 @@ mod tests {
         for x in [&all, &small] {
             assert!(x.iter().all(|v| (v - 0.3).abs() < 0.05), "{x:?}");
         }
+    }
+
+    #[test]
+    fn a_run_advanced_in_pieces_makes_the_same_steps() {
+        let settings = Settings { max_iters: 150, sd_tolerance: 1e-9, step_tolerance: 0.0 };
+        fn count(f: fn(&[f64]) -> f64, n: &std::cell::Cell<u64>) -> impl FnMut(&[f64]) -> Result<f64, ()> + '_ {
+            move |x| {
+                n.set(n.get() + 1);
+                Ok(f(x))
+            }
+        }
+        for f in [rosenbrock as fn(&[f64]) -> f64, bumpy] {
+            let (whole, pieces) = (std::cell::Cell::new(0), std::cell::Cell::new(0));
+            let (x, c) = minimise(count(f, &whole), simplex(&[0.5, -0.5, 2.0]), &settings).unwrap();
+            let mut run = Simplex::new(count(f, &pieces), simplex(&[0.5, -0.5, 2.0])).unwrap();
+            let mut rounds = 0;
+            while run.advance(count(f, &pieces), &settings, 7).unwrap().is_none() {
+                rounds += 1;
+            }
+            assert!(rounds > 3, "{rounds} rounds");
+            assert_eq!((&run.best().0, run.best().1.to_bits()), (&x, c.to_bits()));
+            assert_eq!(whole.get(), pieces.get());
+        }
+        let mut run = Simplex::new(|x| Ok::<_, ()>(rosenbrock(x)), simplex(&[-1.2, 1.0])).unwrap();
+        assert_eq!(
+            run.advance(|x| Ok::<_, ()>(rosenbrock(x)), &Settings { max_iters: 5, ..settings }, 100),
+            Ok(Some(End::Iterations))
+        );
     }
 
     #[test]

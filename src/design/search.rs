@@ -4,13 +4,12 @@
 //! grid for checking it. Every run is sequential and independent, and results are gathered in
 //! a fixed order: the same bytes for any number of threads.
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
 use super::halt::Halt;
-use super::nelder_mead::{minimise, Settings};
+pub use super::rounds::Ended;
 use super::{evaluate, Evaluation, Layout, Problem};
 
 /// What may vary, and within which bounds.
@@ -102,6 +101,59 @@ pub fn most_evaluations(space: &Space, opts: &Options) -> u64 {
         .fold(0u64, u64::saturating_add)
 }
 
+/// The constant `c` of the evaluations a Nelder-Mead start of `d` free coordinates usually
+/// makes, `c (d + 1)^2`: low, middle and high. Measured over whole designs (the evaluations of
+/// every placement of the shipped designs' stored answers): 2.3-2.8 on the third-mode,
+/// five-storey and plate designs, 5.6-7.2 on the all-modes design (three bands, a rougher
+/// objective). An estimate, not a bound ([`most_evaluations`] bounds).
+pub const EXPECTED_C: [f64; 3] = [2.0, 4.0, 8.0];
+
+/// The evaluations a start of `d` free coordinates usually makes at `c` ([`EXPECTED_C`]),
+/// at most its bound.
+pub fn expected_per_start(d: usize, opts: &Options, c: f64) -> u64 {
+    let d1 = (d + 1) as f64;
+    let most = ((d + 1) as u64).saturating_add(opts.max_iters.saturating_mul(d as u64 + 2));
+    ((c * d1 * d1).ceil() as u64).min(most)
+}
+
+/// The evaluations one search of `space` usually makes, at each `c` of [`EXPECTED_C`]: per
+/// placement the coarse scan and each start's [`expected_per_start`].
+pub fn expected_evaluations(space: &Space, opts: &Options) -> [u64; 3] {
+    EXPECTED_C.map(|c| {
+        space
+            .placements
+            .iter()
+            .map(|hosts| {
+                let d = dimension(hosts.len(), space);
+                COARSE.len() as u64 + opts.starts.max(1) as u64 * expected_per_start(d, opts, c)
+            })
+            .sum()
+    })
+}
+
+/// Evaluations a Nelder-Mead iteration makes on average when a start spends all its
+/// iterations, low and high (a reflection and often an expansion or a contraction; a shrink,
+/// `d` more, is rare).
+pub const SPENT_PER_ITERATION: [f64; 2] = [1.0, 2.5];
+
+/// The evaluations one search of `space` makes when its starts spend their iterations (an
+/// objective whose points never settle is noisy, and a simplex without `step_tolerance` may
+/// never agree to its tolerance): low and high ([`SPENT_PER_ITERATION`]), at most the bound.
+pub fn spent_evaluations(space: &Space, opts: &Options) -> [u64; 2] {
+    SPENT_PER_ITERATION.map(|per| {
+        space
+            .placements
+            .iter()
+            .map(|hosts| {
+                let d = dimension(hosts.len(), space) as u64;
+                let most = (d + 1).saturating_add(opts.max_iters.saturating_mul(d + 2));
+                let start = ((d + 1) as f64 + opts.max_iters as f64 * per).ceil() as u64;
+                COARSE.len() as u64 + opts.starts.max(1) as u64 * start.min(most)
+            })
+            .sum()
+    })
+}
+
 fn sigmoid(z: f64) -> f64 {
     1.0 / (1.0 + (-z).exp())
 }
@@ -124,55 +176,6 @@ pub fn layout(hosts: &[usize], x: &[f64], space: &Space) -> Layout {
     Layout { hosts: hosts.to_vec(), masses_kg: w.iter().map(|wi| space.shot_kg * wi / sum).collect(), clearances_mm }
 }
 
-/// The objective as Nelder-Mead minimises it (a point that cannot be computed is +1e300).
-struct Cost<'a> {
-    problem: &'a Problem,
-    bare: &'a [Vec<f64>],
-    hosts: &'a [usize],
-    space: &'a Space,
-    /// Evaluations made.
-    count: &'a AtomicU64,
-    /// Called before every evaluation (a caller may stop the search there by unwinding).
-    check: &'a (dyn Fn() + Sync),
-    /// The search ends at its next evaluation after this halt, keeping its best so far.
-    halt: &'a Halt,
-    /// The best point evaluated and its objective (what a run stopped by the deadline keeps).
-    best: &'a Mutex<Option<(Vec<f64>, f64)>>,
-    /// Set when the deadline stopped a run.
-    stopped: &'a AtomicBool,
-}
-
-/// A Nelder-Mead run ended by the deadline.
-#[derive(Debug)]
-struct TimeLimit;
-
-impl std::fmt::Display for TimeLimit {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("the search's time limit was reached")
-    }
-}
-
-impl std::error::Error for TimeLimit {}
-
-impl Cost<'_> {
-    fn cost(&self, x: &[f64]) -> Result<f64, TimeLimit> {
-        if self.halt.reached() {
-            self.stopped.store(true, Ordering::Relaxed);
-            return Err(TimeLimit);
-        }
-        self.count.fetch_add(1, Ordering::Relaxed);
-        (self.check)();
-        let e = self.halt.timed(|| evaluate(self.problem, self.bare, &layout(self.hosts, x, self.space)));
-        let objective = if e.objective.is_finite() { e.objective } else { 1e300 };
-        if let Ok(mut best) = self.best.lock() {
-            if best.as_ref().is_none_or(|b| objective < b.1) {
-                *best = Some((x.to_vec(), objective));
-            }
-        }
-        Ok(objective)
-    }
-}
-
 /// The best layout found for one placement, and how it was found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Found {
@@ -193,6 +196,8 @@ pub struct Found {
     /// time limit stopped before this placement's best was judged: `evaluation` is then the
     /// searched model's ([`found_until`]).
     pub judged: bool,
+    /// How its search ended (`None`: not searched here, a stored answer replayed).
+    pub ended: Option<Ended>,
 }
 
 /// A design problem with its bare structure's measures: what a layout is evaluated against.
@@ -216,47 +221,19 @@ fn starts(hosts: &[usize], space: &Space, opts: &Options) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// The end of one Nelder-Mead run: its best point, objective and evaluations.
-type Descent = (Vec<f64>, f64, u64);
-
-/// One Nelder-Mead run from `x0` (initial simplex: steps of 1 along each coordinate). A run
-/// the deadline ends keeps the best point it evaluated (`x0` when none, its objective then
-/// unknown: infinite).
-fn descend(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
-    let (best, stopped, count) = (cost.best, cost.stopped, cost.count);
-    if cost.halt.reached() {
-        stopped.store(true, Ordering::Relaxed);
-        return Some((x0, f64::INFINITY, 0));
-    }
-    match descend_to_end(cost, x0.clone(), opts) {
-        Some(d) => Some(d),
-        None if stopped.load(Ordering::Relaxed) => {
-            let kept = best.lock().ok().and_then(|b| b.clone());
-            let n = count.load(Ordering::Relaxed);
-            Some(kept.map_or((x0, f64::INFINITY, n), |(x, o)| (x, o, n)))
-        }
-        None => None,
-    }
-}
-
-fn descend_to_end(cost: Cost, x0: Vec<f64>, opts: &Options) -> Option<Descent> {
-    let d = x0.len();
-    let mut simplex = vec![x0.clone()];
-    for i in 0..d {
-        let mut v = x0.clone();
-        v[i] += 1.0;
-        simplex.push(v);
-    }
-    let settings =
-        Settings { max_iters: opts.max_iters, sd_tolerance: opts.tolerance, step_tolerance: opts.step_tolerance };
-    let (x, objective) = minimise(|x| cost.cost(x), simplex, &settings).ok()?;
-    Some((x, objective, cost.count.load(Ordering::Relaxed)))
-}
-
 /// Clearance coordinates of the coarse scan that places the first start: the objective is
 /// flat wherever the beds no longer reach the top (the clearance then acts as none), so a
 /// simplex started there may never see the clearances that matter.
-const COARSE: [f64; 7] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
+pub const COARSE: [f64; 7] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
+
+/// The layout of the coarse scan of `hosts` at clearance coordinate `z` ([`COARSE`]): the shot
+/// split evenly, every clearance `lo (hi/lo)^sigmoid(z)`.
+pub fn coarse_layout(hosts: &[usize], z: f64, space: &Space) -> Layout {
+    let d = dimension(hosts.len(), space);
+    let mut x = vec![0.0; d];
+    x[hosts.len() - 1..].iter_mut().for_each(|c| *c = z);
+    layout(hosts, &x, space)
+}
 
 /// The first start of a placement: an even split and the best shared clearance of a coarse
 /// scan ([`COARSE`]), and the layouts it evaluated. After `halt` only the middle clearance is
@@ -342,6 +319,12 @@ pub struct Searched {
     pub starts: usize,
     /// Objective evaluations made (the coarse scan's included).
     pub evaluations: u64,
+    /// How it ended (`None`: not known, a part of a sharded search written before this was
+    /// recorded).
+    pub ended: Option<Ended>,
+    /// The evaluation of `x` on the model searched, where the search kept it (not in a
+    /// sharded search's parts): [`found`] then does not evaluate it again there.
+    pub evaluation: Option<Evaluation>,
 }
 
 /// The search of the placements of `space` that `owned` accepts (by index), as
@@ -358,6 +341,8 @@ pub fn search_placements(
 ) -> (Vec<Option<Searched>>, bool) {
     let stopped = AtomicBool::new(false);
     let mine: Vec<usize> = (0..space.placements.len()).filter(|&p| owned(p)).collect();
+    let per_start = |p: usize| expected_per_start(dimension(space.placements[p].len(), space), opts, EXPECTED_C[1]);
+    halt.expect(mine.iter().map(|&p| COARSE.len() as u64 + opts.starts.max(1) as u64 * per_start(p)).sum());
     let firsts: Vec<(Vec<f64>, u64)> =
         mine.par_iter().map(|&p| coarse_start(problem, bare, &space.placements[p], space, check, halt)).collect();
     let runs: Vec<(usize, Vec<f64>)> = mine
@@ -370,17 +355,10 @@ pub fn search_placements(
             xs.into_iter().map(move |x| (p, x))
         })
         .collect();
-    let results: Vec<(usize, Option<Descent>)> = runs
-        .into_par_iter()
-        .map(|(p, x0)| {
-            let hosts = &space.placements[p];
-            let (best, count) = (Mutex::new(None), AtomicU64::new(0));
-            let cost = Cost { problem, bare, hosts, space, count: &count, check, halt, best: &best, stopped: &stopped };
-            (p, descend(cost, x0, opts))
-        })
-        .collect();
+    let results = super::rounds::run_all((problem, bare), space, opts, check, halt, runs, &stopped);
     let stopped = stopped.load(Ordering::Relaxed) || firsts.iter().any(|f| (f.1 as usize) < COARSE.len());
     let mine_index = |p: usize| mine.iter().position(|&q| q == p);
+    let mut results: Vec<Option<(usize, super::rounds::RunEnd)>> = results.into_iter().map(Some).collect();
     let searched = space
         .placements
         .iter()
@@ -389,16 +367,23 @@ pub fn search_placements(
             if !owned(p) {
                 return None;
             }
-            let mine: Vec<&Descent> = results.iter().filter(|(q, _)| *q == p).filter_map(|(_, r)| r.as_ref()).collect();
+            let mine: Vec<super::rounds::RunEnd> = results
+                .iter_mut()
+                .filter(|r| r.as_ref().is_some_and(|r| r.0 == p))
+                .filter_map(|r| r.take())
+                .map(|r| r.1)
+                .collect();
             let scanned = mine_index(p).map_or(0, |i| firsts[i].1);
-            let evaluations = mine.iter().map(|r| r.2).sum::<u64>() + scanned;
+            let evaluations = mine.iter().map(|r| r.evaluations).sum::<u64>() + scanned;
+            let ended = mine.iter().map(|r| r.ended).reduce(Ended::worst).unwrap_or(Ended::Stopped);
+            let starts = mine.len();
             // The lowest objective; of equal ones the first start's.
-            let best = mine.iter().fold(None::<&&Descent>, |b, r| match b {
-                Some(b) if b.1 <= r.1 => Some(b),
-                _ => Some(r),
-            });
-            let x = best.map(|b| b.0.clone()).unwrap_or_else(|| vec![0.0; dimension(hosts.len(), space)]);
-            Some(Searched { x, starts: mine.len(), evaluations })
+            let best = mine.into_iter().reduce(|b, r| if b.objective <= r.objective { b } else { r });
+            let (x, evaluation) = match best {
+                Some(b) => (b.x, b.evaluation),
+                None => (vec![0.0; dimension(hosts.len(), space)], None),
+            };
+            Some(Searched { x, starts, evaluations, ended: Some(ended), evaluation })
         })
         .collect();
     (searched, stopped)
@@ -429,8 +414,15 @@ pub fn found(judged: On, screen: Option<On>, space: &Space, searched: &[Searched
         .zip(searched)
         .map(|(hosts, s)| {
             let layout = layout(hosts, &s.x, space);
-            let evaluation = evaluate(problem, bare, &layout);
-            let screened = screen.map(|(p, b)| evaluate(p, b, &layout).objective);
+            // The search's own evaluation of its best point, on the model it searched.
+            let kept = s.evaluation.clone();
+            let (evaluation, screened) = match screen {
+                None => (kept.unwrap_or_else(|| evaluate(problem, bare, &layout)), None),
+                Some((p, b)) => (
+                    evaluate(problem, bare, &layout),
+                    Some(kept.map_or_else(|| evaluate(p, b, &layout).objective, |e| e.objective)),
+                ),
+            };
             Found {
                 layout,
                 evaluation,
@@ -439,6 +431,7 @@ pub fn found(judged: On, screen: Option<On>, space: &Space, searched: &[Searched
                 evaluations: s.evaluations,
                 screened,
                 judged: true,
+                ended: s.ended,
             }
         })
         .collect()
@@ -447,19 +440,26 @@ pub fn found(judged: On, screen: Option<On>, space: &Space, searched: &[Searched
 /// [`found`] under a halt, for a screened search: every placement's best evaluated on the
 /// screen, then judged on the file's model in the order of its screened objective (the most
 /// promising first), a round of one evaluation a thread at a time, until the halt's deadline
-/// or interrupt (only the first round is always judged). A placement not judged keeps its
+/// or interrupt (the first round always: one evaluation a thread at a deadline, the most
+/// promising placement alone after an interrupt, as a batch system kills 30 s after its
+/// SIGTERM). A placement not judged keeps its
 /// screen evaluation, marked ([`Found::judged`]). Without a screen or a halt: [`found`].
 pub fn found_until(judged: On, screen: Option<On>, space: &Space, searched: &[Searched], halt: &Halt) -> Vec<Found> {
     let Some((sp, sb)) = screen.filter(|_| halt.deadline.is_some() || halt.interrupt.is_some()) else {
         return found(judged, screen, space, searched);
     };
     let layouts: Vec<Layout> = space.placements.iter().zip(searched).map(|(h, s)| layout(h, &s.x, space)).collect();
-    let on_screen: Vec<Evaluation> = layouts.par_iter().map(|l| evaluate(sp, sb, l)).collect();
+    let on_screen: Vec<Evaluation> = layouts
+        .par_iter()
+        .zip(searched)
+        .map(|(l, s)| s.evaluation.clone().unwrap_or_else(|| evaluate(sp, sb, l)))
+        .collect();
     let mut order: Vec<usize> = (0..layouts.len()).collect();
     order.sort_by(|&a, &b| on_screen[a].objective.total_cmp(&on_screen[b].objective).then(a.cmp(&b)));
     let threads = rayon::current_num_threads().max(1);
     let mut on_file: Vec<Option<Evaluation>> = vec![None; layouts.len()];
-    for (round, chunk) in order.chunks(threads).enumerate() {
+    let per_round = if halt.interrupted() { 1 } else { threads };
+    for (round, chunk) in order.chunks(per_round).enumerate() {
         if round > 0 && halt.passed() {
             break;
         }
@@ -483,6 +483,7 @@ pub fn found_until(judged: On, screen: Option<On>, space: &Space, searched: &[Se
                 evaluations: s.evaluations,
                 screened,
                 judged,
+                ended: s.ended,
             }
         })
         .collect()

@@ -40,6 +40,10 @@ struct PartItem {
     x: Vec<String>,
     starts: usize,
     evaluations: u64,
+    /// Whether the placement's search converged ("yes", or why not); absent in parts written
+    /// before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    converged: Option<String>,
 }
 
 /// Which shard of how many.
@@ -123,6 +127,7 @@ pub fn search_shard(
                                 x: i.x.iter().map(|v| format!("{:016x}", v.to_bits())).collect(),
                                 starts: i.starts,
                                 evaluations: i.evaluations,
+                                converged: i.ended.map(|e| e.word().to_string()),
                             })
                         })
                         .collect()
@@ -202,7 +207,19 @@ pub fn merge_into(exps: &mut [Experiment], dir: &Path) -> Result<()> {
                                 format!("not the bits of numbers: {err}"),
                             )
                         })?;
-                    *slot = Some(Searched { x, starts: item.starts, evaluations: item.evaluations });
+                    let ended = match &item.converged {
+                        None => None,
+                        Some(w) => Some(crate::design::search::Ended::from_word(w).ok_or_else(|| {
+                            Error::invalid(path, "converged", w, "\"yes\", \"no: iterations spent\" or \"no: stopped\"")
+                        })?),
+                    };
+                    *slot = Some(Searched {
+                        x,
+                        starts: item.starts,
+                        evaluations: item.evaluations,
+                        ended,
+                        evaluation: None,
+                    });
                 }
             }
         }

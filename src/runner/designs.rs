@@ -77,11 +77,14 @@ pub fn run_loaded(
         deadline: settings.time_limit.map(|limit| started + std::time::Duration::from_secs_f64(limit)),
         interrupt: settings.interrupt.clone(),
         after: Default::default(),
+        outlook: Default::default(),
+        search: 0,
     };
     for e in &mut exps {
         if let Some(spec) = e.analysis.design_mut() {
             // One deadline for every design of the run; each plans and paces its own work.
-            spec.halt = crate::design::halt::Halt { after: Default::default(), ..halt.clone() };
+            spec.halt =
+                crate::design::halt::Halt { after: Default::default(), outlook: Default::default(), ..halt.clone() };
         }
     }
     if let Some(dir) = &settings.merge {
@@ -197,56 +200,114 @@ pub fn store_designs(
     Ok(stored)
 }
 
-/// One design's measured cost of a steady state ([`probe`]).
+/// One design's measured cost of a layout evaluation ([`probe`]).
 #[derive(Debug, Clone)]
 pub struct Probe {
     /// The experiment's key.
     pub key: String,
-    /// The layout evaluated: its hosts (0-based) ...
-    pub hosts: Vec<usize>,
-    /// ... and its clearance, mm.
-    pub clearance_mm: f64,
-    /// Seconds one steady state took on one thread.
-    pub seconds_per_point: f64,
-    /// The same on the model of `[design.screen]` (the searches'), where the design has one.
-    pub screen_seconds_per_point: Option<f64>,
+    /// Layouts evaluated on the model the searches run on ...
+    pub layouts: usize,
+    /// ... and the mean seconds one took on one thread.
+    pub seconds_per_evaluation: f64,
+    /// Where the searches run on the coarser model of `[design.screen]`: what an evaluation on
+    /// the file's model costs on one thread, `seconds_per_evaluation` times the ratio of the
+    /// two models' times on one layout at [`PROBE_FREQUENCIES`] frequencies of each band.
+    pub judged_seconds_per_evaluation: Option<f64>,
+    /// Whether the search's starts are expected to spend their iterations: at least
+    /// [`NOISY_SHARE`] of the probed steady states never settled (their statistics make the
+    /// objective noisy) and the design has no `step_tolerance` to end a start whose simplex is
+    /// small.
+    pub spends_iterations: bool,
 }
 
-/// What one steady state of a design costs, measured: one layout evaluated on one thread (the
-/// shot split evenly over the last `max_beds` candidates, at the geometric mean of the
-/// clearance bounds), its time over its steady states; one per design of `files`.
+/// Seconds of one thread the probe spends evaluating layouts (at least one).
+pub const PROBE_SECONDS: f64 = 2.0;
+
+/// Frequencies of each band at which a screened design's probe compares its file's model with
+/// its screen (spread evenly over the band, its edges included).
+pub const PROBE_FREQUENCIES: usize = 4;
+
+/// The share of the probed steady states that never settle from which a design's objective
+/// counts as noisy ([`Probe::spends_iterations`]): most of the six-storey building's (its
+/// starts spend their iterations), a few near a fold on the paper's structure (whose starts
+/// converge).
+pub const NOISY_SHARE: f64 = 0.25;
+
+/// What a layout evaluation of a design costs, measured on one thread: the layouts of the
+/// search's coarse scans (every placement at each clearance of the scan, in a shuffled
+/// order) evaluated one after another for [`PROBE_SECONDS`], on the model the searches run on;
+/// a screened design's file's model from its ratio to the screen's on one layout at a few
+/// frequencies. One per design of
+/// `files`.
 pub fn probe(files: &[PathBuf], reference: &Path) -> crate::Result<Vec<Probe>> {
     probe_of(&load(files, reference)?)
 }
 
 /// [`probe`] of designs already loaded ([`load`]).
 pub fn probe_of(exps: &[Experiment]) -> crate::Result<Vec<Probe>> {
+    use crate::design::search::{coarse_layout, COARSE};
     let one = super::pool(Some(1))?;
     let mut out = Vec::new();
     for e in exps {
         let Some((spec, steady)) = e.analysis.design() else { continue };
         let problem = crate::analysis::design::problem(e, spec, steady);
-        let k = spec.max_beds.clamp(1, spec.candidates.len().max(1));
-        let hosts: Vec<usize> = spec.candidates[spec.candidates.len().saturating_sub(k)..].to_vec();
-        let (lo, hi) = spec.clearance_mm;
-        let d = (lo * hi).sqrt();
-        let layout = crate::design::Layout {
-            masses_kg: vec![spec.shot_kg / hosts.len().max(1) as f64; hosts.len()],
-            clearances_mm: vec![d; hosts.len()],
-            hosts: hosts.clone(),
-        };
-        let measure = |problem: &crate::design::Problem| {
-            one.install(|| {
-                let bare = crate::design::bare(problem);
-                let start = std::time::Instant::now();
-                let ev = crate::design::evaluate(problem, &bare, &layout);
-                start.elapsed().as_secs_f64() / ev.points.max(1) as f64
-            })
-        };
-        let seconds_per_point = measure(&problem);
         let screen = crate::analysis::design::screen(e, spec, steady);
-        let screen_seconds_per_point = screen.as_ref().map(measure);
-        out.push(Probe { key: e.key(), hosts, clearance_mm: d, seconds_per_point, screen_seconds_per_point });
+        let space = crate::analysis::design_shards::spaces(e, spec).swap_remove(0);
+        // Every (placement, clearance) of the coarse scans, in an order that mixes both.
+        let mut samples: Vec<(usize, usize)> =
+            (0..space.placements.len()).flat_map(|p| (0..COARSE.len()).map(move |z| (p, z))).collect();
+        samples.sort_by_key(|&(p, z)| ((p * COARSE.len() + z) as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let searched = screen.as_ref().unwrap_or(&problem);
+        let (layouts, seconds, noisy) = one.install(|| {
+            let bare = crate::design::bare(searched);
+            let started = std::time::Instant::now();
+            let (mut n, mut unsettled, mut points) = (0, 0, 0);
+            for &(p, z) in &samples {
+                if n > 0 && started.elapsed().as_secs_f64() > PROBE_SECONDS {
+                    break;
+                }
+                let ev =
+                    crate::design::evaluate(searched, &bare, &coarse_layout(&space.placements[p], COARSE[z], &space));
+                unsettled += ev.unsettled;
+                points += ev.points;
+                n += 1;
+            }
+            (n, started.elapsed().as_secs_f64(), unsettled as f64 >= NOISY_SHARE * points as f64 && points > 0)
+        });
+        // The file's model against the screen's: one layout at a few frequencies of each band
+        // on both, the ratio of their times (what the few frequencies miss cancels).
+        let judged_seconds_per_evaluation = screen.as_ref().map(|sp| {
+            let sliced = |problem: &crate::design::Problem| {
+                let mut sliced = problem.clone();
+                for b in &mut sliced.bands {
+                    let n = b.freq_hz.len();
+                    if n > PROBE_FREQUENCIES {
+                        let m = PROBE_FREQUENCIES;
+                        b.freq_hz = (0..m).map(|i| b.freq_hz[(i * (n - 1) + (m - 1) / 2) / (m - 1)]).collect();
+                    }
+                }
+                sliced
+            };
+            let hosts = space.placements.last().cloned().unwrap_or_default();
+            let layout = coarse_layout(&hosts, 0.0, &space);
+            let time = |problem: &crate::design::Problem| {
+                let problem = sliced(problem);
+                one.install(|| {
+                    let bare = crate::design::bare(&problem);
+                    let started = std::time::Instant::now();
+                    crate::design::evaluate(&problem, &bare, &layout);
+                    started.elapsed().as_secs_f64()
+                })
+            };
+            seconds / layouts.max(1) as f64 * time(&problem) / time(sp).max(1e-9)
+        });
+        out.push(Probe {
+            key: e.key(),
+            layouts,
+            seconds_per_evaluation: seconds / layouts.max(1) as f64,
+            judged_seconds_per_evaluation,
+            spends_iterations: noisy && spec.search.step_tolerance == 0.0,
+        });
     }
     Ok(out)
 }

@@ -172,7 +172,8 @@ fn run_one(plan: &Plan<'_>, exp: &Experiment, work: u64) -> crate::Result<Experi
         // A search stops when it converges: its bound is all that is known ahead.
         Some((spec, _)) if !spec.replay => {
             let highest = exp.structure.highest_natural_frequency_hz();
-            plan.progress.start_bounded(&exp.key(), spec.budget(exp.cases.len(), highest).evaluations)
+            let most = spec.budget(exp.cases.len(), highest).evaluations;
+            plan.progress.start_search(&exp.key(), most, spec.halt.outlook.clone())
         }
         _ => plan.progress.start(&exp.key(), work),
     };
