@@ -357,6 +357,38 @@ fn a_dry_run_of_a_file_that_is_not_a_design_is_refused() {
     }
 }
 
+/// `shotdamp design --dry-run`: one line a design, with the usual evaluations under the bound,
+/// a cost measured on layouts of the coarse scans and a span of time; in seconds; nothing
+/// written. The run prints the same line before it searches.
+#[test]
+fn a_dry_run_prints_one_estimate_measured_in_seconds() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::create_dir_all(root.join("reference")).unwrap();
+    let started = std::time::Instant::now();
+    let o = design_cmd(&common::repo().join("designs/five_storey.toml"), root, "d").arg("--dry-run").output().unwrap();
+    let took = started.elapsed().as_secs_f64();
+    assert_eq!(o.status.code(), Some(0));
+    let said = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    let lines: Vec<&str> = said.lines().filter(|l| l.starts_with("design design_five_storey:")).collect();
+    assert_eq!(lines.len(), 1, "{said}");
+    let line = lines[0];
+    let number = |after: &str| -> u64 {
+        let rest = &line[line.find(after).unwrap_or_else(|| panic!("{after}: {line}")) + after.len()..];
+        rest.chars().take_while(|c| c.is_ascii_digit()).collect::<String>().parse().unwrap()
+    };
+    let (low, most) = (number("usually "), number("(at most "));
+    let high: u64 =
+        line[line.find("usually ").unwrap()..].split('-').nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(0 < low && low < high && high < most, "{line}");
+    assert!(
+        line.contains("measured") && line.contains("layouts of the coarse scans") && line.contains("about"),
+        "{line}"
+    );
+    assert!(took < 30.0, "the dry run took {took} s");
+    assert!(!root.join("d").exists());
+}
+
 fn design_cmd(design: &Path, root: &Path, out: &str) -> assert_cmd::Command {
     let mut c = common::shotdamp();
     c.arg("design").arg(design).arg("--reference").arg(root.join("reference")).arg("--out").arg(root.join(out));

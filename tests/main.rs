@@ -22,6 +22,7 @@ mod extending;
 mod fe;
 mod follow;
 mod fuzz;
+mod ground;
 mod hostile;
 mod impulse;
 mod irregular;

@@ -108,7 +108,7 @@ fn convergence_words(found: &[Found]) -> String {
     let others: Vec<u64> =
         found.iter().filter(|f| f.ended != Some(search::Ended::Converged)).map(|f| f.evaluations).collect();
     let (lo, hi) = (others.iter().min(), others.iter().max());
-    match (lo, hi) {
+    let searched = match (lo, hi) {
         (Some(lo), Some(hi)) => format!(
             "{converged} of the {} placements were searched to convergence, the other {} stopped after {} evaluations (the placements table's converged and evaluations)",
             found.len(),
@@ -116,7 +116,14 @@ fn convergence_words(found: &[Found]) -> String {
             if lo == hi { lo.to_string() } else { format!("{lo}-{hi}") }
         ),
         _ => format!("every one of the {} placements was searched to convergence", found.len()),
+    };
+    let unjudged = found.iter().filter(|f| !f.judged).count();
+    if unjudged == 0 {
+        return searched;
     }
+    format!(
+        "{searched} on the searched model; {unjudged} of them were not judged on the file's model before the search stopped (their objective is blank and they are not ranked)"
+    )
 }
 
 /// The placements table's column `converged`: whether each placement's search converged (every
@@ -323,6 +330,9 @@ fn plan_after(exp: &Experiment, spec: &Spec, per_judged: Option<std::time::Durat
     let judged = pages + spec.drive_levels_n.len() as u64 + 1;
     let searched = placements + placements * budget.searches as u64 * screened;
     match per_judged {
+        Some(per) if screened > 0 => {
+            spec.halt.plan_after_dearer(searched, judged, Some(per), budget.judged_over_searched(exp.structure.dof()))
+        }
         Some(per) => spec.halt.plan_after(searched, judged, Some(per)),
         None => {
             let dearer = budget.judged_over_searched(exp.structure.dof()).ceil() as u64;

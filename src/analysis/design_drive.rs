@@ -56,7 +56,7 @@ fn quantities(problem: &Problem, eval: &Evaluation, bare: &[Vec<Vec<f64>>], forc
     }
     let relative = if problem.supports { " relative to the supports" } else { "" };
     format!(
-        " Its largest displacement amplitude{relative} is {} mm (m{} at {} Hz, {}) against {} mm bare (m{} at {} Hz, {}), and its largest acceleration (2 pi f)^2 x {} g against {} g bare (the smooth part of the motion: each landing jumps the host's velocity, a spike the plastic-impact model does not resolve).",
+        " Its largest displacement amplitude{relative} is {} mm (m{} at {} Hz, {}) against {} mm bare (m{} at {} Hz, {}), and its largest acceleration, (2 pi f)^2 times the amplitude, {} g against {} g bare (the smooth part of the motion: each landing jumps the host's velocity, a spike the plastic-impact model does not resolve).",
         fmt_sig(1e3 * x, 3),
         m + 1,
         fmt_sig(f, 3),

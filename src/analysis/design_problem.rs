@@ -172,7 +172,7 @@ pub fn with_screened(spec: &Spec, found: &[Found], t: &mut crate::table::Table) 
         words.insert(
             0,
             format!(
-                "the time limit came before {} of the {} placements' best layouts were evaluated on the file's model ({}): their objective is blank and they are not ranked (the file's model judged the most promising on the searched model first)",
+                "the search stopped (its time limit or an interrupt) before {} of the {} placements' best layouts were evaluated on the file's model ({}): their objective is blank and they are not ranked (the file's model judged the most promising on the searched model first)",
                 unjudged.len(),
                 found.len(),
                 unjudged.join(", ")

@@ -187,7 +187,10 @@ pub(super) fn searched(
             spec.halt.outlook.set_search(k, search::expected_evaluations(space, &spec.search)[1]);
         }
         let searches_most: u64 = spaces.iter().map(|s| search::most_evaluations(s, &spec.search)).sum();
-        spec.halt.outlook.set_later(budget.evaluations.saturating_sub(searches_most));
+        // On a screened design most of what follows is on the file's model: counted in the
+        // searched model's evaluations by the nominal ratio of their costs.
+        let dearer = budget.judged_over_searched(exp.structure.dof());
+        spec.halt.outlook.set_later((budget.evaluations.saturating_sub(searches_most) as f64 * dearer) as u64);
         let search = |k: usize| match &spec.merged {
             // Gathered from a sharded search's parts.
             Some(merged) => (search::found(judged, screen, &spaces[k], &merged[k]), false),

@@ -104,6 +104,11 @@ pub struct After {
     /// run on a coarser one), and what one costs there on one thread, ns.
     judged: AtomicU64,
     judged_nanos: AtomicU64,
+    /// How many times dearer an evaluation on the file's model is than the searches' by the
+    /// nominal rule, in thousandths (0: not set): with the pace, a floor under `judged_nanos`
+    /// (the cases may be cheaper than the searched layouts: the plate's corner case 1.1 s, a
+    /// searched layout with points that never settle 5-20 s).
+    dearer_milli: AtomicU64,
     /// Evaluations timed, and their total wall time, ns.
     timed: AtomicU64,
     nanos: AtomicU64,
@@ -138,6 +143,13 @@ impl Halt {
     /// `judged` more at `per_judged` each (measured on the file's model; set before the
     /// design searches).
     pub fn plan_after(&self, searched: u64, judged: u64, per_judged: Option<Duration>) {
+        self.plan_after_dearer(searched, judged, per_judged, 0.0);
+    }
+
+    /// [`Halt::plan_after`], with each judged evaluation costing at least `dearer` times the
+    /// searches' measured pace.
+    pub fn plan_after_dearer(&self, searched: u64, judged: u64, per_judged: Option<Duration>, dearer: f64) {
+        self.after.dearer_milli.store((dearer.max(0.0) * 1e3) as u64, Ordering::Relaxed);
         self.after.evaluations.store(searched, Ordering::Relaxed);
         self.after.judged.store(judged, Ordering::Relaxed);
         let ns = per_judged.map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX));
@@ -174,7 +186,9 @@ impl Halt {
         let times = |n: u64| u32::try_from(n).unwrap_or(u32::MAX);
         let planned = self.after.evaluations.load(Ordering::Relaxed);
         let judged = self.after.judged.load(Ordering::Relaxed).div_ceil(threads);
-        let per_judged = Duration::from_nanos(self.after.judged_nanos.load(Ordering::Relaxed));
+        let dearer = self.after.dearer_milli.load(Ordering::Relaxed) as f64 / 1e3;
+        let per_judged =
+            Duration::from_nanos(self.after.judged_nanos.load(Ordering::Relaxed)).max(self.pace().mul_f64(dearer));
         self.pace()
             .saturating_mul(times(planned.div_ceil(threads) + 1))
             .saturating_add(per_judged.saturating_mul(times(judged)))
@@ -184,6 +198,26 @@ impl Halt {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_outlook_is_the_shares_less_what_was_evaluated_since() {
+        let halt = Halt::default();
+        assert_eq!(halt.outlook.left(), None, "nothing known");
+        halt.outlook.set_search(0, 100);
+        Halt { search: 2, ..halt.clone() }.expect(40);
+        halt.outlook.set_later(10);
+        assert_eq!(halt.outlook.left(), Some(150));
+        for _ in 0..30 {
+            halt.timed(|| ());
+        }
+        assert_eq!(halt.outlook.left(), Some(120));
+        for _ in 0..200 {
+            halt.timed(|| ());
+        }
+        assert_eq!(halt.outlook.left(), Some(150 / 4), "a quarter of the shares while no round says better");
+        halt.expect(0);
+        assert_eq!(halt.outlook.left(), Some(50));
+    }
 
     #[test]
     fn a_deadline_keeps_the_planned_work_after_the_searches_inside_it() {

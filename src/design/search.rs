@@ -292,8 +292,8 @@ pub fn optimise_checked(
 /// scan not yet done evaluates only its middle clearance (each placement keeps one layout),
 /// every Nelder-Mead run keeps the best point it evaluated. The searches run on `screen`
 /// where given (a coarser model of the structure), each placement's best is then evaluated on
-/// `judged`. Returns the layouts and whether the halt stopped the search (then they are the
-/// best found so far, not converged optima).
+/// `judged`. Returns the layouts and whether the halt stopped the search or left a placement
+/// unjudged (then they are the best found so far, not converged optima).
 pub fn optimise_until(
     judged: On,
     screen: Option<On>,
@@ -305,7 +305,10 @@ pub fn optimise_until(
     let (problem, bare) = screen.unwrap_or(judged);
     let (searched, stopped) = search_placements(problem, bare, space, opts, check, halt, &|_| true);
     let searched: Vec<Searched> = searched.into_iter().flatten().collect();
-    (found_until(judged, screen, space, &searched, halt), stopped)
+    let found = found_until(judged, screen, space, &searched, halt);
+    // A placement the deadline left unjudged makes the answer partial too.
+    let unjudged = found.iter().any(|f| !f.judged);
+    (found, stopped || unjudged)
 }
 
 /// What the search of one placement ended with: its best point, the starts run and the
@@ -440,10 +443,11 @@ pub fn found(judged: On, screen: Option<On>, space: &Space, searched: &[Searched
 /// [`found`] under a halt, for a screened search: every placement's best evaluated on the
 /// screen, then judged on the file's model in the order of its screened objective (the most
 /// promising first), a round of one evaluation a thread at a time, until the halt's deadline
-/// or interrupt (the first round always: one evaluation a thread at a deadline, the most
-/// promising placement alone after an interrupt, as a batch system kills 30 s after its
-/// SIGTERM). A placement not judged keeps its
-/// screen evaluation, marked ([`Found::judged`]). Without a screen or a halt: [`found`].
+/// (no round begun that the longest so far says would end past it) or interrupt. The first
+/// round always runs: one evaluation a thread at a deadline, the most promising placement
+/// alone after an interrupt (a batch system kills 30 s after its SIGTERM). A placement not
+/// judged keeps its screen evaluation, marked ([`Found::judged`]). Without a screen or a
+/// halt: [`found`].
 pub fn found_until(judged: On, screen: Option<On>, space: &Space, searched: &[Searched], halt: &Halt) -> Vec<Found> {
     let Some((sp, sb)) = screen.filter(|_| halt.deadline.is_some() || halt.interrupt.is_some()) else {
         return found(judged, screen, space, searched);
@@ -459,11 +463,16 @@ pub fn found_until(judged: On, screen: Option<On>, space: &Space, searched: &[Se
     let threads = rayon::current_num_threads().max(1);
     let mut on_file: Vec<Option<Evaluation>> = vec![None; layouts.len()];
     let per_round = if halt.interrupted() { 1 } else { threads };
+    // The longest round so far: a round expected to end past the deadline is not begun.
+    let mut longest = std::time::Duration::ZERO;
     for (round, chunk) in order.chunks(per_round).enumerate() {
-        if round > 0 && halt.passed() {
+        let late = halt.deadline.is_some_and(|d| std::time::Instant::now() + longest > d);
+        if round > 0 && (halt.passed() || late) {
             break;
         }
+        let started = std::time::Instant::now();
         let done: Vec<Evaluation> = chunk.par_iter().map(|&i| evaluate(judged.0, judged.1, &layouts[i])).collect();
+        longest = longest.max(started.elapsed());
         for (&i, e) in chunk.iter().zip(done) {
             on_file[i] = Some(e);
         }

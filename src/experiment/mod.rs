@@ -10,6 +10,7 @@ mod excitation;
 pub mod fe;
 mod fields;
 pub mod file;
+pub mod ground;
 mod kind;
 pub mod loader;
 mod needed;

@@ -7,6 +7,7 @@ pub mod damping_fit;
 pub mod fe;
 pub mod fit;
 pub mod frf;
+pub mod ground;
 pub mod lanczos;
 pub mod least_squares;
 pub mod modal;

@@ -290,13 +290,19 @@ pub fn probe_of(exps: &[Experiment]) -> crate::Result<Vec<Probe>> {
             };
             let hosts = space.placements.last().cloned().unwrap_or_default();
             let layout = coarse_layout(&hosts, 0.0, &space);
+            // The mean of as many evaluations as fit in a fifth of a second (at least one): the
+            // screen's takes milliseconds.
             let time = |problem: &crate::design::Problem| {
                 let problem = sliced(problem);
                 one.install(|| {
                     let bare = crate::design::bare(&problem);
                     let started = std::time::Instant::now();
-                    crate::design::evaluate(&problem, &bare, &layout);
-                    started.elapsed().as_secs_f64()
+                    let mut n = 0u32;
+                    while n == 0 || started.elapsed().as_secs_f64() < 0.2 {
+                        crate::design::evaluate(&problem, &bare, &layout);
+                        n += 1;
+                    }
+                    started.elapsed().as_secs_f64() / f64::from(n)
                 })
             };
             seconds / layouts.max(1) as f64 * time(&problem) / time(sp).max(1e-9)
