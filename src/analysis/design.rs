@@ -314,8 +314,8 @@ fn cases_evaluated(
 }
 
 /// Reserves, under a time limit, what runs after the searches ([`crate::design::halt::Halt::plan_after`]):
-/// on the file's model, each placement's best evaluated for the page in every search (a
-/// screened search's first round only: the rest is judged until the deadline), the
+/// on the file's model, a screened search's first round of judging (the rest is judged until
+/// the deadline; an unscreened search keeps its placements' evaluations), the
 /// drive levels and the bare curves, at `per_judged` an evaluation (the cases' mean, measured
 /// before the searches; without cases with beds, the searches' pace times the nominal ratio of
 /// the two models); on the searched model, the middle clearance of a placement whose scan had
@@ -326,7 +326,8 @@ fn plan_after(exp: &Experiment, spec: &Spec, per_judged: Option<std::time::Durat
     let screened = u64::from(budget.screened.0 > 0);
     // A screened search's pages are judged until the deadline (`search::found_until`): its
     // first round, one evaluation a thread, is reserved.
-    let pages = if screened > 0 { rayon::current_num_threads() as u64 } else { placements * budget.searches as u64 };
+    // An unscreened search keeps its placements' evaluations: none is evaluated again.
+    let pages = if screened > 0 { rayon::current_num_threads() as u64 } else { 0 };
     let judged = pages + spec.drive_levels_n.len() as u64 + 1;
     let searched = placements + placements * budget.searches as u64 * screened;
     match per_judged {

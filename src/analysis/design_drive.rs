@@ -243,7 +243,7 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         .iter()
         .filter(|(_, o)| *o > 1.0)
         .map(|(f, o)| {
-            format!("{} of the bare structure's at {}", fmt_sig(*o, 3), problem.drive().amount(&fmt_sig(*f, 3)))
+            format!("{} of the bare structure's at {}", above_one(*o), problem.drive().amount(&fmt_sig(*f, 3)))
         })
         .collect();
     let lead = if worse.is_empty() {
@@ -300,6 +300,12 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
     )
 }
 
+/// A ratio above 1 to three significant digits, or more where three would round it to 1
+/// (1.0033 is "1.003", not "1", which would not read as worse than bare).
+fn above_one(o: f64) -> String {
+    (3..=8).map(|d| fmt_sig(o, d)).find(|s| s != "1").unwrap_or_else(|| format!("{o}"))
+}
+
 /// The layout's clearance in words, with how the answer varies with it (within 5 % from
 /// where to where, a narrow optimum, or not computed); several clearances listed.
 fn clearance_words(inputs: &AnswerIn<'_>, clearances: &[f64]) -> String {
@@ -343,6 +349,13 @@ mod tests {
         let want = (20.0 * std::f64::consts::PI).powi(2) * 2e-3 / GRAVITY;
         assert!((g - want).abs() < 1e-12 * want, "{g} {want}");
         assert_eq!(peak_g(&curves, &[10.0, 12.0], &[0], 2.0), 0.0);
+    }
+
+    #[test]
+    fn a_ratio_worse_than_bare_never_reads_as_1() {
+        assert_eq!(above_one(1.0033107), "1.003");
+        assert_eq!(above_one(1.23100279), "1.23");
+        assert_eq!(above_one(1.0000001), "1.0000001");
     }
 
     #[test]

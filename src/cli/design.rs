@@ -62,6 +62,8 @@ pub const LIMIT_MARGIN_S: f64 = 5.0;
 
 /// Runs `shotdamp design`.
 pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
+    // The time limit counts from here: loading and the estimate's probe are inside it.
+    let started = std::time::Instant::now();
     let DesignArgs { files, out, jobs, store, dry_run, time_limit, merge, .. } = args;
     cli.project().refuse_overlap(out)?;
     if let Some(sharded) = sharded(args)? {
@@ -98,11 +100,10 @@ pub fn dispatch(args: &DesignArgs, cli: &Cli) -> anyhow::Result<bool> {
         out: out.clone(),
         jobs: *jobs,
         store: *store,
-        time_limit: *time_limit,
+        time_limit: time_limit.map(|t| (t - started.elapsed().as_secs_f64()).max(0.0)),
         interrupt: Some(interrupt.flag.clone()),
         merge: merge.clone(),
     };
-    let started = std::time::Instant::now();
     let mut stored = Vec::new();
     let mut partial = Vec::new();
     let (ok, _) = super::finish_with(Some(interrupt.clone()), |progress, log, staging| {

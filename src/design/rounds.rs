@@ -86,6 +86,10 @@ struct TimeLimit;
 /// The best point a run evaluated: its coordinates, objective and evaluation.
 type Best = Option<(Vec<f64>, f64, Evaluation)>;
 
+/// A run to make: its placement, its start and, where the start was evaluated already (the
+/// coarse scan's best), its objective and evaluation.
+pub type Start = (usize, Vec<f64>, Option<(f64, Evaluation)>);
+
 /// One run's state between rounds.
 struct Run {
     placement: usize,
@@ -185,7 +189,7 @@ fn outlook(runs: &[Run], opts: &Options, halt: &Halt) {
 /// Runs Nelder-Mead from each `(placement, start)` of `starts` on `problem` (initial simplex:
 /// steps of 1 along each coordinate), in rounds, until every run has ended or `halt` stops
 /// them; calls `check` before every evaluation. A stopped run keeps the best point it
-/// evaluated (its start, of unknown objective, when it evaluated none). In the order of
+/// evaluated (its start when it evaluated none: of the objective given with it, else unknown). In the order of
 /// `starts`; the same numbers for any number of threads.
 pub fn run_all(
     (problem, bare): (&Problem, &[Vec<f64>]),
@@ -193,17 +197,17 @@ pub fn run_all(
     opts: &Options,
     check: &(dyn Fn() + Sync),
     halt: &Halt,
-    starts: Vec<(usize, Vec<f64>)>,
+    starts: Vec<Start>,
     stopped: &AtomicBool,
 ) -> Vec<(usize, RunEnd)> {
     let shared = Shared { problem, bare, space, check, halt, stopped };
     let mut runs: Vec<Run> = starts
         .into_iter()
-        .map(|(placement, x0)| Run {
+        .map(|(placement, x0, known)| Run {
             placement,
+            best: Mutex::new(known.map(|(o, e)| (x0.clone(), o, e))),
             x0,
             simplex: None,
-            best: Mutex::new(None),
             count: AtomicU64::new(0),
             end: None,
         })

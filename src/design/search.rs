@@ -235,6 +235,10 @@ pub fn coarse_layout(hosts: &[usize], z: f64, space: &Space) -> Layout {
     layout(hosts, &x, space)
 }
 
+/// What a coarse scan ends with: the first start, the evaluations made, and the start's
+/// objective and evaluation (when it was evaluated).
+type Coarse = (Vec<f64>, u64, Option<(f64, Evaluation)>);
+
 /// The first start of a placement: an even split and the best shared clearance of a coarse
 /// scan ([`COARSE`]), and the layouts it evaluated. After `halt` only the middle clearance is
 /// evaluated (each placement keeps one layout, the others are skipped).
@@ -245,7 +249,7 @@ fn coarse_start(
     space: &Space,
     check: &(dyn Fn() + Sync),
     halt: &Halt,
-) -> (Vec<f64>, u64) {
+) -> Coarse {
     let d = dimension(hosts.len(), space);
     let k = hosts.len();
     let at = |z: f64| {
@@ -253,7 +257,7 @@ fn coarse_start(
         x[k - 1..].iter_mut().for_each(|c| *c = z);
         x
     };
-    let scored: Vec<Option<(f64, f64)>> = COARSE
+    let scored: Vec<Option<(f64, f64, Evaluation)>> = COARSE
         .par_iter()
         .map(|&z| {
             if z != 0.0 && halt.reached() {
@@ -261,12 +265,16 @@ fn coarse_start(
             }
             check();
             let e = halt.timed(|| evaluate(problem, bare, &layout(hosts, &at(z), space)));
-            Some((z, if e.objective.is_finite() { e.objective } else { f64::INFINITY }))
+            Some((z, if e.objective.is_finite() { e.objective } else { f64::INFINITY }, e))
         })
         .collect();
     // The lowest; of equal ones the first (the smallest clearance).
-    let best = scored.iter().flatten().fold((0.0, f64::INFINITY), |b, &(z, o)| if o < b.1 { (z, o) } else { b });
-    (at(best.0), scored.iter().flatten().count() as u64)
+    let best = scored.iter().flatten().fold((0.0, f64::INFINITY), |b, (z, o, _)| if *o < b.1 { (*z, *o) } else { b });
+    let count = scored.iter().flatten().count() as u64;
+    // Its evaluation, with the objective as Nelder-Mead takes it (a point that cannot be
+    // computed is +1e300): the first start's best until it evaluates a better one.
+    let kept = scored.into_iter().flatten().find(|(z, _, _)| *z == best.0).map(|(_, o, e)| (o.min(1e300), e));
+    (at(best.0), count, kept)
 }
 
 /// The best layout for each placement of `space`, in the order of `space.placements` (every
@@ -346,16 +354,16 @@ pub fn search_placements(
     let mine: Vec<usize> = (0..space.placements.len()).filter(|&p| owned(p)).collect();
     let per_start = |p: usize| expected_per_start(dimension(space.placements[p].len(), space), opts, EXPECTED_C[1]);
     halt.expect(mine.iter().map(|&p| COARSE.len() as u64 + opts.starts.max(1) as u64 * per_start(p)).sum());
-    let firsts: Vec<(Vec<f64>, u64)> =
+    let firsts: Vec<Coarse> =
         mine.par_iter().map(|&p| coarse_start(problem, bare, &space.placements[p], space, check, halt)).collect();
-    let runs: Vec<(usize, Vec<f64>)> = mine
+    let runs: Vec<super::rounds::Start> = mine
         .iter()
         .zip(&firsts)
         .flat_map(|(&p, first)| {
             let hosts = &space.placements[p];
             let mut xs = starts(hosts, space, opts);
             xs[0] = first.0.clone();
-            xs.into_iter().map(move |x| (p, x))
+            xs.into_iter().enumerate().map(move |(k, x)| (p, x, if k == 0 { first.2.clone() } else { None }))
         })
         .collect();
     let results = super::rounds::run_all((problem, bare), space, opts, check, halt, runs, &stopped);
