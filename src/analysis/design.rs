@@ -183,13 +183,7 @@ fn run(
     let case_rows = cases_evaluated(exp, spec, &p, &b);
     outlook.set_phase("searching", 0);
     let (found, front, checks, stopped) = searched(exp, spec, (&p, &b), screen, refs, tick);
-    // What follows: the best layout's clearance profile (not after a stop), its drive levels,
-    // the maps near it, the SDOF method's layouts.
-    let budget = super::design_problem::budget(exp, spec);
-    let levels = spec.drive_levels_n.len() as u64;
-    let profile =
-        if stopped { 0 } else { PROFILE_POINTS as u64 + budget.placements as u64 * u64::from(spec.sdof.is_some()) };
-    outlook.set_phase("evaluating the best layout again (clearance profile, drive levels, maps)", levels + profile);
+    after_search_phase(exp, spec, stopped);
     tick();
     let stored = stored(exp, &p, spec, &found, &front);
     let best = lowest(found.clone());
@@ -283,6 +277,17 @@ fn run(
         partial: why.map(|w| format!("{w}: the layouts are the best found so far")),
         ..Output::default()
     }
+}
+
+/// Tells the outlook what follows the searches: the best layout's clearance profile (not after
+/// a stop), its drive levels, the maps near it, the SDOF method's layouts.
+fn after_search_phase(exp: &Experiment, spec: &Spec, stopped: bool) {
+    let placements = super::design_problem::budget(exp, spec).placements as u64;
+    let levels = spec.drive_levels_n.len() as u64;
+    let profile = if stopped { 0 } else { PROFILE_POINTS as u64 + placements * u64::from(spec.sdof.is_some()) };
+    spec.halt
+        .outlook
+        .set_phase("evaluating the best layout again (clearance profile, drive levels, maps)", levels + profile);
 }
 
 /// The experiment's cases as reference layouts (the paper's, one container on the loop
