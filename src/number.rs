@@ -52,6 +52,17 @@ pub fn fmt_list(values: &[f64]) -> String {
     format!("[{}]", parts.join(", "))
 }
 
+/// `x` rounded to 15 significant digits: a quantity derived from decimal inputs (a ratio
+/// times a sum of masses) as the decimal it stands for, so that 0.1 x 11.5 is 1.15 and not
+/// the product's rounding 1.1500000000000001 (they differ by at most 5e-15 of `x`; a value
+/// the inputs give exactly is unchanged).
+pub fn decimal(x: f64) -> f64 {
+    if !x.is_finite() || x == 0.0 {
+        return x;
+    }
+    format!("{x:.14e}").parse().unwrap_or(x)
+}
+
 /// `text` with every decimal number longer than 20 characters (how `Display` writes 1e-320 or
 /// 1e300) written as [`fmt_num`] writes it: messages quote values as a person reads them.
 pub fn tidy_numbers(text: &str) -> String {
@@ -101,6 +112,21 @@ fn tidy(text: &str, controls: bool) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_derived_decimal_reads_as_the_decimal() {
+        assert_eq!((0.1 * 11.5).to_string(), "1.1500000000000001");
+        assert_eq!(decimal(0.1 * 11.5).to_string(), "1.15");
+        // A decimal of at most 15 digits is left as it is; any other value moves by at most
+        // 5e-15 of itself (half a unit of the 15th digit).
+        for x in [0.209, 0.25, 1e-300, -2.5e12, 0.0, 123456789012345.0] {
+            assert_eq!(decimal(x), x, "{x}");
+        }
+        for x in [1.0 / 3.0, std::f64::consts::PI, 0.1 * 11.5] {
+            assert!((decimal(x) - x).abs() <= 5e-15 * x, "{x}");
+        }
+        assert!(decimal(f64::NAN).is_nan());
+    }
 
     #[test]
     fn significant_digits() {

@@ -78,7 +78,7 @@ pub fn continue_orbit(
         for bp in branch.points.iter().skip(usize::from(section > 0)) {
             let Some(amp) = family(bp.p).ok().and_then(|d| strobe.amplitudes(&d, &bp.orbit.u)) else { continue };
             out.freq_hz.push(bp.p);
-            out.compliance.push(amp.iter().map(|a| a / sys.force).collect());
+            out.compliance.push(amp.iter().map(|a| a / sys.drive()).collect());
             out.stable.push(bp.orbit.stable);
             out.radius.push(bp.orbit.spectral_radius());
         }

@@ -44,6 +44,12 @@ pub struct Curve {
     /// Per point without a certified orbit: the measurement (statistic's interval, largest
     /// amplitude, Lyapunov exponent; [`crate::sim::settle::irregular`]).
     pub measured: Vec<Option<Measurement>>,
+    /// Per point, per storey: the drift amplitude per unit drive (empty where not computed:
+    /// drifts and floor accelerations are found on moving supports, a chain's storeys).
+    pub drift: Vec<Vec<f64>>,
+    /// Per point, per physical coordinate: the absolute acceleration amplitude per unit
+    /// drive (empty where not computed).
+    pub acceleration: Vec<Vec<f64>>,
 }
 
 /// A point's measurement in a curve's units.
@@ -242,6 +248,9 @@ pub fn from_sweep(
                 c.transient.push(s.transient_periods);
                 c.residual.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.residual));
                 c.radius.push(s.certificate.as_ref().map_or(f64::NAN, |o| o.spectral_radius()));
+                let per_drive = |v: &[f64]| v.iter().map(|a| a / force).collect::<Vec<_>>();
+                c.drift.push(s.peaks.as_ref().map_or(Vec::new(), |p| per_drive(&p.drift)));
+                c.acceleration.push(s.peaks.as_ref().map_or(Vec::new(), |p| per_drive(&p.acceleration)));
             }
             Err(e) => {
                 c.motion.push("not computed");
@@ -256,6 +265,8 @@ pub fn from_sweep(
                 c.residual.push(f64::NAN);
                 c.radius.push(f64::NAN);
                 c.stop.push(e.to_string());
+                c.drift.push(Vec::new());
+                c.acceleration.push(Vec::new());
             }
         }
     }
@@ -284,6 +295,11 @@ pub fn linear(exp: &Experiment, case: &Case, id: CurveId, label: &str, freq_hz: 
         compliance_curve(&exp.structure, &mass, exp.excitation.mass, &omegas)
     };
     let m = freq_hz.len();
+    let (drift, acceleration) = if exp.excitation.supports {
+        crate::model::frf::support_peaks_curve(&exp.structure, &mass, &omegas).into_iter().unzip()
+    } else {
+        (vec![Vec::new(); m], vec![Vec::new(); m])
+    };
     Curve {
         id,
         label: label.into(),
@@ -300,6 +316,8 @@ pub fn linear(exp: &Experiment, case: &Case, id: CurveId, label: &str, freq_hz: 
         stop: vec![String::new(); m],
         motion: vec!["periodic"; m],
         measured: vec![None; m],
+        drift,
+        acceleration,
     }
 }
 
@@ -344,6 +362,16 @@ pub fn table(name: &str, description: &str, curves: &[&Curve], n: usize, beds: u
         .f64("freq_hz", rows.iter().map(|(c, i)| c.freq_hz[*i]).collect());
     for r in 0..n {
         t = t.f64(format!("c{}", r + 1), rows.iter().map(|(c, i)| c.compliance[*i][r]).collect());
+    }
+    // On moving supports: each storey's drift and each floor's absolute acceleration.
+    let widest =
+        |v: fn(&Curve) -> &Vec<Vec<f64>>| curves.iter().flat_map(|c| v(c).iter().map(Vec::len)).max().unwrap_or(0);
+    let at = |v: &Vec<Vec<f64>>, i: usize, r: usize| v.get(i).and_then(|p| p.get(r)).copied().unwrap_or(f64::NAN);
+    for r in 0..widest(|c| &c.drift) {
+        t = t.f64(format!("drift{}", r + 1), rows.iter().map(|(c, i)| at(&c.drift, *i, r)).collect());
+    }
+    for r in 0..widest(|c| &c.acceleration) {
+        t = t.f64(format!("acc{}", r + 1), rows.iter().map(|(c, i)| at(&c.acceleration, *i, r)).collect());
     }
     t = t
         .i64("converged", rows.iter().map(|(c, i)| c.converged[*i] as i64).collect())

@@ -173,10 +173,12 @@ fn run(
     let sp = super::design_problem::screen(exp, spec, steady);
     let sb = sp.as_ref().map(bare);
     let screen = sp.as_ref().zip(sb.as_deref());
-    // A finite-element model's: the mass moving along the vertical (its modal coordinates' is
-    // no mass).
-    let total_mass =
-        exp.structure_mass().map(|m| (m, if exp.finite_element.is_some() { "mass moving vertically" } else { "mass" }));
+    // A finite-element model's: the stated mass, else the mass moving along the vertical (its
+    // modal coordinates' is no mass).
+    let total_mass = match &exp.finite_element {
+        Some(fe) => Some(fe.mass()),
+        None => exp.structure_mass().map(|m| (m, "mass".to_string())),
+    };
     let names: Vec<String> = p.cases().iter().map(|c| c.name.clone()).collect();
     let outlook = &spec.halt.outlook;
     outlook.set_phase("evaluating the experiment's cases", 0);
@@ -195,7 +197,7 @@ fn run(
         &format!(
             "The best layout found for each placement of containers: {} kg of shot{} split among them, clearances in {}-{} mm; objective: the worst band's measure over the bare structure's (1 = no gain)",
             fmt_num(spec.shot_kg),
-            total_mass.map_or(String::new(), |(m, what)| format!(" ({} of the structure's {what})", fmt_num(spec.shot_kg / m))),
+            total_mass.as_ref().map_or(String::new(), |(m, what)| format!(" ({} of the structure's {what})", fmt_num(spec.shot_kg / m))),
             fmt_num(spec.clearance_mm.0),
             fmt_num(spec.clearance_mm.1)
         ),
@@ -238,7 +240,7 @@ fn run(
             screen,
             best,
             case_rows: &case_rows,
-            total_mass,
+            total_mass: total_mass.clone(),
             more,
             stopped: stop_words.as_deref(),
         };
@@ -256,11 +258,7 @@ fn run(
         page.figures.push(figure);
     }
     if let Some(why) = why {
-        let levels = if spec.drive_levels_n.is_empty() {
-            ""
-        } else {
-            " (the drive levels are: the best layout's, at each force the file gives)"
-        };
+        let levels = if spec.drive_level_count() == 0 { "" } else { " (the drive levels are: the best layout's only)" };
         page.warnings.insert(
             0,
             format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer; what would search more layouts (the clearance profile, the near-optimum map, the SDOF method) is not computed{levels}"),
@@ -283,7 +281,7 @@ fn run(
 /// a stop), its drive levels, the maps near it, the SDOF method's layouts.
 fn after_search_phase(exp: &Experiment, spec: &Spec, stopped: bool) {
     let placements = super::design_problem::budget(exp, spec).placements as u64;
-    let levels = spec.drive_levels_n.len() as u64;
+    let levels = (spec.drive_level_count() * if stopped { 1 } else { 1 + exp.cases.len() }) as u64;
     let profile = if stopped { 0 } else { PROFILE_POINTS as u64 + placements * u64::from(spec.sdof.is_some()) };
     spec.halt
         .outlook
@@ -333,7 +331,10 @@ fn plan_after(exp: &Experiment, spec: &Spec, per_judged: Option<std::time::Durat
     // first round, one evaluation a thread, is reserved.
     // An unscreened search keeps its placements' evaluations: none is evaluated again.
     let pages = if screened > 0 { rayon::current_num_threads() as u64 } else { 0 };
-    let judged = pages + spec.drive_levels_n.len() as u64 + 1;
+    // The drive levels: the best layout's and the cases' (only the best's after a stop); on
+    // moving supports one more evaluation of the best (its storeys' drifts).
+    let judged =
+        pages + (spec.drive_level_count() * (1 + exp.cases.len())) as u64 + 1 + u64::from(exp.excitation.supports);
     let searched = placements + placements * budget.searches as u64 * screened;
     match per_judged {
         Some(per) if screened > 0 => {
@@ -356,7 +357,7 @@ struct BestIn<'a> {
     screen: Option<search::On<'a>>,
     best: &'a Found,
     case_rows: &'a [(String, Layout, Evaluation, u64)],
-    total_mass: Option<(f64, &'static str)>,
+    total_mass: Option<(f64, String)>,
     more: bool,
     stopped: Option<&'a str>,
 }
@@ -405,33 +406,54 @@ fn about_the_best(exp: &Experiment, spec: &Spec, i: &BestIn<'_>, page: &mut Page
     page.tables.push(table);
     page.warnings.extend(w);
     // The reduction against the drive level: at the file's drive levels when it gives them,
-    // else over the forces of its scenarios (read from the evaluations made). After a stopped
-    // search the file's levels are still evaluated, for the best layout only (one evaluation
-    // a level): the answer must not hide a level at which the shot makes things worse.
-    let levels = if spec.drive_levels_n.is_empty() {
+    // over the forces of its scenarios when they vary the force (read from the evaluations
+    // made), else from a quarter to four times the design's force. After a stopped search the
+    // levels are still evaluated, for the best layout only (one evaluation a level): the answer
+    // must not hide a level at which the shot makes things worse.
+    let forces = spec.drive_levels(p.cases()[0].force);
+    let levels = if forces.is_empty() {
         super::design_levels::drive_levels(p, &rated, &exp.meta.figure)
     } else {
         if !more {
             rated.truncate(1);
         }
         let layouts: Vec<&Layout> = rated.iter().map(|r| r.1).collect();
-        let (at, evals) = super::design_levels::at_forces(p, &spec.drive_levels_n, &layouts);
+        let (at, evals) = super::design_levels::at_forces(p, &forces, &layouts);
         let rated_at: Vec<super::design_drive::Rated<'_>> =
             rated.iter().zip(&evals).map(|(r, e)| (r.0.clone(), r.1, e)).collect();
         super::design_levels::drive_levels(&at, &rated_at, &exp.meta.figure)
     };
+    // On moving supports: the storeys' drifts and floors' accelerations of the best layout.
+    let mut storeys_said = String::new();
+    if let Some((table, figure, said)) = super::design_storeys::storeys(
+        p,
+        spec,
+        &format!("best: {}", best.layout.hosts_words()),
+        best.layout.dampers(p.direction),
+        &exp.meta.figure,
+    ) {
+        page.tables.push(table);
+        page.figures.push(figure);
+        storeys_said = said;
+    }
     let mut at_levels = Vec::new();
-    if let Some((table, figure, best_at)) = levels {
+    if let Some((mut table, mut figure, best_at)) = levels {
+        if spec.drive_levels_n.is_empty() && !forces.is_empty() {
+            let chosen = " The file gives no drive_levels_n: the levels are a quarter to four times the force the design is made for.";
+            table.description += chosen;
+            figure.caption += chosen;
+        }
         page.tables.push(table);
         page.figures.push(figure);
         at_levels = best_at;
     }
     let answer_in = super::design_drive::AnswerIn {
-        total_mass: i.total_mass,
+        total_mass: i.total_mass.clone(),
         profile,
         sampled: spec.clearance_mm,
         levels: &at_levels,
         stopped: i.stopped,
+        storeys: &storeys_said,
     };
     let answer = super::design_drive::answer(p, &rated[0], &answer_in, &bare_curves);
     if let Some((mut table, mut figure)) = more

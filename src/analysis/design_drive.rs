@@ -55,8 +55,8 @@ fn quantities(problem: &Problem, eval: &Evaluation, bare: &[Vec<Vec<f64>>], forc
         return String::new();
     }
     let relative = if problem.supports { " relative to the supports" } else { "" };
-    format!(
-        " Its largest displacement amplitude{relative} is {} mm (m{} at {} Hz, {}) against {} mm bare (m{} at {} Hz, {}), and its largest acceleration, (2 pi f)^2 times the amplitude, {} g against {} g bare (the smooth part of the motion: each landing jumps the host's velocity, a spike the plastic-impact model does not resolve).",
+    let displacement = format!(
+        " Its largest displacement amplitude{relative} is {} mm (m{} at {} Hz, {}) against {} mm bare (m{} at {} Hz, {})",
         fmt_sig(1e3 * x, 3),
         m + 1,
         fmt_sig(f, 3),
@@ -65,6 +65,13 @@ fn quantities(problem: &Problem, eval: &Evaluation, bare: &[Vec<Vec<f64>>], forc
         m0 + 1,
         fmt_sig(f0, 3),
         problem.bands[b0].name,
+    );
+    // On moving supports the floors' absolute accelerations follow (design_storeys).
+    if problem.supports {
+        return displacement + ".";
+    }
+    format!(
+        "{displacement}, and its largest acceleration, (2 pi f)^2 times the amplitude, {} g against {} g bare (the smooth part of the motion: each landing jumps the host's velocity, a spike the plastic-impact model does not resolve).",
         fmt_sig(g, 2),
         fmt_sig(g0, 2)
     )
@@ -165,11 +172,14 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
 /// What the answer paragraph reads besides the problem and the best layout.
 pub struct AnswerIn<'a> {
     /// The structure's mass a shot mass is stated against, kg ([`crate::experiment::structure_mass`]),
-    /// and its words ("mass", "mass moving vertically"); `None`: a full mass matrix, no share
+    /// and its words ("mass", "mass moving vertically", a stated mass's); `None`: a full mass matrix, no share
     /// is said.
-    pub total_mass: Option<(f64, &'static str)>,
+    pub total_mass: Option<(f64, String)>,
     /// What the clearance profile of the best layout found.
     pub profile: Profile,
+    /// On moving supports: the sentence of the storeys' largest drift and floor acceleration
+    /// (with a leading space; empty under a force).
+    pub storeys: &'a str,
     /// The clearance bounds the profile sampled, mm.
     pub sampled: (f64, f64),
     /// The best layout's objective at other forces, `(force N, objective)` in increasing
@@ -197,7 +207,7 @@ pub enum Profile {
 /// the best), the reduction per band, the drive level it holds at (and at other forces when
 /// they were evaluated), unsettled points.
 pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: &[Vec<Vec<f64>>]) -> String {
-    let total_mass = inputs.total_mass;
+    let total_mass = inputs.total_mass.as_ref();
     let (_, layout, eval) = best;
     let force = problem.cases()[0].force;
     let shot = layout.shot_kg();
@@ -285,13 +295,14 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         crate::model::Direction::Horizontal => " in horizontal containers",
     };
     format!(
-        "{stop}{lead}Put {}{along} ({} kg{}), {clearance}.{lid} The worst band then reaches {} of the bare structure's (per band: {}).{} This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
+        "{stop}{lead}Put {}{along} ({} kg{}), {clearance}.{lid} The worst band then reaches {} of the bare structure's (per band: {}).{}{} This holds at a {} of {} (the bare hosts' peak acceleration: {}); the answer depends on the drive level.{levels} {} of {} steady states did not settle.",
         beds.join(", "),
         fmt_sig(shot, 2),
         total_mass.map_or(String::new(), |(m, what)| format!(", {} % of the structure's {what}", fmt_sig(100.0 * shot / m, 2))),
         fmt_sig(eval.objective, 3),
         bands.join(", "),
         quantities(problem, eval, bare, force),
+        inputs.storeys,
         problem.drive().name(),
         problem.drive().amount(&fmt_sig(force, 3)),
         drive.join("; "),

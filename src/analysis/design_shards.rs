@@ -20,7 +20,11 @@ pub fn spaces(exp: &Experiment, spec: &Spec) -> Vec<Space> {
         shared_clearance: spec.shared_clearance,
     };
     let mut out = vec![main.clone()];
-    out.extend(spec.pareto_mass_ratios.iter().map(|&r| Space { shot_kg: r * total_mass, ..main.clone() }));
+    out.extend(
+        spec.pareto_mass_ratios
+            .iter()
+            .map(|&r| Space { shot_kg: crate::number::decimal(r * total_mass), ..main.clone() }),
+    );
     out
 }
 

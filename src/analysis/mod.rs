@@ -14,6 +14,7 @@ mod design_near;
 pub(crate) mod design_problem;
 mod design_search;
 pub mod design_shards;
+mod design_storeys;
 pub mod evidence;
 mod figures;
 pub mod impulse;

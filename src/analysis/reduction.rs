@@ -374,6 +374,7 @@ mod tests {
             up: "z".into(),
             tolerance: 1e-3,
             mass_along_up: m.sum(),
+            mass_stated: None,
         };
         (fe, structure)
     }

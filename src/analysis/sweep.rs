@@ -78,6 +78,9 @@ pub fn run(
 ) -> Output {
     let n = exp.structure.dof();
     let beds = exp.cases.iter().map(|c| c.beds.len()).max().unwrap_or(0);
+    // On moving supports the records also find the storeys' drifts and the floors' absolute
+    // accelerations (what an engineer checks on a building).
+    let steady = &SteadyOptions { peaks: exp.excitation.supports, ..*steady };
     let mut curves: Vec<Curve> = Vec::new();
     let mut orbit_branches: Vec<OrbitCurve> = Vec::new();
     let band = (freq_hz[0], freq_hz[freq_hz.len() - 1]);
@@ -140,9 +143,20 @@ pub fn run(
         },
         modes,
     );
+    let mut figures = figures;
+    figures.extend(drift_figure(exp, &refs_c, &linear, band));
+    let peaks_words = if exp.excitation.supports {
+        format!(
+            ", each storey's drift amplitude (drift1..: the floor's displacement less the one below, the first storey's less the ground's) over {} (s^2) and each floor's absolute acceleration amplitude (acc1..) over {} (1: the ground's own; both at a point with no certified orbit the largest over its measured record)",
+            exp.excitation.symbol(),
+            exp.excitation.symbol()
+        )
+    } else {
+        String::new()
+    };
     let mut tables = vec![curves::table(
         "compliance",
-        &format!("Steady-state compliance (max - min)/2 / {} ({}{}) of each mass (c1..cn) per curve and frequency, whether it settled, its period, impacts per forcing period on the bottom and top of each bed, the highest flight of each bed (mm), the transient periods simulated", exp.excitation.symbol(), exp.excitation.per_unit(), if exp.excitation.supports { ": displacements relative to the supports" } else { "" }),
+        &format!("Steady-state compliance (max - min)/2 / {} ({}{}) of each mass (c1..cn) per curve and frequency{peaks_words}, whether it settled, its period, impacts per forcing period on the bottom and top of each bed, the highest flight of each bed (mm), the transient periods simulated; a point with no certified orbit gives its measured statistic", exp.excitation.symbol(), exp.excitation.per_unit(), if exp.excitation.supports { ": displacements relative to the supports" } else { "" }),
         &refs_c,
         n,
         beds,
@@ -233,4 +247,62 @@ fn marks(exp: &Experiment, curves: &[Curve]) -> (Vec<VLine>, BTreeMap<String, f6
         }
     }
     (lines, exports)
+}
+
+/// On moving supports: the first storey's drift and the top floor's absolute acceleration
+/// against frequency, per curve (and the exact linear references): what an engineer checks
+/// on a building shaken at its base. `None` under a force or when nothing was computed.
+fn drift_figure(
+    exp: &Experiment,
+    curves: &[&Curve],
+    linear: &[Curve],
+    band: (f64, f64),
+) -> Option<crate::figure::Figure> {
+    use crate::figure::{Dash, Figure, Panel, Series};
+    if !exp.excitation.supports {
+        return None;
+    }
+    let storeys = curves.iter().flat_map(|c| c.drift.iter().map(Vec::len)).max().unwrap_or(0);
+    let floors = curves.iter().flat_map(|c| c.acceleration.iter().map(Vec::len)).max().unwrap_or(0);
+    if floors == 0 {
+        return None;
+    }
+    let a = exp.excitation.symbol();
+    let at = |v: &Vec<Vec<f64>>, r: usize| v.iter().map(|p| p.get(r).copied().unwrap_or(f64::NAN)).collect::<Vec<_>>();
+    let mut panels = Vec::new();
+    let mut wanted: Vec<(String, String, bool, usize)> = Vec::new();
+    if storeys > 0 {
+        wanted.push(("the first storey's drift".into(), format!("drift amplitude / {a} (s^2)"), true, 0));
+    }
+    wanted.push((
+        format!("the top floor's (coordinate {floors}) absolute acceleration"),
+        format!("absolute acceleration amplitude / {a}"),
+        false,
+        floors - 1,
+    ));
+    for (title, y_label, drift, r) in wanted {
+        let mut panel = Panel::new(title, "forcing frequency (Hz)", y_label, band);
+        let pick = |c: &Curve| if drift { at(&c.drift, r) } else { at(&c.acceleration, r) };
+        for (k, c) in curves.iter().enumerate() {
+            let mut s = Series::line(c.label.clone(), c.freq_hz.clone(), pick(c), k);
+            if c.converged.iter().any(|&v| !v) {
+                s.marker = crate::figure::Marker::Circle;
+            }
+            panel.series.push(s);
+        }
+        for (k, c) in linear.iter().enumerate() {
+            panel
+                .series
+                .push(Series::line(c.label.clone(), c.freq_hz.clone(), pick(c), curves.len() + k).dashed(Dash::Dashed));
+        }
+        panels.push(panel);
+    }
+    Some(Figure {
+        id: "drift_acceleration".into(),
+        title: format!("{}: storey drift and floor acceleration", exp.meta.figure),
+        caption: format!(
+            "On moving supports an engineer checks the storeys' drift and the floors' absolute acceleration besides the displacements: the first storey's drift amplitude and the top floor's absolute acceleration amplitude per unit ground acceleration {a}, each curve of the sweep (found exactly between events, as the displacements are; a curve with points that did not settle has circles: there the largest over the measured record) and the exact linear references dashed. The accelerations are those between impacts: an impact is instantaneous in the model (a velocity jump, an impulse no finite acceleration stands for): each impact's velocity jump sets the floors' higher modes going, which shows in the acceleration more than in the drift. Every storey and floor is in the compliance table (drift1.., acc1..)."
+        ),
+        panels,
+    })
 }

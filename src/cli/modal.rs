@@ -29,12 +29,13 @@ pub(super) fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Resul
     say!("{} ({}{on}): modes of the bare structure", exp.meta.id, exp.path.display());
     if let Some(fe) = &exp.finite_element {
         say!(
-            "finite-element model: {} degrees of freedom ({}), reduced to {} coordinates; the mass moving along the vertical ({}) is {:.6} kg",
+            "finite-element model: {} degrees of freedom ({}), reduced to {} coordinates; the mass moving along the vertical ({}) is {:.6} kg{}",
             fe.full.mass.n(),
             fe.full.files,
             fe.reduced.mass.nrows(),
             fe.up,
-            fe.mass_along_up
+            fe.mass_along_up,
+            fe.mass_stated.map_or(String::new(), |m| format!(" (the whole structure's, as stated: {m} kg)"))
         );
     }
     if let Some(fit) = &exp.fit {

@@ -38,6 +38,8 @@ pub(super) fn band_compliance_on(
         false => steady.measure,
     };
     let steady = &SteadyOptions { measure, ..*steady };
+    // Per unit drive: the force, or on moving supports their acceleration.
+    let drive = sys.drive();
     let mut worst = vec![vec![0.0f64; n]; band.freq_hz.len()];
     let mut behind = vec![vec![Point::default(); n]; band.freq_hz.len()];
     // Per frequency and mass: the lowest over the sweeps, and how many sweeps gave a value.
@@ -72,7 +74,7 @@ pub(super) fn band_compliance_on(
                     }
                     classes[Class::ALL.iter().position(|c| *c == st.motion).unwrap_or(3)] += 1;
                     measured += usize::from(st.measured.is_some());
-                    let half = |m: usize| st.measured.as_ref().map_or(0.0, |x| x.half_width[m] / sys.force);
+                    let half = |m: usize| st.measured.as_ref().map_or(0.0, |x| x.half_width[m] / drive);
                     if st.liftoffs.iter().any(|&l| l > 0.0) || st.max_flight.iter().any(|&f| f > 0.0) {
                         motion.lifting += 1;
                     }
@@ -83,15 +85,15 @@ pub(super) fn band_compliance_on(
                     given[i] += 1;
                     for (m, (w, a)) in worst[i].iter_mut().zip(&st.amplitude).enumerate() {
                         let was = *w;
-                        if steady.observe.contains(m) && a / sys.force < least[i][m].0 {
-                            least[i][m] = (a / sys.force, st.motion, half(m));
+                        if steady.observe.contains(m) && a / drive < least[i][m].0 {
+                            least[i][m] = (a / drive, st.motion, half(m));
                         }
                         *w = match steady.observe.contains(m) {
                             false => f64::NAN,
                             true if a.is_nan() => f64::INFINITY,
-                            true => w.max(a / sys.force),
+                            true => w.max(a / drive),
                         };
-                        if *w != was || (a / sys.force == *w && st.motion != Class::Periodic) {
+                        if *w != was || (a / drive == *w && st.motion != Class::Periodic) {
                             behind[i][m] = Point { class: st.motion, half_width: half(m), ..Point::default() };
                         }
                     }

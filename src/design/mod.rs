@@ -50,7 +50,8 @@ pub struct Spec {
     /// The direction every container's bed moves in (vertical: the paper's).
     pub direction: crate::model::Direction,
     /// Forces (N) at which the best layout and the cases are evaluated after the search, for
-    /// the reduction against the drive level (empty: none; not part of the objective).
+    /// the reduction against the drive level (not part of the objective); empty: the file gave
+    /// none, and [`Spec::drive_levels`] chooses them.
     pub drive_levels_n: Vec<f64>,
     /// The bands whose response is lowered.
     pub bands: Vec<Band>,
@@ -224,7 +225,31 @@ impl Budget {
     }
 }
 
+/// A design's drive levels relative to its nominal force when its file gives no
+/// `drive_levels_n` and its scenarios do not vary the force: from a quarter to four times the
+/// force the design is made for (docs/design.md, "Drive level").
+pub const DEFAULT_DRIVE_LEVELS: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
+
 impl Spec {
+    /// The forces (N, or m/s^2 for moving supports) the best layout and the cases are evaluated
+    /// at again after the search: the file's `drive_levels_n`; without them, `nominal` times
+    /// [`DEFAULT_DRIVE_LEVELS`], unless the scenarios already vary the force (then none: the
+    /// search's own evaluations give the levels).
+    pub fn drive_levels(&self, nominal: f64) -> Vec<f64> {
+        if !self.drive_levels_n.is_empty() {
+            self.drive_levels_n.clone()
+        } else if self.scenario_force_n.len() > 1 {
+            Vec::new()
+        } else {
+            DEFAULT_DRIVE_LEVELS.iter().map(|k| k * nominal).collect()
+        }
+    }
+
+    /// How many forces [`Spec::drive_levels`] gives.
+    pub fn drive_level_count(&self) -> usize {
+        self.drive_levels(1.0).len()
+    }
+
     /// Scenarios of one evaluation (1: the nominal structure and force).
     pub fn scenario_count(&self) -> usize {
         let models = if self.scenario_models { self.model_structures.len().max(1) } else { 1 };
@@ -255,7 +280,7 @@ impl Spec {
         let usual = if self.replay { [search; 4] } else { [usual[0], usual[2], spent[0], spent[1]] };
         let sdof = if self.sdof.is_some() { placements.len() as u64 } else { 0 };
         // The drive levels evaluate the best layout and the cases once at each force.
-        let levels = (self.drive_levels_n.len() * (1 + cases)) as u64;
+        let levels = (self.drive_level_count() * (1 + cases)) as u64;
         let after = cases as u64 + PROFILE_POINTS as u64 + sdof + levels;
         let searched = search.saturating_mul(searches as u64);
         let fast = |hz: f64| (hz / lowest / Budget::FAST_RATIO).max(1.0);

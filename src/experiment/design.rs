@@ -88,7 +88,7 @@ fn shot(path: &Path, raw: &RawDesign, total_mass: Option<f64>) -> Result<f64> {
                 "a structure given by a full mass matrix (structure.mass_matrix_kg) has no total mass to take a ratio of: give design.shot_kg",
             ))
         }
-        (Some(r), None) if r.is_finite() && r > 0.0 && r <= 10.0 => r * total_mass.unwrap_or(0.0),
+        (Some(r), None) if r.is_finite() && r > 0.0 && r <= 10.0 => crate::number::decimal(r * total_mass.unwrap_or(0.0)),
         (Some(r), None) => return Err(bad("shot_mass_ratio", &r, "a total shot mass ratio in (0, 10]")),
         (None, Some(kg)) if kg.is_finite() && kg > 0.0 => kg,
         (None, Some(kg)) => return Err(bad("shot_kg", &kg, "a shot mass in kg, positive and finite")),

@@ -478,7 +478,7 @@ impl CheckSpec {
 /// given as such, whose coordinates are not all displacements.
 pub fn structure_mass(structure: &Structure, fe: Option<&crate::model::fe::FeStructure>) -> Option<f64> {
     match fe {
-        Some(f) => Some(f.mass_along_up),
+        Some(f) => Some(f.mass().0),
         None => structure.is_lumped().then(|| structure.mass_matrix().trace()),
     }
 }

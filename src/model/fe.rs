@@ -79,6 +79,28 @@ pub struct FeStructure {
     /// allowed over the analysis' bands.
     pub tolerance: f64,
     /// The full model's mass moving along the vertical (`r^T M r`, `r` one on every
-    /// translation along `up`), kg: the physical structure's mass, in the files' units.
+    /// translation along `up`), kg: the physical structure's mass less what its supports
+    /// hold (the files leave the supported nodes out).
     pub mass_along_up: f64,
+    /// The physical structure's whole mass as the file states it
+    /// (`structure.finite_element.mass_kg`), kg.
+    pub mass_stated: Option<f64>,
+}
+
+impl FeStructure {
+    /// The structure's mass a shot mass ratio is taken of, kg, and its words: the stated
+    /// mass when the file gives one, else the mass moving along the vertical.
+    pub fn mass(&self) -> (f64, String) {
+        match self.mass_stated {
+            Some(m) => (
+                m,
+                format!(
+                    "mass ({} kg as stated; {} kg of it moves vertically in the model, the rest is held by the supports)",
+                    crate::number::fmt_sig(m, 4),
+                    crate::number::fmt_sig(self.mass_along_up, 4)
+                ),
+            ),
+            None => (self.mass_along_up, "mass moving vertically".to_string()),
+        }
+    }
 }

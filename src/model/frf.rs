@@ -46,19 +46,51 @@ pub fn response(
     z.lu().solve(&rhs)
 }
 
+/// The load vector of supports that accelerate with unit amplitude: `M r` when every
+/// coordinate translates with them, else the structure's own `L` plus the stuck masses'
+/// `(M - M_0) r`; and `r`.
+fn support_load(structure: &Structure, mass: &DMatrix<f64>) -> (DVector<f64>, DVector<f64>) {
+    match &structure.supports {
+        None => {
+            let r = DVector::from_element(structure.dof(), 1.0);
+            (mass * &r, r)
+        }
+        Some(s) => {
+            let r = DVector::from_column_slice(&s.follow);
+            (DVector::from_column_slice(&s.load) + (mass - structure.mass_matrix()) * &r, r)
+        }
+    }
+}
+
+/// Per frequency (rad/s), on supports that accelerate as `A sin(omega t)`: each storey's
+/// drift amplitude `|u_i - u_(i-1)| / A` (s^2; the first storey's `|u_1| / A`; empty when the
+/// structure is not a chain, [`Structure::is_chain`]) and each physical coordinate's absolute
+/// acceleration amplitude `|uddot_i + r_i a_g| / A` (dimensionless). With `u = -h A`, `h` the
+/// response to the load ([`support_compliance_curve`]), the absolute acceleration is
+/// `A |omega^2 h_i + r_i|`. Infinities where unbounded.
+pub fn support_peaks_curve(structure: &Structure, mass: &DMatrix<f64>, omegas: &[f64]) -> Vec<(Vec<f64>, Vec<f64>)> {
+    let (load, r) = support_load(structure, mass);
+    let physical = structure.points.unwrap_or(structure.dof());
+    let storeys = if structure.is_chain() { physical } else { 0 };
+    omegas
+        .iter()
+        .map(|&w| match response(structure, mass, &load, w) {
+            Some(h) => (
+                (0..storeys).map(|i| if i == 0 { h[0].norm() } else { (h[i] - h[i - 1]).norm() }).collect(),
+                (0..physical).map(|i| (h[i] * (w * w) + r[i]).norm()).collect(),
+            ),
+            None => (vec![f64::INFINITY; storeys], vec![f64::INFINITY; physical]),
+        })
+        .collect()
+}
+
 /// Magnitudes `|u_r / A|` (m/(m/s^2)) of the displacements relative to supports that
 /// accelerate as `A sin(omega t)`, `M` the mass matrix to use (bare, or with masses stuck),
 /// at each frequency (rad/s); infinities where unbounded. The load is `M r` when every
 /// coordinate translates with the supports (`r = 1`), else the structure's own `L` plus the
 /// stuck masses' `(M - M_0) r` ([`crate::model::base::Supports`]).
 pub fn support_compliance_curve(structure: &Structure, mass: &DMatrix<f64>, omegas: &[f64]) -> Vec<Vec<f64>> {
-    let load = match &structure.supports {
-        None => mass * DVector::from_element(structure.dof(), 1.0),
-        Some(s) => {
-            let r = DVector::from_column_slice(&s.follow);
-            DVector::from_column_slice(&s.load) + (mass - structure.mass_matrix()) * r
-        }
-    };
+    let (load, _) = support_load(structure, mass);
     omegas
         .iter()
         .map(|&w| match response(structure, mass, &load, w) {

@@ -8,6 +8,7 @@ pub mod fe;
 pub mod fit;
 pub mod frf;
 pub mod ground;
+pub mod ground_response;
 pub mod lanczos;
 pub mod least_squares;
 pub mod modal;

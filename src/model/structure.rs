@@ -150,6 +150,14 @@ impl Structure {
         self.coupled_mass.is_none()
     }
 
+    /// Whether it is a chain of storeys: lumped masses joined only to their neighbours (a
+    /// tridiagonal stiffness), each storey's drift the displacement of its mass less the one
+    /// below.
+    pub fn is_chain(&self) -> bool {
+        let n = self.dof();
+        self.is_lumped() && (0..n).all(|i| (0..n).all(|j| i.abs_diff(j) <= 1 || self.stiffness[(i, j)] == 0.0))
+    }
+
     /// Number of primary masses.
     pub fn dof(&self) -> usize {
         self.masses.len()

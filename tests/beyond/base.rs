@@ -131,6 +131,85 @@ fn the_energy_balance_closes_with_the_supports_work() {
     }
 }
 
+#[test]
+fn a_bare_chain_s_drifts_and_floor_accelerations_on_a_shaken_base_are_the_closed_form() {
+    // The drift u_i - u_(i-1) and the absolute acceleration u_i'' + a_g of each storey of a
+    // bare chain against the complex response `(K - w^2 M + i w C)^-1 M r` (frf).
+    let accel = 2.0;
+    let s = Structure::chain(&[0.74, 0.71, 0.64], &[24.3e3, 21.8e3, 19.8e3], Damping::ModalRatios(vec![0.02; 3]));
+    assert!(s.is_chain());
+    let sys = on_base(System::plastic(s.clone(), Vec::new(), 0, 0.0), accel);
+    let opts = SteadyOptions { peaks: true, ..SteadyOptions::default() };
+    let mut worst = 0.0f64;
+    for f in [5.0, 13.0, 30.0, 36.8, 54.0, 90.0] {
+        let w = 2.0 * PI * f;
+        let dy = Dynamics::new(&sys, w).expect("dynamics");
+        let st = steady_state(&dy, State::at_rest(&dy), &opts);
+        let p = st.peaks.expect("peaks asked for");
+        let closed = &shotdamp::model::frf::support_peaks_curve(&s, &s.mass_matrix(), &[w])[0];
+        for i in 0..3 {
+            for (got, want) in [(p.drift[i], accel * closed.0[i]), (p.acceleration[i], accel * closed.1[i])] {
+                worst = worst.max((got - want).abs() / want);
+                assert!((got - want).abs() < 1e-9 * want, "{f} Hz, storey {}: {got} vs {want}", i + 1);
+            }
+            // The first storey's drift is the first floor's displacement relative to the ground.
+            assert_eq!(p.drift[0], st.amplitude[0]);
+            // Harmonic motion: the peak is the amplitude.
+            assert!((p.drift_peak[i] - p.drift[i]).abs() < 1e-9 * p.drift[i]);
+        }
+    }
+    println!("drifts and absolute accelerations within {worst:.1e} of the closed form");
+}
+
+#[test]
+fn with_beds_the_drifts_and_floor_accelerations_bound_a_dense_sampling_of_the_orbit() {
+    // Impacts make the accelerations jump: the extremes found between events must hold every
+    // sampled value and be reached by the samples to within a sample step's curvature.
+    let opts = SteadyOptions { peaks: true, ..SteadyOptions::default() };
+    // (clearance mm, frequency Hz, support acceleration m/s^2), near modes 1 and 2.
+    for (d_mm, f, accel) in [(0.35, 13.0, 4.0), (0.5, 37.0, 20.0)] {
+        let (s, dampers) = chain(d_mm);
+        let sys = on_base(System::plastic(s, dampers, 0, 0.0), accel);
+        let w = 2.0 * PI * f;
+        let dy = Dynamics::new(&sys, w).expect("dynamics");
+        let st = steady_state(&dy, State::at_rest(&dy), &opts);
+        let (Some(c), Some(p)) = (&st.certificate, &st.peaks) else { panic!("{f} Hz: a certified orbit with peaks") };
+        assert!(st.bottom_impacts.iter().sum::<f64>() > 0.0, "{f} Hz: impacts");
+        let period = 2.0 * PI / w * st.period as f64;
+        let samples = 40_000;
+        let t0 = c.section.t;
+        let times: Vec<f64> = (0..=samples).map(|k| t0 + period * k as f64 / samples as f64).collect();
+        let mut sampler = Sampler::new(times.clone());
+        let mut s2 = c.section.clone();
+        Engine::new(&dy).advance(&mut s2, t0 + period, &mut sampler).expect("one period");
+        let xg = |t: f64| -accel / (w * w) * (w * t).sin();
+        let span = |v: &[f64]| {
+            let (lo, hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+            0.5 * (hi - lo)
+        };
+        for i in 0..3 {
+            let rel = |k: usize, j: usize| sampler.x[k][j] - xg(times[k]);
+            let drift: Vec<f64> =
+                (0..times.len()).map(|k| rel(k, i) - if i > 0 { rel(k, i - 1) } else { 0.0 }).collect();
+            let acc: Vec<f64> = sampler.a.iter().map(|a| a[i]).collect();
+            // An extreme lies between two samples: the samples reach it to within the largest
+            // change from one sample to the next.
+            let step = |v: &[f64]| v.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
+            for (what, found, q) in [("drift", p.drift[i], &drift), ("acceleration", p.acceleration[i], &acc)] {
+                let sampled = span(q);
+                assert!(
+                    found >= sampled * (1.0 - 1e-12),
+                    "{f} Hz storey {} {what}: {found} below sampled {sampled}",
+                    i + 1
+                );
+                assert!(found - sampled <= step(q), "{f} Hz storey {} {what}: {found} vs sampled {sampled}", i + 1);
+                // The drift is continuous: its samples are close (the acceleration jumps at events).
+                assert!(what != "drift" || step(q) < 2e-3 * sampled, "{f} Hz storey {}: samples too coarse", i + 1);
+            }
+        }
+    }
+}
+
 /// An experiment file on the paper's chain (stated values written out) whose supports
 /// accelerate at `excitation`, with `analysis` and the bare case plus `case`'s dampers.
 fn shaken_file(dir: &std::path::Path, id: &str, excitation: &str, analysis: &str, dampers: &str) -> std::path::PathBuf {
@@ -147,7 +226,7 @@ fn shaken_file(dir: &std::path::Path, id: &str, excitation: &str, analysis: &str
 
 /// `|(K - w^2 M + i w C)^-1 M 1|` of the paper's chain with `added` mass on mass 1..3,
 /// written here without the library (modal damping from its own modes).
-fn shaken_chain(added: [f64; 3], f_hz: f64) -> Vec<f64> {
+fn shaken_chain(added: [f64; 3], f_hz: f64) -> Vec<Complex64> {
     use nalgebra::{DMatrix, DVector, SymmetricEigen};
     let m0: [f64; 3] = [0.74, 0.71, 0.64];
     let k = [24300.0, 21800.0, 19800.0];
@@ -171,7 +250,7 @@ fn shaken_chain(added: [f64; 3], f_hz: f64) -> Vec<f64> {
     let w = 2.0 * PI * f_hz;
     let dyn_stiff = DMatrix::from_fn(3, 3, |i, j| Complex64::new(kk[(i, j)] - w * w * m[(i, j)], w * c[(i, j)]));
     let load = DVector::from_fn(3, |i, _| Complex64::new(m[(i, i)], 0.0));
-    dyn_stiff.lu().solve(&load).expect("regular").iter().map(|z| z.norm()).collect()
+    dyn_stiff.lu().solve(&load).expect("regular").iter().copied().collect()
 }
 
 #[test]
@@ -203,10 +282,21 @@ fn an_experiment_file_shakes_the_supports_and_reports_relative_compliance() {
         for row in &rows[1..] {
             let f: f64 = row[freq].parse().expect("frequency");
             let added = if row[curve] == "bare" { [0.0; 3] } else { [0.074, 0.0, 0.064] };
-            let want = shaken_chain(added, f);
-            for (i, w) in want.iter().enumerate() {
-                let got: f64 = row[col(&format!("c{}", i + 1))].parse().expect("compliance");
-                assert!((got - w).abs() < 1e-7 * w, "{kind} {}, {f} Hz, m{}: {got} vs {w}", row[curve], i + 1);
+            let h = shaken_chain(added, f);
+            let w2 = (2.0 * PI * f).powi(2);
+            for i in 0..3 {
+                // u = -h A: the compliance |h_i|, the storey's drift |h_i - h_(i-1)|, the floor's
+                // absolute acceleration |w^2 h_i + 1| (a riding bed moves with its floor).
+                let drift = if i == 0 { h[0] } else { h[i] - h[i - 1] };
+                for (name, want) in [("c", h[i].norm()), ("drift", drift.norm()), ("acc", (h[i] * w2 + 1.0).norm())] {
+                    let got: f64 = row[col(&format!("{name}{}", i + 1))].parse().expect("a number");
+                    assert!(
+                        (got - want).abs() < 1e-7 * want,
+                        "{kind} {}, {f} Hz, {name}{}: {got} vs {want}",
+                        row[curve],
+                        i + 1
+                    );
+                }
             }
             seen += 1;
         }
@@ -214,6 +304,60 @@ fn an_experiment_file_shakes_the_supports_and_reports_relative_compliance() {
         let page = std::fs::read_to_string(out_dir.join("shaken/index.html")).expect("page");
         assert!(page.contains("supports accelerate as A = 0.05") && page.contains("m/(m/s^2)"), "{kind}");
     }
+}
+
+#[test]
+fn a_design_on_moving_supports_is_per_unit_ground_acceleration_with_its_storeys() {
+    // Beds that never lift off (A = 0.05 m/s^2, the hosts far below 1 g) ride as added mass:
+    // the design's objective and its storeys' drifts and floors' accelerations are the stuck
+    // chain's closed form, written here without the library.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = dir.path().join("shaken_design.toml");
+    std::fs::write(
+        &file,
+        "[experiment]\nid = \"shaken_design\"\ntitle = \"t\"\nfigure = \"-\"\ncaption = \"c\"\nclaim = \"c\"\n\
+         [structure]\nmasses_kg = [0.74, 0.71, 0.64]\nchain_stiffness_n_per_m = [24300.0, 21800.0, 19800.0]\n\
+         [structure.damping]\nmodal_ratios = [0.01, 0.01, 0.01]\n[excitation]\nbase_acceleration_m_s2 = 0.05\n\
+         [analysis]\nkind = \"design\"\n[design]\ncandidates = [3]\nshot_kg = 0.064\nclearance_mm = [0.2, 1.0]\n\
+         sweeps = [\"rest\"]\nstarts = 1\n[[design.bands]]\nname = \"mode 1\"\nfreq_hz = [12.0, 13.0, 14.0]\nmasses = [3]\n",
+    )
+    .expect("write");
+    let out_dir = dir.path().join("out");
+    let out = common::shotdamp()
+        .args(["design", file.to_str().expect("utf-8"), "--out"])
+        .arg(&out_dir)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(out_dir.join("shaken_design/data/design_storeys.csv")).expect("storeys table");
+    let rows = common::csv_rows(&csv);
+    let col = |name: &str| rows[0].iter().position(|h| h == name).expect(name);
+    let mut seen = 0;
+    for row in &rows[1..] {
+        let f: f64 = row[col("freq_hz")].parse().expect("frequency");
+        let added = if row[col("layout")] == "bare" { [0.0; 3] } else { [0.0, 0.0, 0.064] };
+        let h = shaken_chain(added, f);
+        let w2 = (2.0 * PI * f).powi(2);
+        for i in 0..3 {
+            let drift = if i == 0 { h[0] } else { h[i] - h[i - 1] };
+            for (name, want) in [("drift", drift.norm()), ("acc", (h[i] * w2 + 1.0).norm())] {
+                let got: f64 = row[col(&format!("{name}{}", i + 1))].parse().expect("a number");
+                assert!((got - want).abs() < 1e-7 * want, "{}, {f} Hz, {name}{}: {got} vs {want}", row[0], i + 1);
+            }
+        }
+        seen += 1;
+    }
+    assert_eq!(seen, 6);
+    // The objective: the stuck chain's peak of m3 over the bare one's, per m/s^2 (finite).
+    let peak =
+        |added: [f64; 3]| [12.0, 13.0, 14.0].iter().map(|&f| shaken_chain(added, f)[2].norm()).fold(0.0, f64::max);
+    let want = peak([0.0, 0.0, 0.064]) / peak([0.0; 3]);
+    let page = std::fs::read_to_string(out_dir.join("shaken_design/index.html")).expect("page");
+    let placements = std::fs::read_to_string(out_dir.join("shaken_design/data/design_placements.csv")).expect("table");
+    let p = common::csv_rows(&placements);
+    let got: f64 = p[1][p[0].iter().position(|h| h == "objective").expect("objective")].parse().expect("a number");
+    assert!((got - want).abs() < 1e-7 * want, "objective {got} vs {want}");
+    assert!(page.contains("largest storey drift") && page.contains("largest absolute floor acceleration"), "answer");
 }
 
 #[test]
@@ -332,7 +476,7 @@ fn soft_contacts_on_shaken_supports_give_the_stuck_chain_below_lift_off() {
     let mut worst = 0.0f64;
     for f in [12.0, 20.0] {
         let (amp, _) = amplitude(&sys, 2.0 * PI * f, &opts, 400, 20).expect("a soft contact");
-        let want = shaken_chain([0.0, 0.0, 0.064], f);
+        let want: Vec<f64> = shaken_chain([0.0, 0.0, 0.064], f).iter().map(|z| z.norm()).collect();
         for i in 0..3 {
             let rel = (amp[i] / accel - want[i]).abs() / want[i];
             worst = worst.max(rel);

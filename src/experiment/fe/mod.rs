@@ -496,12 +496,35 @@ fn reduce(path: &Path, raw: RawFiniteElement, limit: Option<(usize, &str)>) -> R
         .join(", ");
     let supports = supports(&mass, &labels, &points, &reduced, base, raw.base_direction.as_deref().unwrap_or(&raw.up));
     let moving_up = along(&mass, &labels, up_axis);
+    // A stated mass holds the mass the model moves (the supports' share aside).
+    let mass_stated = match raw.mass_kg {
+        None => None,
+        Some(m) if m.is_finite() && m >= moving_up * (1.0 - 1e-6) => Some(m),
+        Some(m) => {
+            return Err(invalid(
+                "mass_kg",
+                &m,
+                &format!(
+                    "the physical structure's whole mass in kg, at least the {} kg its matrices move vertically",
+                    crate::number::fmt_sig(moving_up, 6)
+                ),
+            ))
+        }
+    };
     let full = FullModel { stiffness, mass, labels, files: format!("{} ({})", files, raw.format) };
     Ok(FromFiles {
         supports,
         mass: reduced.mass.clone(),
         stiffness: reduced.stiffness.clone(),
-        fe: FeStructure { full: Arc::new(full), points, reduced, up: raw.up, tolerance, mass_along_up: moving_up },
+        fe: FeStructure {
+            full: Arc::new(full),
+            points,
+            reduced,
+            up: raw.up,
+            tolerance,
+            mass_along_up: moving_up,
+            mass_stated,
+        },
     })
 }
 

@@ -174,6 +174,10 @@ pub struct RawFiniteElement {
     /// model's over the analysis' frequencies (default 1e-3).
     #[serde(default)]
     pub tolerance: Option<f64>,
+    /// The physical structure's whole mass, kg, as stated by the user (the files' matrices
+    /// leave out what the supports hold): what a design's `shot_mass_ratio` is taken of.
+    #[serde(default)]
+    pub mass_kg: Option<f64>,
 }
 
 /// A point of a finite-element model: a node and direction, or (a Matrix Market model

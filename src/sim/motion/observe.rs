@@ -129,7 +129,7 @@ impl Extrema {
 /// bisection, handed to `found` with the quantity `f` returns beside its value and derivative
 /// at the last evaluation (the extremum sought, within rounding of the root). A sample where
 /// `f` is exactly zero is a root: `found` gets `sample(k)` there.
-fn each_root(
+pub(super) fn each_root(
     f: &impl Fn(f64) -> (f64, f64, f64),
     times: &[f64],
     at: &[f64],
@@ -185,7 +185,7 @@ fn refine(f: &impl Fn(f64) -> (f64, f64, f64), mut lo: f64, mut hi: f64, mut flo
 /// Sample times every sixteenth of the shortest period from `t_a` to `t_b` (both ends) and
 /// the segment's points there: the ends evaluated directly, the samples between carried from
 /// the start by one step's factors (a step costs what one evaluation does).
-fn samples(d: &Dynamics, seg: &Segment, t_a: f64, t_b: f64, times: &mut Vec<f64>, points: &mut Vec<Point>) {
+pub(super) fn samples(d: &Dynamics, seg: &Segment, t_a: f64, t_b: f64, times: &mut Vec<f64>, points: &mut Vec<Point>) {
     let m = (((t_b - t_a) / (d.min_period / 16.0)).ceil() as usize).max(2);
     times.clear();
     times.extend((0..=m).map(|k| if k == m { t_b } else { t_a + (t_b - t_a) * k as f64 / m as f64 }));

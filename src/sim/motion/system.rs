@@ -87,6 +87,12 @@ impl System {
         System { structure, dampers, driven, force, base: None, laws: Vec::new(), columns: Vec::new() }
     }
 
+    /// The drive's amplitude that responses are given per: the force, N, or on moving
+    /// supports their acceleration, m/s^2.
+    pub fn drive(&self) -> f64 {
+        self.base.as_ref().map_or(self.force, |b| b.accel)
+    }
+
     /// The same system driven by its supports accelerating as `accel sin(omega t)` (m/s^2)
     /// instead of its force ([`BaseMotion::of`]: every coordinate translating with them, or as
     /// the structure's [`crate::model::base::Supports`] say).

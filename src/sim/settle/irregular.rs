@@ -142,6 +142,7 @@ pub(super) fn measure_within(
     // The whole record's counts and flights, gathered from the periods' (its largest
     // amplitude over the kept record is the periods' largest, `Measured::largest`).
     let mut whole = Extrema::observing(n, nb, opts.observe);
+    let mut peaks = opts.peaks.then(|| super::steady::peaks_of(d));
     let mut series = Series { amplitude: vec![Vec::new(); n], log_stretch: Vec::new() };
     let mut stop: Option<Stop> = None;
     let mut judged: Option<Measured> = None;
@@ -151,9 +152,13 @@ pub(super) fn measure_within(
         crate::sim::motion::cancel::check();
         k += 1.0;
         let mut per = Extrema::observing(n, nb, opts.observe);
-        let run = match &mut energy {
-            Some(e) => engine.advance(&mut s, k * period, &mut Both(&mut per, &mut Both(e, &mut tangent))),
-            None => engine.advance(&mut s, k * period, &mut Both(&mut per, &mut tangent)),
+        let run = match (&mut energy, &mut peaks) {
+            (Some(e), None) => engine.advance(&mut s, k * period, &mut Both(&mut per, &mut Both(e, &mut tangent))),
+            (None, None) => engine.advance(&mut s, k * period, &mut Both(&mut per, &mut tangent)),
+            (Some(e), Some(p)) => {
+                engine.advance(&mut s, k * period, &mut Both(&mut Both(&mut per, p), &mut Both(e, &mut tangent)))
+            }
+            (None, Some(p)) => engine.advance(&mut s, k * period, &mut Both(&mut Both(&mut per, p), &mut tangent)),
         };
         if let Err(e) = run {
             stop = Some(e);
@@ -228,6 +233,7 @@ pub(super) fn measure_within(
         final_state: s,
         motion,
         measured: Some(measured),
+        peaks: peaks.map(|p| p.values()),
         ..st
     };
     (st, back)

@@ -37,13 +37,22 @@ pub fn extend(d: &Dynamics, st: Steady) -> Steady {
     let mut energy = Energy::default();
     let e0 = stored_energy(d, &s);
     let engine = Engine::new(d);
-    let first = engine.advance(&mut s, t0 + half as f64 * period, &mut Both(&mut whole, &mut energy));
+    // The storeys' drifts and floors' accelerations over the whole long record, when the
+    // short one had them.
+    let mut peaks = st.peaks.as_ref().map(|_| super::steady::peaks_of(d));
+    let mut none = crate::sim::motion::engine::Quiet;
+    let mut first_obs = Both(&mut whole, &mut energy);
+    let first = match &mut peaks {
+        Some(p) => engine.advance(&mut s, t0 + half as f64 * period, &mut Both(&mut first_obs, p)),
+        None => engine.advance(&mut s, t0 + half as f64 * period, &mut Both(&mut first_obs, &mut none)),
+    };
     let rest = first.and_then(|_| {
-        engine.advance(
-            &mut s,
-            t0 + LONG_RECORD_PERIODS as f64 * period,
-            &mut Both(&mut Both(&mut whole, &mut second), &mut energy),
-        )
+        let end = t0 + LONG_RECORD_PERIODS as f64 * period;
+        let mut obs = Both(&mut Both(&mut whole, &mut second), &mut energy);
+        match &mut peaks {
+            Some(p) => engine.advance(&mut s, end, &mut Both(&mut obs, p)),
+            None => engine.advance(&mut s, end, &mut Both(&mut obs, &mut none)),
+        }
     });
     if let Err(stop) = rest {
         return Steady { stop: Some(stop), ..st };
@@ -69,6 +78,7 @@ pub fn extend(d: &Dynamics, st: Steady) -> Steady {
         }),
         final_state: s,
         motion: super::statistic::Motion::Aperiodic,
+        peaks: peaks.map(|p| p.values()),
         ..st
     }
 }

@@ -19,6 +19,7 @@ use super::statistic::{Measure, Measured, Motion};
 use crate::sim::motion::engine::{Bed, Engine, Event, Observer, State, Stop};
 pub use crate::sim::motion::observe::Observe;
 use crate::sim::motion::observe::{stored_energy, Energy, Extrema};
+use crate::sim::motion::peaks::{PeakValues, Peaks};
 use crate::sim::motion::segment::{Segment, Watch};
 use crate::sim::motion::system::Dynamics;
 use crate::sim::orbits::strobe::Strobe;
@@ -94,6 +95,9 @@ pub struct SteadyOptions {
     /// How a point with no certified orbit is classified and measured
     /// ([`super::irregular`]): record length and the interval's tolerance.
     pub measure: Measure,
+    /// Whether the record also finds each storey's drift and each floor's absolute
+    /// acceleration ([`crate::sim::motion::peaks`]; [`Steady::peaks`]).
+    pub peaks: bool,
 }
 
 impl std::fmt::Debug for SteadyOptions {
@@ -113,6 +117,9 @@ impl std::fmt::Debug for SteadyOptions {
             .field("energy", &self.energy)
             .field("torus_attempts", &self.torus_attempts)
             .field("follow", &self.follow);
+        if self.peaks {
+            d.field("peaks", &self.peaks);
+        }
         if !self.observe.is_all() {
             d.field("observe", &self.observe);
         }
@@ -143,6 +150,7 @@ impl Default for SteadyOptions {
             follow: false,
             observe: Observe::ALL,
             measure: Measure::default(),
+            peaks: false,
         }
     }
 }
@@ -338,6 +346,10 @@ pub struct Steady {
     /// A point with no certified orbit: its statistic, interval and Lyapunov exponent
     /// ([`super::irregular`]); its `amplitude` is then the statistic.
     pub measured: Option<Measured>,
+    /// The storeys' drifts and the floors' absolute accelerations over the record, when
+    /// [`SteadyOptions::peaks`] asks for them (a point with no certified orbit: over its
+    /// whole measured record, so the largest amplitude there, not the statistic).
+    pub peaks: Option<PeakValues>,
 }
 
 impl Steady {
@@ -384,6 +396,7 @@ pub(crate) struct Outcome {
 pub(crate) struct Recorder {
     ext: Extrema,
     energy: Option<Energy>,
+    peaks: Option<Peaks>,
     /// The stored energy at the record's start.
     e0: f64,
 }
@@ -394,7 +407,8 @@ impl Recorder {
         let energy_on = opts.energy;
         let ext = Extrema::observing(d.system.dof(), d.system.dampers.len(), opts.observe);
         let energy = energy_on.then(Energy::default);
-        Recorder { ext, energy, e0: if energy_on { stored_energy(d, s) } else { 0.0 } }
+        let peaks = opts.peaks.then(|| peaks_of(d));
+        Recorder { ext, energy, peaks, e0: if energy_on { stored_energy(d, s) } else { 0.0 } }
     }
 
     /// The steady state from this record, which ended in `s` (or stopped with `stop`).
@@ -434,8 +448,16 @@ impl Recorder {
             final_state: s,
             motion,
             measured: None,
+            peaks: self.peaks.map(|p| p.values()),
         }
     }
+}
+
+/// An empty [`Peaks`] of a system's physical coordinates (a reduced model's points), with
+/// storeys when its structure is a chain.
+pub(crate) fn peaks_of(d: &Dynamics) -> Peaks {
+    let s = &d.system.structure;
+    Peaks::new(s.points.unwrap_or(s.dof()), s.is_chain())
 }
 
 impl Observer for Recorder {
@@ -443,6 +465,9 @@ impl Observer for Recorder {
         self.ext.segment(d, seg, beds, t_a, t_b);
         if let Some(e) = &mut self.energy {
             e.segment(d, seg, beds, t_a, t_b);
+        }
+        if let Some(p) = &mut self.peaks {
+            p.segment(d, seg, beds, t_a, t_b);
         }
     }
     fn event(&mut self, ev: &Event, after: &State) {
