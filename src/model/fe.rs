@@ -95,7 +95,7 @@ impl FeStructure {
             Some(m) => (
                 m,
                 format!(
-                    "mass ({} kg as stated; {} kg of it moves vertically in the model, the rest is held by the supports)",
+                    "mass: {} kg as stated, {} kg of it moving vertically in the model, the rest held by the supports",
                     crate::number::fmt_sig(m, 4),
                     crate::number::fmt_sig(self.mass_along_up, 4)
                 ),
