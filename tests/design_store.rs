@@ -304,6 +304,41 @@ fn drive_levels_evaluate_the_best_layout_at_each_force_after_the_search() {
     assert!(err.contains("design.drive_levels_n[1] = -1"), "{err}");
 }
 
+/// `objective = "worst_over_drive_levels"`: the search minimises the worst over the drive
+/// levels (they become the scenarios' forces), so the best layout's objective is the largest
+/// of its levels' rows; without two levels, or beside force scenarios, it is refused.
+#[test]
+fn an_objective_over_the_drive_levels_is_the_worst_of_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (page, design) =
+        coarse_design(dir.path(), "drive_levels_n = [1.0, 4.0]\nobjective = \"worst_over_drive_levels\"");
+    let table = std::fs::read_to_string(page.join("data/design_drive_levels.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = table.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let forces: Vec<f64> = rows.iter().take(2).map(|r| r[2].parse().unwrap()).collect();
+    assert_eq!(forces, [1.0, 4.0], "{table}");
+    let worst = rows.iter().take(2).map(|r| r[3].parse::<f64>().unwrap()).fold(0.0, f64::max);
+    let best = best_objective(&page);
+    assert!((worst - best).abs() <= 1e-12 * best, "{worst} vs {best}: {table}");
+    let text = std::fs::read_to_string(&design).unwrap();
+    for (edit, said) in [
+        (text.replace("drive_levels_n = [1.0, 4.0]", "drive_levels_n = [1.0]"), "two forces or more"),
+        (
+            text.replace(
+                "drive_levels_n = [1.0, 4.0]",
+                "drive_levels_n = [1.0, 4.0]\nscenarios = { force_n = [2.0, 3.0] }",
+            ),
+            "leave design.scenarios.force_n out",
+        ),
+        (text.replace("worst_over_drive_levels", "best_of_both"), "\"nominal\" (default"),
+    ] {
+        std::fs::write(&design, edit).unwrap();
+        let o = common::shotdamp().arg("design").arg(&design).arg("--dry-run").output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("design.objective") && err.contains(said), "{err}");
+    }
+}
+
 /// The tiny five-storey design with `extra` added to `[design]`, its searches a single
 /// iteration from one start, run into `root/d`: its page folder and the design file.
 fn coarse_design(root: &Path, extra: &str) -> (std::path::PathBuf, std::path::PathBuf) {

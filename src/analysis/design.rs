@@ -280,8 +280,12 @@ fn run(
 /// Tells the outlook what follows the searches: the best layout's clearance profile (not after
 /// a stop), its drive levels, the maps near it, the SDOF method's layouts.
 fn after_search_phase(exp: &Experiment, spec: &Spec, stopped: bool) {
-    let placements = super::design_problem::budget(exp, spec).placements as u64;
-    let levels = (spec.drive_level_count() * if stopped { 1 } else { 1 + exp.cases.len() }) as u64;
+    let budget = super::design_problem::budget(exp, spec);
+    let placements = budget.placements as u64;
+    // The drive levels are evaluated on the file's model: on a screened design each costs
+    // what several of the searches' evaluations did (the outlook counts at their pace).
+    let dearer = budget.judged_over_searched(exp.structure.dof()).ceil() as u64;
+    let levels = (spec.drive_level_count() * if stopped { 1 } else { 1 + exp.cases.len() }) as u64 * dearer;
     let profile = if stopped { 0 } else { PROFILE_POINTS as u64 + placements * u64::from(spec.sdof.is_some()) };
     spec.halt
         .outlook

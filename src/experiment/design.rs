@@ -175,6 +175,40 @@ fn scenarios(path: &Path, raw: &RawDesign, scenario_models: bool) -> Result<(Vec
     })
 }
 
+/// What the search minimises: at the file's force (`"nominal"`, the default), or the worst
+/// over the drive levels (`"worst_over_drive_levels"`: the levels become the scenarios'
+/// forces, combined by the worst, and their figure is drawn from the search's own
+/// evaluations). Takes and returns the scenarios' forces, how they combine and the drive
+/// levels evaluated after the search.
+fn objective(
+    path: &Path,
+    raw: &RawDesign,
+    (forces, combine, levels): (Vec<f64>, Combine, Vec<f64>),
+) -> Result<(Vec<f64>, Combine, Vec<f64>)> {
+    let bad = bad_at(path);
+    match raw.objective.as_deref() {
+        None | Some("nominal") => Ok((forces, combine, levels)),
+        Some(name @ "worst_over_drive_levels") => {
+            let value = format!("\"{name}\"");
+            if levels.len() < 2 {
+                return Err(bad("objective", &value, "give design.drive_levels_n with two forces or more: the search's objective is the worst over them"));
+            }
+            if !forces.is_empty() {
+                return Err(bad("objective", &value, "leave design.scenarios.force_n out: the drive levels are the forces"));
+            }
+            if combine != Combine::Worst {
+                return Err(bad("objective", &value, "leave design.scenarios.combine out or \"worst\": the objective is the worst over the levels"));
+            }
+            Ok((levels, Combine::Worst, Vec::new()))
+        }
+        Some(other) => Err(bad(
+            "objective",
+            &format!("\"{other}\""),
+            "\"nominal\" (default: at the file's force) or \"worst_over_drive_levels\" (the worst over design.drive_levels_n)",
+        )),
+    }
+}
+
 /// The paper's SDOF technique beside the search: its mode (0-based) and candidate clearances.
 fn sdof(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<(usize, Vec<f64>)>> {
     let bad = bad_at(path);
@@ -339,6 +373,8 @@ pub fn design(
         return Err(bad(&format!("drive_levels_n[{i}]"), f, "a force amplitude in N, positive and finite"));
     }
     distinct(path, "design.drive_levels_n", &drive_levels_n, limits::SCENARIO_VALUES, "drive levels")?;
+    let (scenario_force_n, combine, drive_levels_n) =
+        objective(path, &raw, (scenario_force_n, combine, drive_levels_n))?;
     let spec = Spec {
         candidates,
         max_beds,

@@ -4,7 +4,7 @@
 
 use crate::experiment::{Analysis, Experiment};
 use crate::model::Damping;
-use crate::number::fmt_num;
+use crate::number::{fmt_num, fmt_sig};
 
 fn list(v: &[f64]) -> String {
     v.iter().map(|x| fmt_num(*x)).collect::<Vec<_>>().join(", ")
@@ -102,6 +102,26 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
             ));
         }
     }
+    // A coupled mass matrix's diagonal is no mass at a point (a reduced model's): a shot is
+    // stated against the lowest mode's modal mass there instead.
+    let at_point = (!s.is_lumped()).then(|| crate::model::modal::symmetric_modes(&s.mass_matrix(), &s.stiffness));
+    let mu = |d: &crate::model::Damper| match &at_point {
+        None => format!("mu = {}", fmt_num(d.mass / s.masses[d.host])),
+        Some(modes) => {
+            let row = modes.mass_normalised.row(d.host);
+            let largest = modes.mass_normalised.amax();
+            match row.iter().position(|phi| phi.abs() > 1e-6 * largest) {
+                // phi normalised to 1 at the point: its modal mass is 1 / phi_p^2.
+                Some(i) => format!(
+                    "mu = {} of mode {}'s modal mass at the point, {} kg",
+                    fmt_sig(d.mass * row[i] * row[i], 3),
+                    i + 1,
+                    fmt_sig(1.0 / (row[i] * row[i]), 4)
+                ),
+                None => "no mode moves the point".to_string(),
+            }
+        }
+    };
     for c in &exp.cases {
         let d = if c.beds.is_empty() {
             "no damper".to_string()
@@ -128,12 +148,7 @@ pub fn parameters(exp: &Experiment) -> Vec<(String, String)> {
                         crate::model::Direction::Vertical => "",
                         crate::model::Direction::Horizontal => ", horizontal",
                     };
-                    format!(
-                        "m_{}: m_d = {} kg (mu = {}), d = {clr}{bed}{along}",
-                        d.host + 1,
-                        fmt_num(d.mass),
-                        fmt_num(d.mass / s.masses[d.host])
-                    )
+                    format!("m_{}: m_d = {} kg ({}), d = {clr}{bed}{along}", d.host + 1, fmt_num(d.mass), mu(d))
                 })
                 .collect::<Vec<_>>()
                 .join("; ")

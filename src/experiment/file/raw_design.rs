@@ -26,6 +26,10 @@ pub struct RawDesign {
     /// draw the reduction against the drive level (not part of the objective).
     #[serde(default)]
     pub drive_levels_n: Option<Vec<f64>>,
+    /// `"nominal"` (default: the objective at the file's force) or
+    /// `"worst_over_drive_levels"` (the worst over `drive_levels_n`).
+    #[serde(default)]
+    pub objective: Option<String>,
     /// The direction every container's bed moves in: "vertical" (default, the paper's) or
     /// "horizontal".
     #[serde(default)]
