@@ -389,7 +389,7 @@ pub fn table(name: &str, description: &str, curves: &[&Curve], n: usize, beds: u
             )
             .f64(
                 format!("max_flight_mm_d{}", j + 1),
-                rows.iter().map(|(c, i)| 1e3 * get(&c.max_flight, *i, j)).collect(),
+                rows.iter().map(|(c, i)| crate::number::decimal(1e3 * get(&c.max_flight, *i, j))).collect(),
             );
     }
     t = t

@@ -340,6 +340,8 @@ fn plan_after(exp: &Experiment, spec: &Spec, per_judged: Option<std::time::Durat
     let judged =
         pages + (spec.drive_level_count() * (1 + exp.cases.len())) as u64 + 1 + u64::from(exp.excitation.supports);
     let searched = placements + placements * budget.searches as u64 * screened;
+    // A stopped search's drive levels (the best layout's) follow its judging on the file's model.
+    spec.halt.plan_after_judging(spec.drive_level_count() as u64);
     match per_judged {
         Some(per) if screened > 0 => {
             spec.halt.plan_after_dearer(searched, judged, Some(per), budget.judged_over_searched(exp.structure.dof()))

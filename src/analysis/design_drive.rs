@@ -108,7 +108,7 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
                 with_g,
                 m.lifting as i64,
                 m.points as i64,
-                m.flight_m * 1e3,
+                crate::number::decimal(m.flight_m * 1e3),
             ));
             if k == 0 && m.points > 0 && m.share() < FEW {
                 // Below 1 g at the hosts vertical beds cannot lift off: the motion is the
@@ -241,7 +241,11 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
         let at: Vec<String> = inputs
             .levels
             .iter()
-            .map(|(f, o)| format!("{} at {}", fmt_sig(*o, 2), problem.drive().amount(&fmt_sig(*f, 3))))
+            // Above 1 to the digits that keep it above 1 (1.03 is not "1").
+            .map(|(f, o)| {
+                let o = if *o > 1.0 { above_one(*o) } else { fmt_sig(*o, 2) };
+                format!("{o} at {}", problem.drive().amount(&fmt_sig(*f, 3)))
+            })
             .collect();
         format!(" At other drive levels the same layout gives {} (design_drive_levels).", at.join(", "))
     } else {

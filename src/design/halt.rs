@@ -112,6 +112,9 @@ pub struct After {
     /// Evaluations timed, and their total wall time, ns.
     timed: AtomicU64,
     nanos: AtomicU64,
+    /// Evaluations on the file's model that follow the judging of a screened search (the
+    /// best layout's drive levels): the judging leaves them room at its own pace.
+    after_judging: AtomicU64,
 }
 
 impl PartialEq for Halt {
@@ -154,6 +157,16 @@ impl Halt {
         self.after.judged.store(judged, Ordering::Relaxed);
         let ns = per_judged.map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX));
         self.after.judged_nanos.store(ns, Ordering::Relaxed);
+    }
+
+    /// Sets the evaluations on the file's model that follow the judging ([`Halt::after_judging`]).
+    pub fn plan_after_judging(&self, evaluations: u64) {
+        self.after.after_judging.store(evaluations, Ordering::Relaxed);
+    }
+
+    /// The evaluations on the file's model that follow the judging of a screened search.
+    pub fn after_judging(&self) -> u64 {
+        self.after.after_judging.load(Ordering::Relaxed)
     }
 
     /// Sets this halt's search's share of the outlook ([`Outlook`]).

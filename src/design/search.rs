@@ -471,10 +471,12 @@ pub fn found_until(judged: On, screen: Option<On>, space: &Space, searched: &[Se
     let threads = rayon::current_num_threads().max(1);
     let mut on_file: Vec<Option<Evaluation>> = vec![None; layouts.len()];
     let per_round = if halt.interrupted() { 1 } else { threads };
-    // The longest round so far: a round expected to end past the deadline is not begun.
+    // The longest round so far: a round expected to end past the deadline, with the rounds
+    // of what follows on the file's model (the drive levels) after it, is not begun.
     let mut longest = std::time::Duration::ZERO;
+    let rounds_after = halt.after_judging().div_ceil(threads as u64) as u32;
     for (round, chunk) in order.chunks(per_round).enumerate() {
-        let late = halt.deadline.is_some_and(|d| std::time::Instant::now() + longest > d);
+        let late = halt.deadline.is_some_and(|d| std::time::Instant::now() + longest * (1 + rounds_after) > d);
         if round > 0 && (halt.passed() || late) {
             break;
         }

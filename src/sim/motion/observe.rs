@@ -569,6 +569,32 @@ impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {
     }
 }
 
+/// An observer that may be absent: what is asked for only sometimes (the energy terms, the
+/// storeys' peaks) rides along as an `Option` (nothing is observed when it is `None`).
+impl<O: Observer> Observer for Option<O> {
+    fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+        if let Some(o) = self {
+            o.segment(d, seg, beds, t_a, t_b);
+        }
+    }
+    fn event(&mut self, ev: &Event, after: &State) {
+        if let Some(o) = self {
+            o.event(ev, after);
+        }
+    }
+    fn wants_jumps(&self) -> bool {
+        self.as_ref().is_some_and(|o| o.wants_jumps())
+    }
+    fn jump(&mut self, d: &Dynamics, before: &State, after: &State, hits: &[Watch]) {
+        if let Some(o) = self {
+            o.jump(d, before, after, hits);
+        }
+    }
+    fn done(&self) -> bool {
+        self.as_ref().is_some_and(|o| o.done())
+    }
+}
+
 /// A state as a flat vector for distances: displacements, velocities / omega, and for each
 /// bed its height above the bottom and relative velocity / omega.
 pub fn flat(d: &Dynamics, s: &State) -> DVector<f64> {

@@ -152,14 +152,11 @@ pub(super) fn measure_within(
         crate::sim::motion::cancel::check();
         k += 1.0;
         let mut per = Extrema::observing(n, nb, opts.observe);
-        let run = match (&mut energy, &mut peaks) {
-            (Some(e), None) => engine.advance(&mut s, k * period, &mut Both(&mut per, &mut Both(e, &mut tangent))),
-            (None, None) => engine.advance(&mut s, k * period, &mut Both(&mut per, &mut tangent)),
-            (Some(e), Some(p)) => {
-                engine.advance(&mut s, k * period, &mut Both(&mut Both(&mut per, p), &mut Both(e, &mut tangent)))
-            }
-            (None, Some(p)) => engine.advance(&mut s, k * period, &mut Both(&mut Both(&mut per, p), &mut tangent)),
-        };
+        let run = engine.advance(
+            &mut s,
+            k * period,
+            &mut Both(&mut Both(&mut per, &mut peaks), &mut Both(&mut energy, &mut tangent)),
+        );
         if let Err(e) = run {
             stop = Some(e);
             break;

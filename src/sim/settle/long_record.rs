@@ -40,19 +40,14 @@ pub fn extend(d: &Dynamics, st: Steady) -> Steady {
     // The storeys' drifts and floors' accelerations over the whole long record, when the
     // short one had them.
     let mut peaks = st.peaks.as_ref().map(|_| super::steady::peaks_of(d));
-    let mut none = crate::sim::motion::engine::Quiet;
-    let mut first_obs = Both(&mut whole, &mut energy);
-    let first = match &mut peaks {
-        Some(p) => engine.advance(&mut s, t0 + half as f64 * period, &mut Both(&mut first_obs, p)),
-        None => engine.advance(&mut s, t0 + half as f64 * period, &mut Both(&mut first_obs, &mut none)),
-    };
+    let first =
+        engine.advance(&mut s, t0 + half as f64 * period, &mut Both(&mut Both(&mut whole, &mut energy), &mut peaks));
     let rest = first.and_then(|_| {
-        let end = t0 + LONG_RECORD_PERIODS as f64 * period;
-        let mut obs = Both(&mut Both(&mut whole, &mut second), &mut energy);
-        match &mut peaks {
-            Some(p) => engine.advance(&mut s, end, &mut Both(&mut obs, p)),
-            None => engine.advance(&mut s, end, &mut Both(&mut obs, &mut none)),
-        }
+        engine.advance(
+            &mut s,
+            t0 + LONG_RECORD_PERIODS as f64 * period,
+            &mut Both(&mut Both(&mut Both(&mut whole, &mut second), &mut energy), &mut peaks),
+        )
     });
     if let Err(stop) = rest {
         return Steady { stop: Some(stop), ..st };

@@ -463,27 +463,19 @@ pub(crate) fn peaks_of(d: &Dynamics) -> Peaks {
 impl Observer for Recorder {
     fn segment(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
         self.ext.segment(d, seg, beds, t_a, t_b);
-        if let Some(e) = &mut self.energy {
-            e.segment(d, seg, beds, t_a, t_b);
-        }
-        if let Some(p) = &mut self.peaks {
-            p.segment(d, seg, beds, t_a, t_b);
-        }
+        self.energy.segment(d, seg, beds, t_a, t_b);
+        self.peaks.segment(d, seg, beds, t_a, t_b);
     }
     fn event(&mut self, ev: &Event, after: &State) {
         self.ext.event(ev, after);
-        if let Some(e) = &mut self.energy {
-            e.event(ev, after);
-        }
+        self.energy.event(ev, after);
     }
     fn wants_jumps(&self) -> bool {
-        self.ext.wants_jumps() || self.energy.as_ref().is_some_and(|e| e.wants_jumps())
+        self.ext.wants_jumps() || self.energy.wants_jumps()
     }
     fn jump(&mut self, d: &Dynamics, before: &State, after: &State, hits: &[Watch]) {
         self.ext.jump(d, before, after, hits);
-        if let Some(e) = &mut self.energy {
-            e.jump(d, before, after, hits);
-        }
+        self.energy.jump(d, before, after, hits);
     }
 }
 
