@@ -253,6 +253,16 @@ fn shaken_chain(added: [f64; 3], f_hz: f64) -> Vec<Complex64> {
     dyn_stiff.lu().solve(&load).expect("regular").iter().copied().collect()
 }
 
+/// The stuck chain's closed form at `f_hz` for storey `i` (0-based), per unit ground
+/// acceleration, by the name of its table column: with `u = -h A`, the compliance `|h_i|`,
+/// the storey's drift `|h_i - h_(i-1)|` and the floor's absolute acceleration `|w^2 h_i + 1|`
+/// (a riding bed moves with its floor).
+fn stuck_storey(added: [f64; 3], f_hz: f64, i: usize) -> [(&'static str, f64); 3] {
+    let h = shaken_chain(added, f_hz);
+    let drift = if i == 0 { h[0] } else { h[i] - h[i - 1] };
+    [("c", h[i].norm()), ("drift", drift.norm()), ("acc", (h[i] * (2.0 * PI * f_hz).powi(2) + 1.0).norm())]
+}
+
 #[test]
 fn an_experiment_file_shakes_the_supports_and_reports_relative_compliance() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -282,13 +292,8 @@ fn an_experiment_file_shakes_the_supports_and_reports_relative_compliance() {
         for row in &rows[1..] {
             let f: f64 = row[freq].parse().expect("frequency");
             let added = if row[curve] == "bare" { [0.0; 3] } else { [0.074, 0.0, 0.064] };
-            let h = shaken_chain(added, f);
-            let w2 = (2.0 * PI * f).powi(2);
             for i in 0..3 {
-                // u = -h A: the compliance |h_i|, the storey's drift |h_i - h_(i-1)|, the floor's
-                // absolute acceleration |w^2 h_i + 1| (a riding bed moves with its floor).
-                let drift = if i == 0 { h[0] } else { h[i] - h[i - 1] };
-                for (name, want) in [("c", h[i].norm()), ("drift", drift.norm()), ("acc", (h[i] * w2 + 1.0).norm())] {
+                for (name, want) in stuck_storey(added, f, i) {
                     let got: f64 = row[col(&format!("{name}{}", i + 1))].parse().expect("a number");
                     assert!(
                         (got - want).abs() < 1e-7 * want,
@@ -336,11 +341,8 @@ fn a_design_on_moving_supports_is_per_unit_ground_acceleration_with_its_storeys(
     for row in &rows[1..] {
         let f: f64 = row[col("freq_hz")].parse().expect("frequency");
         let added = if row[col("layout")] == "bare" { [0.0; 3] } else { [0.0, 0.0, 0.064] };
-        let h = shaken_chain(added, f);
-        let w2 = (2.0 * PI * f).powi(2);
         for i in 0..3 {
-            let drift = if i == 0 { h[0] } else { h[i] - h[i - 1] };
-            for (name, want) in [("drift", drift.norm()), ("acc", (h[i] * w2 + 1.0).norm())] {
+            for (name, want) in stuck_storey(added, f, i).into_iter().skip(1) {
                 let got: f64 = row[col(&format!("{name}{}", i + 1))].parse().expect("a number");
                 assert!((got - want).abs() < 1e-7 * want, "{}, {f} Hz, {name}{}: {got} vs {want}", row[0], i + 1);
             }
