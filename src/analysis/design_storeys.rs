@@ -38,9 +38,9 @@ pub fn storeys(
     let with = p.system(sc, dampers);
     let steady = SteadyOptions { peaks: true, ..p.steady };
     let mut rows: Vec<Row> = Vec::new();
+    let mass = bare_sys.structure.mass_matrix();
     for band in &spec.bands {
         let omegas: Vec<f64> = band.freq_hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
-        let mass = bare_sys.structure.mass_matrix();
         let bare = crate::model::frf::support_peaks_curve(&bare_sys.structure, &mass, &omegas);
         let best = simulated(&with, &band.freq_hz, &p.sweeps, &steady, sc.force);
         for (layout, peaks) in [("bare", &bare), (label, &best)] {

@@ -253,6 +253,14 @@ fn shaken_chain(added: [f64; 3], f_hz: f64) -> Vec<Complex64> {
     dyn_stiff.lu().solve(&load).expect("regular").iter().copied().collect()
 }
 
+/// `shotdamp COMMAND FILE --out OUT`, which must succeed, and the rows of its table `table`
+/// (a path under `OUT`).
+fn run_for_table(command: &str, file: &std::path::Path, out: &std::path::Path, table: &str) -> Vec<Vec<String>> {
+    let o = common::shotdamp().arg(command).arg(file).arg("--out").arg(out).output().expect("runs");
+    assert!(o.status.success(), "{}: {}", file.display(), String::from_utf8_lossy(&o.stderr));
+    common::csv_rows(&std::fs::read_to_string(out.join(table)).expect(table))
+}
+
 /// The stuck chain's closed form at `f_hz` for storey `i` (0-based), per unit ground
 /// acceleration, by the name of its table column: with `u = -h A`, the compliance `|h_i|`,
 /// the storey's drift `|h_i - h_(i-1)|` and the floor's absolute acceleration `|w^2 h_i + 1|`
@@ -278,14 +286,7 @@ fn an_experiment_file_shakes_the_supports_and_reports_relative_compliance() {
         let file = shaken_file(dir.path(), "shaken", excitation, &format!("kind = \"{kind}\"\n{grid}"), dampers);
         let out_dir = dir.path().join(format!("out_{kind}"));
         let _ = std::fs::remove_dir_all(&out_dir);
-        let out = common::shotdamp()
-            .args(["run", file.to_str().expect("utf-8"), "--out"])
-            .arg(&out_dir)
-            .output()
-            .expect("runs");
-        assert!(out.status.success(), "{kind}: {}", String::from_utf8_lossy(&out.stderr));
-        let csv = std::fs::read_to_string(out_dir.join("shaken/data/compliance.csv")).expect("compliance table");
-        let rows = common::csv_rows(&csv);
+        let rows = run_for_table("run", &file, &out_dir, "shaken/data/compliance.csv");
         let col = |name: &str| rows[0].iter().position(|h| h == name).expect(name);
         let (curve, freq) = (col("curve"), col("freq_hz"));
         let mut seen = 0;
@@ -328,14 +329,7 @@ fn a_design_on_moving_supports_is_per_unit_ground_acceleration_with_its_storeys(
     )
     .expect("write");
     let out_dir = dir.path().join("out");
-    let out = common::shotdamp()
-        .args(["design", file.to_str().expect("utf-8"), "--out"])
-        .arg(&out_dir)
-        .output()
-        .expect("runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let csv = std::fs::read_to_string(out_dir.join("shaken_design/data/design_storeys.csv")).expect("storeys table");
-    let rows = common::csv_rows(&csv);
+    let rows = run_for_table("design", &file, &out_dir, "shaken_design/data/design_storeys.csv");
     let col = |name: &str| rows[0].iter().position(|h| h == name).expect(name);
     let mut seen = 0;
     for row in &rows[1..] {
