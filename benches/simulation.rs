@@ -172,6 +172,23 @@ fn ground_record(c: &mut Criterion) {
     c.bench_function("ground: bare 5 storeys, El Centro 31.2 s, exact (sub 4)", |b| {
         b.iter(|| linear_response(&s, &rec, 4).expect("a response"))
     });
+    // The same building with shot: three horizontal containers of 3.78 t (5 % of the
+    // building in all) on floors 3-5, d = 100 mm, plastic (`sim::record`, events exact);
+    // and bare through the same engine.
+    use shotdamp::model::{Clearance, Damper, Direction};
+    use shotdamp::sim::record::{respond, RecordOptions};
+    let beds = (2..5)
+        .map(|h| Damper::new(h, 0.05 * 5.0 * m / 3.0, Clearance::from_mm(100.0)).along(Direction::Horizontal))
+        .collect();
+    let with_shot = shotdamp::sim::System::plastic(s.clone(), beds, 0, 0.0);
+    let bare = shotdamp::sim::System::plastic(s.clone(), Vec::new(), 0, 0.0);
+    let events = respond(&with_shot, &rec, RecordOptions::default()).expect("a response").events;
+    c.bench_function(&format!("record: 5 storeys + 3 containers, El Centro 31.2 s ({events} events)"), |b| {
+        b.iter(|| respond(&with_shot, &rec, RecordOptions::default()).expect("a response"))
+    });
+    c.bench_function("record: bare 5 storeys, El Centro 31.2 s (the record engine)", |b| {
+        b.iter(|| respond(&bare, &rec, RecordOptions::default()).expect("a response"))
+    });
 }
 
 criterion_group! {

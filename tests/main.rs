@@ -33,6 +33,7 @@ mod models;
 mod opensees;
 mod periodic;
 mod readings;
+mod record;
 mod reliability;
 mod repeated;
 mod report_budget;

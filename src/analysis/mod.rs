@@ -30,6 +30,8 @@ pub mod study;
 pub mod study_adaptive;
 pub mod study_samples;
 mod sweep;
+mod time_history;
+mod time_history_figures;
 mod waveform;
 pub use waveform::event_words;
 
@@ -70,6 +72,9 @@ fn kind(analysis: &Analysis) -> Box<dyn Kind + '_> {
             Box::new(orbits::Sdof { mode: *mode, freq_hz, clearances_mm: clearances_mm.as_deref(), steady })
         }
         Analysis::Design { spec, steady } => Box::new(design::Design { spec, steady }),
+        Analysis::TimeHistory { records, storey_heights_m } => {
+            Box::new(time_history::TimeHistory { records, storey_heights_m: storey_heights_m.as_deref() })
+        }
     }
 }
 

@@ -221,7 +221,7 @@ pub fn analysis(
         steady.max_periods = DESIGN_MAX_PERIODS.max(steady.min_periods);
     }
     // Keys of [analysis] that each kind reads; any other key given is an error.
-    let given: [(&str, bool); 18] = [
+    let given: [(&str, bool); 20] = [
         ("mode", a.mode.is_some()),
         ("freq_hz", a.freq_hz.is_some()),
         ("start", a.start.is_some()),
@@ -240,6 +240,8 @@ pub fn analysis(
         ("sample_rate_hz", a.sample_rate_hz.is_some()),
         ("spectrum_hz", a.spectrum_hz.is_some()),
         ("decay_levels", a.decay_levels.is_some()),
+        ("ground_motions", a.ground_motions.is_some()),
+        ("storey_height_m", a.storey_height_m.is_some()),
     ];
     // The table of kinds first: a kind without its line there is unknown.
     let Some(spec) = super::kind::kind_spec(&a.kind) else {
@@ -270,6 +272,7 @@ pub fn analysis(
             None => Err(Error::invalid(path, "design", "(missing)", "analysis kind \"design\" needs a [design] table")),
         },
         "sdof_periodic" => sdof_periodic(path, &a, n, steady),
+        "time_history" => time_history(path, &a, n),
         other => Err(Error::invalid(
             path,
             "analysis.kind",
@@ -509,4 +512,39 @@ fn clearance_list(path: &Path, list: Option<&[f64]>) -> Result<Option<Vec<f64>>>
     }
     super::fields::distinct(path, "analysis.clearances_mm", list, MAX_CLEARANCES, "clearances")?;
     Ok(Some(list.to_vec()))
+}
+
+/// Validates a time history: its records (read and scaled) and the storeys' heights.
+fn time_history(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
+    let Some(raw) = &a.ground_motions else {
+        return Err(Error::invalid(
+            path,
+            "analysis.ground_motions",
+            "(missing)",
+            "analysis kind \"time_history\" needs its records: ground_motions = [{ file = \"...\", peak_g = ... }]",
+        ));
+    };
+    let records = super::ground::records(path, raw)?;
+    let key = "analysis.storey_height_m";
+    let storey_heights_m = match &a.storey_height_m {
+        None => None,
+        Some(super::file::raw::RawHeights::One(h)) => Some(vec![*h; n]),
+        Some(super::file::raw::RawHeights::Each(list)) => {
+            if list.len() != n {
+                return Err(Error::invalid(
+                    path,
+                    key,
+                    format!("{} heights", list.len()),
+                    format!("give one height for every storey, or one a storey ({n})"),
+                ));
+            }
+            Some(list.clone())
+        }
+    };
+    if let Some(h) =
+        storey_heights_m.as_ref().and_then(|l| l.iter().find(|h| !(h.is_finite() && **h > 0.0 && **h <= 1e3)))
+    {
+        return Err(Error::invalid(path, key, h, "storey heights above 0 and at most 1000 m"));
+    }
+    Ok(Analysis::TimeHistory { records, storey_heights_m })
 }

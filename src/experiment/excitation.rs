@@ -22,17 +22,25 @@ pub struct Excitation {
     pub force: f64,
     /// The supports move (`force` is their acceleration) instead of a force on `mass`.
     pub supports: bool,
+    /// The supports move with recorded ground motions (a time history's), not harmonically.
+    pub ground: bool,
 }
 
 impl Excitation {
     /// A force `F sin(omega t)` on mass `mass` (0-based).
     pub fn force(mass: usize, force: f64) -> Excitation {
-        Excitation { mass, force, supports: false }
+        Excitation { mass, force, supports: false, ground: false }
     }
 
     /// Supports accelerating as `A sin(omega t)`, m/s^2.
     pub fn supports(accel: f64) -> Excitation {
-        Excitation { mass: 0, force: accel, supports: true }
+        Excitation { mass: 0, force: accel, supports: true, ground: false }
+    }
+
+    /// The supports moving with recorded ground motions (amplitude 1 m/s^2: responses are
+    /// given as they are, not per unit).
+    pub fn records() -> Excitation {
+        Excitation { mass: 0, force: 1.0, supports: true, ground: true }
     }
 
     /// What drives, for words and units ([`Drive`]).
@@ -57,7 +65,9 @@ impl Excitation {
 
     /// The excitation in words, e.g. "F = 2.6 N sin(omega t) on m_1".
     pub fn describe(&self) -> String {
-        if self.supports {
+        if self.ground {
+            "the supports move with the recorded ground accelerations of analysis.ground_motions (linear between samples); displacements relative to the supports".into()
+        } else if self.supports {
             format!(
                 "supports accelerate as A = {} m/s^2 ({} g) sin(omega t); displacements relative to the supports",
                 fmt_num(self.force),
@@ -78,6 +88,34 @@ impl Excitation {
             sys
         }
     }
+}
+
+/// The excitation of a time history: its records drive it, so `[excitation]` is left out;
+/// the structure must be held by its supports (a stiffness matrix that is not singular).
+pub(super) fn ground(path: &Path, e: &RawExcitation, structure: &Structure) -> Result<Excitation> {
+    let given = [
+        ("excitation.mass", e.mass.is_some()),
+        ("excitation.force_n", e.force_n.is_some()),
+        ("excitation.base_acceleration_m_s2", e.base_acceleration_m_s2.is_some()),
+        ("excitation.base_acceleration_g", e.base_acceleration_g.is_some()),
+    ];
+    if let Some((key, _)) = given.iter().find(|g| g.1) {
+        return Err(Error::invalid(
+            path,
+            *key,
+            "(given)",
+            "a time history is driven by its records (analysis.ground_motions): leave [excitation] out",
+        ));
+    }
+    if structure.stiffness.clone().try_inverse().is_none() {
+        return Err(Error::invalid(
+            path,
+            "structure",
+            "(a singular stiffness matrix)",
+            "a structure under ground motion must be held by its supports",
+        ));
+    }
+    Ok(Excitation::records())
 }
 
 /// The excitation of an experiment file: either `mass` and `force_n`, or one of

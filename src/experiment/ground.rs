@@ -19,6 +19,116 @@ pub fn read(path: &Path) -> Result<GroundMotion> {
     }
 }
 
+/// One recorded ground motion of a time history, read and scaled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// A short key for figure and table names: the file's stem in lower case, letters,
+    /// digits and `_` only.
+    pub key: String,
+    /// Its name on the page.
+    pub name: String,
+    /// The file as the experiment names it.
+    pub file: String,
+    /// How it was scaled, in words (e.g. "scaled to a peak of 0.4 g (x 1.255)").
+    pub scaling: String,
+    /// The scaled record.
+    pub motion: GroundMotion,
+}
+
+/// Most records one time history may run.
+pub const MAX_RECORDS: usize = 64;
+
+/// Most samples one record may have.
+pub const MAX_SAMPLES: usize = 2_000_000;
+
+/// Reads and scales the ground motions of `analysis.ground_motions` of the experiment file
+/// `path` (their files relative to it).
+pub fn records(path: &Path, raw: &[super::file::raw::RawGroundMotion]) -> Result<Vec<Record>> {
+    let key = "analysis.ground_motions";
+    if raw.is_empty() || raw.len() > MAX_RECORDS {
+        return Err(Error::invalid(
+            path,
+            key,
+            format!("{} records", raw.len()),
+            format!("list 1 to {MAX_RECORDS} records: {{ file = \"...\", peak_g = ... }}"),
+        ));
+    }
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let mut out: Vec<Record> = Vec::new();
+    for (i, r) in raw.iter().enumerate() {
+        let at = |k: &str| format!("{key}[{i}].{k}");
+        let file = dir.join(&r.file);
+        if !file.is_file() {
+            return Err(Error::invalid(
+                path,
+                at("file"),
+                format!("\"{}\"", r.file),
+                format!("no such file: {} (paths are relative to the experiment file)", file.display()),
+            ));
+        }
+        let motion = read(&file)?;
+        if motion.accel_m_s2.len() < 2 || motion.accel_m_s2.len() > MAX_SAMPLES {
+            return Err(Error::invalid(
+                path,
+                at("file"),
+                format!("{} samples", motion.accel_m_s2.len()),
+                format!("a record of 2 to {MAX_SAMPLES} samples"),
+            ));
+        }
+        let (peak, _) = motion.peak();
+        let (motion, scaling) = match (r.scale, r.peak_g) {
+            (Some(_), Some(g)) => {
+                return Err(Error::invalid(path, at("peak_g"), g, "give one of scale and peak_g, not both"))
+            }
+            (Some(s), None) => {
+                if !(s.is_finite() && s > 0.0 && s <= 1e3) {
+                    return Err(Error::invalid(path, at("scale"), s, "a factor above 0 and at most 1000"));
+                }
+                let words = if s == 1.0 {
+                    "as recorded".to_string()
+                } else {
+                    format!("scaled by {}", crate::number::fmt_num(s))
+                };
+                (motion.scaled(s), words)
+            }
+            (None, Some(g)) => {
+                if !(g.is_finite() && g > 0.0 && g <= 10.0) {
+                    return Err(Error::invalid(path, at("peak_g"), g, "a peak above 0 and at most 10 g"));
+                }
+                if peak == 0.0 {
+                    return Err(Error::invalid(
+                        path,
+                        at("peak_g"),
+                        g,
+                        "the record is all zero: it cannot be scaled to a peak",
+                    ));
+                }
+                let factor = g * GRAVITY / peak;
+                (
+                    motion.scaled_to_peak_g(g),
+                    format!(
+                        "scaled to a peak of {} g (x {})",
+                        crate::number::fmt_num(g),
+                        crate::number::fmt_sig(factor, 4)
+                    ),
+                )
+            }
+            (None, None) => (motion, "as recorded".to_string()),
+        };
+        let stem = Path::new(&r.file)
+            .file_stem()
+            .map_or_else(|| format!("record{}", i + 1), |s| s.to_string_lossy().into_owned());
+        let mut key: String =
+            stem.to_ascii_lowercase().chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '_' }).collect();
+        if out.iter().any(|o| o.key == key) {
+            key = format!("{key}_{}", i + 1);
+        }
+        let name = r.name.clone().unwrap_or_else(|| motion.name.clone());
+        out.push(Record { key, name, file: r.file.clone(), scaling, motion });
+    }
+    Ok(out)
+}
+
 /// An error at `line` (1-based) and `column` (1-based, characters) of `file`.
 fn at(file: &Path, line: usize, column: usize, value: &str, what: &str) -> Error {
     Error::invalid(file, format!("line {line}, column {column}"), format!("\"{value}\""), what)

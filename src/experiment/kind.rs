@@ -81,6 +81,14 @@ pub enum Analysis {
         /// Envelope levels whose decay times are measured (fractions of the first peak).
         levels: Vec<f64>,
     },
+    /// The response of every case to recorded ground motions (docs/model.md section 5):
+    /// peaks, RMS values and energies storey by storey, with and without shot.
+    TimeHistory {
+        /// The records, read and scaled.
+        records: Vec<super::ground::Record>,
+        /// Each storey's height, m, for drift ratios (a chain's).
+        storey_heights_m: Option<Vec<f64>>,
+    },
 }
 
 /// One analysis kind of experiment files: its name and the keys of `[analysis]` it reads (any
@@ -139,6 +147,7 @@ pub const KINDS: &[KindSpec] = &[
         answers: false,
     },
     KindSpec { name: "design", reads: &["steady"], simulates: true, answers: true },
+    KindSpec { name: "time_history", reads: &["ground_motions", "storey_height_m"], simulates: true, answers: false },
 ];
 
 /// The kind named `name` in a file.
@@ -163,6 +172,7 @@ impl Analysis {
             Analysis::Impulse { .. } => "impulse",
             Analysis::SdofPeriodic { .. } => "sdof_periodic",
             Analysis::Design { .. } => "design",
+            Analysis::TimeHistory { .. } => "time_history",
         }
     }
 
@@ -186,6 +196,9 @@ impl Analysis {
                 ("spectrum", PlotKind::Spectrum),
                 ("damping", PlotKind::Damping),
             ],
+            Analysis::TimeHistory { .. } => {
+                &[("ground_histories", PlotKind::GroundHistories), ("storey_profiles", PlotKind::StoreyProfiles)]
+            }
         }
     }
 

@@ -259,6 +259,12 @@ pub enum PlotKind {
     Orbits,
     /// Periodic orbits: peak compliance of the SDOF branch against the candidate clearances.
     ClearanceChoice,
+    /// Time history: the roof's (the top coordinate's) displacement relative to the ground and
+    /// absolute acceleration against time, per record.
+    GroundHistories,
+    /// Time history: each storey's peak drift and floor acceleration, per record and over the
+    /// suite.
+    StoreyProfiles,
 }
 
 /// The kinds of check an experiment can ask for.

@@ -73,7 +73,11 @@ pub(super) fn validate_keeping(
             ),
         ));
     }
-    let excitation = excitation(path, &raw.excitation, &structure.masses[..responses])?;
+    let excitation = if raw.analysis.kind == "time_history" {
+        super::excitation::ground(path, &raw.excitation, &structure)?
+    } else {
+        excitation(path, &raw.excitation, &structure.masses[..responses])?
+    };
 
     let cases = cases(path, raw.cases, &structure)?;
     if let Some(f) = fe {
@@ -93,6 +97,16 @@ pub(super) fn validate_keeping(
         spec.screen = screen;
     }
     design_fits(path, &analysis, fe, &excitation, &structure)?;
+    if let Analysis::TimeHistory { storey_heights_m: Some(_), .. } = &analysis {
+        if !structure.is_chain() {
+            return Err(Error::invalid(
+                path,
+                "analysis.storey_height_m",
+                "(given)",
+                "storey heights give drift ratios of a chain of storeys (structure.masses_kg with chain stiffnesses): this structure has no storeys",
+            ));
+        }
+    }
     if excitation.supports {
         super::excitation::supports_fit(path, &analysis)?;
     }

@@ -1,5 +1,5 @@
 //! The exact response of a bare (linear) structure to a recorded ground motion
-//! (docs/model.md section 6, "Ground motions"): the ground's acceleration linear between
+//! (docs/model.md section 5, "Recorded ground motions"): the ground's acceleration linear between
 //! samples, the structure's state carried from sample to sample by the matrix exponential of
 //! its first-order system augmented with the ground's acceleration and its slope, so each
 //! step is exact (no time-stepping error; the exponential to rounding). Each interval is cut
@@ -109,7 +109,7 @@ impl FirstOrder {
 
 /// The largest magnitude of the cubic through `(0, y0)` and `(h, y1)` with slopes `d0` and
 /// `d1` over `[0, h]` (its ends and its stationary points inside).
-fn hermite_peak(y0: f64, d0: f64, y1: f64, d1: f64, h: f64) -> f64 {
+pub fn hermite_peak(y0: f64, d0: f64, y1: f64, d1: f64, h: f64) -> f64 {
     // y(s) = y0 + d0 h s + c2 s^2 + c3 s^3, s in [0, 1].
     let (p0, p1) = (d0 * h, d1 * h);
     let c2 = 3.0 * (y1 - y0) - 2.0 * p0 - p1;

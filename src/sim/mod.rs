@@ -5,6 +5,7 @@
 
 pub mod motion;
 pub mod orbits;
+pub mod record;
 pub mod settle;
 
 // The types and entry points most callers need, at the top; every module has one path,

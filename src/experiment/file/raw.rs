@@ -23,7 +23,8 @@ pub struct RawExperiment {
     pub experiment: RawMeta,
     /// `[structure]`.
     pub structure: RawStructure,
-    /// `[excitation]`.
+    /// `[excitation]` (left out by a time history, which its records drive).
+    #[serde(default)]
     pub excitation: RawExcitation,
     /// `[analysis]`.
     pub analysis: RawAnalysis,
@@ -236,7 +237,7 @@ pub struct RawDamping {
     pub assumption: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 /// `[excitation]`: `F sin(omega t)` on one mass, or the supports accelerating as `A sin(omega
 /// t)`.
@@ -316,6 +317,40 @@ pub struct RawAnalysis {
     /// Impulse: fractions of the first envelope peak whose decay times are measured.
     #[serde(default)]
     pub decay_levels: Option<Vec<f64>>,
+    /// Time history: the recorded ground motions.
+    #[serde(default)]
+    pub ground_motions: Option<Vec<RawGroundMotion>>,
+    /// Time history: the storeys' heights, m (one for all, or one a storey).
+    #[serde(default)]
+    pub storey_height_m: Option<RawHeights>,
+}
+
+/// One recorded ground motion of a time history: its file (relative to the experiment file)
+/// and how it is scaled.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawGroundMotion {
+    /// The record file: PEER `.AT2`, or CSV of time and acceleration with its unit named.
+    pub file: String,
+    /// Its name on the page (default: the file's title or name).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// A factor on its accelerations.
+    #[serde(default)]
+    pub scale: Option<f64>,
+    /// Its peak after scaling, g (instead of `scale`).
+    #[serde(default)]
+    pub peak_g: Option<f64>,
+}
+
+/// Storey heights: one for every storey, or one a storey.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum RawHeights {
+    /// The same height for every storey, m.
+    One(f64),
+    /// Each storey's height from the ground up, m.
+    Each(Vec<f64>),
 }
 
 /// Steady-state settings (docs/model.md section 3, docs/simulator.md).

