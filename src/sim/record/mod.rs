@@ -32,11 +32,15 @@ pub enum RecordStop {
 pub struct RecordOptions {
     /// Most events (impacts and lift-offs) before the run stops.
     pub max_events: usize,
+    /// Most samples of the histories kept ([`RecordResponse::t`]): a longer record keeps every
+    /// k-th sample (and the last), so memory stays bounded; peaks, RMS values and energies are
+    /// over every sample and between them whatever this is.
+    pub max_history: usize,
 }
 
 impl Default for RecordOptions {
     fn default() -> Self {
-        RecordOptions { max_events: 2_000_000 }
+        RecordOptions { max_events: 2_000_000, max_history: 20_000 }
     }
 }
 
@@ -56,7 +60,8 @@ pub struct BedTally {
 /// The response of a structure with its beds to a record.
 #[derive(Debug, Clone)]
 pub struct RecordResponse {
-    /// The sample times reached, s.
+    /// The sample times reached, s (every one, or every k-th and the last: see
+    /// [`RecordOptions::max_history`]).
     pub t: Vec<f64>,
     /// Per sample: each coordinate's displacement relative to the supports, m.
     pub u: Vec<Vec<f64>>,

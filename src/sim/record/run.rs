@@ -230,6 +230,7 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
     let mut events = 0usize;
     let mut stop = RecordStop::Completed;
     let mut t = 0.0;
+    let stride = (samples - 1).div_ceil(options.max_history.max(2) - 1);
 
     'record: for kk in 0..samples - 1 {
         let t_k = kk as f64 * dt;
@@ -352,10 +353,12 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
                 break 'record;
             }
         }
-        out_t.push(t);
-        out_u.push(x.iter().copied().collect());
-        let acc = setup.accel(mask, &x, &v, a_next);
-        out_a.push((0..n).map(|i| acc[i] + setup.follow[i] * a_next).collect());
+        if (kk + 1) % stride == 0 || kk + 2 == samples {
+            out_t.push(t);
+            out_u.push(x.iter().copied().collect());
+            let acc = setup.accel(mask, &x, &v, a_next);
+            out_a.push((0..n).map(|i| acc[i] + setup.follow[i] * a_next).collect());
+        }
     }
     let energy_stored = setup.energy(mask, &x, &v, &beds) - energy0;
     let [rms_displacement, rms_drift, rms_accel] = measure.rms();
