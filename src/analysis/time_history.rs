@@ -90,6 +90,12 @@ impl Kind for TimeHistory<'_> {
     }
 }
 
+/// The coordinates a time history reports: every mass of a lumped structure, a reduced
+/// model's points (not its modal coordinates).
+pub(crate) fn shown(exp: &Experiment) -> usize {
+    exp.structure.points.unwrap_or(exp.structure.dof()).min(exp.structure.dof())
+}
+
 /// The run of case `c` under `record`.
 fn find<'a>(runs: &'a [Run], record: &Record, c: usize) -> Option<&'a RecordResponse> {
     runs.iter().find(|r| r.record.key == record.key && r.case == c).map(|r| &r.response)
@@ -107,7 +113,7 @@ fn row_name(chain: bool) -> &'static str {
 /// The peaks and RMS values per record, case and storey, with the shot's effect against
 /// the bare case.
 fn peaks_table(exp: &Experiment, runs: &[Run], bare: Option<usize>, chain: bool, heights: Option<&[f64]>) -> Table {
-    let n = exp.structure.dof();
+    let n = shown(exp);
     let rows: Vec<(&Run, usize)> = runs.iter().flat_map(|r| (0..n).map(move |i| (r, i))).collect();
     let col =
         |f: &dyn Fn(&RecordResponse, usize) -> f64| rows.iter().map(|(r, i)| f(&r.response, *i)).collect::<Vec<f64>>();
@@ -202,7 +208,7 @@ pub(crate) fn over_suite(
 /// Per case and storey: the mean and the worst over the records of each peak, and the mean
 /// over the bare case's mean.
 fn suite_table(exp: &Experiment, records: &[Record], runs: &[Run], bare: Option<usize>, chain: bool) -> Table {
-    let n = exp.structure.dof();
+    let n = shown(exp);
     let rows: Vec<(usize, usize)> = (0..exp.cases.len()).flat_map(|c| (0..n).map(move |i| (c, i))).collect();
     let stat = |f: &dyn Fn(&RecordResponse, usize) -> f64, worst: bool| {
         rows.iter()

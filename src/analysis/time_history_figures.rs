@@ -59,7 +59,8 @@ fn histories(exp: &Experiment, p: &PlotSpec, title: &str, rec: &Record, runs: &[
     let mut ground = Panel::new(format!("ground: {} ({})", rec.name, rec.scaling), "time (s)", "a_g (g)", span);
     ground.series.push(Series::dense("ground", &times, &g, 7, BINS));
     let mut panels = vec![ground];
-    let masses: Vec<usize> = if p.masses.is_empty() { vec![exp.structure.dof() - 1] } else { p.masses.clone() };
+    let masses: Vec<usize> =
+        if p.masses.is_empty() { vec![super::time_history::shown(exp) - 1] } else { p.masses.clone() };
     for &k in &masses {
         let mut disp =
             Panel::new(format!("m{}: displacement relative to the ground", k + 1), "time (s)", "u (mm)", span);
@@ -176,7 +177,7 @@ fn suite_profiles(
     chain: bool,
     heights: Option<&[f64]>,
 ) -> Figure {
-    let n = exp.structure.dof();
+    let n = super::time_history::shown(exp);
     let row = if chain { "storey" } else { "coordinate" };
     let mut first = Vec::new();
     let mut second = Vec::new();

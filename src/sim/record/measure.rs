@@ -33,6 +33,9 @@ enum Quantity {
 #[derive(Debug, Clone)]
 pub(super) struct Measure {
     n: usize,
+    /// The coordinates measured: the first `shown` (a reduced model's points; every mass of
+    /// a lumped structure).
+    shown: usize,
     chain: bool,
     follow: Vec<f64>,
     c: DMatrix<f64>,
@@ -44,16 +47,18 @@ pub(super) struct Measure {
 }
 
 impl Measure {
-    /// Nothing measured yet on `n` coordinates (`chain`: storeys' drifts too).
-    pub fn new(n: usize, chain: bool, follow: Vec<f64>, c: DMatrix<f64>) -> Measure {
-        let storeys = if chain { n } else { 0 };
+    /// Nothing measured yet on the first `shown` of `n` coordinates (`chain`: storeys'
+    /// drifts too).
+    pub fn new((n, shown): (usize, usize), chain: bool, follow: Vec<f64>, c: DMatrix<f64>) -> Measure {
+        let storeys = if chain { shown } else { 0 };
         Measure {
             n,
+            shown,
             chain,
             follow,
             c,
-            peak: [vec![0.0; n], vec![0.0; storeys], vec![0.0; n]],
-            squares: [vec![0.0; n], vec![0.0; storeys], vec![0.0; n]],
+            peak: [vec![0.0; shown], vec![0.0; storeys], vec![0.0; shown]],
+            squares: [vec![0.0; shown], vec![0.0; storeys], vec![0.0; shown]],
             time: 0.0,
             input: 0.0,
             viscous: 0.0,
@@ -121,7 +126,7 @@ impl Measure {
                 if q == Quantity::Drift && !self.chain {
                     continue;
                 }
-                for i in 0..self.n {
+                for i in 0..self.shown {
                     let y = self.value(piece, &at, q, i).0;
                     self.squares[qi][i] += weight * y * y;
                 }

@@ -63,9 +63,11 @@ pub struct RecordResponse {
     /// The sample times reached, s (every one, or every k-th and the last: see
     /// [`RecordOptions::max_history`]).
     pub t: Vec<f64>,
-    /// Per sample: each coordinate's displacement relative to the supports, m.
+    /// Per sample: each physical coordinate's displacement relative to the supports, m
+    /// (every mass of a lumped structure; a reduced model's points, not its modal
+    /// coordinates: so every per-coordinate list here).
     pub u: Vec<Vec<f64>>,
-    /// Per sample: each coordinate's absolute acceleration, m/s^2.
+    /// Per sample: each physical coordinate's absolute acceleration, m/s^2.
     pub accel: Vec<Vec<f64>>,
     /// The largest magnitude of each coordinate's relative displacement, m.
     pub peak_displacement: Vec<f64>,

@@ -221,11 +221,12 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
     let mut v = DVector::zeros(n);
     let energy0 = setup.energy(mask, &x, &v, &beds);
     let mut tally = vec![BedTally::default(); beds_n];
-    let mut measure = Measure::new(n, structure.is_chain(), follow, structure.damping.clone());
+    let shown = structure.points.unwrap_or(n).min(n);
+    let mut measure = Measure::new((n, shown), structure.is_chain(), follow, structure.damping.clone());
     let mut out_t = vec![0.0];
-    let mut out_u = vec![x.iter().copied().collect::<Vec<f64>>()];
+    let mut out_u = vec![x.iter().take(shown).copied().collect::<Vec<f64>>()];
     let acc0 = setup.accel(mask, &x, &v, record.accel_m_s2[0]);
-    let mut out_a = vec![(0..n).map(|i| acc0[i] + setup.follow[i] * record.accel_m_s2[0]).collect::<Vec<f64>>()];
+    let mut out_a = vec![(0..shown).map(|i| acc0[i] + setup.follow[i] * record.accel_m_s2[0]).collect::<Vec<f64>>()];
     let mut energy_impacts = 0.0;
     let mut events = 0usize;
     let mut stop = RecordStop::Completed;
@@ -355,9 +356,9 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
         }
         if (kk + 1) % stride == 0 || kk + 2 == samples {
             out_t.push(t);
-            out_u.push(x.iter().copied().collect());
+            out_u.push(x.iter().take(shown).copied().collect());
             let acc = setup.accel(mask, &x, &v, a_next);
-            out_a.push((0..n).map(|i| acc[i] + setup.follow[i] * a_next).collect());
+            out_a.push((0..shown).map(|i| acc[i] + setup.follow[i] * a_next).collect());
         }
     }
     let energy_stored = setup.energy(mask, &x, &v, &beds) - energy0;
