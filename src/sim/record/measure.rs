@@ -7,7 +7,7 @@
 
 use nalgebra::DMatrix;
 
-use super::piece::{At, Particular, Piece};
+use super::piece::{At, Factors, Particular, Piece};
 
 /// Gauss-Legendre nodes on `[-1, 1]` and weights, five points.
 const NODES: [f64; 5] =
@@ -80,8 +80,15 @@ impl Measure {
         }
     }
 
-    /// Measures the stretch `[a.s, b.s]` of `piece` (configuration parts `part`).
-    pub fn stretch(&mut self, piece: &Piece, part: &Particular, a: &At, b: &At) {
+    /// The factors that carry a stretch's start to its Gauss-Legendre nodes, for stretches of
+    /// length `h` ([`Measure::stretch`]).
+    pub fn nodes(piece: &Piece, h: f64) -> Vec<Factors> {
+        NODES.iter().map(|x| piece.factors(0.5 * h * (1.0 + x))).collect()
+    }
+
+    /// Measures the stretch `[a.s, b.s]` of `piece` (configuration parts `part`); `nodes`:
+    /// [`Measure::nodes`] of its length, when known (else the nodes' terms are computed).
+    pub fn stretch(&mut self, piece: &Piece, part: &Particular, (a, b): (&At, &At), nodes: Option<&[Factors]>) {
         let h = b.s - a.s;
         if h <= 0.0 {
             return;
@@ -106,9 +113,12 @@ impl Measure {
         }
         let half = 0.5 * h;
         let mut at = At::default();
-        for (x, w) in NODES.iter().zip(WEIGHTS) {
+        for (k, (x, w)) in NODES.iter().zip(WEIGHTS).enumerate() {
             let s = a.s + half * (1.0 + x);
-            piece.at_into(s, &mut at);
+            match nodes {
+                Some(f) => at = piece.shifted(a, &f[k]),
+                None => piece.at_into(s, &mut at),
+            }
             let weight = w * half;
             let v: Vec<f64> = (0..self.n).map(|p| piece.deriv(&at, p, 1)).collect();
             let mut momentum: f64 = v.iter().zip(part.load.iter()).map(|(v, l)| v * l).sum();

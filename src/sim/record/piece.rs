@@ -69,6 +69,15 @@ pub(super) struct Piece<'a> {
     pub flights: Vec<Flight>,
 }
 
+/// The factors that carry a piece's terms `dt` later ([`Piece::factors`]).
+#[derive(Debug, Clone)]
+pub(super) struct Factors {
+    /// The shift, s.
+    pub dt: f64,
+    e: Vec<Complex64>,
+    decay: Vec<f64>,
+}
+
 /// The terms `c_r e^{lambda_r s}` at one time `s` after a piece's start, and their moduli.
 #[derive(Debug, Clone, Default)]
 pub(super) struct At {
@@ -119,6 +128,24 @@ impl<'a> Piece<'a> {
             let (si, co) = (l.im * s).sin_cos();
             at.e.push(c * Complex64::new(decay * co, decay * si));
             at.e_abs.push(c_abs * decay);
+        }
+    }
+
+    /// The factors `e^{lambda_r dt}` and their moduli, which carry the terms `dt` later by
+    /// multiplication alone ([`Piece::shifted`]).
+    pub fn factors(&self, dt: f64) -> Factors {
+        let e = self.modes.lambda.iter().map(|l| (l * dt).exp()).collect();
+        let decay = self.modes.lambda.iter().map(|l| (l.re * dt).exp()).collect();
+        Factors { dt, e, decay }
+    }
+
+    /// The terms at `from.s + factors.dt`, from those at `from` by multiplication: within a
+    /// few roundings of [`Piece::at`] per shift.
+    pub fn shifted(&self, from: &At, factors: &Factors) -> At {
+        At {
+            s: from.s + factors.dt,
+            e: from.e.iter().zip(&factors.e).map(|(e, f)| e * f).collect(),
+            e_abs: from.e_abs.iter().zip(&factors.decay).map(|(e, f)| e * f).collect(),
         }
     }
 

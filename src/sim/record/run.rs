@@ -297,19 +297,23 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
             let h = span / stretches as f64;
             let values =
                 |at: &At| -> Vec<f64> { watches.iter().map(|&w| setup.watch(&piece, at, w, &flight_of)).collect() };
+            // Equal stretches: their ends and quadrature nodes by multiplication (the
+            // interval's end exactly).
+            let step = piece.factors(h);
+            let nodes = Measure::nodes(&piece, h);
             let mut a = piece.at(0.0);
             let mut wa = values(&a);
             let mut found = None;
             for i in 1..=stretches {
-                let b = piece.at(if i == stretches { span } else { i as f64 * h });
+                let b = if i == stretches { piece.at(span) } else { piece.shifted(&a, &step) };
                 let wb = values(&b);
                 if let Some((s, w)) = setup.first(&piece, &watches, &flight_of, (&a, &wa), (&b, &wb)) {
                     let e = piece.at(s);
-                    measure.stretch(&piece, part, &a, &e);
+                    measure.stretch(&piece, part, (&a, &e), None);
                     found = Some((e, watches[w]));
                     break;
                 }
-                measure.stretch(&piece, part, &a, &b);
+                measure.stretch(&piece, part, (&a, &b), Some(&nodes));
                 (a, wa) = (b, wb);
             }
             // The state where the piece ends: at the event, or at the interval's end.
