@@ -75,14 +75,8 @@ impl FirstOrder {
         let n = structure.dof();
         let m = structure.mass_matrix();
         let m_inv = m.clone().try_inverse().ok_or(ResponseError::SingularMass)?;
-        let (r, load) = match &structure.supports {
-            None => {
-                let r = DVector::from_element(n, 1.0);
-                let l = &m * &r;
-                (r, l)
-            }
-            Some(s) => (DVector::from_column_slice(&s.follow), DVector::from_column_slice(&s.load)),
-        };
+        let supports = super::base::BaseMotion::of(structure, 1.0);
+        let (r, load) = (DVector::from_vec(supports.follow), DVector::from_vec(supports.load));
         let mut read = DMatrix::zeros(n, 2 * n);
         read.view_mut((0, 0), (n, n)).copy_from(&(-&m_inv * &structure.stiffness));
         read.view_mut((0, n), (n, n)).copy_from(&(-&m_inv * &structure.damping));

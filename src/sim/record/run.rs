@@ -6,7 +6,7 @@
 //! dip below the chord between its ends); otherwise it is halved, and a root is narrowed to
 //! [`ROOT_WIDTH`].
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 use super::measure::Measure;
 use super::piece::{At, Flight, Particular, Piece};
@@ -46,7 +46,6 @@ struct Setup<'a> {
     dynamics: Dynamics,
     parts: Vec<Particular>,
     follow: Vec<f64>,
-    k: DMatrix<f64>,
     /// Tolerances of a gap, m, and of a contact force per unit mass, m/s^2 (rounding's scale,
     /// far below anything physical).
     tol_gap: Vec<f64>,
@@ -134,14 +133,14 @@ impl Setup<'_> {
     fn accel(&self, mask: usize, x: &DVector<f64>, v: &DVector<f64>, ag: f64) -> DVector<f64> {
         let modes = &self.dynamics.configs[self.dynamics.slot(mask)].modes;
         let load = &self.parts[self.dynamics.slot(mask)].load;
-        let force = self.system.weight_load(mask) - &self.k * x - &*self.dynamics.c * v - load * ag;
+        let force = self.system.weight_load(mask) - &*self.dynamics.k * x - &*self.dynamics.c * v - load * ag;
         &modes.mass_inv * force
     }
 
     /// The stored energy relative to the ground: kinetic, strain, and the beds' height.
     fn energy(&self, mask: usize, x: &DVector<f64>, v: &DVector<f64>, beds: &[Bed]) -> f64 {
         let m = self.system.mass_matrix(mask);
-        let mut e = 0.5 * (v.transpose() * m * v)[0] + 0.5 * (x.transpose() * &self.k * x)[0];
+        let mut e = 0.5 * (v.transpose() * m * v)[0] + 0.5 * (x.transpose() * &*self.dynamics.k * x)[0];
         for (d, bed) in self.system.dampers.iter().zip(beds) {
             let y = match *bed {
                 Bed::Riding(top) => x[d.host] + if top { d.clearance.m() } else { 0.0 },
@@ -174,16 +173,11 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
     }
     let structure = &system.structure;
     let n = structure.dof();
-    let k = structure.stiffness.clone();
-    let k_inv = k.clone().try_inverse().ok_or(RecordError::Unsupported)?;
+    let k_inv = structure.stiffness.clone().try_inverse().ok_or(RecordError::Unsupported)?;
     let dynamics = Dynamics::unforced(system).map_err(RecordError::Setup)?;
-    let (follow, load0) = match &structure.supports {
-        None => {
-            let r = DVector::from_element(n, 1.0);
-            (r.iter().copied().collect::<Vec<f64>>(), structure.mass_matrix() * r)
-        }
-        Some(s) => (s.follow.clone(), DVector::from_column_slice(&s.load)),
-    };
+    // How the coordinates follow the supports and the inertia load per unit acceleration.
+    let supports = crate::model::BaseMotion::of(structure, 1.0);
+    let (follow, load0) = (supports.follow, DVector::from_vec(supports.load));
     let parts = dynamics
         .configs
         .iter()
@@ -208,7 +202,6 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
         tol_contact: 1e-10 * (crate::model::GRAVITY + peak_ground),
         tol_gap,
         follow: follow.clone(),
-        k,
         parts,
         dynamics,
     };
