@@ -274,8 +274,11 @@ fn answer(exp: &Experiment, records: &[Record], runs: &[Run], bare: Option<usize
             continue;
         };
         let shot: f64 = case.beds.iter().map(|b| b.damper.mass).sum();
+        let share = exp.structure_mass().map_or(String::new(), |m| {
+            format!(", {} % of the structure's mass", crate::number::fmt_sig(100.0 * shot / m, 2))
+        });
         parts.push(format!(
-            "{} ({} kg of shot): {} mm ({} of bare) and {} g ({} of bare).",
+            "{} ({} kg of shot{share}): {} mm ({} of bare) and {} g ({} of bare).",
             case.label,
             crate::number::fmt_sig(shot, 3),
             crate::number::fmt_sig(1e3 * q, 3),
