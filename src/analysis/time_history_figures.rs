@@ -94,7 +94,10 @@ fn histories(exp: &Experiment, p: &PlotSpec, title: &str, rec: &Record, runs: &[
 /// A profile panel: a value against the storey, one line per series.
 fn profile_panel(title: &str, x_label: &str, lines: Vec<Series>, row: &str) -> Panel {
     let top = lines.iter().flat_map(|s| s.x.iter()).fold(0.0f64, |a, b| a.max(*b));
+    let storeys = lines.iter().map(|s| s.y.len()).max().unwrap_or(1) as f64;
     let mut panel = Panel::new(title, x_label, row, (0.0, if top > 0.0 { 1.1 * top } else { 1.0 }));
+    // Half a storey beyond the first and the last: the ticks fall on the storeys.
+    panel.y_range = Some((0.5, storeys + 0.5));
     panel.legend = Corner::UpperRight;
     panel.series = lines;
     panel
