@@ -21,7 +21,9 @@ import sys
 import openseespy.opensees as ops
 
 
-def run(spec, division):
+def building(spec):
+    """The shear building of `spec` in a fresh model, with its Rayleigh damping (on what
+    exists when it is called: elements and nodes made later take none)."""
     masses, ks = spec["masses"], spec["stiffnesses"]
     n = len(masses)
     ops.wipe()
@@ -35,15 +37,27 @@ def run(spec, division):
         # zeroLength elements take no Rayleigh damping unless asked (-doRayleigh 1).
         ops.element("zeroLength", i, i - 1, i, "-mat", i, "-dir", 1, "-doRayleigh", 1)
     ops.rayleigh(spec["alpha"], spec["beta"], 0.0, 0.0)
-    dt = spec["dt"]
-    ops.timeSeries("Path", 1, "-dt", dt, "-values", *spec["accel"])
+    return n
+
+
+def transient(spec, algorithm):
+    """The record as a UniformExcitation and Newmark's average acceleration method."""
+    ops.timeSeries("Path", 1, "-dt", spec["dt"], "-values", *spec["accel"])
     ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
     ops.constraints("Plain")
     ops.numberer("Plain")
     ops.system("FullGeneral")
-    ops.algorithm("Linear")
+    if algorithm == "Newton":
+        ops.test("NormDispIncr", 1e-12, 50)
+    ops.algorithm(algorithm)
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
+
+
+def run(spec, division):
+    n = building(spec)
+    dt = spec["dt"]
+    transient(spec, "Linear")
     u = [[0.0] * n]
     for _ in range(len(spec["accel"]) - 1):
         if ops.analyze(division, dt / division) != 0:

@@ -29,24 +29,15 @@ import sys
 
 import openseespy.opensees as ops
 
+from opensees_shear import building, transient
+
 
 def run(spec, stiffness, division):
-    masses, ks, beds = spec["masses"], spec["stiffnesses"], spec["beds"]
-    n = len(masses)
-    ops.wipe()
-    ops.model("basic", "-ndm", 1, "-ndf", 1)
-    for i in range(n + 1):
-        ops.node(i, 0.0)
-    ops.fix(0, 1)
-    for i in range(1, n + 1):
-        ops.mass(i, masses[i - 1])
-        ops.uniaxialMaterial("Elastic", i, ks[i - 1])
-        ops.element("zeroLength", i, i - 1, i, "-mat", i, "-dir", 1, "-doRayleigh", 1)
     # Rayleigh damping on what exists now: the floors and storeys. The beds and contacts made
     # after it take none (a region's -rayleigh left the building undamped in openseespy
     # 3.7.1, and zeroing a node's by a region did nothing: measured).
-    ops.rayleigh(spec["alpha"], spec["beta"], 0.0, 0.0)
-    for j, bed in enumerate(beds):
+    n = building(spec)
+    for j, bed in enumerate(spec["beds"]):
         node, tag = 100 + j, 100 + 2 * j
         ops.node(node, 0.0)
         ops.mass(node, bed["mass"])
@@ -55,15 +46,7 @@ def run(spec, stiffness, division):
         ops.uniaxialMaterial("Parallel", tag + 1000, tag, tag + 1)
         ops.element("zeroLength", 100 + j, bed["host"], node, "-mat", tag + 1000, "-dir", 1)
     dt = spec["dt"]
-    ops.timeSeries("Path", 1, "-dt", dt, "-values", *spec["accel"])
-    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
-    ops.constraints("Plain")
-    ops.numberer("Plain")
-    ops.system("FullGeneral")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
+    transient(spec, "Newton")
     u = [[0.0] * n]
     peak = [0.0] * n
     h = dt / division

@@ -103,6 +103,22 @@ fn profile_panel(title: &str, x_label: &str, lines: Vec<Series>, row: &str) -> P
     panel
 }
 
+/// The two profile panels, `under` a record or "over the suite": peak drift (a chain's; else
+/// displacement) and peak floor acceleration against the storey (coordinate).
+fn profile_panels(
+    chain: bool,
+    heights: Option<&[f64]>,
+    under: &str,
+    (first, second): (Vec<Series>, Vec<Series>),
+) -> Vec<Panel> {
+    let row = if chain { "storey" } else { "coordinate" };
+    let first_label = if chain { drift_label(heights) } else { "peak displacement relative to the ground (mm)" };
+    vec![
+        profile_panel(&format!("{first_label} {under}"), first_label, first, row),
+        profile_panel(&format!("peak floor acceleration {under}"), "peak acceleration (g)", second, row),
+    ]
+}
+
 /// A line through the storeys with a marker at each.
 fn through(label: String, values: Vec<f64>, color: usize, dash: Dash) -> Series {
     let storeys: Vec<f64> = (1..=values.len()).map(|i| i as f64).collect();
@@ -151,7 +167,6 @@ fn record_profiles(
         first.push(through(label.clone(), d, c, Dash::Solid));
         second.push(through(label, r.peak_accel.iter().map(|a| a / GRAVITY).collect(), c, Dash::Solid));
     }
-    let first_label = if chain { drift_label(heights) } else { "peak displacement relative to the ground (mm)" };
     Figure {
         id: format!("{}_{}", p.id, rec.key),
         title: format!("{title}: {}", rec.name),
@@ -161,10 +176,7 @@ fn record_profiles(
             rec.scaling,
             if chain { "drift" } else { "displacement relative to the ground" }
         ),
-        panels: vec![
-            profile_panel(&format!("{} under {}", first_label, rec.name), first_label, first, row),
-            profile_panel(&format!("peak floor acceleration under {}", rec.name), "peak acceleration (g)", second, row),
-        ],
+        panels: profile_panels(chain, heights, &format!("under {}", rec.name), (first, second)),
     }
 }
 
@@ -207,7 +219,6 @@ fn suite_profiles(
             second.push(through(format!("{label}: worst"), aw, c, Dash::Dashed));
         }
     }
-    let first_label = if chain { drift_label(heights) } else { "peak displacement relative to the ground (mm)" };
     Figure {
         id: format!("{}_suite", p.id),
         title: format!("{title}: over the {} records", records.len()),
@@ -217,9 +228,6 @@ fn suite_profiles(
             records.iter().map(|r| r.name.as_str()).collect::<Vec<_>>().join("; "),
             if chain { "drift" } else { "displacement" }
         ),
-        panels: vec![
-            profile_panel(&format!("{first_label} over the suite"), first_label, first, row),
-            profile_panel("peak floor acceleration over the suite", "peak acceleration (g)", second, row),
-        ],
+        panels: profile_panels(chain, heights, "over the suite", (first, second)),
     }
 }
