@@ -30,6 +30,7 @@ fn problem(steady: SteadyOptions) -> Problem {
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
         supports: false,
+        suite: None,
     }
 }
 

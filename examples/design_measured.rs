@@ -38,6 +38,7 @@ fn problem(sweeps: Vec<Sweep>, measure: Irregular) -> Problem {
         combine: Combine::Worst,
         direction: Direction::Horizontal,
         supports: false,
+        suite: None,
     }
 }
 

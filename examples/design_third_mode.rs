@@ -27,6 +27,7 @@ fn main() {
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
         supports: false,
+        suite: None,
     };
     let shot: f64 = masses.iter().map(|m| 0.1 * m).sum();
     let started = std::time::Instant::now();

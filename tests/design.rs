@@ -23,6 +23,7 @@ fn problem(bands: Vec<Band>, sweeps: Vec<Sweep>) -> Problem {
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
         supports: false,
+        suite: None,
     }
 }
 

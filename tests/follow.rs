@@ -96,6 +96,7 @@ fn followed_design_evaluations_equal_the_transient_search_over_three_modes() {
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Vertical,
         supports: false,
+        suite: None,
     };
     let (followed, plain) = (problem(true), problem(false));
     let b = bare(&plain);

@@ -16,6 +16,7 @@ mod cli;
 mod column;
 mod contract;
 mod design;
+mod design_seismic;
 mod design_store;
 mod explore;
 mod extending;

@@ -42,6 +42,15 @@ impl Kind for Design<'_> {
     }
 }
 
+/// What the objective is, for axes: the worst band's measure over the bare structure's, or
+/// against records the response over the bare building's (the worst record or the mean).
+fn objective_axis(spec: &Spec) -> String {
+    match &spec.suite {
+        None => "worst band over the bare structure".into(),
+        Some(suite) => format!("{} over bare, {}", suite.response.words(), suite.over.words()),
+    }
+}
+
 fn joined(v: &[f64]) -> String {
     v.iter().map(|x| fmt_num(*x)).collect::<Vec<_>>().join(" / ")
 }
@@ -54,9 +63,11 @@ fn layouts_table(
     scenarios: &[String],
     rows: &[(String, Layout, Evaluation, u64)],
 ) -> Table {
+    // Against records there are no bands, and no band edge.
     let at_edge = |e: &Evaluation| {
-        let f = &spec.bands[e.worst.0].freq_hz;
-        e.worst.1 == f[0] || e.worst.1 == f[f.len() - 1]
+        spec.bands
+            .get(e.worst.0)
+            .is_some_and(|b| e.worst.1 == b.freq_hz[0] || e.worst.1 == b.freq_hz[b.freq_hz.len() - 1])
     };
     let edges = rows.iter().filter(|r| at_edge(&r.2)).count();
     // The row with the lowest objective, whose interval the others' are compared with.
@@ -79,26 +90,47 @@ fn layouts_table(
         .str("bed_kg", rows.iter().map(|r| joined(&r.1.masses_kg)).collect())
         .str("clearance_mm", rows.iter().map(|r| joined(&r.1.clearances_mm)).collect())
         .f64("objective", rows.iter().map(|r| r.2.objective).collect());
-    for (k, b) in spec.bands.iter().enumerate() {
-        t = t.f64(format!("{} ({unit})", b.name), rows.iter().map(|r| r.2.bands[k]).collect());
+    // A column per band (per record against records), and where the worst is.
+    let (columns, worst): (Vec<String>, Vec<String>) = match &spec.suite {
+        None => (
+            spec.bands.iter().map(|b| format!("{} ({unit})", b.name)).collect(),
+            rows.iter()
+                .map(|r| {
+                    format!("{} at {} Hz, m{}", spec.bands[r.2.worst.0].name, fmt_num(r.2.worst.1), r.2.worst.2 + 1)
+                })
+                .collect(),
+        ),
+        Some(suite) => {
+            let (unit, place) = match suite.response {
+                crate::design::seismic::Response::Drift => ("m", "storey"),
+                crate::design::seismic::Response::Acceleration => ("m/s^2", "floor"),
+            };
+            (
+                suite.records.iter().map(|r| format!("{} ({unit})", r.name)).collect(),
+                rows.iter()
+                    .map(|r| {
+                        let name = suite.records.get(r.2.worst.0).map_or("", |x| x.name.as_str());
+                        format!("{name}, {place} {}", r.2.worst.2 + 1)
+                    })
+                    .collect(),
+            )
+        }
+    };
+    for (k, name) in columns.into_iter().enumerate() {
+        t = t.f64(name, rows.iter().map(|r| r.2.bands.get(k).copied().unwrap_or(f64::NAN)).collect());
     }
-    t.str(
-        "worst",
-        rows.iter()
-            .map(|r| format!("{} at {} Hz, m{}", spec.bands[r.2.worst.0].name, fmt_num(r.2.worst.1), r.2.worst.2 + 1))
-            .collect(),
-    )
-    .i64("worst_at_band_edge", rows.iter().map(|r| i64::from(at_edge(&r.2))).collect())
-    .str("scenario", rows.iter().map(|r| scenarios.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
-    .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
-    .i64("measured_points", rows.iter().map(|r| r.2.measured() as i64).collect())
-    .i64("chaotic_points", rows.iter().map(|r| r.2.classes[2] as i64).collect())
-    .f64("objective_half_width", rows.iter().map(|r| r.2.half_width).collect())
-    .i64(
-        "equal_to_lowest_within_intervals",
-        rows.iter().map(|r| i64::from(lowest.is_some_and(|l| l.overlaps(&r.2)))).collect(),
-    )
-    .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
+    t.str("worst", worst)
+        .i64("worst_at_band_edge", rows.iter().map(|r| i64::from(at_edge(&r.2))).collect())
+        .str("scenario", rows.iter().map(|r| scenarios.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
+        .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
+        .i64("measured_points", rows.iter().map(|r| r.2.measured() as i64).collect())
+        .i64("chaotic_points", rows.iter().map(|r| r.2.classes[2] as i64).collect())
+        .f64("objective_half_width", rows.iter().map(|r| r.2.half_width).collect())
+        .i64(
+            "equal_to_lowest_within_intervals",
+            rows.iter().map(|r| i64::from(lowest.is_some_and(|l| l.overlaps(&r.2)))).collect(),
+        )
+        .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
 }
 
 /// How far each placement's search got, in words: how many converged, and the evaluations of
@@ -148,11 +180,11 @@ fn case_layout(case: &crate::experiment::Case) -> Layout {
 
 /// A page's tables, figures, exported numbers and warnings, as they are added.
 #[derive(Default)]
-struct Page {
-    tables: Vec<Table>,
-    figures: Vec<Figure>,
-    exports: BTreeMap<String, f64>,
-    warnings: Vec<String>,
+pub(super) struct Page {
+    pub(super) tables: Vec<Table>,
+    pub(super) figures: Vec<Figure>,
+    pub(super) exports: BTreeMap<String, f64>,
+    pub(super) warnings: Vec<String>,
 }
 
 /// Runs the design of `exp`: its tables, figures and exports, the replay's checks, the
@@ -195,11 +227,12 @@ fn run(
     page.tables.push(layouts_table(
         ("design_placements", exp.excitation.per_unit()),
         &format!(
-            "The best layout found for each placement of containers: {} kg of shot{} split among them, clearances in {}-{} mm; objective: the worst band's measure over the bare structure's (1 = no gain)",
+            "The best layout found for each placement of containers: {} kg of shot{} split among them, clearances in {}-{} mm; objective: {} (1 = no gain)",
             fmt_num(spec.shot_kg),
             total_mass.as_ref().map_or(String::new(), |(m, what)| format!(" ({} of the structure's {what})", fmt_num(spec.shot_kg / m))),
             fmt_num(spec.clearance_mm.0),
-            fmt_num(spec.clearance_mm.1)
+            fmt_num(spec.clearance_mm.1),
+            objective_axis(spec)
         ),
         spec,
         &names,
@@ -244,7 +277,10 @@ fn run(
             more,
             stopped: stop_words.as_deref(),
         };
-        about_the_best(exp, spec, &best_in, &mut page)
+        match &spec.suite {
+            Some(suite) => super::design_seismic::about_the_best(exp, spec, suite, &best_in, &mut page, tick),
+            None => about_the_best(exp, spec, &best_in, &mut page),
+        }
     });
     if let Some((mode, candidates)) = spec.sdof.as_ref().filter(|_| more) {
         let (table, sdof_exports) = sdof_method(exp, steady, &p, &b, &found, *mode, candidates, &names, spec.replay);
@@ -357,15 +393,15 @@ fn plan_after(exp: &Experiment, spec: &Spec, per_judged: Option<std::time::Durat
 /// What [`about_the_best`] reads: the judged problem and its bare measures, the screen's,
 /// the best layout, the cases' rows, the structure's mass and whether more layouts may be
 /// evaluated (the search was not stopped).
-struct BestIn<'a> {
-    p: &'a Problem,
-    judged: search::On<'a>,
-    screen: Option<search::On<'a>>,
-    best: &'a Found,
-    case_rows: &'a [(String, Layout, Evaluation, u64)],
-    total_mass: Option<(f64, String)>,
-    more: bool,
-    stopped: Option<&'a str>,
+pub(super) struct BestIn<'a> {
+    pub(super) p: &'a Problem,
+    pub(super) judged: search::On<'a>,
+    pub(super) screen: Option<search::On<'a>>,
+    pub(super) best: &'a Found,
+    pub(super) case_rows: &'a [(String, Layout, Evaluation, u64)],
+    pub(super) total_mass: Option<(f64, String)>,
+    pub(super) more: bool,
+    pub(super) stopped: Option<&'a str>,
 }
 
 /// The best layout's pages: its clearance profile, its compliance against the bare structure's
@@ -480,7 +516,7 @@ fn about_the_best(exp: &Experiment, spec: &Spec, i: &BestIn<'_>, page: &mut Page
 /// How the objective of the best layout varies with one clearance for every container, its
 /// hosts and shot split held: the table, the figure and the robust band (where the objective is
 /// within [`ROBUST`] of the best), when some clearance is in it.
-fn clearance_profile(
+pub(super) fn clearance_profile(
     exp: &Experiment,
     spec: &Spec,
     p: &Problem,
@@ -524,7 +560,7 @@ fn clearance_profile(
     let mut panel = Panel::new(
         "objective against the clearance, best hosts and split held",
         "clearance d (mm)",
-        "worst band over the bare structure",
+        objective_axis(spec),
         (lo, hi),
     )
     .log_x();
@@ -542,7 +578,7 @@ fn clearance_profile(
     let figure = Figure {
         id: "design_clearance".into(),
         title: format!("{}: the objective near the optimum", exp.meta.figure),
-        caption: "The worst band's measure over the bare structure's against one clearance for every container, with the best layout's hosts and shot split; dashed: 5 % above the best (the robust band).".into(),
+        caption: format!("The objective ({}) against one clearance for every container, with the best layout's hosts and shot split; dashed: 5 % above the best (the robust band).", objective_axis(spec)),
         panels: vec![panel],
     };
     (table, figure, rlo.is_finite().then_some((rlo, rhi)))
@@ -566,7 +602,7 @@ fn pareto(exp: &Experiment, spec: &Spec, names: &[String], front: &[(f64, Found)
     let mut panel = Panel::new(
         "best objective against the shot budget",
         "total shot mass / structure mass",
-        "worst band over the bare structure",
+        objective_axis(spec),
         (x[0], x[x.len() - 1]),
     );
     let mut s = Series::line("best layout", x, y, 0);

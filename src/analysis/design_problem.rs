@@ -84,6 +84,7 @@ fn problem_on(s: &Structure, exp: &Experiment, spec: &Spec, steady: &SteadyOptio
         scenarios,
         combine: spec.combine,
         direction: spec.direction,
+        suite: spec.suite.clone(),
     }
 }
 

@@ -13,6 +13,7 @@ mod design_levels;
 mod design_near;
 pub(crate) mod design_problem;
 mod design_search;
+mod design_seismic;
 pub mod design_shards;
 mod design_storeys;
 pub mod evidence;

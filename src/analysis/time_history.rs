@@ -36,58 +36,63 @@ impl Kind for TimeHistory<'_> {
     }
 
     fn run(&self, i: &Input<'_>) -> Output {
-        let exp = i.exp;
-        let pairs: Vec<(usize, usize)> =
-            (0..self.records.len()).flat_map(|r| (0..exp.cases.len()).map(move |c| (r, c))).collect();
-        // Each run is independent and deterministic: the same numbers for any thread count.
-        let results: Vec<_> = pairs
-            .par_iter()
-            .map(|&(r, c)| {
-                let sys = curves::system(exp, &exp.cases[c]);
-                let out = respond(&sys, &self.records[r].motion, RecordOptions::default());
-                (i.tick)();
-                (r, c, out)
-            })
-            .collect();
-        let mut runs = Vec::new();
-        let mut skipped = Vec::new();
-        let mut warnings = Vec::new();
-        for (r, c, out) in results {
-            let (record, case) = (&self.records[r], &exp.cases[c]);
-            match out {
-                Ok(response) => {
-                    if let RecordStop::Events { t_s } = response.stop {
-                        warnings.push(format!(
-                            "case {} under {}: stopped at {} s of {} s after {} events (a bed chattering without end): its peaks, RMS values and energies are over the time run only",
-                            case.id,
-                            record.name,
-                            fmt_num(t_s),
-                            fmt_num(record.motion.duration_s()),
-                            response.events
-                        ));
-                    }
-                    runs.push(Run { record, case: c, response });
-                }
-                Err(e) => skipped.push(format!("case {} cannot be run under {}: {e}", case.id, record.name)),
-            }
-        }
-        let bare = exp.cases.iter().position(|c| c.beds.is_empty());
-        let chain = exp.structure.is_chain();
-        let mut out = Output {
-            tables: vec![
-                peaks_table(exp, &runs, bare, chain, self.storey_heights_m),
-                energy_table(exp, &runs),
-                beds_table(exp, &runs),
-                suite_table(exp, self.records, &runs, bare, chain),
-            ],
-            figures: figures::figures(exp, self.records, &runs, chain, self.storey_heights_m),
-            warnings,
-            answer: answer(exp, self.records, &runs, bare, chain),
-            ..Output::default()
-        };
-        out.missing_cases(exp, skipped);
-        out
+        page(i.exp, self.records, self.storey_heights_m, i.tick)
     }
+}
+
+/// Every case of `exp` under every record: the tables, the figures of its plots, the answer
+/// against its bare case (also the page of a design against records, on its layouts).
+pub(crate) fn page(exp: &Experiment, records: &[Record], heights: Option<&[f64]>, tick: &(dyn Fn() + Sync)) -> Output {
+    let pairs: Vec<(usize, usize)> =
+        (0..records.len()).flat_map(|r| (0..exp.cases.len()).map(move |c| (r, c))).collect();
+    // Each run is independent and deterministic: the same numbers for any thread count.
+    let results: Vec<_> = pairs
+        .par_iter()
+        .map(|&(r, c)| {
+            let sys = curves::system(exp, &exp.cases[c]);
+            let out = respond(&sys, &records[r].motion, RecordOptions::default());
+            tick();
+            (r, c, out)
+        })
+        .collect();
+    let mut runs = Vec::new();
+    let mut skipped = Vec::new();
+    let mut warnings = Vec::new();
+    for (r, c, out) in results {
+        let (record, case) = (&records[r], &exp.cases[c]);
+        match out {
+            Ok(response) => {
+                if let RecordStop::Events { t_s } = response.stop {
+                    warnings.push(format!(
+                        "case {} under {}: stopped at {} s of {} s after {} events (a bed chattering without end): its peaks, RMS values and energies are over the time run only",
+                        case.id,
+                        record.name,
+                        fmt_num(t_s),
+                        fmt_num(record.motion.duration_s()),
+                        response.events
+                    ));
+                }
+                runs.push(Run { record, case: c, response });
+            }
+            Err(e) => skipped.push(format!("case {} cannot be run under {}: {e}", case.id, record.name)),
+        }
+    }
+    let bare = exp.cases.iter().position(|c| c.beds.is_empty());
+    let chain = exp.structure.is_chain();
+    let mut out = Output {
+        tables: vec![
+            peaks_table(exp, &runs, bare, chain, heights),
+            energy_table(exp, &runs),
+            beds_table(exp, &runs),
+            suite_table(exp, records, &runs, bare, chain),
+        ],
+        figures: figures::figures(exp, records, &runs, chain, heights),
+        warnings,
+        answer: answer(exp, records, &runs, bare, chain),
+        ..Output::default()
+    };
+    out.missing_cases(exp, skipped);
+    out
 }
 
 /// The coordinates a time history reports: every mass of a lumped structure, a reduced

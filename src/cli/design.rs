@@ -184,8 +184,13 @@ fn estimates(
         } else {
             ""
         };
+        let points = exps
+            .iter()
+            .find(|e| e.key() == key)
+            .and_then(|e| e.analysis.design())
+            .map_or("steady states", |(spec, _)| spec.point_words());
         let line = format!(
-            "design {key}: {} placements x {} search(es), usually {}-{} layout evaluations{usually} (at most {}) of {} steady states each; measured {} a layout evaluation{screen} (the mean of {layouts} layouts of the coarse scans on one thread): about {} on {threads} thread{} (an estimate: docs/design.md gives it against measured runs)",
+            "design {key}: {} placements x {} search(es), usually {}-{} layout evaluations{usually} (at most {}) of {} {points} each; measured {} a layout evaluation{screen} (the mean of {layouts} layouts of the coarse scans on one thread): about {} on {threads} thread{} (an estimate: docs/design.md gives it against measured runs)",
             b.placements,
             b.searches,
             b.expected[k].0,

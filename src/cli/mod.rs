@@ -441,8 +441,9 @@ fn finish_with(
             ),
             _ => format!("clearance {} mm", sig("best_clearance_mm")),
         };
+        let of = r.experiment.analysis.design().map_or_else(String::new, |(spec, _)| spec.objective_words());
         say!(
-            "  {}: best {} of the bare structure's worst band ({clearance}); cases: {}",
+            "  {}: best {} of {of} ({clearance}); cases: {}",
             r.experiment.key(),
             e.get("best_objective").map_or("-".to_string(), |v| crate::number::fmt_sig(*v, 3)),
             if cases.is_empty() { "none".to_string() } else { cases.join(", ") }

@@ -14,6 +14,7 @@ pub mod limits;
 pub mod nelder_mead;
 pub mod rounds;
 pub mod search;
+pub mod seismic;
 pub mod stored;
 
 use rayon::prelude::*;
@@ -51,7 +52,7 @@ pub struct Spec {
     pub direction: crate::model::Direction,
     /// Forces (N) at which the best layout and the cases are evaluated after the search, for
     /// the reduction against the drive level (not part of the objective); empty: the file gave
-    /// none, and [`Spec::drive_levels`] chooses them.
+    /// none, and [`Spec::drive_levels`] chooses them (none against records).
     pub drive_levels_n: Vec<f64>,
     /// The bands whose response is lowered.
     pub bands: Vec<Band>,
@@ -96,6 +97,10 @@ pub struct Spec {
     /// structure; each placement's best, and everything after the search, is evaluated on the
     /// file's own (`None`: everything on the file's).
     pub screen: Option<Screen>,
+    /// `[design] ground_motions`: the layouts are judged under these records instead of over
+    /// frequency bands (`bands`, `sweeps` and the drive levels are then empty;
+    /// [`seismic`]).
+    pub suite: Option<seismic::Suite>,
 }
 
 /// A coarser model of a finite-element structure that a design searches on (fewer
@@ -238,10 +243,28 @@ impl Spec {
     pub fn drive_levels(&self, nominal: f64) -> Vec<f64> {
         if !self.drive_levels_n.is_empty() {
             self.drive_levels_n.clone()
-        } else if self.scenario_force_n.len() > 1 {
+        } else if self.scenario_force_n.len() > 1 || self.suite.is_some() {
             Vec::new()
         } else {
             DEFAULT_DRIVE_LEVELS.iter().map(|k| k * nominal).collect()
+        }
+    }
+
+    /// What a layout's objective is a share of, in words: "the bare structure's worst band",
+    /// or against records the bare building's response over the suite.
+    pub fn objective_words(&self) -> String {
+        match &self.suite {
+            None => "the bare structure's worst band".into(),
+            Some(s) => format!("the bare building's {} ({})", s.response.words(), s.over.words()),
+        }
+    }
+
+    /// What one layout evaluation computes, in words: "steady states", or "record runs".
+    pub fn point_words(&self) -> &'static str {
+        if self.suite.is_some() {
+            "record runs"
+        } else {
+            "steady states"
         }
     }
 
@@ -258,6 +281,9 @@ impl Spec {
 
     /// Steady-state points of one layout evaluation.
     pub fn evaluation_points(&self) -> u64 {
+        if let Some(suite) = &self.suite {
+            return suite.records.len() as u64 * self.scenario_count() as u64;
+        }
         let band: u64 = self.bands.iter().map(|b| b.freq_hz.len() as u64).sum();
         band * self.sweeps.len() as u64 * self.scenario_count() as u64
     }
@@ -403,6 +429,8 @@ pub struct Problem {
     /// The supports move (each scenario's `force` is their acceleration, m/s^2, and
     /// `driven` is unused) instead of a force on `driven`.
     pub supports: bool,
+    /// Layouts judged under recorded ground motions instead of over `bands` ([`seismic`]).
+    pub suite: Option<seismic::Suite>,
 }
 
 impl Problem {
@@ -510,8 +538,12 @@ pub fn measure(band: &Band, compliance: &[Vec<f64>], how: Measure) -> (f64, usiz
     }
 }
 
-/// The measure of every band for the bare structure, per scenario ([`Problem::cases`]).
+/// The measure of every band (every record of a suite) for the bare structure, per scenario
+/// ([`Problem::cases`]).
 pub fn bare(problem: &Problem) -> Vec<Vec<f64>> {
+    if let Some(suite) = &problem.suite {
+        return seismic::bare(problem, suite);
+    }
     problem
         .cases()
         .iter()
@@ -529,6 +561,9 @@ pub fn bare(problem: &Problem) -> Vec<Vec<f64>> {
 /// Evaluates one layout (`bare`: per scenario, the bands' measures without dampers, from
 /// [`bare`]).
 pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evaluation {
+    if let Some(suite) = &problem.suite {
+        return seismic::evaluate(problem, suite, bare, layout);
+    }
     // The scenarios side by side, gathered in order: the same numbers for any thread count.
     let mut runs: Vec<_> =
         problem.cases().par_iter().zip(bare).map(|(sc, b)| band::scenario(problem, sc, b, layout)).collect();

@@ -524,7 +524,7 @@ fn time_history(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
             "analysis kind \"time_history\" needs its records: ground_motions = [{ file = \"...\", peak_g = ... }]",
         ));
     };
-    let records = super::ground::records(path, raw)?;
+    let records = super::ground::records(path, "analysis.ground_motions", raw)?;
     let key = "analysis.storey_height_m";
     let storey_heights_m = match &a.storey_height_m {
         None => None,

@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use crate::design::search::Options;
+use crate::design::seismic::{Over, Response, Suite, SuiteRecord};
 use crate::design::{limits, Band, Combine, Measure, Spec, Sweep};
 use crate::error::{Error, Result};
 use crate::model::Direction;
@@ -236,6 +237,52 @@ fn sdof(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<(usize, Vec<f64
     })
 }
 
+/// The records of `design.ground_motions` and what is measured under them; refuses the keys
+/// of a design over frequency bands beside them.
+fn suite(path: &Path, raw: &RawDesign) -> Result<Option<Suite>> {
+    let bad = bad_at(path);
+    let Some(list) = &raw.ground_motions else {
+        let given = [("response", raw.response.is_some()), ("over_records", raw.over_records.is_some())];
+        if let Some((key, _)) = given.iter().find(|g| g.1) {
+            return Err(bad(key, &"(given)", "only a design against records (design.ground_motions) reads it"));
+        }
+        return Ok(None);
+    };
+    // What a design over frequency bands reads and a design against records does not.
+    let banded = [
+        ("bands", !raw.bands.is_empty()),
+        ("sweeps", raw.sweeps.is_some()),
+        ("measure", raw.measure.is_some()),
+        ("drive_levels_n", raw.drive_levels_n.is_some()),
+        ("objective", raw.objective.is_some()),
+        ("sdof", raw.sdof.is_some()),
+        ("screen", raw.screen.is_some()),
+        ("scenarios.force_n", raw.scenarios.as_ref().is_some_and(|sc| sc.force_n.is_some())),
+    ];
+    if let Some((key, _)) = banded.iter().find(|g| g.1) {
+        return Err(bad(
+            key,
+            &"(given)",
+            "a design against recorded ground motions (design.ground_motions) judges each layout under the records: leave out bands, sweeps, measure, drive_levels_n, objective, sdof, screen and scenarios.force_n (design.response and design.over_records say what counts)",
+        ));
+    }
+    let records = super::ground::records(path, "design.ground_motions", list)?
+        .into_iter()
+        .map(|r| SuiteRecord { key: r.key, name: r.name, file: r.file, scaling: r.scaling, motion: r.motion })
+        .collect();
+    let response = match raw.response.as_deref() {
+        None => Response::Drift,
+        Some(name) => {
+            Response::from_name(name).ok_or_else(|| bad("response", &format!("\"{name}\""), Response::NAMES))?
+        }
+    };
+    let over = match raw.over_records.as_deref() {
+        None => Over::Largest,
+        Some(name) => Over::from_name(name).ok_or_else(|| bad("over_records", &format!("\"{name}\""), Over::NAMES))?,
+    };
+    Ok(Some(Suite { records, response, over }))
+}
+
 /// The Nelder-Mead search's options of `raw` (`starts`, `max_iters`, `tolerance`, `seed`,
 /// `step_tolerance`), each within its stated limit.
 fn search_options(path: &Path, raw: &RawDesign) -> Result<Options> {
@@ -328,8 +375,9 @@ pub fn design(
         Some("rms") => Measure::Rms,
         Some(other) => return Err(bad("measure", &format!("\"{other}\""), "\"peak\" or \"rms\"")),
     };
-    let sweeps = sweeps(path, &raw)?;
-    let bands = bands(path, &raw, n)?;
+    let suite = suite(path, &raw)?;
+    let (sweeps, bands) =
+        if suite.is_some() { (Vec::new(), Vec::new()) } else { (sweeps(path, &raw)?, bands(path, &raw, n)?) };
     let pareto_mass_ratios = raw.pareto_mass_ratios.clone().unwrap_or_default();
     if let Some((i, r)) =
         pareto_mass_ratios.iter().enumerate().find(|(_, r)| !(r.is_finite() && **r > 0.0 && **r <= 10.0))
@@ -399,6 +447,7 @@ pub fn design(
         scenario_models,
         model_structures: Vec::new(),
         screen: None,
+        suite,
     };
     sized(path, &spec)?;
     Ok(Some(spec))

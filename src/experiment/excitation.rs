@@ -104,7 +104,7 @@ pub(super) fn ground(path: &Path, e: &RawExcitation, structure: &Structure) -> R
             path,
             *key,
             "(given)",
-            "a time history is driven by its records (analysis.ground_motions): leave [excitation] out",
+            "a time history (analysis.ground_motions) or a design against records (design.ground_motions) is driven by its records: leave [excitation] out",
         ));
     }
     if structure.stiffness.clone().try_inverse().is_none() {

@@ -41,10 +41,9 @@ pub const MAX_RECORDS: usize = 64;
 /// Most samples one record may have.
 pub const MAX_SAMPLES: usize = 2_000_000;
 
-/// Reads and scales the ground motions of `analysis.ground_motions` of the experiment file
-/// `path` (their files relative to it).
-pub fn records(path: &Path, raw: &[super::file::raw::RawGroundMotion]) -> Result<Vec<Record>> {
-    let key = "analysis.ground_motions";
+/// Reads and scales the ground motions at `key` of the experiment file `path`
+/// (`analysis.ground_motions`, `design.ground_motions`; their files relative to it).
+pub fn records(path: &Path, key: &str, raw: &[super::file::raw::RawGroundMotion]) -> Result<Vec<Record>> {
     if raw.is_empty() || raw.len() > MAX_RECORDS {
         return Err(Error::invalid(
             path,

@@ -73,7 +73,10 @@ pub(super) fn validate_keeping(
             ),
         ));
     }
-    let excitation = if raw.analysis.kind == "time_history" {
+    // A time history and a design against records are driven by their records.
+    let on_records = raw.analysis.kind == "time_history"
+        || (raw.analysis.kind == "design" && raw.design.as_ref().is_some_and(|d| d.ground_motions.is_some()));
+    let excitation = if on_records {
         super::excitation::ground(path, &raw.excitation, &structure)?
     } else {
         excitation(path, &raw.excitation, &structure.masses[..responses])?
@@ -97,6 +100,15 @@ pub(super) fn validate_keeping(
         spec.screen = screen;
     }
     design_fits(path, &analysis, fe, &excitation, &structure)?;
+    let drift = analysis.design().and_then(|(spec, _)| spec.suite.as_ref()).map(|s| s.response);
+    if drift == Some(crate::design::seismic::Response::Drift) && !structure.is_chain() {
+        return Err(Error::invalid(
+            path,
+            "design.response",
+            "\"drift\" (the default)",
+            "storey drifts are those of a chain of storeys (structure.masses_kg with chain stiffnesses): give design.response = \"acceleration\" for this structure",
+        ));
+    }
     if let Analysis::TimeHistory { storey_heights_m: Some(_), .. } = &analysis {
         if !structure.is_chain() {
             return Err(Error::invalid(

@@ -66,8 +66,19 @@ pub struct RawDesign {
     /// `shotdamp report` shows this design (its stored answer evaluated again); default false.
     #[serde(default)]
     pub report: Option<bool>,
-    /// The bands whose response is lowered.
+    /// The bands whose response is lowered (none with `ground_motions`).
+    #[serde(default)]
     pub bands: Vec<RawBand>,
+    /// Recorded ground motions the layouts are judged under instead of bands (as
+    /// `analysis.ground_motions` of a time history).
+    #[serde(default)]
+    pub ground_motions: Option<Vec<super::raw::RawGroundMotion>>,
+    /// With `ground_motions`: what is lowered, "drift" (default) or "acceleration".
+    #[serde(default)]
+    pub response: Option<String>,
+    /// With `ground_motions`: how the records' peaks combine, "largest" (default) or "mean".
+    #[serde(default)]
+    pub over_records: Option<String>,
     /// Values the objective is taken over (the paper leaves them unstated).
     #[serde(default)]
     pub scenarios: Option<RawScenarios>,
