@@ -22,6 +22,34 @@ fn in_units(response: Response, v: f64) -> String {
     }
 }
 
+/// A layout's clearances in words: one when they are all the same.
+fn clearance_words(layout: &crate::design::Layout) -> String {
+    let c = &layout.clearances_mm;
+    if c.windows(2).all(|w| w[0] == w[1]) {
+        c.first().map_or(String::new(), |d| fmt_sig(*d, 3))
+    } else {
+        c.iter().map(|d| fmt_sig(*d, 3)).collect::<Vec<_>>().join(" / ")
+    }
+}
+
+/// Where a layout's shot is in effect: the hosts of 1 % of the shot or more, in words, when
+/// some host has less ("" when every host has more).
+fn in_effect(layout: &crate::design::Layout) -> String {
+    let shot = layout.shot_kg();
+    let kept: Vec<String> = layout
+        .hosts
+        .iter()
+        .zip(&layout.masses_kg)
+        .filter(|(_, m)| **m >= 0.01 * shot)
+        .map(|(h, _)| format!("m{}", h + 1))
+        .collect();
+    if kept.len() == layout.hosts.len() {
+        String::new()
+    } else {
+        format!(", in effect on {} (the others hold under 1 % of the shot)", kept.join(" "))
+    }
+}
+
 /// The suite's records as a time history reads them.
 fn records(suite: &Suite) -> Vec<Record> {
     suite
@@ -51,10 +79,9 @@ fn layouts_shown(exp: &Experiment, spec: &Spec, i: &BestIn<'_>) -> Experiment {
         ..c.clone()
     }));
     let layout = &i.best.layout;
-    let clearances: Vec<String> = layout.clearances_mm.iter().map(|d| fmt_sig(*d, 3)).collect();
     cases.push(Case {
         id: "best".into(),
-        label: format!("best: {}, d = {} mm", layout.hosts_words(), clearances.join(" / ")),
+        label: format!("best: {}, d = {} mm", layout.hosts_words(), clearance_words(layout)),
         beds: layout
             .dampers(spec.direction)
             .into_iter()
@@ -99,11 +126,18 @@ pub(super) fn about_the_best(
         if let Some((lo, hi)) = band {
             page.exports.insert("robust_clearance_min_mm".into(), lo);
             page.exports.insert("robust_clearance_max_mm".into(), hi);
-            robust = format!(
-                " With one clearance for every container it stays within 5 % of the best from {} to {} mm (the clearance profile).",
-                fmt_sig(lo, 2),
-                fmt_sig(hi, 2)
-            );
+            robust = if fmt_sig(lo, 2) == fmt_sig(hi, 2) {
+                format!(
+                    " With one clearance for every container, of the clearances sampled only {} mm is within 5 % of the best (the clearance profile): the gain is tuned to the clearance.",
+                    fmt_sig(lo, 2)
+                )
+            } else {
+                format!(
+                    " With one clearance for every container it stays within 5 % of the best from {} to {} mm (the clearance profile).",
+                    fmt_sig(lo, 2),
+                    fmt_sig(hi, 2)
+                )
+            };
         }
         page.tables.push(table);
         page.figures.push(figure);
@@ -124,11 +158,11 @@ pub(super) fn about_the_best(
         .enumerate()
         .map(|(k, r)| {
             format!(
-                "{}: {} bare, {} with it ({})",
+                "{}: {} bare, {} with it ({:.3})",
                 r.name,
                 in_units(response, e.bare[k]),
                 in_units(response, e.bands[k]),
-                fmt_sig(e.bands[k] / e.bare[k], 3)
+                e.bands[k] / e.bare[k]
             )
         })
         .collect();
@@ -138,20 +172,20 @@ pub(super) fn about_the_best(
         .as_ref()
         .map_or(String::new(), |(m, what)| format!(" ({} % of the structure's {what})", fmt_sig(100.0 * shot / m, 2)));
     let beds: Vec<String> = best.layout.masses_kg.iter().map(|m| fmt_sig(*m, 3)).collect();
-    let clearances: Vec<String> = best.layout.clearances_mm.iter().map(|d| fmt_sig(*d, 3)).collect();
     let (worst_record, _, worst_storey) = e.worst;
     let place = match response {
         Response::Drift => format!("storey {}", worst_storey + 1),
         Response::Acceleration => format!("floor {}", worst_storey + 1),
     };
     let mut words = vec![format!(
-        "Under {} record{}, the best layout found puts {} kg of shot{share} in containers on {} ({} kg, clearance {} mm): its {}, {}, is {} of the bare building's (the largest under {} at {place}). Record by record: {}.{robust}",
+        "Under {} record{}, the best layout found puts {} kg of shot{share} in containers on {} ({} kg{}, clearance {} mm): its {}, {}, is {} of the bare building's (the largest under {} at {place}). Record by record: {}.{robust}",
         suite.records.len(),
         if suite.records.len() == 1 { "" } else { "s" },
         fmt_sig(shot, 3),
         best.layout.hosts_words(),
         beds.join(" / "),
-        clearances.join(" / "),
+        in_effect(&best.layout),
+        clearance_words(&best.layout),
         response.words(),
         suite.over.words(),
         fmt_sig(e.objective, 3),

@@ -84,8 +84,9 @@ impl StoredDesign {
 }
 
 /// A fingerprint of everything a search's answer depends on: the structure and force (with
-/// the scenarios), the bands, measure, sweeps and steady-state settings, and the search space
-/// and settings (64-bit FNV-1a of their exact values, in hex).
+/// the scenarios), the bands, measure, sweeps and steady-state settings (or the records and what
+/// is measured under them), and the search space and settings (64-bit FNV-1a of their exact
+/// values, in hex).
 pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
     // A horizontal design adds its direction; a vertical one's text is as it always was (the
     // answers stored before containers had a direction stay valid).
@@ -95,7 +96,9 @@ pub fn fingerprint(problem: &Problem, spec: &Spec) -> String {
     } + if problem.supports { "|supports" } else { "" }
         // A design searched on a coarser model adds it (the others' texts are unchanged).
         + &spec.screen.as_ref().map_or(String::new(), |sc| format!("|screen {:?}", sc.structure))
-        + &spec.screen.as_ref().and_then(|sc| sc.max_periods).map_or(String::new(), |m| format!("|screen max_periods {m}"));
+        + &spec.screen.as_ref().and_then(|sc| sc.max_periods).map_or(String::new(), |m| format!("|screen max_periods {m}"))
+        // A design against records adds them, every sample, and what it measures.
+        + &problem.suite.as_ref().map_or(String::new(), |s| format!("|suite {s:?}"));
     let text = format!(
         "{:?}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
         problem.structure,
