@@ -46,6 +46,7 @@ fn problem(records: &[GroundMotion], response: Response, over: Over) -> Problem 
                     file: String::new(),
                     scaling: "as recorded".into(),
                     motion: m.clone(),
+                    direction: None,
                 })
                 .collect(),
             response,

@@ -233,6 +233,11 @@ fn a_bad_time_history_is_refused_with_its_key_and_what_is_allowed() {
         &["excitation.mass", "leave [excitation] out"],
     );
     seismic_fails_with("kind = \"time_history\"", "kind = \"sweep\"", &["excitation.force_n", "(missing)"]);
+    seismic_fails_with(
+        ", name = \"El Centro #9",
+        ", direction = \"z\", name = \"El Centro #9",
+        &["analysis.ground_motions[1].direction", "\"z\"", "\"along\""],
+    );
 }
 
 #[test]

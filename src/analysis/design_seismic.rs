@@ -61,6 +61,7 @@ fn records(suite: &Suite) -> Vec<Record> {
             file: r.file.clone(),
             scaling: r.scaling.clone(),
             motion: r.motion.clone(),
+            direction: r.direction.clone(),
         })
         .collect()
 }

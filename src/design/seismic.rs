@@ -116,6 +116,8 @@ pub struct SuiteRecord {
     pub file: String,
     /// How it was scaled, in words.
     pub scaling: String,
+    /// The direction the file states (checked against the structure when it is loaded).
+    pub direction: Option<String>,
     /// The record as scaled.
     pub motion: GroundMotion,
 }

@@ -268,7 +268,14 @@ fn suite(path: &Path, raw: &RawDesign) -> Result<Option<Suite>> {
     }
     let records = super::ground::records(path, "design.ground_motions", list)?
         .into_iter()
-        .map(|r| SuiteRecord { key: r.key, name: r.name, file: r.file, scaling: r.scaling, motion: r.motion })
+        .map(|r| SuiteRecord {
+            key: r.key,
+            name: r.name,
+            file: r.file,
+            scaling: r.scaling,
+            motion: r.motion,
+            direction: r.direction,
+        })
         .collect();
     let response = match raw.response.as_deref() {
         None => Response::Drift,

@@ -33,6 +33,9 @@ pub struct Record {
     pub scaling: String,
     /// The scaled record.
     pub motion: GroundMotion,
+    /// The direction the file states for it (checked against the structure's supports by
+    /// [`directions_fit`]); `None`: the structure's own.
+    pub direction: Option<String>,
 }
 
 /// Most records one time history may run.
@@ -123,9 +126,40 @@ pub fn records(path: &Path, key: &str, raw: &[super::file::raw::RawGroundMotion]
             key = format!("{key}_{}", i + 1);
         }
         let name = r.name.clone().unwrap_or_else(|| motion.name.clone());
-        out.push(Record { key, name, file: r.file.clone(), scaling, motion });
+        out.push(Record { key, name, file: r.file.clone(), scaling, motion, direction: r.direction.clone() });
     }
     Ok(out)
+}
+
+/// The direction a structure's supports move in, in a file's words: "along" a chain (any lumped
+/// structure), or a finite-element model's `base_direction`.
+pub fn supports_direction(structure: &crate::model::Structure) -> &str {
+    structure.supports.as_ref().map_or("along", |s| s.direction.as_str())
+}
+
+/// Refuses a record (at `key[i].direction`) whose stated direction is not the one the
+/// structure's supports move in: one model shakes along one direction (a finite-element
+/// model's reduction is made for its `base_direction`).
+pub fn directions_fit<'a>(
+    path: &Path,
+    key: &str,
+    stated: impl Iterator<Item = Option<&'a str>>,
+    structure: &crate::model::Structure,
+) -> Result<()> {
+    let along = supports_direction(structure);
+    for (i, d) in stated.enumerate() {
+        if let Some(d) = d.filter(|d| *d != along) {
+            let allowed = if structure.supports.is_some() {
+                format!(
+                    "\"{along}\": this finite-element model's supports move along {along} (structure.finite_element.base_direction; its reduction is made for it: to shake along another axis, set base_direction and run it as its own experiment)"
+                )
+            } else {
+                "\"along\": the supports of a chain move along it".to_string()
+            };
+            return Err(Error::invalid(path, format!("{key}[{i}].direction"), format!("\"{d}\""), allowed));
+        }
+    }
+    Ok(())
 }
 
 /// An error at `line` (1-based) and `column` (1-based, characters) of `file`.

@@ -100,6 +100,15 @@ pub(super) fn validate_keeping(
         spec.screen = screen;
     }
     design_fits(path, &analysis, fe, &excitation, &structure)?;
+    // The records' stated directions against the structure's supports.
+    if let Analysis::TimeHistory { records, .. } = &analysis {
+        let stated = records.iter().map(|r| r.direction.as_deref());
+        super::ground::directions_fit(path, "analysis.ground_motions", stated, &structure)?;
+    }
+    if let Some(suite) = analysis.design().and_then(|(spec, _)| spec.suite.as_ref()) {
+        let stated = suite.records.iter().map(|r| r.direction.as_deref());
+        super::ground::directions_fit(path, "design.ground_motions", stated, &structure)?;
+    }
     let drift = analysis.design().and_then(|(spec, _)| spec.suite.as_ref()).map(|s| s.response);
     if drift == Some(crate::design::seismic::Response::Drift) && !structure.is_chain() {
         return Err(Error::invalid(

@@ -341,6 +341,10 @@ pub struct RawGroundMotion {
     /// Its peak after scaling, g (instead of `scale`).
     #[serde(default)]
     pub peak_g: Option<f64>,
+    /// The direction it shakes the supports in, stated: "along" a chain, or a finite-element
+    /// model's `base_direction` ("x", "y", "z"); checked against the structure.
+    #[serde(default)]
+    pub direction: Option<String>,
 }
 
 /// Storey heights: one for every storey, or one a storey.
