@@ -201,10 +201,9 @@ fn a_bad_design_against_records_is_refused_with_its_key_and_what_is_allowed() {
     );
 }
 
-#[test]
-fn a_small_design_against_two_records_finds_a_placement_and_says_how_much_it_lowers_the_drift() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    // Two records, two candidates, short searches: the shipped design in small.
+/// The shipped design in small (two records, two candidates, short searches), written to
+/// `dir/small.toml`.
+fn small(dir: &std::path::Path) -> std::path::PathBuf {
     let text = shipped()
         .replace("candidates = [3, 4, 5]", "candidates = [4, 5]")
         .replace("max_beds = 3", "max_beds = 2\nmax_iters = 12")
@@ -212,8 +211,15 @@ fn a_small_design_against_two_records_finds_a_placement_and_says_how_much_it_low
     let cut = text.find("    { file = \"").unwrap();
     let last = text[cut..].lines().nth(2).unwrap().to_string();
     let text = text.replacen(&format!("{last}\n"), "", 1);
-    let path = dir.path().join("small.toml");
+    let path = dir.join("small.toml");
     std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_small_design_against_two_records_finds_a_placement_and_says_how_much_it_lowers_the_drift() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = small(dir.path());
     let out =
         super::common::shotdamp().arg("design").arg(&path).arg("--out").arg(dir.path().join("out")).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -231,4 +237,29 @@ fn a_small_design_against_two_records_finds_a_placement_and_says_how_much_it_low
     let suite = std::fs::read_to_string(page.join("data/time_history_suite.csv")).unwrap();
     // The bare building, the file's case and the best layout, five storeys each.
     assert_eq!(super::common::csv_rows(&suite).len(), 1 + 3 * 5, "{suite}");
+}
+
+#[test]
+fn a_design_against_records_sharded_in_two_merges_to_the_unsharded_answer() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = small(dir.path());
+    let design = |args: &[&str], out: &str| {
+        let o = super::common::shotdamp()
+            .arg("design")
+            .arg(&path)
+            .args(args)
+            .arg("--out")
+            .arg(dir.path().join(out))
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        dir.path().join(out).join("design_five_storey_seismic/data/design_placements.csv")
+    };
+    let parts = dir.path().join("parts");
+    let parts = parts.to_str().unwrap();
+    design(&["--shard", "0/2", "--parts", parts], "s0");
+    design(&["--shard", "1/2", "--parts", parts], "s1");
+    let merged = std::fs::read_to_string(design(&["--merge", parts], "merged")).unwrap();
+    let whole = std::fs::read_to_string(design(&[], "whole")).unwrap();
+    assert_eq!(merged, whole, "the merged search is the whole one");
 }

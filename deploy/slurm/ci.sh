@@ -9,7 +9,7 @@
 # every merge equal to the unsharded table byte for byte; an adaptive study's rounds as an array
 # of 3 (studies/fig05_adaptive.toml), equal to the unsharded folder; and deploy/slurm/design.sbatch: a
 # small design searched as an array of 3 shards, the chained merge's report equal to the whole
-# search's file for file. Tears down on success, on failure and
+# search's file for file, and a small design against earthquake records as an array of 2. Tears down on success, on failure and
 # on SIGTERM/SIGINT. Usage, from a checkout with target/release/shotdamp built (or under
 # $CARGO_TARGET_DIR when that is set):
 #   bash deploy/slurm/ci.sh [WORK_DIR]        (STUDY=studies/... to choose another study)
@@ -115,6 +115,15 @@ m=$(sbatch --parsable --dependency=afterok:"$j" --output="$W/logs/design-merge-%
 waitfor "gone $j && gone $m"; all_ok "$j"; all_ok "$m"
 grep -q "shard 1/3" "$R/design-parts/logs/${j}_1.out"
 diff -r "$R/design-whole" "$R/design-merged"
+say "design against earthquakes: an array of 2 shards + chained merge, equal to the whole search's report"
+Q=$W/seismic.toml   # the five-storey building under two of the shipped records, short searches
+sed -e 's/candidates = \[3, 4, 5\]/candidates = [4, 5]/' -e 's/^max_beds = 3/max_beds = 2\nmax_iters = 12/' \
+    -e '/RSN1690/d' -e "s|\.\./reference/|$REPO/reference/|" designs/five_storey_seismic.toml > "$Q"
+"$BIN" design "$Q" --out "$R/seismic-whole" --jobs 2 > "$W/logs/seismic-whole.log" 2>&1
+j=$(sbatch --parsable "${ONE[@]}" --array=0-1 deploy/slurm/design.sbatch "$Q" "$R/seismic-parts")
+m=$(sbatch --parsable --dependency=afterok:"$j" --output="$W/logs/seismic-merge-%j.out" --wrap "$BIN design $Q --merge $R/seismic-parts --out $R/seismic-merged")
+waitfor "gone $j && gone $m"; all_ok "$j"; all_ok "$m"
+diff -r "$R/seismic-whole" "$R/seismic-merged"
 # Job logs and study folders of a run from the checkout are ignored by git.
 [ -z "$(git -C "$REPO" status --porcelain)" ] || { git -C "$REPO" status --porcelain; say "the checkout changed"; exit 1; }
-say "PASS: arrays run together, rerun with --array=1 and requeued equal the unsharded $ID.csv; the adaptive study's array equals its unsharded folder; the sharded design's report equals the whole search's"
+say "PASS: arrays run together, rerun with --array=1 and requeued equal the unsharded $ID.csv; the adaptive study's array equals its unsharded folder; the sharded designs' reports (frequency bands, earthquakes) equal the whole searches'"
