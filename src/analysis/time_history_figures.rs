@@ -1,7 +1,8 @@
 //! The figures of a time history: per record, the ground's acceleration and the plotted
 //! masses' displacement and acceleration against time for every case
 //! (`plots.kind = "ground_histories"`); per record and over the suite, each storey's peak
-//! drift and floor acceleration against the storey (`"storey_profiles"`).
+//! drift and floor acceleration against the storey (`"storey_profiles"`). The page shows the
+//! suite first, then each record's figures together.
 
 use crate::experiment::ground::Record;
 use crate::experiment::{Experiment, PlotKind, PlotSpec};
@@ -15,7 +16,8 @@ use super::time_history::{over_suite, Run};
 /// shipped records, fine against the building's periods, and a page inside its budget.
 const BINS: usize = 300;
 
-/// Every figure the experiment's plots ask for.
+/// Every figure the experiment's plots ask for: the suite's summary first (the storey profiles
+/// over every record), then each record's figures together (its histories, its profiles).
 pub(super) fn figures(
     exp: &Experiment,
     records: &[Record],
@@ -23,25 +25,28 @@ pub(super) fn figures(
     chain: bool,
     heights: Option<&[f64]>,
 ) -> Vec<Figure> {
+    let plots: Vec<(&PlotSpec, String, Vec<usize>)> = exp
+        .plots
+        .iter()
+        .map(|p| {
+            let title = p.title.clone().unwrap_or_else(|| format!("{}: {}", exp.meta.figure, exp.meta.title));
+            let shown: Vec<usize> = (0..exp.cases.len()).filter(|&c| p.cases.contains(&exp.cases[c].id)).collect();
+            (p, title, shown)
+        })
+        .collect();
     let mut out = Vec::new();
-    for p in &exp.plots {
-        let title = p.title.clone().unwrap_or_else(|| format!("{}: {}", exp.meta.figure, exp.meta.title));
-        let shown: Vec<usize> = (0..exp.cases.len()).filter(|&c| p.cases.contains(&exp.cases[c].id)).collect();
-        match p.kind {
-            PlotKind::GroundHistories => {
-                for rec in records {
-                    out.push(histories(exp, p, &title, rec, runs, &shown));
-                }
+    for (p, title, shown) in &plots {
+        if p.kind == PlotKind::StoreyProfiles && records.len() > 1 {
+            out.push(suite_profiles(exp, p, title, records, runs, shown, chain, heights));
+        }
+    }
+    for rec in records {
+        for (p, title, shown) in &plots {
+            match p.kind {
+                PlotKind::GroundHistories => out.push(histories(exp, p, title, rec, runs, shown)),
+                PlotKind::StoreyProfiles => out.push(record_profiles(exp, p, title, rec, runs, shown, chain, heights)),
+                _ => {}
             }
-            PlotKind::StoreyProfiles => {
-                if records.len() > 1 {
-                    out.push(suite_profiles(exp, p, &title, records, runs, &shown, chain, heights));
-                }
-                for rec in records {
-                    out.push(record_profiles(exp, p, &title, rec, runs, &shown, chain, heights));
-                }
-            }
-            _ => {}
         }
     }
     out
