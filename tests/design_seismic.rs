@@ -149,22 +149,9 @@ fn a_layouts_objective_is_the_same_for_any_thread_count() {
     assert_eq!(one.bands, two.bands);
 }
 
-/// The shipped design in a temporary folder with one replacement (its records beside it),
-/// checked with `shotdamp modal`: a bad key fails with code 2 and the message's words.
+/// The shipped file with one replacement: refused with code 2 and the message's words.
 fn design_fails_with(from: &str, to: &str, expected: &[&str]) {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let text = shipped();
-    assert!(text.contains(from), "fixture text {from:?} not found");
-    let path = dir.path().join("x.toml");
-    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
-    let out = super::common::shotdamp().arg("modal").arg(&path).output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains("x.toml"), "names the file: {stderr}");
-    for e in expected {
-        assert!(stderr.contains(e), "expected {e:?} in: {stderr}");
-    }
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    super::common::records_file_fails_with("designs/five_storey_seismic.toml", from, to, expected);
 }
 
 /// The shipped design's text, its records' paths made absolute.

@@ -182,26 +182,9 @@ fn the_energy_balances_over_a_whole_record_with_beds() {
     assert!(r.balance().abs() < 1e-8 * r.energy_input.abs().max(r.energy_viscous), "{}", r.balance());
 }
 
-/// The seismic example in a temporary folder with one replacement (its records beside it),
-/// checked with `shotdamp modal`: a bad key fails with code 2 and the message's words.
+/// The shipped file with one replacement: refused with code 2 and the message's words.
 fn seismic_fails_with(from: &str, to: &str, expected: &[&str]) {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let text = std::fs::read_to_string(super::common::repo().join("experiments/seismic_five_storey.toml")).unwrap();
-    assert!(text.contains(from), "fixture text {from:?} not found");
-    let text = text.replace(
-        "../reference/ground-motions/",
-        &format!("{}/", super::common::repo().join("reference/ground-motions").display()),
-    );
-    let path = dir.path().join("x.toml");
-    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
-    let out = super::common::shotdamp().arg("modal").arg(&path).output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains("x.toml"), "names the file: {stderr}");
-    for e in expected {
-        assert!(stderr.contains(e), "expected {e:?} in: {stderr}");
-    }
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    super::common::records_file_fails_with("experiments/seismic_five_storey.toml", from, to, expected);
 }
 
 #[test]

@@ -147,3 +147,25 @@ pub fn three_containers(dir: &Path, id: &str, analysis: &str, case: &str, keys: 
     std::fs::write(&file, text).unwrap();
     file
 }
+
+/// A shipped file of the repository (`rel`), its records' paths (`../reference/ground-motions/`)
+/// made absolute, with one replacement, written to a temporary `x.toml` and checked with
+/// `shotdamp modal`: a bad key fails with code 2, names the file and has every word of
+/// `expected`, without a panic.
+pub fn records_file_fails_with(rel: &str, from: &str, to: &str, expected: &[&str]) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read_to_string(repo().join(rel)).unwrap();
+    let text = text
+        .replace("../reference/ground-motions/", &format!("{}/", repo().join("reference/ground-motions").display()));
+    assert!(text.contains(from), "fixture text {from:?} not found");
+    let path = dir.path().join("x.toml");
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    let out = shotdamp().arg("modal").arg(&path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(stderr.contains("x.toml"), "names the file: {stderr}");
+    for e in expected {
+        assert!(stderr.contains(e), "expected {e:?} in: {stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
