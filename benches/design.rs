@@ -83,20 +83,8 @@ fn against_records(c: &mut Criterion) {
         .collect();
     let m = 45369.65;
     let structure = Structure::chain(&[m; 5], &[5523546.0; 5], Damping::ModalRatios(vec![0.05; 5]));
-    let p = Problem {
-        structure,
-        driven: 0,
-        force: 1.0,
-        bands: Vec::new(),
-        measure: Measure::Peak,
-        sweeps: Vec::new(),
-        steady: SteadyOptions::default(),
-        scenarios: Vec::new(),
-        combine: Combine::Worst,
-        direction: shotdamp::model::Direction::Horizontal,
-        supports: true,
-        suite: Some(Suite { records, response: Response::Drift, over: Over::Largest, storey_heights_m: None }),
-    };
+    let suite = Suite { records, response: Response::Drift, over: Over::Largest, storey_heights_m: None };
+    let p = Problem::against_records(structure, shotdamp::model::Direction::Horizontal, suite);
     let b = bare(&p);
     let layout = Layout { hosts: vec![4], masses_kg: vec![0.05 * 5.0 * m], clearances_mm: vec![434.0] };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool");

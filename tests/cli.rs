@@ -21,14 +21,7 @@ fn variant(from: &str, to: &str) -> (tempfile::TempDir, PathBuf) {
 
 fn fails_with(from: &str, to: &str, expected: &[&str]) {
     let (_dir, path) = variant(from, to);
-    let out = shotdamp().arg("modal").arg(&path).output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains("x.toml"), "names the file: {stderr}");
-    for e in expected {
-        assert!(stderr.contains(e), "expected {e:?} in: {stderr}");
-    }
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    super::common::modal_refuses(&path, expected);
 }
 
 #[test]

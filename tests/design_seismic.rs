@@ -5,12 +5,12 @@
 //! thread count, bad files refused with their key, and the shipped design end to end.
 
 use shotdamp::design::seismic::{Over, Response, Suite, SuiteRecord};
-use shotdamp::design::{bare, evaluate, Combine, Layout, Measure, Problem};
+use shotdamp::design::{bare, evaluate, Layout, Problem};
 use shotdamp::model::ground::GroundMotion;
 use shotdamp::model::ground_response::linear_response;
 use shotdamp::model::{Damping, Direction};
 use shotdamp::sim::record::{respond, RecordOptions};
-use shotdamp::sim::{SteadyOptions, System};
+use shotdamp::sim::System;
 
 use super::ground_response::{chopra_five_storey, el_centro};
 
@@ -24,36 +24,24 @@ fn records() -> Vec<GroundMotion> {
 
 fn problem(records: &[GroundMotion], response: Response, over: Over) -> Problem {
     let structure = chopra_five_storey(Damping::ModalRatios(vec![0.05; 5]));
-    Problem {
-        structure: structure.clone(),
-        driven: 0,
-        force: 1.0,
-        bands: Vec::new(),
-        measure: Measure::Peak,
-        sweeps: Vec::new(),
-        steady: SteadyOptions::default(),
-        scenarios: Vec::new(),
-        combine: Combine::Worst,
-        direction: Direction::Horizontal,
-        supports: true,
-        suite: Some(Suite {
-            records: records
-                .iter()
-                .enumerate()
-                .map(|(k, m)| SuiteRecord {
-                    key: format!("r{k}"),
-                    name: m.name.clone(),
-                    file: String::new(),
-                    scaling: "as recorded".into(),
-                    motion: m.clone(),
-                    direction: None,
-                })
-                .collect(),
-            response,
-            over,
-            storey_heights_m: None,
-        }),
-    }
+    let suite = Suite {
+        records: records
+            .iter()
+            .enumerate()
+            .map(|(k, m)| SuiteRecord {
+                key: format!("r{k}"),
+                name: m.name.clone(),
+                file: String::new(),
+                scaling: "as recorded".into(),
+                motion: m.clone(),
+                direction: None,
+            })
+            .collect(),
+        response,
+        over,
+        storey_heights_m: None,
+    };
+    Problem::against_records(structure, Direction::Horizontal, suite)
 }
 
 fn layout(clearance_mm: f64) -> Layout {

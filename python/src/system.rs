@@ -212,6 +212,72 @@ impl System {
         Ok(d)
     }
 
+    /// The structure with its beds under a recorded ground motion, exact between samples
+    /// (docs/model.md section 5; the command line's `kind = "time_history"`): `accel_m_s2` the
+    /// ground's acceleration at `t = k dt_s`, linear between samples, along the structure's
+    /// supports; from rest with every bed on its container's bottom (the system's force or
+    /// harmonic base motion is not used). Returns a dict: `t_s` and, samples x coordinates,
+    /// `u_m` (relative to the supports) and `accel_m_s2` (absolute), every `max_history`-th
+    /// sample at most; over every sample and between them: `peak_displacement_m`,
+    /// `peak_drift_m` (a chain's storeys, else empty), `peak_accel_m_s2` and their `rms_`
+    /// values; the energies (J) `energy_input_j`, `energy_viscous_j`, `energy_impacts_j`,
+    /// `energy_stored_j`, `energy_balance_j`; per bed `impacts` and `lift_offs`; `events`;
+    /// `completed` (false when the run stopped at its event limit).
+    #[pyo3(signature = (accel_m_s2, dt_s, *, max_history=20000))]
+    fn ground_motion<'py>(
+        &self,
+        py: Python<'py>,
+        accel_m_s2: &Bound<'py, PyAny>,
+        dt_s: f64,
+        max_history: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let origin = "shotdamp.System.ground_motion";
+        let accel = floats("accel_m_s2", accel_m_s2)?;
+        let bad =
+            |key: &str, value: String, allowed: &str| error(shotdamp::Error::invalid(origin, key, value, allowed));
+        if !(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 10.0) {
+            return Err(bad("dt_s", dt_s.to_string(), "a sampling step in s, above 0 and at most 10"));
+        }
+        let most = shotdamp::experiment::ground::MAX_SAMPLES;
+        if accel.len() < 2 || accel.len() > most {
+            return Err(bad("accel_m_s2", format!("{} samples", accel.len()), &format!("2 to {most} samples")));
+        }
+        if let Some((k, a)) = accel.iter().enumerate().find(|(_, a)| !(a.is_finite() && a.abs() <= 1e3)) {
+            return Err(bad(&format!("accel_m_s2[{k}]"), a.to_string(), "a finite acceleration of at most 1000 m/s^2"));
+        }
+        if max_history < 2 {
+            return Err(bad("max_history", max_history.to_string(), "2 samples or more"));
+        }
+        let record = shotdamp::model::ground::GroundMotion { name: "python".into(), dt_s, accel_m_s2: accel };
+        let options = shotdamp::sim::record::RecordOptions { max_history, ..Default::default() };
+        let sim = &self.sim;
+        let r = compute::run(py, Some(1), None, |_| {
+            shotdamp::sim::record::respond(sim, &record, options)
+                .map_err(|e| shotdamp::Error::invalid(origin, "system", "(this structure and its beds)", e.to_string()))
+        })?;
+        let n = r.peak_displacement.len();
+        let d = PyDict::new(py);
+        d.set_item("t_s", array1(py, r.t.clone()))?;
+        d.set_item("u_m", array2(py, &r.u, n)?)?;
+        d.set_item("accel_m_s2", array2(py, &r.accel, n)?)?;
+        d.set_item("peak_displacement_m", array1(py, r.peak_displacement.clone()))?;
+        d.set_item("peak_drift_m", array1(py, r.peak_drift.clone()))?;
+        d.set_item("peak_accel_m_s2", array1(py, r.peak_accel.clone()))?;
+        d.set_item("rms_displacement_m", array1(py, r.rms_displacement.clone()))?;
+        d.set_item("rms_drift_m", array1(py, r.rms_drift.clone()))?;
+        d.set_item("rms_accel_m_s2", array1(py, r.rms_accel.clone()))?;
+        d.set_item("energy_input_j", r.energy_input)?;
+        d.set_item("energy_viscous_j", r.energy_viscous)?;
+        d.set_item("energy_impacts_j", r.energy_impacts)?;
+        d.set_item("energy_stored_j", r.energy_stored)?;
+        d.set_item("energy_balance_j", r.balance())?;
+        d.set_item("impacts", r.beds.iter().map(|b| b.impacts).collect::<Vec<_>>())?;
+        d.set_item("lift_offs", r.beds.iter().map(|b| b.lift_offs).collect::<Vec<_>>())?;
+        d.set_item("events", r.events)?;
+        d.set_item("completed", r.stop == shotdamp::sim::record::RecordStop::Completed)?;
+        Ok(d)
+    }
+
     fn __repr__(&self) -> String {
         let drive = if self.sim.base.is_some() { "base_acceleration_m_s2" } else { "force_n" };
         format!("System(dof={}, containers={}, {drive}={})", self.sim.dof(), self.case.beds.len(), self.force)

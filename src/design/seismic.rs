@@ -135,6 +135,31 @@ pub struct Suite {
     pub storey_heights_m: Option<Vec<f64>>,
 }
 
+impl Problem {
+    /// A design problem against `suite` on `structure` (its supports driven by the records),
+    /// every container moving along `direction`: no bands, sweeps or scenarios.
+    pub fn against_records(
+        structure: crate::model::Structure,
+        direction: crate::model::Direction,
+        suite: Suite,
+    ) -> Problem {
+        Problem {
+            structure,
+            driven: 0,
+            force: 1.0,
+            bands: Vec::new(),
+            measure: super::Measure::Peak,
+            sweeps: Vec::new(),
+            steady: crate::sim::SteadyOptions::default(),
+            scenarios: Vec::new(),
+            combine: Combine::Worst,
+            direction,
+            supports: true,
+            suite: Some(suite),
+        }
+    }
+}
+
 /// What a design run keeps of each response: no histories (the measures are over every sample
 /// whatever this is).
 const OPTIONS: RecordOptions = RecordOptions { max_events: 2_000_000, max_history: 2 };

@@ -160,7 +160,13 @@ pub fn records_file_fails_with(rel: &str, from: &str, to: &str, expected: &[&str
     assert!(text.contains(from), "fixture text {from:?} not found");
     let path = dir.path().join("x.toml");
     std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
-    let out = shotdamp().arg("modal").arg(&path).output().unwrap();
+    modal_refuses(&path, expected);
+}
+
+/// `shotdamp modal` refuses the file at `path` (named `x.toml`): code 2, the file named, every
+/// word of `expected`, no panic.
+pub fn modal_refuses(path: &Path, expected: &[&str]) {
+    let out = shotdamp().arg("modal").arg(path).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
     assert!(stderr.contains("x.toml"), "names the file: {stderr}");
