@@ -295,9 +295,15 @@ fn run(
     }
     if let Some(why) = why {
         let levels = if spec.drive_level_count() == 0 { "" } else { " (the drive levels are: the best layout's only)" };
+        // A design against records has a clearance profile only.
+        let more_layouts = if spec.suite.is_some() {
+            "the clearance profile"
+        } else {
+            "the clearance profile, the near-optimum map, the SDOF method"
+        };
         page.warnings.insert(
             0,
-            format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer; what would search more layouts (the clearance profile, the near-optimum map, the SDOF method) is not computed{levels}"),
+            format!("{why}: every layout here is the best found so far, not a converged optimum, and it is not stored as the design's answer; what would search more layouts ({more_layouts}) is not computed{levels}"),
         );
     }
     Output {
