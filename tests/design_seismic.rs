@@ -4,9 +4,10 @@
 //! horizontal beds (records and clearances x s: the same objective), the same numbers for any
 //! thread count, bad files refused with their key, and the shipped design end to end.
 
-use shotdamp::design::seismic::{Over, Response, Suite, SuiteRecord};
+use shotdamp::design::seismic::{Over, Response, Suite};
 use shotdamp::design::{bare, evaluate, Layout, Problem};
 use shotdamp::model::ground::GroundMotion;
+use shotdamp::model::ground::Record;
 use shotdamp::model::ground_response::linear_response;
 use shotdamp::model::{Damping, Direction};
 use shotdamp::sim::record::{respond, RecordOptions};
@@ -28,7 +29,7 @@ fn problem(records: &[GroundMotion], response: Response, over: Over) -> Problem 
         records: records
             .iter()
             .enumerate()
-            .map(|(k, m)| SuiteRecord {
+            .map(|(k, m)| Record {
                 key: format!("r{k}"),
                 name: m.name.clone(),
                 file: String::new(),

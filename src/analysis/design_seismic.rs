@@ -7,7 +7,6 @@
 
 use crate::design::seismic::{Response, Suite};
 use crate::design::Spec;
-use crate::experiment::ground::Record;
 use crate::experiment::{Bed, Case, ClearanceSource, Experiment, PlotKind, PlotSpec, Scale};
 use crate::number::fmt_sig;
 use crate::sim::motion::bed::ImpactLaw;
@@ -48,22 +47,6 @@ fn in_effect(layout: &crate::design::Layout) -> String {
     } else {
         format!("; in effect on {} alone, the others holding under 1 % of the shot", kept.join(" "))
     }
-}
-
-/// The suite's records as a time history reads them.
-fn records(suite: &Suite) -> Vec<Record> {
-    suite
-        .records
-        .iter()
-        .map(|r| Record {
-            key: r.key.clone(),
-            name: r.name.clone(),
-            file: r.file.clone(),
-            scaling: r.scaling.clone(),
-            motion: r.motion.clone(),
-            direction: r.direction.clone(),
-        })
-        .collect()
 }
 
 /// The experiment as a time history of the bare building, the file's cases and the best
@@ -144,13 +127,12 @@ pub(super) fn about_the_best(
         page.figures.push(figure);
     }
     let shown = layouts_shown(exp, spec, i);
-    let records = records(suite);
     let heights = suite.storey_heights_m.as_deref();
-    let out = super::time_history::page(&shown, &records, heights, tick);
+    let out = super::time_history::page(&shown, &suite.records, heights, tick);
     page.tables.extend(out.tables);
     // The profiles over the suite (the records' own are in time_history_peaks): the page stays
     // light.
-    let suite_only = records.len() > 1;
+    let suite_only = suite.records.len() > 1;
     page.figures.extend(out.figures.into_iter().filter(|f| !suite_only || f.id.ends_with("_suite")));
     page.warnings.extend(out.warnings);
     let response = suite.response;

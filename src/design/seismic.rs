@@ -8,7 +8,7 @@
 use rayon::prelude::*;
 
 use super::{Combine, Evaluation, Layout, Motion, Problem, Scenario};
-use crate::model::ground::GroundMotion;
+use crate::model::ground::{GroundMotion, Record};
 use crate::sim::record::{respond, RecordOptions, RecordResponse, RecordStop};
 
 /// What a design against records measures of each response.
@@ -105,28 +105,11 @@ impl Over {
     }
 }
 
-/// One record of a design's suite.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SuiteRecord {
-    /// A short key for figure and table names (the file's stem).
-    pub key: String,
-    /// Its name for tables (the file's `name`, else its file's title).
-    pub name: String,
-    /// The file as the design file names it.
-    pub file: String,
-    /// How it was scaled, in words.
-    pub scaling: String,
-    /// The direction the file states (checked against the structure when it is loaded).
-    pub direction: Option<String>,
-    /// The record as scaled.
-    pub motion: GroundMotion,
-}
-
 /// A design's records and what it measures under them (`[design] ground_motions`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Suite {
     /// The records, in the file's order.
-    pub records: Vec<SuiteRecord>,
+    pub records: Vec<Record>,
     /// What each response is measured by.
     pub response: Response,
     /// How the records' peaks combine: the largest, or the mean.

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::design::search::Options;
-use crate::design::seismic::{Over, Response, Suite, SuiteRecord};
+use crate::design::seismic::{Over, Response, Suite};
 use crate::design::{limits, Band, Combine, Measure, Spec, Sweep};
 use crate::error::{Error, Result};
 use crate::model::Direction;
@@ -270,17 +270,7 @@ fn suite(path: &Path, raw: &RawDesign, n: usize) -> Result<Option<Suite>> {
             "a design against recorded ground motions (design.ground_motions) judges each layout under the records: leave out bands, sweeps, measure, drive_levels_n, objective, sdof, screen and scenarios.force_n (design.response and design.over_records say what counts)",
         ));
     }
-    let records = super::ground::records(path, "design.ground_motions", list)?
-        .into_iter()
-        .map(|r| SuiteRecord {
-            key: r.key,
-            name: r.name,
-            file: r.file,
-            scaling: r.scaling,
-            motion: r.motion,
-            direction: r.direction,
-        })
-        .collect();
+    let records = super::ground::records(path, "design.ground_motions", list)?;
     let response = match raw.response.as_deref() {
         None => Response::Drift,
         Some(name) => {

@@ -19,24 +19,7 @@ pub fn read(path: &Path) -> Result<GroundMotion> {
     }
 }
 
-/// One recorded ground motion of a time history, read and scaled.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Record {
-    /// A short key for figure and table names: the file's stem in lower case, letters,
-    /// digits and `_` only.
-    pub key: String,
-    /// Its name on the page.
-    pub name: String,
-    /// The file as the experiment names it.
-    pub file: String,
-    /// How it was scaled, in words (e.g. "scaled to a peak of 0.4 g (x 1.255)").
-    pub scaling: String,
-    /// The scaled record.
-    pub motion: GroundMotion,
-    /// The direction the file states for it (checked against the structure's supports by
-    /// [`directions_fit`]); `None`: the structure's own.
-    pub direction: Option<String>,
-}
+pub use crate::model::ground::Record;
 
 /// Most records one time history may run.
 pub const MAX_RECORDS: usize = 64;

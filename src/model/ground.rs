@@ -16,6 +16,26 @@ pub struct GroundMotion {
     pub accel_m_s2: Vec<f64>,
 }
 
+/// One recorded ground motion as a file names it, read and scaled (`experiment::ground` reads
+/// it; a time history and a design against records run it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// A short key for figure and table names: the file's stem in lower case, letters,
+    /// digits and `_` only.
+    pub key: String,
+    /// Its name on the page.
+    pub name: String,
+    /// The file as the experiment names it.
+    pub file: String,
+    /// How it was scaled, in words (e.g. "scaled to a peak of 0.4 g (x 1.255)").
+    pub scaling: String,
+    /// The scaled record.
+    pub motion: GroundMotion,
+    /// The direction the file states for it (checked against the structure's supports by
+    /// `experiment::ground::directions_fit`); `None`: the structure's own.
+    pub direction: Option<String>,
+}
+
 impl GroundMotion {
     /// The record's length, s (the last sample's time).
     pub fn duration_s(&self) -> f64 {
