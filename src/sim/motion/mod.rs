@@ -1,5 +1,5 @@
 //! The motion between and at events: the structure and its beds (`system`, `bed`, `state`),
-//! the closed form of each configuration (`eigen`, `schur`, `forced`, `segment`), the certified
+//! the closed form of each configuration (`eigen`, `schur`, `forced`, `segment`, and its modal coordinates, `modal`), the certified
 //! event search (`roots`, `coarse`, `single`), accelerations at a state (`contact`, with the
 //! rows per host it reads in `host_rows`), contact resolution (`column`, `soft`), and the
 //! engine that runs them (`engine`, `observe`, `peaks`, `impulse`). Imports nothing else of `sim`.
@@ -15,6 +15,7 @@ pub mod engine;
 pub mod forced;
 pub mod host_rows;
 pub mod impulse;
+pub mod modal;
 pub mod observe;
 pub mod peaks;
 pub mod roots;

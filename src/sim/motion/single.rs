@@ -134,21 +134,21 @@ pub(in crate::sim) fn impacts(
 /// event function `h` (`y_j - x_p` at the bottom, `x_p + d - y_j` at the top).
 pub(in crate::sim) struct ImpactJump {
     /// The exchange's derivative: `v_p' = (1 - a) v_p + a u`, `u' = b v_p + (1 - b) u`.
-    a: f64,
-    b: f64,
+    pub(in crate::sim) a: f64,
+    pub(in crate::sim) b: f64,
     /// Rows of the host's velocity and of the bed's velocity.
-    host_v: usize,
-    bed_u: usize,
+    pub(in crate::sim) host_v: usize,
+    pub(in crate::sim) bed_u: usize,
     /// Velocity rows of the beds riding (lumped: on the host) and of their hosts: they take
     /// their hosts' new velocities.
-    riders_u: Vec<(usize, usize)>,
+    pub(in crate::sim) riders_u: Vec<(usize, usize)>,
     /// Coupled mass only: the other degrees of freedom's velocity rows and how much of the
     /// host's velocity change each takes ([`HostSide::follow`]).
-    follow: Vec<(usize, f64)>,
+    pub(in crate::sim) follow: Vec<(usize, f64)>,
     /// Rows of the host's and the bed's positions, and the sign of `h` in them.
-    host_x: usize,
-    bed_y: usize,
-    sign: f64,
+    pub(in crate::sim) host_x: usize,
+    pub(in crate::sim) bed_y: usize,
+    pub(in crate::sim) sign: f64,
     /// The relative speed of the impact, m/s.
     pub rel: f64,
 }

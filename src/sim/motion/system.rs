@@ -449,6 +449,9 @@ pub struct Dynamics {
     /// Per configuration, the event search's coarse windows above [`LARGE_ABOVE`] degrees
     /// of freedom ([`Levels`]), computed when first needed.
     coarse: Vec<std::sync::OnceLock<Levels>>,
+    /// The changes of modal coordinates between configurations (the linearised flow's,
+    /// above [`LARGE_ABOVE`] degrees of freedom), shared by every forcing frequency.
+    transfers: Arc<super::modal::Transfers>,
 }
 
 impl Dynamics {
@@ -503,6 +506,7 @@ impl Dynamics {
             groups: Arc::clone(&self.groups),
             window,
             coarse,
+            transfers: Arc::clone(&self.transfers),
         })
     }
 
@@ -547,6 +551,7 @@ impl Dynamics {
             groups: Arc::new(groups),
             window: vec![std::sync::OnceLock::new(); configs_len],
             coarse: vec![std::sync::OnceLock::new(); configs_len],
+            transfers: Arc::new(super::modal::Transfers::new(configs_len, n > LARGE_ABOVE)),
         })
     }
 
@@ -592,6 +597,12 @@ impl Dynamics {
     /// none up to [`LARGE_ABOVE`] degrees of freedom).
     pub fn levels(&self, slot: usize) -> &Levels {
         self.coarse[slot].get_or_init(|| Levels::of(self, slot))
+    }
+
+    /// The change of real modal coordinates from configuration `from` to `to` (slots,
+    /// [`super::modal`]), formed when first needed; `None` where transfers are not kept.
+    pub fn transfer(&self, from: usize, to: usize) -> Option<&DMatrix<f64>> {
+        self.transfers.get(from, to, |slot| &self.configs[slot].modes)
     }
 
     /// The configuration in which the beds of `mask` are attached.

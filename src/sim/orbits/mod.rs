@@ -2,6 +2,7 @@
 //! Jacobians through every event (`tangent`), and continuation in a parameter
 //! (`continuation`). Imports the motion room only.
 
+mod carried;
 pub mod continuation;
 pub mod periodic;
 pub mod strobe;

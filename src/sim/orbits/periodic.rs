@@ -285,6 +285,9 @@ impl Section for Problem {
         m0.set_column(m, &(e.column(0) * -start.t));
         let mut tangent = Tangent::new(d, m0).until_impact(0, self.returns).with_omega_column(m);
         let (at, events) = self.run_to_return(d, start, &mut tangent)?;
+        // Every row formed (a large structure's run carries the masses' rows in modal
+        // coordinates; the freeze at the event formed them already).
+        tangent.matrix(d);
         let (jacobian, d_omega) = match tangent.dt.as_ref() {
             Some(dt) => {
                 let full = self.restriction(d) * &tangent.m;

@@ -138,7 +138,7 @@ impl Strobe {
         let mut both = Both(&mut tangent, &mut log);
         Engine::new(d).advance(&mut s, t_end, &mut Both(&mut both, extra))?;
         let image = self.coordinates(d, &s)?;
-        let jacobian = self.restrict(d, &tangent.m);
+        let jacobian = self.restrict(d, tangent.matrix(d));
         let smooth = tangent.simultaneous == 0 && tangent.min_impact_speed > GRAZE * self.rate(d);
         Ok((Return { image, events: log.0, jacobian: Some((jacobian, smooth)), d_omega: None }, s))
     }

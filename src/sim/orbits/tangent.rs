@@ -22,6 +22,7 @@
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
+use super::carried::Carried;
 use crate::sim::motion::engine::{Bed, Observer, State};
 use crate::sim::motion::segment::{Segment, Watch};
 use crate::sim::motion::system::Dynamics;
@@ -33,8 +34,23 @@ pub const GRAZE: f64 = 1e-6;
 /// The derivative of the full state with respect to `k` chosen start coordinates.
 #[derive(Debug, Clone)]
 pub struct Tangent {
-    /// `D x k`, `D = 2n + 2N`.
+    /// `D x k`, `D = 2n + 2N`. Above [`PLAIN_DOF`] degrees of freedom with more than one
+    /// column its masses' rows are carried in modal coordinates during a run
+    /// ([`Tangent::carried`]) and stale until [`Tangent::matrix`] forms them.
     pub m: DMatrix<f64>,
+    /// The masses' rows in the modal coordinates of the present configuration, while a run
+    /// carries them so (`sim::orbits::carried`).
+    carried: Option<Carried>,
+    /// Whether runs carry the masses' rows in modal coordinates.
+    modal: bool,
+    /// A row of the derivative (one number per column) and the outer products' vectors at an
+    /// impact (modal coordinates only).
+    row_buf: Vec<f64>,
+    row_buf2: Vec<f64>,
+    lift: Vec<f64>,
+    /// Modal coordinates only: the beds attached in the last segment, whose rows copy their
+    /// hosts' only when read (at an event, and when the rows are formed).
+    attached: Vec<bool>,
     /// Smallest relative speed of an impact on the way, m/s (a graze has speed 0: the
     /// derivative is unbounded there).
     pub min_impact_speed: f64,
@@ -70,9 +86,18 @@ impl Tangent {
     /// Starts from `m0` (`D x k`): how the start state depends on the chosen coordinates.
     pub fn new(d: &Dynamics, m0: DMatrix<f64>) -> Tangent {
         let (n, k, full) = (d.system.dof(), m0.ncols(), Tangent::full_dim(d));
+        let modal = n > PLAIN_DOF && k > 1;
+        // The transition and its product are not formed in modal coordinates.
+        let (square, rows) = if modal { (0, 0) } else { (2 * n, 2 * n) };
         Tangent {
-            phi: DMatrix::zeros(2 * n, 2 * n),
-            top: DMatrix::zeros(2 * n, k),
+            carried: None,
+            modal,
+            row_buf: vec![0.0; k],
+            row_buf2: vec![0.0; k],
+            lift: Vec::new(),
+            attached: Vec::new(),
+            phi: DMatrix::zeros(square, square),
+            top: DMatrix::zeros(rows, k),
             planes: Planes::default(),
             f_minus: DVector::zeros(full),
             f_plus: DVector::zeros(full),
@@ -137,11 +162,47 @@ impl Tangent {
 
     /// The rows of attached beds copy their host's.
     fn slave(&mut self, d: &Dynamics, beds: &[Bed]) {
+        self.slave_where(d, beds, |_| true);
+    }
+
+    /// The rows of the attached beds `which` selects copy their host's.
+    fn slave_where(&mut self, d: &Dynamics, beds: &[Bed], which: impl Fn(usize) -> bool) {
         let n = self.n;
         for (j, b) in beds.iter().enumerate() {
-            if b.attached() {
+            if b.attached() && which(j) {
                 let p = d.system.dampers[j].host;
                 let r = bed_row(n, j);
+                if let Some(carried) = self.carried.as_mut() {
+                    for (row, from) in [(r, p), (r + 1, n + p)] {
+                        carried.row(d, from, &mut self.row_buf);
+                        for (c, v) in self.row_buf.iter().enumerate() {
+                            self.m[(row, c)] = *v;
+                        }
+                    }
+                    continue;
+                }
+                for c in 0..self.m.ncols() {
+                    self.m[(r, c)] = self.m[(p, c)];
+                    self.m[(r + 1, c)] = self.m[(n + p, c)];
+                }
+            }
+        }
+    }
+
+    /// The derivative with every row formed (the masses' rows from their modal coordinates,
+    /// if a run carried them so): what a run's caller reads.
+    pub fn matrix(&mut self, d: &Dynamics) -> &DMatrix<f64> {
+        self.materialise(d);
+        &self.m
+    }
+
+    /// Forms the masses' rows from their modal coordinates and stops carrying them.
+    fn materialise(&mut self, d: &Dynamics) {
+        if let Some(carried) = self.carried.take() {
+            carried.physical_into(d, self.m.rows_mut(0, 2 * self.n));
+            let n = self.n;
+            for (j, _) in self.attached.iter().enumerate().filter(|(_, a)| **a) {
+                let (p, r) = (d.system.dampers[j].host, bed_row(n, j));
                 for c in 0..self.m.ncols() {
                     self.m[(r, c)] = self.m[(p, c)];
                     self.m[(r + 1, c)] = self.m[(n + p, c)];
@@ -165,6 +226,80 @@ impl Tangent {
             let (_, u) = s.bed_motion(d, j);
             f[bed_row(n, j)] = u;
             f[bed_row(n, j) + 1] = if s.beds[j].attached() { a[p] } else { -d.system.dampers[j].gravity() };
+        }
+    }
+}
+
+impl Tangent {
+    /// A segment in modal coordinates: into the segment's configuration, then each term
+    /// turned and decayed; the frequency's column gains the forced response's derivative as
+    /// in the physical form, `z_p'(t_b) - Phi z_p'(t_a)`.
+    fn carry(&mut self, d: &Dynamics, seg: &Segment, t_a: f64, t_b: f64) {
+        let n = self.n;
+        let slot = d.slot(seg.mask);
+        match self.carried.as_mut() {
+            Some(carried) => carried.change(d, slot),
+            None => self.carried = Some(Carried::enter(d, slot, self.m.rows(0, 2 * n))),
+        }
+        let Some(carried) = self.carried.as_mut() else { return };
+        let stacked =
+            |(x, v): (DVector<f64>, DVector<f64>)| -> Vec<f64> { x.iter().chain(v.iter()).copied().collect() };
+        match self.omega_column {
+            Some(c) => {
+                carried.add_to_column(d, c, &stacked(d.particular_d_omega(seg.mask, t_a)), -1.0);
+                carried.advance(d, t_b - t_a);
+                carried.add_to_column(d, c, &stacked(d.particular_d_omega(seg.mask, t_b)), 1.0);
+            }
+            None => carried.advance(d, t_b - t_a),
+        }
+    }
+
+    /// An impact's saltation on a derivative whose masses' rows are in modal coordinates:
+    /// the same arithmetic as the physical form (`G`, then `w grad(h)^T / h_dot`), with the
+    /// masses' rows changed by two outer products. `w` is `f+ - G f-` (in `self.g_f`).
+    fn impact_carried(&mut self, d: &Dynamics, jump: &crate::sim::motion::single::ImpactJump, h_dot: f64) {
+        let Some(carried) = self.carried.as_mut() else { return };
+        let n = self.n;
+        let (xp, vp) = (&mut self.row_buf, &mut self.row_buf2);
+        carried.row(d, jump.host_x, xp);
+        carried.row(d, jump.host_v, vp);
+        // The gradient before the exchange (as `ImpactJump::gradient_into`).
+        for (c, g) in self.grad.iter_mut().enumerate() {
+            *g = (self.m[(jump.bed_y, c)] - xp[c]) * jump.sign;
+        }
+        // The exchange (as `ImpactJump::apply_g`): the host's velocity row changes by `dv`
+        // (into `xp`, no longer needed), every following row by its share of it; the bed's
+        // velocity row takes its new value.
+        for c in 0..vp.len() {
+            let (v, u) = (vp[c], self.m[(jump.bed_u, c)]);
+            let new_v = v * (1.0 - jump.a) + u * jump.a;
+            self.m[(jump.bed_u, c)] = v * jump.b + u * (1.0 - jump.b);
+            xp[c] = new_v - v;
+        }
+        self.lift.clear();
+        self.lift.resize(2 * n, 0.0);
+        self.lift[jump.host_v] = 1.0;
+        for &(r, fr) in &jump.follow {
+            self.lift[r] += fr;
+        }
+        carried.add_outer(d, &self.lift, xp);
+        for &(r, host_v) in &jump.riders_u {
+            carried.row(d, host_v, vp);
+            for (c, v) in vp.iter().enumerate() {
+                self.m[(r, c)] = *v;
+            }
+        }
+        if h_dot != 0.0 {
+            let w = &self.g_f;
+            for (c, g) in self.grad.iter().enumerate() {
+                xp[c] = g / h_dot;
+            }
+            carried.add_outer(d, &w.as_slice()[..2 * n], xp);
+            for r in 2 * n..self.m.nrows() {
+                for c in 0..self.m.ncols() {
+                    self.m[(r, c)] += w[r] / h_dot * self.grad[c];
+                }
+            }
         }
     }
 }
@@ -276,7 +411,9 @@ impl Observer for Tangent {
             return;
         }
         let n = self.n;
-        if self.m.ncols() == 1 && self.omega_column.is_none() {
+        if self.modal {
+            self.carry(d, seg, t_a, t_b);
+        } else if self.m.ncols() == 1 && self.omega_column.is_none() {
             // One vector (a Lyapunov exponent's): carried through the terms without forming
             // `Phi`, in O(n terms) instead of O(n^2 terms).
             transition_apply(d, seg.mask, tau, &self.m.as_slice()[..2 * n], self.top.as_mut_slice());
@@ -302,9 +439,11 @@ impl Observer for Tangent {
                 }
             }
         }
-        self.m.rows_mut(0, 2 * n).copy_from(&self.top);
+        if !self.modal {
+            self.m.rows_mut(0, 2 * n).copy_from(&self.top);
+        }
         let phi = &self.phi;
-        if let Some(c) = self.omega_column {
+        if let (Some(c), false) = (self.omega_column, self.modal) {
             let (xa, va) = d.particular_d_omega(seg.mask, t_a);
             let (xb, vb) = d.particular_d_omega(seg.mask, t_b);
             let za = DVector::from_fn(2 * n, |i, _| if i < n { xa[i] } else { va[i - n] });
@@ -322,7 +461,13 @@ impl Observer for Tangent {
                 }
             }
         }
-        self.slave(d, beds);
+        if self.carried.is_some() {
+            // The attached beds' rows are copied when next read.
+            self.attached.clear();
+            self.attached.extend(beds.iter().map(Bed::attached));
+        } else {
+            self.slave(d, beds);
+        }
     }
 
     fn wants_jumps(&self) -> bool {
@@ -333,10 +478,19 @@ impl Observer for Tangent {
         if self.dt.is_some() {
             return;
         }
+        if self.carried.is_some() {
+            // The rows of beds leaving their hosts now, copied from their hosts' (deferred
+            // while they rode; those still riding are copied when next read).
+            self.slave_where(d, &before.beds, |j| !after.beds[j].attached());
+        }
         let mut impacts = hits.iter().filter_map(Watch::impact);
         let Some((j, top)) = impacts.next() else {
             // Lift-offs: no jump in the state or the vector field.
-            self.slave(d, &after.beds);
+            if self.carried.is_none() {
+                self.slave(d, &after.beds);
+            }
+            self.attached.clear();
+            self.attached.extend(after.beds.iter().map(Bed::attached));
             return;
         };
         if impacts.next().is_some() {
@@ -345,6 +499,11 @@ impl Observer for Tangent {
         let n = self.n;
         // The bed model's part (src/sim/motion/single.rs): G and the event function h.
         let jump = crate::sim::motion::single::ImpactJump::new(d, before, j, top, n, |k| bed_row(n, k));
+        let freezes = matches!(self.until, Some((bed, count)) if bed == j && !top && self.seen + 1 == count);
+        if freezes {
+            // The derivative at the event's own time needs every row.
+            self.materialise(d);
+        }
         self.min_impact_speed = self.min_impact_speed.min(jump.rel.abs());
         Tangent::field(d, before, &mut self.f_minus);
         Tangent::field(d, after, &mut self.f_plus);
@@ -354,9 +513,20 @@ impl Observer for Tangent {
         for (g, fp) in self.g_f.iter_mut().zip(self.f_plus.iter()) {
             *g = fp - *g;
         }
-        let w = &self.g_f;
         // The rate of h before the event, and its gradient carried by the derivative so far.
         let h_dot = jump.rate(&self.f_minus);
+        if self.carried.is_some() {
+            self.impact_carried(d, &jump, h_dot);
+            self.attached.clear();
+            self.attached.extend(after.beds.iter().map(Bed::attached));
+            if let Some((bed, _)) = self.until {
+                if bed == j && !top {
+                    self.seen += 1;
+                }
+            }
+            return;
+        }
+        let w = &self.g_f;
         jump.gradient_into(&self.m, &mut self.grad);
         jump.apply_g(&mut self.m);
         if h_dot != 0.0 {
@@ -407,6 +577,64 @@ mod tests {
                     let diff = want.iter().zip(&out).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
                     assert!(diff <= 1e-12 * scale, "n {n} mask {mask} tau {tau}: {diff:e} of {scale}");
                 }
+            }
+        }
+    }
+
+    /// The derivative carried in modal coordinates (large structures) is the one the
+    /// transition matrices give, to rounding, through runs with lift-offs and impacts: every
+    /// column, the frequency's, and frozen at an impact's own time.
+    #[test]
+    fn the_modal_derivative_is_the_physical_one() {
+        // Three beds (the changes of configuration by their transfers) and seven (128
+        // configurations: more than transfers are kept for, changed through the physical rows).
+        for beds in [3, 7] {
+            modal_against_physical(beds);
+        }
+    }
+
+    fn modal_against_physical(beds: usize) {
+        use crate::sim::motion::engine::Engine;
+        use crate::sim::motion::observe::{Both, EventLog};
+        let n = 12;
+        let s = Structure::chain(&vec![0.2; n], &vec![8e4; n], Damping::ModalRatios(vec![0.02; n]));
+        let dampers = (n - beds..n).map(|h| Damper::new(h, 0.02, Clearance::from_m(5e-4))).collect();
+        let d = Dynamics::new(&System::plastic(s, dampers, 0, 200.0), 2.0 * std::f64::consts::PI * 12.0).unwrap();
+        assert_eq!(d.transfer(0, 1).is_some(), beds == 3);
+        let full = Tangent::full_dim(&d);
+        let m0 =
+            DMatrix::from_fn(full, full + 1, |r, c| if r == c { 1.0 } else { 0.01 * ((r * 5 + c * 3) % 7) as f64 });
+        let physical = |t: Tangent| {
+            let k = t.m.ncols();
+            Tangent { modal: false, phi: DMatrix::zeros(2 * n, 2 * n), top: DMatrix::zeros(2 * n, k), ..t }
+        };
+        let run = |mut t: Tangent, until: f64| {
+            let mut s = State::at_rest(&d);
+            let mut log = EventLog::default();
+            Engine::new(&d).advance(&mut s, until, &mut Both(&mut t, &mut log)).unwrap();
+            let m = t.matrix(&d).clone();
+            (m, t.dt, log.0.len())
+        };
+        let period = 1.0 / 12.0;
+        for (until, bottom) in [(6.0 * period, None), (2.5 * period, None), (6.0 * period, Some(2))] {
+            let make = || {
+                let t = Tangent::new(&d, m0.clone()).with_omega_column(full);
+                match bottom {
+                    Some(count) => t.until_impact(0, count),
+                    None => t,
+                }
+            };
+            let modal = make();
+            assert!(modal.modal);
+            let (a, dt_a, events) = run(modal, until);
+            let (b, dt_b, _) = run(physical(make()), until);
+            assert!(events >= 4, "{events} events until {until}");
+            assert_eq!(dt_a.is_some(), bottom.is_some());
+            let scale = b.amax();
+            let diff = (&a - &b).amax();
+            assert!(diff <= 1e-11 * scale, "until {until}: {diff:e} of {scale:e}");
+            if let (Some(x), Some(y)) = (dt_a, dt_b) {
+                assert!((&x - &y).amax() <= 1e-11 * y.amax());
             }
         }
     }
