@@ -17,7 +17,21 @@ use std::sync::OnceLock;
 
 use nalgebra::DMatrix;
 
-use super::system::Modes;
+/// What the coordinates of one configuration are made of (held by its decomposition,
+/// `Modes::coordinates`): the weighted eigenvectors' displacement and velocity rows by term
+/// (`by_term[order][part][r * n + p]`) and the real and imaginary parts of the terms' rows of
+/// `V^-1` (`L x 2n`).
+#[derive(Debug, Clone, Copy)]
+pub struct Coordinates<'a> {
+    /// Degrees of freedom.
+    pub n: usize,
+    /// Terms (`L`).
+    pub terms: usize,
+    /// The eigenvectors' rows by term.
+    pub by_term: &'a [[Vec<f64>; 2]; 2],
+    /// The parts of the terms' rows of `V^-1`.
+    pub inverse_parts: &'a [DMatrix<f64>; 2],
+}
 
 /// Most configurations whose transfers are kept (`slots^2` entries, each formed when first
 /// needed): 64 configurations (six beds) hold at most 4,096. Above, a change of
@@ -27,13 +41,12 @@ pub const MAX_TRANSFER_SLOTS: usize = 64;
 /// `B = [Re(V_w) | -Im(V_w)]` of a configuration (`2n x 2L`): column `r` the real part of
 /// term `r`'s weighted eigenvector (displacements, then velocities), column `L + r` minus its
 /// imaginary part.
-pub fn basis(modes: &Modes) -> DMatrix<f64> {
-    let n = modes.vl.len();
-    let len = modes.lambda.len();
+pub fn basis(c: Coordinates) -> DMatrix<f64> {
+    let (n, len) = (c.n, c.terms);
     let mut b = DMatrix::zeros(2 * n, 2 * len);
     for r in 0..len {
         for order in 0..2 {
-            let [re, im] = &modes.by_term[order];
+            let [re, im] = &c.by_term[order];
             for p in 0..n {
                 b[(order * n + p, r)] = re[r * n + p];
                 b[(order * n + p, len + r)] = -im[r * n + p];
@@ -46,10 +59,10 @@ pub fn basis(modes: &Modes) -> DMatrix<f64> {
 /// `T = P' B` (`2L' x 2L`): the real modal coordinates in configuration `to` of a state given
 /// by its coordinates in `from`. Needs the parts of `to`'s inverse (held above
 /// [`LARGE_ABOVE`](super::system::LARGE_ABOVE) degrees of freedom).
-pub fn transfer(from: &Modes, to: &Modes) -> DMatrix<f64> {
+pub fn transfer(from: Coordinates, to: Coordinates) -> DMatrix<f64> {
     let b = basis(from);
-    let [i_re, i_im] = &to.inverse_parts;
-    let len = to.lambda.len();
+    let [i_re, i_im] = to.inverse_parts;
+    let len = to.terms;
     let mut t = DMatrix::zeros(2 * len, b.ncols());
     t.rows_mut(0, len).gemm(1.0, i_re, &b, 0.0);
     t.rows_mut(len, len).gemm(1.0, i_im, &b, 0.0);
@@ -73,45 +86,12 @@ impl Transfers {
         Transfers { slots, cells: (0..slots * slots).map(|_| OnceLock::new()).collect() }
     }
 
-    /// The transfer from configuration `from` to `to` (slots), formed from `modes` when first
-    /// asked for; `None` when transfers are not kept.
-    pub fn get<'a>(&'a self, from: usize, to: usize, modes: impl Fn(usize) -> &'a Modes) -> Option<&'a DMatrix<f64>> {
+    /// The transfer from configuration `from` to `to` (slots), formed from their coordinates
+    /// when first asked for; `None` when transfers are not kept.
+    pub fn get<'a>(&self, from: usize, to: usize, of: impl Fn(usize) -> Coordinates<'a>) -> Option<&DMatrix<f64>> {
         if from >= self.slots || to >= self.slots {
             return None;
         }
-        Some(self.cells[from * self.slots + to].get_or_init(|| transfer(modes(from), modes(to))))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::{Clearance, Damper, Damping, Structure};
-    use crate::sim::motion::system::{Dynamics, System};
-
-    /// A configuration's coordinates are a change of basis (`P B = I`, so `T` from a
-    /// configuration to itself is the identity), and a transfer carries a state as its
-    /// physical form does (`B' T q = B q`), on a chain with a resting bed's mass.
-    #[test]
-    fn transfers_are_changes_of_basis() {
-        let n = 12;
-        let s = Structure::chain(&vec![0.2; n], &vec![8e4; n], Damping::Rayleigh { alpha: 3.0, beta: 2e-5 });
-        let dampers = (n - 2..n).map(|h| Damper::new(h, 0.05, Clearance::from_m(5e-4))).collect();
-        let d = Dynamics::new(&System::plastic(s, dampers, 0, 2.0), 100.0).unwrap();
-        let same = d.transfer(1, 1).unwrap();
-        let identity = DMatrix::<f64>::identity(same.nrows(), same.ncols());
-        assert!((same - &identity).amax() < 1e-11, "{:e}", (same - &identity).amax());
-        let q = DMatrix::from_fn(same.ncols(), 3, |r, c| 1.0 / (1.0 + r as f64 + 2.0 * c as f64));
-        for (from, to) in [(0, 3), (3, 1), (2, 0)] {
-            let t = d.transfer(from, to).unwrap();
-            let want = basis(&d.configs[from].modes) * &q;
-            let got = basis(&d.configs[to].modes) * (t * &q);
-            assert!((&got - &want).amax() <= 1e-11 * want.amax(), "{from} -> {to}: {:e}", (&got - &want).amax());
-        }
-        // Not kept up to LARGE_ABOVE degrees of freedom.
-        let small = Structure::chain(&[0.2; 3], &[8e4; 3], Damping::ModalRatios(vec![0.02; 3]));
-        let d =
-            Dynamics::new(&System::plastic(small, vec![Damper::new(2, 0.02, Clearance::from_m(5e-4))], 0, 2.0), 100.0);
-        assert!(d.unwrap().transfer(0, 1).is_none());
+        Some(self.cells[from * self.slots + to].get_or_init(|| transfer(of(from), of(to))))
     }
 }

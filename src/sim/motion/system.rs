@@ -322,6 +322,18 @@ pub struct Modes {
     pub inverse_parts: [DMatrix<f64>; 2],
 }
 
+impl Modes {
+    /// What its real modal coordinates are made of ([`super::modal`]).
+    pub fn coordinates(&self) -> super::modal::Coordinates<'_> {
+        super::modal::Coordinates {
+            n: self.vl.len(),
+            terms: self.lambda.len(),
+            by_term: &self.by_term,
+            inverse_parts: &self.inverse_parts,
+        }
+    }
+}
+
 /// Closed-form dynamics of one configuration (its forced part at the dynamics' frequency is
 /// [`Dynamics::forced`]):
 /// `x(t) = sum_r w_r Re(V_r c_r e^{lambda_r (t - t0)}) + P cos(omega t) + Q sin(omega t) + s`,
@@ -602,7 +614,7 @@ impl Dynamics {
     /// The change of real modal coordinates from configuration `from` to `to` (slots,
     /// [`super::modal`]), formed when first needed; `None` where transfers are not kept.
     pub fn transfer(&self, from: usize, to: usize) -> Option<&DMatrix<f64>> {
-        self.transfers.get(from, to, |slot| &self.configs[slot].modes)
+        self.transfers.get(from, to, |slot| self.configs[slot].modes.coordinates())
     }
 
     /// The configuration in which the beds of `mask` are attached.

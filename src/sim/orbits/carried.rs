@@ -159,7 +159,7 @@ impl Carried {
 
     /// The masses' rows, `B q`, into `top` (`2n x k`).
     pub fn physical_into(&self, d: &Dynamics, mut top: DMatrixViewMut<f64>) {
-        let b = modal::basis(&d.configs[self.slot].modes);
+        let b = modal::basis(d.configs[self.slot].modes.coordinates());
         top.gemm(1.0, &b, &self.q, 0.0);
     }
 }

@@ -34,9 +34,9 @@ pub const GRAZE: f64 = 1e-6;
 /// The derivative of the full state with respect to `k` chosen start coordinates.
 #[derive(Debug, Clone)]
 pub struct Tangent {
-    /// `D x k`, `D = 2n + 2N`. Above [`PLAIN_DOF`] degrees of freedom with more than one
-    /// column its masses' rows are carried in modal coordinates during a run
-    /// ([`Tangent::carried`]) and stale until [`Tangent::matrix`] forms them.
+    /// `D x k`, `D = 2n + 2N`. Above 8 degrees of freedom with more than one column its
+    /// masses' rows are carried in modal coordinates during a run and stale until
+    /// [`Tangent::matrix`] forms them.
     pub m: DMatrix<f64>,
     /// The masses' rows in the modal coordinates of the present configuration, while a run
     /// carries them so (`sim::orbits::carried`).

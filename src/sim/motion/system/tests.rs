@@ -34,3 +34,30 @@ fn the_modal_response_is_the_factorised_one() {
         }
     }
 }
+
+/// A configuration's coordinates are a change of basis (`P B = I`, so `T` from a
+/// configuration to itself is the identity), and a transfer carries a state as its
+/// physical form does (`B' T q = B q`), on a chain with a resting bed's mass.
+#[test]
+fn transfers_are_changes_of_basis() {
+    use crate::model::{Clearance, Damper, Damping, Structure};
+    use crate::sim::motion::modal::basis;
+    let n = 12;
+    let s = Structure::chain(&vec![0.2; n], &vec![8e4; n], Damping::Rayleigh { alpha: 3.0, beta: 2e-5 });
+    let dampers = (n - 2..n).map(|h| Damper::new(h, 0.05, Clearance::from_m(5e-4))).collect();
+    let d = Dynamics::new(&System::plastic(s, dampers, 0, 2.0), 100.0).unwrap();
+    let same = d.transfer(1, 1).unwrap();
+    let identity = DMatrix::<f64>::identity(same.nrows(), same.ncols());
+    assert!((same - &identity).amax() < 1e-11, "{:e}", (same - &identity).amax());
+    let q = DMatrix::from_fn(same.ncols(), 3, |r, c| 1.0 / (1.0 + r as f64 + 2.0 * c as f64));
+    for (from, to) in [(0, 3), (3, 1), (2, 0)] {
+        let t = d.transfer(from, to).unwrap();
+        let want = basis(d.configs[from].modes.coordinates()) * &q;
+        let got = basis(d.configs[to].modes.coordinates()) * (t * &q);
+        assert!((&got - &want).amax() <= 1e-11 * want.amax(), "{from} -> {to}: {:e}", (&got - &want).amax());
+    }
+    // Not kept up to LARGE_ABOVE degrees of freedom.
+    let small = Structure::chain(&[0.2; 3], &[8e4; 3], Damping::ModalRatios(vec![0.02; 3]));
+    let d = Dynamics::new(&System::plastic(small, vec![Damper::new(2, 0.02, Clearance::from_m(5e-4))], 0, 2.0), 100.0);
+    assert!(d.unwrap().transfer(0, 1).is_none());
+}
