@@ -43,8 +43,8 @@ pub struct Tangent {
     carried: Option<Carried>,
     /// Whether runs carry the masses' rows in modal coordinates.
     modal: bool,
-    /// A row of the derivative (one number per column) and the outer products' vectors at an
-    /// impact (modal coordinates only).
+    /// A row of the derivative (one number per column), and a vector of the masses' rows (an
+    /// impact's outer product's, the forced response's derivative) (modal coordinates only).
     row_buf: Vec<f64>,
     row_buf2: Vec<f64>,
     lift: Vec<f64>,
@@ -242,13 +242,19 @@ impl Tangent {
             None => self.carried = Some(Carried::enter(d, slot, self.m.rows(0, 2 * n))),
         }
         let Some(carried) = self.carried.as_mut() else { return };
-        let stacked =
-            |(x, v): (DVector<f64>, DVector<f64>)| -> Vec<f64> { x.iter().chain(v.iter()).copied().collect() };
+        // The forced response's frequency derivative at `t` as one vector (into `self.lift`,
+        // reused: no allocation a segment).
+        let stacked = |(x, v): (DVector<f64>, DVector<f64>), out: &mut Vec<f64>| {
+            out.clear();
+            out.extend(x.iter().chain(v.iter()));
+        };
         match self.omega_column {
             Some(c) => {
-                carried.add_to_column(d, c, &stacked(d.particular_d_omega(seg.mask, t_a)), -1.0);
+                stacked(d.particular_d_omega(seg.mask, t_a), &mut self.lift);
+                carried.add_to_column(d, c, &self.lift, -1.0);
                 carried.advance(d, t_b - t_a);
-                carried.add_to_column(d, c, &stacked(d.particular_d_omega(seg.mask, t_b)), 1.0);
+                stacked(d.particular_d_omega(seg.mask, t_b), &mut self.lift);
+                carried.add_to_column(d, c, &self.lift, 1.0);
             }
             None => carried.advance(d, t_b - t_a),
         }
