@@ -222,6 +222,39 @@ fn the_plate_example_runs_and_its_reduction_passes_its_check() {
     );
     let delta = column(&freqs, "rel_diff")[0];
     assert!((worst / (delta / 0.01) - 1.0).abs() < 0.1, "{worst} against delta / zeta = {}", delta / 0.01);
+
+    // The sweep measures and tabulates the four points alone (the reduction's 16 modal
+    // coordinates are no displacement of a point), and what it gives there is what a sweep
+    // following every coordinate gives: the first points continued up from 30 Hz.
+    let rows = csv_rows(&std::fs::read_to_string(dir.path().join("plate_first_bending/data/compliance.csv")).unwrap());
+    let head: Vec<&str> =
+        rows[0].iter().map(String::as_str).filter(|h| h.starts_with('c') && h[1..].parse::<usize>().is_ok()).collect();
+    assert_eq!(head, ["c1", "c2", "c3", "c4"]);
+    let exp = shotdamp::experiment::loader::load(&repo().join("examples/plate/plate.toml"), &repo().join("reference"))
+        .unwrap()
+        .remove(0);
+    assert_eq!(exp.structure.dof(), 20);
+    let case = exp.cases.iter().find(|c| c.id == "corners").unwrap();
+    let sys = shotdamp::sim::System::plastic(
+        exp.structure.clone(),
+        case.dampers(),
+        exp.excitation.mass,
+        exp.excitation.force,
+    );
+    let every = shotdamp::sim::SteadyOptions::default();
+    let up = shotdamp::sim::settle::sweep::Direction::Up;
+    let points = shotdamp::sim::settle::sweep::continued(&sys, &[30.0, 30.25, 30.5], up, &every, &|| {});
+    let curve = rows[0].iter().position(|h| h == "curve").unwrap();
+    let table: Vec<&Vec<String>> = rows[1..].iter().filter(|r| r[curve] == "corners:up").take(3).collect();
+    for (p, row) in points.iter().zip(table) {
+        let st = p.result.as_ref().unwrap();
+        assert_eq!(st.amplitude.len(), 20, "every coordinate followed");
+        for (k, h) in head.iter().enumerate() {
+            let at = rows[0].iter().position(|x| x == h).unwrap();
+            let (got, want) = (row[at].parse::<f64>().unwrap(), st.amplitude[k] / exp.excitation.force);
+            assert!((got - want).abs() <= 1e-9 * want, "{} Hz, {h}: {got} vs {want}", p.freq_hz);
+        }
+    }
 }
 
 /// With the plate's fixed-interface modes kept up to 4 kHz (30 coordinates) the beds at the

@@ -172,6 +172,21 @@ fn branch_series(b: &OrbitBranch, label: &str, color: usize, wrap: bool, value: 
     let mut out = Vec::new();
     let (mut s_done, mut u_done) = (false, false);
     for (stable, run) in b.segments.iter().flat_map(|seg| runs(seg)) {
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        for p in &run {
+            let y = value(p);
+            if wrap && ys.last().is_some_and(|last: &f64| (y - last).abs() > std::f64::consts::PI) {
+                xs.push(p.freq_hz);
+                ys.push(f64::NAN);
+            }
+            xs.push(p.freq_hz);
+            ys.push(y);
+        }
+        // A run along which the value is not defined (tau1 where the bed never reaches the
+        // top) draws nothing: it takes no legend entry from a run that is drawn.
+        if !ys.iter().any(|y| y.is_finite()) {
+            continue;
+        }
         let name = match (stable, s_done, u_done) {
             (true, false, _) => {
                 s_done = true;
@@ -183,16 +198,6 @@ fn branch_series(b: &OrbitBranch, label: &str, color: usize, wrap: bool, value: 
             }
             _ => String::new(),
         };
-        let (mut xs, mut ys) = (Vec::new(), Vec::new());
-        for p in &run {
-            let y = value(p);
-            if wrap && ys.last().is_some_and(|last: &f64| (y - last).abs() > std::f64::consts::PI) {
-                xs.push(p.freq_hz);
-                ys.push(f64::NAN);
-            }
-            xs.push(p.freq_hz);
-            ys.push(y);
-        }
         let s = Series::line(name, xs, ys, color);
         out.push(if stable { s } else { s.dashed(Dash::Dashed) });
     }
@@ -412,4 +417,45 @@ fn resting_sdof(r: &OrbitsResult, freq_hz: &[f64], mass: usize) -> (Vec<f64>, Ve
         })
         .collect();
     (freq_hz.to_vec(), ys)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(freq_hz: f64, stable: bool, tau1: Option<f64>) -> OrbitPoint {
+        OrbitPoint {
+            freq_hz,
+            compliance: vec![1e-4],
+            phi: 1.0,
+            tau0: Some(0.5),
+            tau1,
+            tau2: tau1,
+            kind: "II".into(),
+            stable,
+            smooth: true,
+            multipliers: Vec::new(),
+        }
+    }
+
+    /// A stable run along which tau1 is not defined (no top impact) is not drawn and leaves
+    /// the legend's "stable" entry to the stable run that is.
+    #[test]
+    fn an_undrawn_run_takes_no_legend_entry() {
+        let seg = vec![
+            point(44.0, true, None),
+            point(44.5, true, None),
+            point(45.0, false, Some(4.6)),
+            point(45.5, false, Some(4.6)),
+            point(46.0, true, Some(4.5)),
+            point(46.5, true, Some(4.5)),
+        ];
+        let b = OrbitBranch { segments: vec![seg], ..OrbitBranch::default() };
+        let tau1 = |p: &OrbitPoint| p.tau1.unwrap_or(f64::NAN);
+        let series = branch_series(&b, "tau1", 5, true, &tau1);
+        let drawn: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(series.len(), 2, "{drawn:?}");
+        assert!(drawn.contains(&"tau1, stable") && drawn.contains(&"tau1, unstable"), "{drawn:?}");
+        assert!(series.iter().all(|s| s.y.iter().any(|y| y.is_finite())));
+    }
 }

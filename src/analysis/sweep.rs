@@ -8,6 +8,7 @@ use crate::checks::reference::ReferenceStore;
 use crate::experiment::{round_hz, CheckKind, CurveId, Experiment, Linear, PlotSpec, Start};
 use crate::figure::VLine;
 use crate::model::modal::ModeSummary;
+use crate::sim::motion::observe::Observe;
 use crate::sim::settle::sweep::{self, Direction};
 use crate::sim::SteadyOptions;
 
@@ -78,9 +79,14 @@ pub fn run(
 ) -> Output {
     let n = exp.structure.dof();
     let beds = exp.cases.iter().map(|c| c.beds.len()).max().unwrap_or(0);
+    // A reduced model's modal coordinates are no displacement of any point (docs/fe-models.md):
+    // its sweeps measure and tabulate its points alone, which spares the record the work of
+    // following every coordinate (most of a followed point's time on the plate).
+    let shown = exp.structure.points.unwrap_or(n).min(n);
+    let observe = if shown < n { Observe::only(0..shown) } else { steady.observe };
     // On moving supports the records also find the storeys' drifts and the floors' absolute
     // accelerations (what an engineer checks on a building).
-    let steady = &SteadyOptions { peaks: exp.excitation.supports, ..*steady };
+    let steady = &SteadyOptions { peaks: exp.excitation.supports, observe, ..*steady };
     let mut curves: Vec<Curve> = Vec::new();
     let mut orbit_branches: Vec<OrbitCurve> = Vec::new();
     let band = (freq_hz[0], freq_hz[freq_hz.len() - 1]);
@@ -158,11 +164,11 @@ pub fn run(
         "compliance",
         &format!("Steady-state compliance (max - min)/2 / {} ({}{}) of each mass (c1..cn) per curve and frequency{peaks_words}, whether it settled, its period, impacts per forcing period on the bottom and top of each bed, the highest flight of each bed (mm), the transient periods simulated; a point with no certified orbit gives its measured statistic", exp.excitation.symbol(), exp.excitation.per_unit(), if exp.excitation.supports { ": displacements relative to the supports" } else { "" }),
         &refs_c,
-        n,
+        shown,
         beds,
     )];
     if !orbit_branches.is_empty() {
-        tables.extend(branches::tables(&orbit_branches, n));
+        tables.extend(branches::tables(&orbit_branches, shown));
     }
     if !linear.is_empty() {
         let l: Vec<&Curve> = linear.iter().collect();
@@ -173,7 +179,7 @@ pub fn run(
                 exp.excitation.per_unit()
             ),
             &l,
-            n,
+            shown,
             0,
         ));
     }

@@ -78,7 +78,19 @@ pub(crate) fn axis_range(lo: f64, hi: f64, log: bool) -> (f64, f64) {
     }
 }
 
-/// Tick labels of a value axis: scientific notation for small or large values.
+/// Whether a logarithmic axis labels its tick at `v`: 1, 2 and 5 times a power of ten (an axis
+/// within a decade or two has a tick at every integer multiple, whose labels would run into
+/// each other above 5).
+fn labelled(v: f64) -> bool {
+    if !(v.is_finite() && v > 0.0) {
+        return false;
+    }
+    let m = v / 10f64.powf(v.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].iter().any(|&k| (m - k).abs() < 1e-6 * k)
+}
+
+/// Tick labels of a value axis: scientific notation for small or large values; on a
+/// logarithmic axis only at 1, 2 and 5 times a power of ten ([`labelled`]).
 pub(super) fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> String> {
     let big = lo.abs().max(hi.abs());
     let plain = |v: f64| {
@@ -87,9 +99,9 @@ pub(super) fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> St
     };
     if log && lo >= 1e-2 && hi < 1e5 {
         // A log axis over everyday values (mm, N, Hz): 0.5, 2, 40 read better than 5e-1.
-        Box::new(move |v: &f64| plain(*v))
+        Box::new(move |v: &f64| if labelled(*v) { plain(*v) } else { String::new() })
     } else if log {
-        Box::new(|v: &f64| format!("{v:.0e}"))
+        Box::new(|v: &f64| if labelled(*v) { format!("{v:.0e}") } else { String::new() })
     } else if !(1e-2..1e5).contains(&big) {
         // Enough mantissa digits to tell ticks about a tenth of the range apart.
         let step = ((hi - lo).abs() / 10.0).max(f64::MIN_POSITIVE);
@@ -97,5 +109,26 @@ pub(super) fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> St
         Box::new(move |v: &f64| if v.abs() < 1e-9 * big { "0".into() } else { format!("{v:.digits$e}") })
     } else {
         Box::new(move |v: &f64| plain(if v.abs() < 1e-12 * big { 0.0 } else { *v }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_log_axis_labels_one_two_and_five_times_its_decades_once() {
+        let f = tick_format(1e-4, 2.4e-3, true);
+        let shown: Vec<String> = [1e-4, 2e-4, 3e-4, 5e-4, 9e-4, 1e-3, 1e-3 * (1.0 + 1e-12), 2e-3]
+            .iter()
+            .map(&f)
+            .filter(|s| !s.is_empty())
+            .collect();
+        assert_eq!(shown, ["1e-4", "2e-4", "5e-4", "1e-3", "1e-3", "2e-3"]);
+        let f = tick_format(0.4, 60.0, true);
+        let shown: Vec<String> =
+            [0.5, 0.7, 1.0, 3.0, 10.0, 20.0, 50.0].iter().map(&f).filter(|s| !s.is_empty()).collect();
+        assert_eq!(shown, ["0.5", "1", "10", "20", "50"]);
+        assert!(!labelled(0.0) && !labelled(f64::NAN) && !labelled(-2.0));
     }
 }

@@ -275,6 +275,9 @@ where
         .axis_desc_style(("sans-serif", 17))
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(200, 200, 200))
+        // At most four light lines between two labelled ones (a logarithmic axis: one at
+        // each integer multiple of its decades); the default ten drew a grey band.
+        .max_light_lines(4)
         .draw()
         .map_err(|e| render_err(what, e))?;
 
