@@ -12,6 +12,8 @@ use shotdamp::experiment::Experiment;
 use shotdamp::sim::settle::sweep::{self, Direction};
 use shotdamp::sim::{Dynamics, SteadyOptions, System};
 
+include!("common/plate_answer.rs");
+
 fn plate() -> Experiment {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/plate/plate.toml");
     let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("reference");
@@ -40,28 +42,14 @@ fn fe(c: &mut Criterion) {
 /// design's judged model, 46 coordinates), followed up over 33-35.5 Hz (11 points, one thread),
 /// where every point is a certified orbit (the beds ride; beyond 35.5 Hz their motion does not
 /// settle within 1500 periods).
-fn plate_answer(c: &mut Criterion) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("examples/plate/modes.toml")).expect("examples/plate/modes.toml");
-    let data = root.join("examples/plate/data");
-    let text = text.replace("\"data/", &format!("\"{}/", data.display()));
-    let dir = tempfile::tempdir().expect("a temporary folder");
+fn answer_bands(c: &mut Criterion) {
     let mut group = c.benchmark_group("fe");
     group.sample_size(10);
     for (name, reduction) in
         [("20 modes, 25 coordinates", "modes = 20"), ("modes to 8 kHz, 46 coordinates", "cutoff_hz = 8000.0")]
     {
-        let path = dir.path().join("answer.toml");
-        let file: String = text
-            .lines()
-            .map(|l| if l.starts_with("modes = ") { reduction.to_string() } else { l.to_string() })
-            .collect::<Vec<_>>()
-            .join("\n");
-        std::fs::write(&path, file).expect("written");
-        let exp =
-            shotdamp::experiment::loader::load(&path, &root.join("reference")).expect("the answer loads").remove(0);
-        let case = &exp.cases[0];
-        let sys = System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force);
+        let exp = plate_answer(reduction);
+        let sys = answer_system(&exp);
         let base = Dynamics::unforced(&sys);
         assert!(base.is_ok(), "decomposed");
         let freqs: Vec<f64> = (0..11).map(|i| 33.0 + 0.25 * i as f64).collect();
@@ -87,6 +75,6 @@ criterion_group! {
     name = benches;
     // Criterion's plots need system fonts; the numbers are what BENCHMARKS.md records.
     config = Criterion::default().without_plots();
-    targets = fe, plate_answer
+    targets = fe, answer_bands
 }
 criterion_main!(benches);

@@ -8,24 +8,11 @@
 //! benches/common/size_family.rs (tests/size.rs and examples/followed_cost.rs include it too).
 //! Results and the machine they ran on are recorded in BENCHMARKS.md.
 
-use std::f64::consts::PI;
-
 use criterion::{criterion_group, criterion_main, Criterion};
-use shotdamp::model::modes::symmetric_modes;
 use shotdamp::sim::settle::sweep::{self, Direction};
-use shotdamp::sim::{Dynamics, SteadyOptions, System};
+use shotdamp::sim::{Dynamics, SteadyOptions};
 
 include!("common/size_family.rs");
-
-/// 12 frequencies from 0.9 times the lowest to 1.1 times the highest (at most 60 Hz) of the
-/// top three modes below 60 Hz.
-fn band(sys: &System) -> Vec<f64> {
-    let modes = symmetric_modes(&sys.structure.mass_matrix(), &sys.structure.stiffness);
-    let below: Vec<f64> = modes.omegas.iter().map(|w| w / (2.0 * PI)).filter(|&f| f < 60.0).collect();
-    let top = &below[below.len().saturating_sub(3)..];
-    let (lo, hi) = (0.9 * top[0], (1.1 * top[top.len() - 1]).min(60.0));
-    (0..12).map(|i| lo + (hi - lo) * i as f64 / 11.0).collect()
-}
 
 fn per_dof(c: &mut Criterion) {
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool of one thread");

@@ -7,31 +7,18 @@
 //!
 //! `cargo run --release --example irregular_cost -- 41 36`
 
-use std::path::Path;
 use std::time::Instant;
 
 use shotdamp::sim::motion::observe::Observe;
 use shotdamp::sim::settle::sweep;
-use shotdamp::sim::{Dynamics, SteadyOptions, System};
+use shotdamp::sim::{Dynamics, SteadyOptions};
+
+include!("../benches/common/plate_answer.rs");
 
 fn main() {
     let modes: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(41);
     let freq: f64 = std::env::args().nth(2).and_then(|a| a.parse().ok()).unwrap_or(36.0);
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("examples/plate/modes.toml")).expect("examples/plate/modes.toml");
-    let data = root.join("examples/plate/data");
-    let text = text.replace("\"data/", &format!("\"{}/", data.display()));
-    let file: String = text
-        .lines()
-        .map(|l| if l.starts_with("modes = ") { format!("modes = {modes}") } else { l.to_string() })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("answer.toml");
-    std::fs::write(&path, file).expect("written");
-    let exp = shotdamp::experiment::loader::load(&path, &root.join("reference")).expect("the answer loads").remove(0);
-    let case = &exp.cases[0];
-    let sys = System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force);
+    let sys = answer_system(&plate_answer(&format!("modes = {modes}")));
     let base = Dynamics::unforced(&sys);
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool of one thread");
     let start = Instant::now();

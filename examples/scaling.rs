@@ -25,18 +25,17 @@
 
 use std::alloc::{GlobalAlloc, Layout, System as Heap};
 use std::f64::consts::PI;
-use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::time::Instant;
 
 use nalgebra::DMatrix;
-use shotdamp::model::modes::symmetric_modes;
 use shotdamp::sim::motion::observe::Observe;
 use shotdamp::sim::orbits::periodic::{multipliers, Section};
 use shotdamp::sim::settle::sweep::{self, Direction};
 use shotdamp::sim::{Dynamics, SteadyOptions, System};
 
 include!("../benches/common/size_family.rs");
+include!("../benches/common/plate_answer.rs");
 
 /// Counts the bytes live and their peak since the last [`reset_peak`].
 struct Counting;
@@ -115,16 +114,6 @@ struct Row {
     closed: bool,
     irregular: f64,
     irregular_what: String,
-}
-
-/// 12 frequencies from 0.9 times the lowest to 1.1 times the highest (at most 60 Hz) of the
-/// top three modes below 60 Hz (the size benchmarks' band).
-fn band(sys: &System) -> Vec<f64> {
-    let modes = symmetric_modes(&sys.structure.mass_matrix(), &sys.structure.stiffness);
-    let below: Vec<f64> = modes.omegas.iter().map(|w| w / (2.0 * PI)).filter(|&f| f < 60.0).collect();
-    let top = &below[below.len().saturating_sub(3)..];
-    let (lo, hi) = (0.9 * top[0], (1.1 * top[top.len() - 1]).min(60.0));
-    (0..12).map(|i| lo + (hi - lo) * i as f64 / 11.0).collect()
 }
 
 fn measure(name: String, size: usize, sys: &System, freqs: &[f64]) -> Row {
@@ -214,21 +203,7 @@ fn irregular(row: &mut Row, sys: &System, freq: f64) {
 
 /// The plate design's stored answer on the plate reduced with `modes` fixed-interface modes.
 fn plate(modes: usize) -> (System, usize) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("examples/plate/modes.toml")).expect("examples/plate/modes.toml");
-    let data = root.join("examples/plate/data");
-    let text = text.replace("\"data/", &format!("\"{}/", data.display()));
-    let file: String = text
-        .lines()
-        .map(|l| if l.starts_with("modes = ") { format!("modes = {modes}") } else { l.to_string() })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("answer.toml");
-    std::fs::write(&path, file).expect("written");
-    let exp = shotdamp::experiment::loader::load(&path, &root.join("reference")).expect("the answer loads").remove(0);
-    let case = &exp.cases[0];
-    let sys = System::plastic(exp.structure.clone(), case.dampers(), exp.excitation.mass, exp.excitation.force);
+    let sys = answer_system(&plate_answer(&format!("modes = {modes}")));
     let n = sys.dof();
     (sys, n)
 }
