@@ -34,7 +34,6 @@ impl Kind for Frf<'_> {
 /// The modal table: frequencies, normalised shapes, modal mass/stiffness/damping, and the
 /// mass ratio mu_i of Eq. 13 for each case with dampers.
 pub fn modal_table(exp: &Experiment, modes: &[ModeSummary]) -> Table {
-    let n = modes.len();
     let mut t = Table::new(
         "modal",
         "Modes of the bare structure: omega (rad/s), f (Hz), shape normalised to largest element +1 (a reduced model's at its points only), modal mass (kg), stiffness (N/m), damping (N s/m), damping ratio, for a reduced model whether the mode moves its points (1; 0: a node at every point, no modal quantities given), and mu_i (Eq. 13) per case",
@@ -44,7 +43,7 @@ pub fn modal_table(exp: &Experiment, modes: &[ModeSummary]) -> Table {
     .f64("freq_hz", modes.iter().map(|m| m.freq_hz).collect());
     // A reduced model's shapes at its points only (its modal coordinates are no place to read
     // a mode at); a mode that does not move them has no modal mass there to state.
-    let points = exp.structure.points.unwrap_or(n).min(n);
+    let points = exp.structure.physical();
     for r in 0..points {
         t = t.f64(format!("phi_m{}", r + 1), modes.iter().map(|m| m.shape[r]).collect());
     }

@@ -82,7 +82,7 @@ pub fn run(
     // A reduced model's modal coordinates are no displacement of any point (docs/fe-models.md):
     // its sweeps measure and tabulate its points alone, which spares the record the work of
     // following every coordinate (most of a followed point's time on the plate).
-    let shown = exp.structure.points.unwrap_or(n).min(n);
+    let shown = exp.structure.physical();
     let observe = if shown < n { Observe::only(0..shown) } else { steady.observe };
     // On moving supports the records also find the storeys' drifts and the floors' absolute
     // accelerations (what an engineer checks on a building).

@@ -98,7 +98,7 @@ pub(crate) fn page(exp: &Experiment, records: &[Record], heights: Option<&[f64]>
 /// The coordinates a time history reports: every mass of a lumped structure, a reduced
 /// model's points (not its modal coordinates).
 pub(crate) fn shown(exp: &Experiment) -> usize {
-    exp.structure.points.unwrap_or(exp.structure.dof()).min(exp.structure.dof())
+    exp.structure.physical()
 }
 
 /// The run of case `c` under `record`.

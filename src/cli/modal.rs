@@ -42,7 +42,7 @@ pub(super) fn print_modal(exp: &Experiment, case: Option<&str>) -> anyhow::Resul
         print_fit(fit);
     }
     // A reduced model's shapes at its points only; a mode with a node at every point says so.
-    let points = exp.structure.points.unwrap_or(n).min(n);
+    let points = exp.structure.physical();
     if points < n {
         say!("shapes at the {points} point{} (the modal coordinates left out)", if points == 1 { "" } else { "s" });
     }

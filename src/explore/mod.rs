@@ -229,7 +229,7 @@ impl Session {
             "curves": out,
             "references": model.references,
             "unit": result.curves.unit(),
-            "masses": exp.structure.dof(),
+            "masses": exp.structure.physical(),
             "warnings": result.warnings,
             "ms": t0.elapsed().as_secs_f64() * 1e3,
         }))
@@ -481,7 +481,7 @@ fn setup(exp: &Experiment, models: &[Model]) -> Value {
     json!({
         "title": exp.meta.title,
         "figure": exp.meta.figure,
-        "masses": exp.structure.dof(),
+        "masses": exp.structure.physical(),
         "models": models.iter().map(|m| json!({ "id": m.id, "label": m.label })).collect::<Vec<_>>(),
         "cases": cases,
         "controls": controls,

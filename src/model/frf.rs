@@ -70,7 +70,7 @@ fn support_load(structure: &Structure, mass: &DMatrix<f64>) -> (DVector<f64>, DV
 /// `A |omega^2 h_i + r_i|`. Infinities where unbounded.
 pub fn support_peaks_curve(structure: &Structure, mass: &DMatrix<f64>, omegas: &[f64]) -> Vec<(Vec<f64>, Vec<f64>)> {
     let (load, r) = support_load(structure, mass);
-    let physical = structure.points.unwrap_or(structure.dof());
+    let physical = structure.physical();
     let storeys = if structure.is_chain() { physical } else { 0 };
     omegas
         .iter()

@@ -48,7 +48,7 @@ pub fn modal_summary(structure: &Structure, dampers: &[Damper]) -> Vec<ModeSumma
     let m0 = structure.mass_matrix();
     let modes = symmetric_modes(&m0, &structure.stiffness);
     let n = structure.dof();
-    let physical = structure.points.unwrap_or(n).min(n);
+    let physical = structure.physical();
     (0..n)
         .map(|i| {
             let col = modes.mass_normalised.column(i);

@@ -163,6 +163,13 @@ impl Structure {
         self.masses.len()
     }
 
+    /// How many coordinates are displacements of a point, first in order: a reduced model's
+    /// points ([`Structure::points`]; the rest are modal), every mass of a chain. What the
+    /// tables, figures and records show.
+    pub fn physical(&self) -> usize {
+        self.points.unwrap_or(self.dof()).min(self.dof())
+    }
+
     /// The mass matrix `M0` of the bare structure.
     pub fn mass_matrix(&self) -> DMatrix<f64> {
         match &self.coupled_mass {

@@ -214,7 +214,7 @@ pub fn respond(system: &System, record: &GroundMotion, options: RecordOptions) -
     let mut v = DVector::zeros(n);
     let energy0 = setup.energy(mask, &x, &v, &beds);
     let mut tally = vec![BedTally::default(); beds_n];
-    let shown = structure.points.unwrap_or(n).min(n);
+    let shown = structure.physical();
     let mut measure = Measure::new((n, shown), structure.is_chain(), follow, structure.damping.clone());
     let mut out_t = vec![0.0];
     let mut out_u = vec![x.iter().take(shown).copied().collect::<Vec<f64>>()];

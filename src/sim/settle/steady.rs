@@ -457,7 +457,7 @@ impl Recorder {
 /// storeys when its structure is a chain.
 pub(crate) fn peaks_of(d: &Dynamics) -> Peaks {
     let s = &d.system.structure;
-    Peaks::new(s.points.unwrap_or(s.dof()), s.is_chain())
+    Peaks::new(s.physical(), s.is_chain())
 }
 
 impl Observer for Recorder {
