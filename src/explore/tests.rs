@@ -27,3 +27,21 @@ fn a_band_has_at_most_max_points() {
     assert!(band(&req(44.0, 56.0, 0.0)).is_err());
     assert!(band(&req(f64::NAN, 56.0, 0.1)).is_err());
 }
+
+/// On a reduced finite-element model the page has a chart per point (the plate example's
+/// four, not its 20 coordinates), and each sweep's curve has the points' compliance.
+#[test]
+fn a_reduced_model_is_drawn_at_its_points() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let session = Session::open(&root.join("examples/plate/plate.toml"), &root.join("reference")).unwrap();
+    assert_eq!(session.setup()["masses"], 4);
+    let request = Request { start: "continuation".into(), ..req(34.0, 34.5, 0.5) };
+    let answer = session.run(&request, &|| {}).unwrap();
+    assert_eq!(answer["masses"], 4);
+    let sweep = answer["curves"].as_array().unwrap().iter().find(|c| c["kind"] == "sweep").unwrap();
+    let compliance = sweep["compliance"].as_array().unwrap();
+    assert!(compliance.len() >= 4);
+    for point in &compliance[..4] {
+        assert!(point.as_array().unwrap().iter().all(|c| c.as_f64().is_some_and(|c| c > 0.0)), "{point}");
+    }
+}
