@@ -33,6 +33,7 @@ pub mod study_samples;
 mod sweep;
 mod time_history;
 mod time_history_figures;
+mod time_history_runs;
 mod waveform;
 pub use waveform::event_words;
 

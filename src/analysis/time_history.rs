@@ -16,18 +16,12 @@ use crate::table::Table;
 use super::curves;
 use super::kind::{Input, Kind, Output};
 use super::time_history_figures as figures;
+use super::time_history_runs::{find, over_suite, Run};
 
 /// A time history: the records and, for drift ratios, the storeys' heights.
 pub(crate) struct TimeHistory<'a> {
     pub(crate) records: &'a [Record],
     pub(crate) storey_heights_m: Option<&'a [f64]>,
-}
-
-/// One case's response to one record.
-pub(crate) struct Run<'a> {
-    pub record: &'a Record,
-    pub case: usize,
-    pub response: RecordResponse,
 }
 
 impl Kind for TimeHistory<'_> {
@@ -95,17 +89,6 @@ pub(crate) fn page(exp: &Experiment, records: &[Record], heights: Option<&[f64]>
     out
 }
 
-/// The coordinates a time history reports: every mass of a lumped structure, a reduced
-/// model's points (not its modal coordinates).
-pub(crate) fn shown(exp: &Experiment) -> usize {
-    exp.structure.physical()
-}
-
-/// The run of case `c` under `record`.
-fn find<'a>(runs: &'a [Run], record: &Record, c: usize) -> Option<&'a RecordResponse> {
-    runs.iter().find(|r| r.record.key == record.key && r.case == c).map(|r| &r.response)
-}
-
 /// What each row of a storey table counts: storeys for a chain, coordinates otherwise.
 fn row_name(chain: bool) -> &'static str {
     if chain {
@@ -118,7 +101,7 @@ fn row_name(chain: bool) -> &'static str {
 /// The peaks and RMS values per record, case and storey, with the shot's effect against
 /// the bare case.
 fn peaks_table(exp: &Experiment, runs: &[Run], bare: Option<usize>, chain: bool, heights: Option<&[f64]>) -> Table {
-    let n = shown(exp);
+    let n = exp.structure.physical();
     let rows: Vec<(&Run, usize)> = runs.iter().flat_map(|r| (0..n).map(move |i| (r, i))).collect();
     let col =
         |f: &dyn Fn(&RecordResponse, usize) -> f64| rows.iter().map(|(r, i)| f(&r.response, *i)).collect::<Vec<f64>>();
@@ -198,22 +181,10 @@ fn beds_table(exp: &Experiment, runs: &[Run]) -> Table {
     .f64("peak_impact_speed_m_s", rows.iter().map(|(r, j)| bed(r, *j).peak_impact_speed).collect())
 }
 
-/// Mean and worst of a quantity over the records a case was run under.
-pub(crate) fn over_suite(
-    records: &[Record],
-    runs: &[Run],
-    c: usize,
-    f: impl Fn(&RecordResponse) -> f64,
-) -> Option<(f64, f64)> {
-    let values: Vec<f64> = records.iter().filter_map(|rec| find(runs, rec, c)).map(f).collect();
-    (values.len() == records.len() && !values.is_empty())
-        .then(|| (values.iter().sum::<f64>() / values.len() as f64, values.iter().fold(f64::MIN, |a, b| a.max(*b))))
-}
-
 /// Per case and storey: the mean and the worst over the records of each peak, and the mean
 /// over the bare case's mean.
 fn suite_table(exp: &Experiment, records: &[Record], runs: &[Run], bare: Option<usize>, chain: bool) -> Table {
-    let n = shown(exp);
+    let n = exp.structure.physical();
     let rows: Vec<(usize, usize)> = (0..exp.cases.len()).flat_map(|c| (0..n).map(move |i| (c, i))).collect();
     let stat = |f: &dyn Fn(&RecordResponse, usize) -> f64, worst: bool| {
         rows.iter()

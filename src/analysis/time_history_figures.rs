@@ -10,7 +10,7 @@ use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series};
 use crate::model::GRAVITY;
 use crate::sim::record::RecordResponse;
 
-use super::time_history::{over_suite, Run};
+use super::time_history_runs::{over_suite, Run};
 
 /// Horizontal resolution of the histories (min/max per bin): a bin of 0.07-0.18 s on the
 /// shipped records, fine against the building's periods, and a page inside its budget.
@@ -65,8 +65,7 @@ fn histories(exp: &Experiment, p: &PlotSpec, title: &str, rec: &Record, runs: &[
     let mut ground = Panel::new(format!("ground: {} ({})", rec.name, rec.scaling), "time (s)", "a_g (g)", span);
     ground.series.push(Series::dense("ground", &times, &g, 7, BINS));
     let mut panels = vec![ground];
-    let masses: Vec<usize> =
-        if p.masses.is_empty() { vec![super::time_history::shown(exp) - 1] } else { p.masses.clone() };
+    let masses: Vec<usize> = if p.masses.is_empty() { vec![exp.structure.physical() - 1] } else { p.masses.clone() };
     for &k in &masses {
         let mut disp =
             Panel::new(format!("m{}: displacement relative to the ground", k + 1), "time (s)", "u (mm)", span);
@@ -198,7 +197,7 @@ fn suite_profiles(
     chain: bool,
     heights: Option<&[f64]>,
 ) -> Figure {
-    let n = super::time_history::shown(exp);
+    let n = exp.structure.physical();
     let row = if chain { "storey" } else { "coordinate" };
     let mut first = Vec::new();
     let mut second = Vec::new();

@@ -29,7 +29,7 @@ pub const MAX_SAMPLES: usize = 2_000_000;
 
 /// Reads and scales the ground motions at `key` of the experiment file `path`
 /// (`analysis.ground_motions`, `design.ground_motions`; their files relative to it).
-pub fn records(path: &Path, key: &str, raw: &[super::file::raw::RawGroundMotion]) -> Result<Vec<Record>> {
+pub fn records(path: &Path, key: &str, raw: &[super::file::raw_ground::RawGroundMotion]) -> Result<Vec<Record>> {
     if raw.is_empty() || raw.len() > MAX_RECORDS {
         return Err(Error::invalid(
             path,
@@ -119,13 +119,13 @@ pub fn records(path: &Path, key: &str, raw: &[super::file::raw::RawGroundMotion]
 pub fn heights(
     path: &Path,
     key: &str,
-    raw: Option<&super::file::raw::RawHeights>,
+    raw: Option<&super::file::raw_ground::RawHeights>,
     n: usize,
 ) -> Result<Option<Vec<f64>>> {
     let heights = match raw {
         None => return Ok(None),
-        Some(super::file::raw::RawHeights::One(h)) => vec![*h; n],
-        Some(super::file::raw::RawHeights::Each(list)) => {
+        Some(super::file::raw_ground::RawHeights::One(h)) => vec![*h; n],
+        Some(super::file::raw_ground::RawHeights::Each(list)) => {
             if list.len() != n {
                 return Err(Error::invalid(
                     path,

@@ -8,5 +8,6 @@
 pub mod grid;
 pub mod raw;
 pub mod raw_design;
+pub mod raw_ground;
 pub mod raw_study;
 pub mod read;

@@ -8,6 +8,7 @@ use serde::Deserialize;
 
 use super::grid::RawGrid;
 use super::raw_design::RawDesign;
+use super::raw_ground::{RawGroundMotion, RawHeights};
 
 /// A whole experiment file after `extends` has been merged in.
 #[derive(Debug, Deserialize)]
@@ -323,38 +324,6 @@ pub struct RawAnalysis {
     /// Time history: the storeys' heights, m (one for all, or one a storey).
     #[serde(default)]
     pub storey_height_m: Option<RawHeights>,
-}
-
-/// One recorded ground motion of a time history: its file (relative to the experiment file)
-/// and how it is scaled.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawGroundMotion {
-    /// The record file: PEER `.AT2`, or CSV of time and acceleration with its unit named.
-    pub file: String,
-    /// Its name on the page (default: the file's title or name).
-    #[serde(default)]
-    pub name: Option<String>,
-    /// A factor on its accelerations.
-    #[serde(default)]
-    pub scale: Option<f64>,
-    /// Its peak after scaling, g (instead of `scale`).
-    #[serde(default)]
-    pub peak_g: Option<f64>,
-    /// The direction it shakes the supports in, stated: "along" a chain, or a finite-element
-    /// model's `base_direction` ("x", "y", "z"); checked against the structure.
-    #[serde(default)]
-    pub direction: Option<String>,
-}
-
-/// Storey heights: one for every storey, or one a storey.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
-pub enum RawHeights {
-    /// The same height for every storey, m.
-    One(f64),
-    /// Each storey's height from the ground up, m.
-    Each(Vec<f64>),
 }
 
 /// Steady-state settings (docs/model.md section 3, docs/simulator.md).

@@ -72,7 +72,7 @@ pub struct RawDesign {
     /// Recorded ground motions the layouts are judged under instead of bands (as
     /// `analysis.ground_motions` of a time history).
     #[serde(default)]
-    pub ground_motions: Option<Vec<super::raw::RawGroundMotion>>,
+    pub ground_motions: Option<Vec<super::raw_ground::RawGroundMotion>>,
     /// With `ground_motions`: what is lowered, "drift" (default) or "acceleration".
     #[serde(default)]
     pub response: Option<String>,
@@ -82,7 +82,7 @@ pub struct RawDesign {
     /// With `ground_motions`: the storeys' heights, m (one for all, or one a storey), for drift
     /// ratios on the page.
     #[serde(default)]
-    pub storey_height_m: Option<super::raw::RawHeights>,
+    pub storey_height_m: Option<super::raw_ground::RawHeights>,
     /// Values the objective is taken over (the paper leaves them unstated).
     #[serde(default)]
     pub scenarios: Option<RawScenarios>,
