@@ -11,7 +11,7 @@ use crate::experiment::{Bed, Case, ClearanceSource, Experiment, PlotKind, PlotSp
 use crate::number::fmt_sig;
 use crate::sim::motion::bed::ImpactLaw;
 
-use super::design::{BestIn, Page};
+use super::design_best::{clearance_profile, BestIn, Page};
 
 /// A value of `response` in the page's units: mm for drifts, g for accelerations.
 fn in_units(response: Response, v: f64) -> String {
@@ -106,7 +106,7 @@ pub(super) fn about_the_best(
     }
     let mut robust = String::new();
     if i.more {
-        let (table, figure, band) = super::design::clearance_profile(exp, spec, i.judged.0, i.judged.1, best);
+        let (table, figure, band) = clearance_profile(exp, spec, i.judged.0, i.judged.1, best);
         if let Some((lo, hi)) = band {
             page.exports.insert("robust_clearance_min_mm".into(), lo);
             page.exports.insert("robust_clearance_max_mm".into(), hi);

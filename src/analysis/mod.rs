@@ -6,6 +6,7 @@ mod checks;
 mod clearance;
 pub mod curves;
 pub mod design;
+mod design_best;
 mod design_compliance;
 mod design_conclusion;
 mod design_drive;
