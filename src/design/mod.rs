@@ -15,6 +15,7 @@ pub mod nelder_mead;
 pub mod rounds;
 pub mod search;
 pub mod seismic;
+pub mod space;
 pub mod stored;
 
 use rayon::prelude::*;

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::halt::Halt;
 use super::nelder_mead::{End, Settings, Simplex};
-use super::search::{layout, Options, Space};
+use super::space::{layout, Options, Space};
 use super::{evaluate, Evaluation, Problem};
 
 /// Nelder-Mead iterations a run makes in a round (a placement of the shipped designs
@@ -174,7 +174,7 @@ fn outlook(runs: &[Run], opts: &Options, halt: &Halt) {
         .filter(|r| r.end.is_none())
         .map(|r| {
             let done = r.count.load(Ordering::Relaxed);
-            let usual = super::search::expected_per_start(r.x0.len(), opts, super::search::EXPECTED_C[1]);
+            let usual = super::space::expected_per_start(r.x0.len(), opts, super::space::EXPECTED_C[1]);
             let iterations = r.simplex.as_ref().map_or(0, Simplex::iterations);
             if done < usual || iterations == 0 {
                 return usual.saturating_sub(done).max(1);
