@@ -222,20 +222,59 @@ pub fn batch_mean(v: &[f64]) -> (f64, f64) {
 /// The `q` quantile of `v` over the whole and the half-width of its 95 % interval from
 /// [`BATCHES`] batch quantiles (NaN for fewer than [`BATCHES`] values).
 pub fn batch_quantile(v: &[f64], q: f64) -> (f64, f64) {
-    let b = v.len() / BATCHES;
+    batch_quantile_in(v, q, BATCHES)
+}
+
+/// [`batch_quantile`] from `batches` batches (2 to 30; NaN for fewer values than batches).
+pub fn batch_quantile_in(v: &[f64], q: f64, batches: usize) -> (f64, f64) {
+    let b = v.len() / batches;
     if b == 0 {
         return (quantile(v, q), f64::NAN);
     }
-    let qs: Vec<f64> = v.chunks_exact(b).take(BATCHES).map(|c| quantile(c, q)).collect();
+    let qs: Vec<f64> = v.chunks_exact(b).take(batches).map(|c| quantile(c, q)).collect();
     (quantile(v, q), half_width(&qs))
 }
 
-/// `t s / sqrt(k)` of `k` = [`BATCHES`] batch values.
+/// The 0.975 quantiles of Student's t on 1 to 29 degrees of freedom.
+const T_975: [f64; 29] = [
+    12.706_204_736,
+    4.302_652_730,
+    3.182_446_305,
+    2.776_445_105,
+    2.570_581_836,
+    2.446_911_851,
+    2.364_624_252,
+    2.306_004_135,
+    2.262_157_163,
+    2.228_138_852,
+    2.200_985_160,
+    2.178_812_830,
+    2.160_368_656,
+    2.144_786_688,
+    2.131_449_546,
+    2.119_905_299,
+    2.109_815_578,
+    2.100_922_040,
+    T_975_19,
+    2.085_963_447,
+    2.079_613_845,
+    2.073_873_068,
+    2.068_657_610,
+    2.063_898_562,
+    2.059_538_553,
+    2.055_529_439,
+    2.051_830_516,
+    2.048_407_142,
+    2.045_229_642,
+];
+
+/// `t s / sqrt(k)` of `k` batch values (`t` on `k - 1` degrees of freedom).
 fn half_width(batches: &[f64]) -> f64 {
     let k = batches.len() as f64;
     let mean = batches.iter().sum::<f64>() / k;
     let var = batches.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k - 1.0);
-    T_975_19 * (var / k).sqrt()
+    let t = T_975.get(batches.len().saturating_sub(2)).copied().unwrap_or(f64::NAN);
+    t * (var / k).sqrt()
 }
 
 #[cfg(test)]
@@ -263,6 +302,21 @@ mod tests {
         assert!((60..=250).contains(&cut), "{cut}");
         let trend: Vec<f64> = (0..500).map(|i| i as f64 + noise(i)).collect();
         assert_eq!(mser5(&trend), None);
+    }
+
+    /// Any batch count: 20 is the measurement's own, to the bit; 10 batches of the same values
+    /// take t on 9 degrees of freedom.
+    #[test]
+    fn batch_quantiles_in_any_count() {
+        let v: Vec<f64> = (0..400).map(|i| ((i * 7919 % 401) as f64).sqrt()).collect();
+        assert_eq!(batch_quantile_in(&v, 0.95, BATCHES), batch_quantile(&v, 0.95));
+        let (s, h) = batch_quantile_in(&v, 0.95, 10);
+        let qs: Vec<f64> = v.chunks_exact(40).map(|c| quantile(c, 0.95)).collect();
+        let mean = qs.iter().sum::<f64>() / 10.0;
+        let sd = (qs.iter().map(|q| (q - mean).powi(2)).sum::<f64>() / 9.0).sqrt();
+        assert_eq!(s, quantile(&v, 0.95));
+        assert!((h - 2.262_157_163 * sd / 10f64.sqrt()).abs() < 1e-12 * h, "{h}");
+        assert!(batch_quantile_in(&v[..5], 0.95, 10).1.is_nan());
     }
 
     /// Independent normal-ish samples: the batch interval covers the true mean about 95 % of
