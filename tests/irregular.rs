@@ -294,16 +294,9 @@ fn every_point_of_the_twenty_storey_frame_is_an_answer() {
 /// on which the shortest records' intervals hold less often (docs/simulator.md).
 #[test]
 fn the_intervals_of_a_chaotic_point_hold_its_long_run_statistic_at_their_stated_rate() {
-    use shotdamp::model::{Damping, Direction, Structure};
     use shotdamp::sim::motion::observe::{Extrema, Observe};
     use shotdamp::sim::settle::statistic::{batch_quantile, quantile, PERCENTILE};
-    let frame = Structure::chain(
-        &[2.0, 2.0, 2.0, 2.0, 2.0, 1.5],
-        &[40e3, 38e3, 36e3, 34e3, 32e3, 30e3],
-        Damping::ModalRatios(vec![0.02; 6]),
-    );
-    let bed = Damper::new(5, 1.15, Clearance::from_mm(20.0)).along(Direction::Horizontal);
-    let d = Dynamics::new(&System::plastic(frame, vec![bed], 5, 5.0), 2.0 * PI * 5.3).expect("the frame");
+    let d = crate::common::six_storey_roof(5.3);
     let (engine, period) = (Engine::new(&d), 2.0 * PI / d.omega);
     let mut s = State::at_rest(&d);
     engine.advance(&mut s, 200.0 * period, &mut Quiet).expect("the transient runs");

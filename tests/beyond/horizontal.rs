@@ -537,14 +537,7 @@ fn a_waveform_names_the_walls_a_horizontal_bed_hits() {
 fn a_lift_off_decided_on_its_rate_is_not_undone_at_the_same_instant() {
     use shotdamp::sim::motion::observe::{stored_energy, Both, Energy, EventLog};
     use shotdamp::sim::EventKind;
-    let frame = Structure::chain(
-        &[2.0, 2.0, 2.0, 2.0, 2.0, 1.5],
-        &[40e3, 38e3, 36e3, 34e3, 32e3, 30e3],
-        Damping::ModalRatios(vec![0.02; 6]),
-    );
-    let bed = Damper::new(5, 1.15, Clearance::from_mm(20.0)).along(Direction::Horizontal);
-    let sys = System::plastic(frame, vec![bed], 5, 5.0);
-    let d = Dynamics::new(&sys, 2.0 * PI * 5.3).expect("the frame");
+    let d = common::six_storey_roof(5.3);
     let (engine, period) = (Engine::new(&d), 2.0 * PI / d.omega);
     let mut s = State {
         t: 8336.415094339623,
