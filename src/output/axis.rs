@@ -1,7 +1,47 @@
 //! A figure's axes: the range a panel's values span (finite, positive on a logarithmic axis,
 //! clamped to what plotters can draw) and how its ticks are written.
 
+use std::ops::Range;
+
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
+use plotters::prelude::{IntoLogRange, LogCoord};
+
 use crate::figure::Panel;
+
+/// A logarithmic axis from `lo` to `hi` whose key points are each drawn once: plotters'
+/// `LogCoord` gives each decade's end twice (the last multiple of one decade and the first
+/// value of the next are the same number), and its grid line and label were drawn twice at
+/// one place.
+pub(super) struct LogOnce(LogCoord<f64>);
+
+impl LogOnce {
+    pub(super) fn new(lo: f64, hi: f64) -> LogOnce {
+        LogOnce((lo..hi).log_scale().into())
+    }
+}
+
+impl Ranged for LogOnce {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.0.map(value, limit)
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        let mut points = self.0.key_points(hint);
+        points.dedup();
+        points
+    }
+
+    fn range(&self) -> Range<f64> {
+        self.0.range()
+    }
+
+    fn axis_pixel_range(&self, limit: (i32, i32)) -> Range<i32> {
+        self.0.axis_pixel_range(limit)
+    }
+}
 
 /// Finite y values of all series (positive ones for log axes).
 pub(super) fn y_extent(panel: &Panel) -> (f64, f64) {
@@ -115,6 +155,19 @@ pub(super) fn tick_format(lo: f64, hi: f64, log: bool) -> Box<dyn Fn(&f64) -> St
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_log_axis_gives_each_key_point_once() {
+        let raw: Vec<f64> = LogCoord::from((2e-4..2.4e-2).log_scale()).key_points(40usize);
+        let once = LogOnce::new(2e-4, 2.4e-2).key_points(40usize);
+        // plotters' own gives the decade's end twice, the same number.
+        assert!(raw.windows(2).any(|w| w[0] == w[1]), "{raw:?}");
+        assert!(once.windows(2).all(|w| w[0] < w[1]), "{once:?}");
+        assert_eq!(once.iter().filter(|&&v| (v / 1e-2 - 1.0).abs() < 1e-12).count(), 1, "{once:?}");
+        let mut dedup = raw.clone();
+        dedup.dedup();
+        assert_eq!(once, dedup);
+    }
 
     #[test]
     fn a_log_axis_labels_one_two_and_five_times_its_decades_once() {

@@ -7,7 +7,7 @@ use std::sync::Once;
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::prelude::*;
 
-use super::axis::{axis_range, tick_format, y_extent};
+use super::axis::{axis_range, tick_format, y_extent, LogOnce};
 use crate::error::{Error, Result};
 use crate::figure::{Corner, Dash, Figure, Marker, Panel, Series};
 
@@ -238,13 +238,13 @@ fn draw_panel<DB: DrawingBackend>(
     match (panel.x_log, panel.y_log) {
         (false, false) => fill(builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?, panel, (what, dashes), fx, fy),
         (false, true) => {
-            fill(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(err)?, panel, (what, dashes), fx, fy)
+            fill(builder.build_cartesian_2d(x0..x1, LogOnce::new(y0, y1)).map_err(err)?, panel, (what, dashes), fx, fy)
         }
         (true, false) => {
-            fill(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1).map_err(err)?, panel, (what, dashes), fx, fy)
+            fill(builder.build_cartesian_2d(LogOnce::new(x0, x1), y0..y1).map_err(err)?, panel, (what, dashes), fx, fy)
         }
         (true, true) => fill(
-            builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()).map_err(err)?,
+            builder.build_cartesian_2d(LogOnce::new(x0, x1), LogOnce::new(y0, y1)).map_err(err)?,
             panel,
             (what, dashes),
             fx,
