@@ -5,7 +5,9 @@
 //! (the statistic and its interval from batch quantiles, `statistic::batch_quantile_in`; the
 //! measurement's own is 20 batches), with 20, 10 and 5 batches of at least 20 periods, and
 //! counts how many intervals hold the long run's value (docs/simulator.md, "Irregular
-//! motion"). Each quarter of the long run's own percentile is printed too (is it stationary?).
+//! motion"). Each quarter of the long run's own percentile is printed too (is it stationary?),
+//! and how often a design's screen (`design::race`) would set aside a point whose long-run
+//! value lies above its widened interval.
 //!
 //!     cargo run --release --example interval_coverage [-- PERIODS]
 //!
@@ -16,6 +18,7 @@
 
 use std::f64::consts::PI;
 
+use shotdamp::design::race::{SCREEN, SCREEN_WIDEN};
 use shotdamp::model::frf::receptance;
 use shotdamp::model::{Clearance, Damper, Damping, Direction, Structure, GRAVITY};
 use shotdamp::sim::motion::bed::ImpactLaw;
@@ -77,6 +80,27 @@ fn table(name: &str, a: &[f64]) {
             );
         }
     }
+    // A design's screen (docs/design.md, "Points that cannot set the peak"): 150 periods, of
+    // which the judgement keeps the last 113 (it cuts a quarter, 37), 20 batches of 5. A point
+    // is set aside when its interval widened SCREEN_WIDEN times lies below the band's floor:
+    // how often does the long run's value lie above that widened upper end?
+    let kept = SCREEN - SCREEN / 4;
+    let records: Vec<&[f64]> = a.chunks_exact(kept).collect();
+    let (mut held, mut widened, mut above) = (0, 0, 0);
+    for r in &records {
+        let (s, h) = batch_quantile_in(r, PERCENTILE, 20);
+        held += usize::from((s - truth).abs() <= h);
+        widened += usize::from((s - truth).abs() <= SCREEN_WIDEN * h);
+        above += usize::from(truth > s + SCREEN_WIDEN * h);
+    }
+    let m = records.len() as f64;
+    println!(
+        "  a design's screen ({kept} periods kept, 20 batches), {} records: the interval holds it {:.1} %, widened {SCREEN_WIDEN} times {:.1} %; it lies above the widened upper end {:.2} %",
+        records.len(),
+        100.0 * held as f64 / m,
+        100.0 * widened as f64 / m,
+        100.0 * above as f64 / m
+    );
 }
 
 fn main() {

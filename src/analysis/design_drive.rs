@@ -139,8 +139,8 @@ pub fn drive(problem: &Problem, bare: &[Vec<Vec<f64>>], layouts: &[Rated<'_>]) -
         }
         if k == 0 && eval.unsettled > 0 {
             warnings.push(format!(
-                "{label}: {} of {} steady states did not settle into a certified orbit ({} of them measured as irregular motion: their compliance is the 95th percentile of the per-period amplitudes, with its interval; design_placements, unsettled_points, measured_points)",
-                eval.unsettled, eval.points, eval.measured()
+                "{label}: {} of {} steady states did not settle into a certified orbit ({} of them measured as irregular motion: their compliance is the 95th percentile of the per-period amplitudes, with its interval; {} of those over a short screen only, below their band's peak; design_placements, unsettled_points, measured_points, screened_points)",
+                eval.unsettled, eval.points, eval.measured(), eval.screened
             ));
         }
     }

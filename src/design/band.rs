@@ -18,6 +18,9 @@ pub(super) struct BandRun {
     pub(super) motion: Motion,
     pub(super) classes: [usize; 6],
     pub(super) measured: usize,
+    /// Points measured over their screen only: they cannot be the band's highest
+    /// ([`race::measure_on`]).
+    pub(super) screened: usize,
 }
 
 /// [`band_compliance`] of a system already decomposed (`base`, [`Dynamics::unforced`] of
@@ -28,14 +31,20 @@ pub(super) fn band_compliance_on(
     band: &Band,
     sweeps: &[Sweep],
     steady: &SteadyOptions,
+    peak: bool,
 ) -> BandRun {
     let n = sys.dof();
     // A point with no orbit after HAND_OVER periods is measured as irregular motion within the
     // same budget, to the design's tolerance (docs/design.md); steady settings that state a
     // measurement of their own keep it (`Measure::periods(0, _)`: none, the short record).
-    let measure = match steady.measure == statistic::Measure::default() {
-        true => statistic::Measure::handed_over(HAND_OVER, INTERVAL_TOL),
-        false => steady.measure,
+    // For a peak measure, where the budget leaves room, first over a screen only: the points
+    // that may be the band's highest are then measured on ([`race::measure_on`]).
+    let stated = steady.measure != statistic::Measure::default();
+    let screen = (peak && !stated).then(|| race::screen(HAND_OVER, INTERVAL_TOL, steady.max_periods)).flatten();
+    let measure = match (stated, screen) {
+        (true, _) => steady.measure,
+        (false, Some(m)) => m,
+        (false, None) => statistic::Measure::handed_over(HAND_OVER, INTERVAL_TOL),
     };
     let steady = &SteadyOptions { measure, ..*steady };
     // Per unit drive: the force, or on moving supports their acceleration.
@@ -52,7 +61,7 @@ pub(super) fn band_compliance_on(
     // The dynamics at each frequency, shared by the continued sweeps; the sweeps run side by
     // side and are gathered in order.
     let forced = sweeps.iter().any(|s| *s != Sweep::Rest).then(|| sweep::forced_at(base, &band.freq_hz));
-    let swept: Vec<Vec<SweepPoint>> = sweeps
+    let mut swept: Vec<Vec<SweepPoint>> = sweeps
         .par_iter()
         .map(|s| {
             let continued = |dir| sweep::continued_at(forced.as_deref().unwrap_or_default(), dir, steady, &|| {});
@@ -63,6 +72,13 @@ pub(super) fn band_compliance_on(
             }
         })
         .collect();
+    let mut screened = 0;
+    if screen.is_some() {
+        screened = match &forced {
+            Some(f) => race::measure_on(f, &mut swept, band, steady),
+            None => race::measure_on(&sweep::forced_at(base, &band.freq_hz), &mut swept, band, steady),
+        };
+    }
     for points in swept {
         for p in points {
             let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
@@ -114,7 +130,7 @@ pub(super) fn band_compliance_on(
             }
         }
     }
-    BandRun { compliance: worst, points: behind, unsettled, motion, classes, measured }
+    BandRun { compliance: worst, points: behind, unsettled, motion, classes, measured, screened }
 }
 
 /// One scenario of a layout.
@@ -139,6 +155,7 @@ pub(super) struct ScenarioRun {
     pub(super) half_width: f64,
     pub(super) classes: [usize; 6],
     pub(super) measured: usize,
+    pub(super) screened: usize,
 }
 
 /// One scenario of a layout: its bands' measures, its objective, where the worst is.
@@ -155,18 +172,20 @@ pub(super) fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &
     let mut half_width = 0.0;
     let mut classes = [0; 6];
     let mut measured = 0;
+    let mut screened = 0;
     let base = Dynamics::unforced(&sys);
     // The bands side by side, gathered in order.
     let swept: Vec<_> = problem
         .bands
         .par_iter()
-        .map(|band| band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady))
+        .map(|band| band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady, problem.measure == Measure::Peak))
         .collect();
     for ((k, band), run) in problem.bands.iter().enumerate().zip(swept) {
         unsettled += run.unsettled;
         motion.push(run.motion);
         classes.iter_mut().zip(run.classes).for_each(|(a, b)| *a += b);
         measured += run.measured;
+        screened += run.screened;
         points += band.freq_hz.len() * problem.sweeps.len();
         let (value, i, m) = measure(band, &run.compliance, problem.measure);
         let hw = measure_half_width(band, &run.points, (i, m), problem.measure);
@@ -193,5 +212,6 @@ pub(super) fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &
         half_width,
         classes,
         measured,
+        screened,
     }
 }

@@ -41,6 +41,10 @@ pub struct Evaluation {
     /// Steady states measured as irregular motion (a statistic with its interval), over every
     /// scenario.
     pub measured: usize,
+    /// Of those, the points measured over a short screen only: their interval (widened) lies
+    /// below their band's highest point's, so they cannot set the measure (docs/design.md,
+    /// "Points that cannot set the peak").
+    pub screened: usize,
     /// The first scenario's points per band, frequency and mass, beside `curves`: the class
     /// of the motion that set each compliance and its interval.
     pub points_class: Vec<Vec<Vec<Point>>>,
@@ -139,6 +143,7 @@ impl Evaluation {
             bands_half_width: vec![0.0],
             classes: [points.saturating_sub(unsettled), 0, 0, unsettled, 0, 0],
             measured: 0,
+            screened: 0,
             points_class: Vec::new(),
         }
     }

@@ -12,6 +12,7 @@ mod evaluation;
 pub mod halt;
 pub mod limits;
 pub mod nelder_mead;
+pub mod race;
 pub mod rounds;
 pub mod search;
 pub mod seismic;
@@ -499,7 +500,7 @@ impl Layout {
 /// Compliance of every mass at each frequency of `band` for `sys`, the largest over `sweeps`,
 /// and the number of unsettled points.
 pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &SteadyOptions) -> (Vec<Vec<f64>>, usize) {
-    let b = band::band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady);
+    let b = band::band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady, false);
     (b.compliance, b.unsettled)
 }
 
@@ -598,6 +599,7 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
         bands_half_width: runs[worst_scenario].bands_half_width.clone(),
         classes,
         measured: runs.iter().map(|r| r.measured).sum(),
+        screened: runs.iter().map(|r| r.screened).sum(),
         curves: std::mem::take(&mut runs[0].curves),
         points_class: std::mem::take(&mut runs[0].point_classes),
     }

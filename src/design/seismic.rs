@@ -241,6 +241,7 @@ pub fn evaluate(problem: &Problem, suite: &Suite, bare: &[Vec<f64>], layout: &La
         bands_half_width: vec![0.0; records],
         classes: [0; 6],
         measured: 0,
+        screened: 0,
         points_class: Vec::new(),
     }
 }

@@ -52,16 +52,19 @@ pub fn steady_state(d: &Dynamics, start: State, opts: &SteadyOptions) -> Steady 
 /// without an orbit is measured with the rest. A chaotic or quasi-periodic point thus costs
 /// `hand_over` + about [`statistic::ALIGN`] + [`statistic::MIN_PERIODS`] periods instead of the whole budget, and an
 /// orbit reached later is the one the search alone would reach (the motion is the same one,
-/// run on). The plastic single-mass beds only ([`steady_state`]).
+/// run on). With [`statistic::Measure::max_periods`] set, each measurement records at most
+/// that many periods (a design's screen, docs/design.md). The plastic single-mass beds only
+/// ([`steady_state`]).
 pub fn handed_over(d: &Dynamics, start: State, opts: &SteadyOptions, hand_over: usize) -> Steady {
     let total = opts.max_periods;
+    let cap = |left: usize| opts.measure.max_periods.map_or(left, |m| m.min(left));
     let first = SteadyOptions { max_periods: hand_over.min(total), ..*opts };
     let st = orbit_search::orbit_steady(d, start, &first);
     if st.converged || st.stop.is_some() {
         return st;
     }
     let spent = st.transient_periods + st.recorded_periods;
-    let (m, back) = irregular::measure_within(d, st, opts, total.saturating_sub(spent), true);
+    let (m, back) = irregular::measure_within(d, st, opts, cap(total.saturating_sub(spent)), true);
     let spent = spent + m.recorded_periods;
     if !back || m.stop.is_some() || spent >= total {
         return m;
@@ -73,5 +76,5 @@ pub fn handed_over(d: &Dynamics, start: State, opts: &SteadyOptions, hand_over: 
         return again;
     }
     let left = total.saturating_sub(again.transient_periods + again.recorded_periods);
-    irregular::measure_within(d, again, opts, left, false).0
+    irregular::measure_within(d, again, opts, cap(left), false).0
 }

@@ -35,7 +35,9 @@ pub const PERCENTILE: f64 = 0.95;
 pub struct Measure {
     /// Most forcing periods recorded; `None`: the steady state's own budget
     /// ([`super::steady::SteadyOptions::max_periods`], so a point costs at most twice it); `Some(0)`: no
-    /// measurement (the point keeps the orbit search's short record).
+    /// measurement (the point keeps the orbit search's short record). Handed over
+    /// ([`Measure::hand_over`]): at most this many each time the point is measured, within
+    /// the shared budget (a design's screen).
     pub max_periods: Option<usize>,
     /// Largest half-width of a statistic's 95 % interval, relative to the largest statistic.
     pub tol: f64,
