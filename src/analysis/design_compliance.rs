@@ -12,10 +12,12 @@ use crate::table::Table;
 /// The drawn points of the layouts with shot (each band's masses) counted by class, in words.
 pub(super) fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option<&Evaluation>]) -> String {
     let mut count = [0usize; 6];
+    let mut screened = 0;
     for e in evaluations.iter().flatten() {
         for (band, rows) in bands.iter().zip(&e.points_class) {
             for p in rows.iter().flat_map(|r| band.masses.iter().filter_map(|&m| r.get(m))) {
                 count[Class::ALL.iter().position(|c| *c == p.class).unwrap_or(3)] += 1;
+                screened += usize::from(p.screened);
             }
         }
     }
@@ -23,8 +25,16 @@ pub(super) fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option
     if count[0] == all {
         return "Every point with shot is a periodic orbit.".into();
     }
+    let screen = match screened {
+        0 => String::new(),
+        k => format!(
+            " {k} of them were measured over a {}-period screen only, their bar that screen's interval widened {} times: it lies below their band's highest point's, so they cannot set the band's peak (docs/design.md).",
+            crate::design::race::SCREEN,
+            crate::design::race::SCREEN_WIDEN
+        ),
+    };
     format!(
-        "Of the {all} points with shot drawn (per frequency and band mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.",
+        "Of the {all} points with shot drawn (per frequency and band mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.{screen}",
         count[0],
         count[1],
         count[2],
@@ -145,9 +155,9 @@ pub(super) fn compliance_figure(
     let table = Table::new(
         "design_compliance",
         if exp.excitation.supports {
-            "The compliance over each band (m/(m/s^2): amplitude relative to the supports per m/s^2 of their acceleration, the largest over the sweeps at each frequency; the column keeps its name) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's"
+            "The compliance over each band (m/(m/s^2): amplitude relative to the supports per m/s^2 of their acceleration, the largest over the sweeps at each frequency; the column keeps its name) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's; screened: 1 where a point with no certified orbit was measured over a short screen only (its interval, widened, below its band's highest point's: docs/design.md)"
         } else {
-            "The compliance over each band (m/N: amplitude per newton of force amplitude, the largest over the sweeps at each frequency) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's"
+            "The compliance over each band (m/N: amplitude per newton of force amplitude, the largest over the sweeps at each frequency) of the bare structure, the best layout and the experiment's cases, at each band's masses (1-based); the first scenario's; screened: 1 where a point with no certified orbit was measured over a short screen only (its interval, widened, below its band's highest point's: docs/design.md)"
         },
     )
     .str("layout", rows.iter().map(|r| r.0.clone()).collect())
@@ -157,6 +167,7 @@ pub(super) fn compliance_figure(
     .f64("compliance_m_per_n", rows.iter().map(|r| r.4).collect())
     .str("motion", rows.iter().map(|r| r.5.class.name().to_string()).collect())
     .f64("half_width_m_per_n", rows.iter().map(|r| r.5.half_width).collect())
+    .i64("screened", rows.iter().map(|r| i64::from(r.5.screened)).collect())
     .f64("lowest_over_sweeps_m_per_n", rows.iter().map(|r| r.5.lowest).collect())
     .str("lowest_motion", rows.iter().map(|r| if r.5.lowest.is_nan() { String::new() } else { r.5.lowest_class.name().to_string() }).collect())
     .f64("lowest_half_width_m_per_n", rows.iter().map(|r| r.5.lowest_half_width).collect())

@@ -72,15 +72,15 @@ pub(super) fn band_compliance_on(
             }
         })
         .collect();
-    let mut screened = 0;
-    if screen.is_some() {
-        screened = match &forced {
-            Some(f) => race::measure_on(f, &mut swept, band, steady),
-            None => race::measure_on(&sweep::forced_at(base, &band.freq_hz), &mut swept, band, steady),
-        };
-    }
-    for points in swept {
-        for p in points {
+    // Per sweep and point: measured over its screen only.
+    let aside = match (screen, &forced) {
+        (None, _) => swept.iter().map(|s| vec![false; s.len()]).collect(),
+        (Some(_), Some(f)) => race::measure_on(f, &mut swept, band, steady),
+        (Some(_), None) => race::measure_on(&sweep::forced_at(base, &band.freq_hz), &mut swept, band, steady),
+    };
+    let screened = aside.iter().flatten().filter(|&&a| a).count();
+    for (points, aside) in swept.into_iter().zip(aside) {
+        for (p, screened) in points.into_iter().zip(aside) {
             let Some(i) = band.freq_hz.iter().position(|f| *f == p.freq_hz) else { continue };
             motion.points += 1;
             match p.result {
@@ -110,7 +110,8 @@ pub(super) fn band_compliance_on(
                             true => w.max(a / drive),
                         };
                         if *w != was || (a / drive == *w && st.motion != Class::Periodic) {
-                            behind[i][m] = Point { class: st.motion, half_width: half(m), ..Point::default() };
+                            behind[i][m] =
+                                Point { class: st.motion, half_width: half(m), screened, ..Point::default() };
                         }
                     }
                 }
@@ -178,7 +179,9 @@ pub(super) fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &
     let swept: Vec<_> = problem
         .bands
         .par_iter()
-        .map(|band| band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady, problem.measure == Measure::Peak))
+        .map(|band| {
+            band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady, problem.measure == Measure::Peak)
+        })
         .collect();
     for ((k, band), run) in problem.bands.iter().enumerate().zip(swept) {
         unsettled += run.unsettled;

@@ -66,6 +66,9 @@ pub struct Point {
     pub lowest_class: Class,
     /// The half-width of the lowest's interval, m/N.
     pub lowest_half_width: f64,
+    /// The compliance was measured over a short screen only (its interval, widened, lies
+    /// below the band's highest point's: docs/design.md, "Points that cannot set the peak").
+    pub screened: bool,
 }
 
 impl Default for Point {
@@ -76,6 +79,7 @@ impl Default for Point {
             lowest: f64::NAN,
             lowest_class: Class::Periodic,
             lowest_half_width: 0.0,
+            screened: false,
         }
     }
 }

@@ -62,14 +62,14 @@ fn bounds(p: &SweepPoint, band: &Band, measured_on: bool) -> Option<(f64, f64)> 
 /// budget of `steady.max_periods` of its own. `forced`: the dynamics at the band's
 /// frequencies ([`crate::sim::settle::sweep::forced_at`]). The points left with their screen
 /// state its interval widened by [`SCREEN_WIDEN`] (every half-width of their measurement),
-/// the one they were set aside by. Returns how many were left so. The same points for any
-/// thread count.
+/// the one they were set aside by. Returns, per sweep and point, whether it was left so. The
+/// same points for any thread count.
 pub(super) fn measure_on(
     forced: &[(f64, Result<Dynamics, SetupError>)],
     swept: &mut [Vec<SweepPoint>],
     band: &Band,
     steady: &SteadyOptions,
-) -> usize {
+) -> Vec<Vec<bool>> {
     let mut on: Vec<Vec<bool>> = swept.iter().map(|s| vec![false; s.len()]).collect();
     let screened = |p: &SweepPoint| p.result.as_ref().is_ok_and(|st| st.measured.is_some());
     let opts = SteadyOptions { measure: Measure::periods(steady.max_periods, INTERVAL_TOL), ..*steady };
@@ -105,17 +105,17 @@ pub(super) fn measure_on(
             on[k][j] = true;
         }
     }
-    let mut left = 0;
-    for (s, o) in swept.iter_mut().zip(&on) {
-        for (p, _) in s.iter_mut().zip(o).filter(|(_, &o)| !o) {
+    let mut aside: Vec<Vec<bool>> = swept.iter().map(|s| vec![false; s.len()]).collect();
+    for ((s, o), a) in swept.iter_mut().zip(&on).zip(&mut aside) {
+        for ((p, _), a) in s.iter_mut().zip(o).zip(a).filter(|((_, &o), _)| !o) {
             if let Some(m) = p.result.as_mut().ok().and_then(|st| st.measured.as_mut()) {
                 m.half_width.iter_mut().for_each(|h| *h *= SCREEN_WIDEN);
                 m.met = false;
-                left += 1;
+                *a = true;
             }
         }
     }
-    left
+    aside
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ fn coexisting_motions_are_those_whose_intervals_do_not_overlap() {
         lowest,
         lowest_class: Class::Chaotic,
         lowest_half_width,
+        screened: false,
     };
     assert_eq!(p(0.8, 0.05, 0.05).coexisting(1.0), Some(true));
     assert_eq!(p(0.8, 0.1, 0.1).coexisting(1.0), Some(false));
