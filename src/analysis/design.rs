@@ -67,7 +67,7 @@ fn layouts_table(
         description.to_string()
     };
     let description = format!(
-        "{description}. measured_points: steady states with no certified orbit, measured as irregular motion (chaotic_points of them chaotic; screened_points of them over a {}-period screen only: their widened interval lies below their band's highest point's, so they cannot set a peak measure, docs/design.md); objective_half_width: the half-width of the objective's 95 % interval from the measured points it rests on (0: every one a certified orbit); equal_to_lowest_within_intervals: 1 where the row's interval overlaps the lowest objective's",
+        "{description}. measured_points: steady states with no certified orbit, measured as irregular motion (chaotic_points of them chaotic; screened_points of them over a {}-period screen only: their widened interval lies below their band's highest point's, so they cannot set a peak measure, docs/design.md); objective_half_width: the half-width of the objective's 95 % interval from the measured points it rests on (0: every one a certified orbit; NaN: one was measured too briefly for its batches, so its interval is not known); equal_to_lowest_within_intervals: 1 where the row's interval overlaps the lowest objective's (an interval not known counts as its objective alone)",
         crate::design::race::SCREEN
     );
     let mut t = Table::new(name, description)

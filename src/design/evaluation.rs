@@ -116,10 +116,13 @@ impl Evaluation {
         (self.objective - self.half_width, self.objective + self.half_width)
     }
 
-    /// Whether this evaluation and `other` are equal within their intervals.
+    /// Whether this evaluation and `other` are equal within their intervals (an interval not
+    /// known, a NaN half-width, counts as its objective alone).
     pub fn overlaps(&self, other: &Evaluation) -> bool {
-        let (a, b) = (self.interval(), other.interval());
-        a.0 <= b.1 && b.0 <= a.1
+        let known = |h: f64| if h.is_nan() { 0.0 } else { h };
+        let (a, b) = (self.objective, other.objective);
+        let (ha, hb) = (known(self.half_width), known(other.half_width));
+        a - ha <= b + hb && b - hb <= a + ha
     }
 
     /// Points measured as irregular motion.

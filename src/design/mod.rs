@@ -506,13 +506,16 @@ pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &Ste
 
 /// The half-width of a band's measure ([`measure`]) from its points' intervals: the peak's
 /// own; for the RMS, the largest of the band's (the RMS moves by at most the largest shift).
+/// NaN where a point it rests on has no known interval (a record too short for its batches):
+/// not 0, which is a certified orbit's.
 pub fn measure_half_width(band: &Band, points: &[Vec<Point>], at: (usize, usize), how: Measure) -> f64 {
-    let hw = |p: &Point| if p.half_width.is_finite() { p.half_width } else { 0.0 };
+    let hw = |p: &Point| p.half_width;
     match how {
         Measure::Peak => points.get(at.0).and_then(|r| r.get(at.1)).map_or(0.0, hw),
-        Measure::Rms => {
-            points.iter().flat_map(|r| band.masses.iter().filter_map(|&m| r.get(m)).map(hw)).fold(0.0, f64::max)
-        }
+        Measure::Rms => points
+            .iter()
+            .flat_map(|r| band.masses.iter().filter_map(|&m| r.get(m)).map(hw))
+            .fold(0.0, |a: f64, h| if a.is_nan() || h.is_nan() { f64::NAN } else { a.max(h) }),
     }
 }
 

@@ -84,3 +84,31 @@ fn the_usual_evaluations_lie_between_the_least_and_the_bound() {
     assert_eq!(unscreened.expected_seconds(1.0, 10.0, 2, false).0, 300.0 * f_lo / 2.0);
     assert_eq!(unscreened.expected_seconds(1.0, 10.0, 2, true).0, 700.0 * f_lo / 2.0);
 }
+
+/// A band's half-width is its points': an unknown interval (NaN) stays unknown, never 0 (a
+/// certified orbit's); the RMS takes the widest.
+#[test]
+fn an_unknown_interval_is_not_a_certified_one() {
+    use super::{measure_half_width, Band, Measure};
+    let band = Band { name: "b".into(), freq_hz: vec![1.0, 2.0], masses: vec![0] };
+    let point = |half_width: f64| Point { half_width, ..Point::default() };
+    let points = vec![vec![point(0.0)], vec![point(f64::NAN)]];
+    assert_eq!(measure_half_width(&band, &points, (0, 0), Measure::Peak), 0.0);
+    assert!(measure_half_width(&band, &points, (1, 0), Measure::Peak).is_nan());
+    assert!(measure_half_width(&band, &points, (0, 0), Measure::Rms).is_nan());
+    let known = vec![vec![point(0.1)], vec![point(0.3)]];
+    assert_eq!(measure_half_width(&band, &known, (0, 0), Measure::Rms), 0.3);
+}
+
+/// Two evaluations are equal within their intervals where those overlap; one whose interval is
+/// not known counts as its objective alone, so it still equals itself.
+#[test]
+fn an_unknown_interval_overlaps_as_its_value() {
+    use super::Evaluation;
+    let with =
+        |objective: f64, half_width: f64| Evaluation { half_width, ..Evaluation::with_objective(objective, 1, 2) };
+    assert!(with(0.5, f64::NAN).overlaps(&with(0.5, f64::NAN)));
+    assert!(with(0.5, f64::NAN).overlaps(&with(0.52, 0.03)));
+    assert!(!with(0.5, f64::NAN).overlaps(&with(0.52, 0.01)));
+    assert!(with(0.5, 0.02).overlaps(&with(0.52, 0.0)));
+}
