@@ -16,4 +16,4 @@ cargo clippy --release --locked -p shotdamp-python -- -D warnings
 "$scratch/venv/bin/pip" install -q "$scratch"/wheels/shotdamp-*.whl
 # From the repository root, as the command line runs; not from python/ (the source folder
 # would shadow the installed package).
-"$scratch/venv/bin/python" -m pytest -q -p no:cacheprovider python/tests
+"$scratch/venv/bin/python" -m pytest -q -p no:cacheprovider --durations=12 python/tests

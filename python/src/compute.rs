@@ -112,8 +112,8 @@ pub fn jobs(jobs: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
 
 /// Runs `work` on a pool of `jobs` threads (`None`: one per core) without the interpreter
 /// lock. The calling thread waits, runs Python's signal handlers (Ctrl-C raises
-/// `KeyboardInterrupt` once the computation has stopped at its next point) and calls
-/// `progress(done, total)` when given.
+/// `KeyboardInterrupt` once the computation has stopped at its next simulated period) and
+/// calls `progress(done, total)` when given.
 pub fn run<T: Send>(
     py: Python<'_>,
     jobs: Option<usize>,
@@ -138,7 +138,18 @@ pub fn run_on<T: Send>(
             let (tx, rx) = mpsc::channel();
             let ticker = &ticker;
             s.spawn(move || {
+                // Every worker thread stops at its next simulated period once Ctrl-C was
+                // pressed (the simulator's cancellation check), not only at its next point: a
+                // design's layout on a large model takes minutes.
+                let cancel = Arc::clone(&ticker.cancel);
+                let hook: shotdamp::sim::motion::cancel::Hook = Arc::new(move || {
+                    if cancel.load(Ordering::Relaxed) {
+                        resume_unwind(Box::new(Cancelled));
+                    }
+                });
+                pool.broadcast(|_| shotdamp::sim::motion::cancel::replace(Some(Arc::clone(&hook))));
                 let r = catch_unwind(AssertUnwindSafe(|| pool.install(|| work(ticker))));
+                pool.broadcast(|_| shotdamp::sim::motion::cancel::replace(None));
                 let _ = tx.send(r);
             });
             let mut interrupt: Option<PyErr> = None;

@@ -109,9 +109,16 @@ pub fn threads(jobs: Option<usize>) -> Result<usize> {
     }
 }
 
-/// A thread pool of `jobs` workers (`None`: one per core), at most [`max_jobs`].
+/// A thread pool of `jobs` workers (`None`: one per core), at most [`max_jobs`]. Its workers
+/// take the cancellation hook of the thread that builds it
+/// ([`cancel`](crate::sim::motion::cancel)): a computation stopped from outside (Ctrl-C in
+/// Python, the explorer's time limit) stops at its next simulated period on every thread,
+/// also on the pools it builds for itself.
 pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool> {
-    let mut b = rayon::ThreadPoolBuilder::new();
+    let hook = crate::sim::motion::cancel::current();
+    let mut b = rayon::ThreadPoolBuilder::new().start_handler(move |_| {
+        crate::sim::motion::cancel::replace(hook.clone());
+    });
     if let Some(j) = jobs {
         b = b.num_threads(threads(Some(j))?);
     }
@@ -386,4 +393,33 @@ fn run_studies(
         });
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::motion::cancel;
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
+
+    #[test]
+    fn a_pool_built_under_a_cancellation_hook_calls_it_on_every_worker() {
+        let calls = Arc::new(AtomicUsize::new(0));
+        let c = Arc::clone(&calls);
+        let counting =
+            cancel::within(Arc::new(move || _ = c.fetch_add(1, Ordering::SeqCst)), || pool(Some(2))).unwrap();
+        // Every worker checks (a broadcast reaches each thread once), the hook counts them.
+        counting.broadcast(|_| cancel::check());
+        assert_eq!(calls.load(Ordering::SeqCst), 2);
+        // And a check deep in a parallel loop stops it: the hook's unwinding reaches the caller.
+        let stop = Arc::new(|| std::panic::resume_unwind(Box::new("stopped")));
+        let stopping = cancel::within(stop, || pool(Some(2))).unwrap();
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            stopping.install(|| (0..64).into_par_iter().for_each(|_| cancel::check()))
+        }));
+        assert_eq!(r.err().and_then(|p| p.downcast_ref::<&str>().copied()), Some("stopped"));
+        // Built without a hook, a pool's workers have none.
+        pool(Some(2)).unwrap().broadcast(|_| assert!(cancel::current().is_none()));
+    }
 }

@@ -32,6 +32,19 @@ pub fn within<R>(hook: Hook, f: impl FnOnce() -> R) -> R {
     f()
 }
 
+/// Installs `hook` on this thread until it is replaced, and returns the one installed before:
+/// for a pool's worker threads, which run the many pieces of one computation ([`within`]
+/// scopes a hook to one closure).
+pub fn replace(hook: Option<Hook>) -> Option<Hook> {
+    HOOK.with(|h| std::mem::replace(&mut *h.borrow_mut(), hook))
+}
+
+/// This thread's hook, if one is installed (for the threads a computation starts: they take
+/// it over with [`replace`]).
+pub fn current() -> Option<Hook> {
+    HOOK.with(|h| h.borrow().clone())
+}
+
 /// Calls this thread's hook, if one is installed.
 pub fn check() {
     // Cloned out of the cell first: the hook may unwind, and must not do so while the cell is
@@ -47,6 +60,21 @@ mod tests {
     use super::*;
     use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
     use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn a_replaced_hook_stays_until_it_is_replaced_again() {
+        let calls = Arc::new(AtomicUsize::new(0));
+        let c = Arc::clone(&calls);
+        assert!(replace(Some(Arc::new(move || _ = c.fetch_add(1, Ordering::SeqCst)))).is_none());
+        check();
+        within(Arc::new(|| {}), check);
+        check();
+        assert!(current().is_some());
+        assert!(replace(None).is_some());
+        assert!(current().is_none());
+        check();
+        assert_eq!(calls.load(Ordering::SeqCst), 2, "called twice, not inside `within`, not after");
+    }
 
     #[test]
     fn a_hook_runs_inside_and_is_gone_after_even_when_it_unwinds() {
