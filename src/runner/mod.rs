@@ -112,8 +112,8 @@ pub fn threads(jobs: Option<usize>) -> Result<usize> {
 /// A thread pool of `jobs` workers (`None`: one per core), at most [`max_jobs`]. Its workers
 /// take the cancellation hook of the thread that builds it
 /// ([`cancel`](crate::sim::motion::cancel)): a computation stopped from outside (Ctrl-C in
-/// Python, the explorer's time limit) stops at its next simulated period on every thread,
-/// also on the pools it builds for itself.
+/// Python) stops at its next simulated period on every thread, also on the pools it builds
+/// for itself.
 pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool> {
     let hook = crate::sim::motion::cancel::current();
     let mut b = rayon::ThreadPoolBuilder::new().start_handler(move |_| {

@@ -49,8 +49,7 @@ pub fn current() -> Option<Hook> {
 pub fn check() {
     // Cloned out of the cell first: the hook may unwind, and must not do so while the cell is
     // borrowed.
-    let hook = HOOK.with(|h| h.borrow().clone());
-    if let Some(hook) = hook {
+    if let Some(hook) = current() {
         hook();
     }
 }
