@@ -2,7 +2,7 @@
 //! the closed form of each configuration (`eigen`, `schur`, `forced`, `segment`, and its modal coordinates, `modal`), the certified
 //! event search (`roots`, `coarse`, `single`), accelerations at a state (`contact`, with the
 //! rows per host it reads in `host_rows`), contact resolution (`column`, `soft`), and the
-//! engine that runs them (`engine`, `observe`, `peaks`, `impulse`). Imports nothing else of `sim`.
+//! engine that runs them (`engine`, `observe`, `period_record`, `peaks`, `impulse`). Imports nothing else of `sim`.
 
 pub mod bed;
 pub mod buf;
@@ -18,6 +18,7 @@ pub mod impulse;
 pub mod modal;
 pub mod observe;
 pub mod peaks;
+pub mod period_record;
 pub mod roots;
 pub mod schur;
 pub mod segment;

@@ -77,7 +77,7 @@ pub struct Extrema {
     /// Highest flight of each bed above its container bottom, m.
     pub max_flight: Vec<f64>,
     /// The masses followed (the others keep no extremes).
-    observe: Observe,
+    pub(super) observe: Observe,
     /// Sample times, points and values of one segment (buffers reused from segment to segment).
     times: Vec<f64>,
     points: Vec<Point>,
@@ -118,7 +118,7 @@ impl Extrema {
         self.min.iter().zip(&self.max).map(|(lo, hi)| if hi >= lo { 0.5 * (hi - lo) } else { f64::NAN }).collect()
     }
 
-    fn take(&mut self, i: usize, x: f64) {
+    pub(super) fn take(&mut self, i: usize, x: f64) {
         self.min[i] = self.min[i].min(x);
         self.max[i] = self.max[i].max(x);
     }
@@ -205,6 +205,22 @@ pub(super) fn samples(d: &Dynamics, seg: &Segment, t_a: f64, t_b: f64, times: &m
     points.push(seg.point(d, t_b));
 }
 
+/// Derivative `order` of mass `i`'s displacement relative to the supports at `pt`: the
+/// simulator's own under a force; less the supports' motion when they move.
+pub(super) fn shown(d: &Dynamics, seg: &Segment, pt: &Point, i: usize, order: usize) -> f64 {
+    match d.system.base {
+        None => seg.deriv(d, pt, i, order),
+        Some(_) => seg.deriv(d, pt, i, order) - d.support_motion(i, order, pt.sin, pt.cos),
+    }
+}
+
+/// The amplitude of derivative `order` of the supports' motion under mass `i` (0 when they
+/// stand still).
+pub(super) fn supports_amplitude(d: &Dynamics, i: usize, order: usize) -> f64 {
+    let s = |sin: f64, cos: f64| d.support_motion(i, order, sin, cos);
+    s(1.0, 0.0).hypot(s(0.0, 1.0))
+}
+
 impl Extrema {
     /// Every mass's lowest and highest displacement over the samples (`at` a buffer of their
     /// length).
@@ -212,10 +228,7 @@ impl Extrema {
         let (n, m) = (d.system.dof(), times.len() - 1);
         // Displacements relative to the supports: the simulator's own under a force; less the
         // supports' motion when they move.
-        let shown = |pt: &Point, i: usize, order: usize| match d.system.base {
-            None => seg.deriv(d, pt, i, order),
-            Some(_) => seg.deriv(d, pt, i, order) - d.support_motion(i, order, pt.sin, pt.cos),
-        };
+        let shown = |pt: &Point, i: usize, order: usize| shown(d, seg, pt, i, order);
         // The samples' displacements (ends) and velocities of all masses at once: the numbers
         // `Segment::deriv` gives one by one ([`Segment::all_into`]), less the supports' motion.
         let (mut all, mut one) = (std::mem::take(&mut self.all), std::mem::take(&mut self.one));
@@ -255,10 +268,7 @@ impl Extrema {
         // / 2`, `A` a bound on the acceleration from `t_k` on ([`Segment::bound`], with the
         // supports' when they move), less a margin far above the sums' rounding: the
         // extremes found are those every window's refinement would give, to the bit.
-        let supports = |i: usize| {
-            let s = |sin: f64, cos: f64| d.support_motion(i, 2, sin, cos);
-            s(1.0, 0.0).hypot(s(0.0, 1.0))
-        };
+        let supports = |i: usize| supports_amplitude(d, i, 2);
         for i in (0..n).filter(|&i| observe.contains(i)) {
             let v = |t: f64| {
                 let pt = seg.point(d, t);
@@ -325,7 +335,7 @@ impl Extrema {
 }
 
 /// Fine sample steps in a coarse window of the record ([`Extrema::coarse`]).
-const COARSE_STEPS: usize = 16;
+pub(super) const COARSE_STEPS: usize = 16;
 
 impl Extrema {
     /// Above 8 degrees of freedom, on a segment on which no bed flies and the supports stand
@@ -387,7 +397,7 @@ impl Extrema {
     }
 
     /// The record of `[t_a, t_b]` of one segment sampled every sixteenth of the shortest period.
-    fn fine(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
+    pub(super) fn fine(&mut self, d: &Dynamics, seg: &Segment, beds: &[Bed], t_a: f64, t_b: f64) {
         // The closed form is evaluated at every sample time for every mass and bed; sign
         // changes of the velocities (and relative velocities of flying beds) are then refined
         // one by one.

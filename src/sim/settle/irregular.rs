@@ -30,6 +30,7 @@ use super::statistic::{batch_mean, batch_quantile, mser5, Measured, Motion, ALIG
 use super::steady::{EnergyBalance, Steady, SteadyOptions};
 use crate::sim::motion::engine::{Engine, State, Stop};
 use crate::sim::motion::observe::{stored_energy, Both, Energy, Extrema};
+use crate::sim::motion::period_record::PeriodExtrema;
 use crate::sim::motion::system::Dynamics;
 use crate::sim::orbits::tangent::Tangent;
 
@@ -142,6 +143,7 @@ pub(super) fn measure_within(
     // The whole record's counts and flights, gathered from the periods' (its largest
     // amplitude over the kept record is the periods' largest, `Measured::largest`).
     let mut whole = Extrema::observing(n, nb, opts.observe);
+    let mut record = PeriodExtrema::observing(d, opts.observe);
     let mut peaks = opts.peaks.then(|| super::steady::peaks_of(d));
     let mut series = Series { amplitude: vec![Vec::new(); n], log_stretch: Vec::new() };
     let mut stop: Option<Stop> = None;
@@ -151,16 +153,16 @@ pub(super) fn measure_within(
     while series.log_stretch.len() < budget {
         crate::sim::motion::cancel::check();
         k += 1.0;
-        let mut per = Extrema::observing(n, nb, opts.observe);
         let run = engine.advance(
             &mut s,
             k * period,
-            &mut Both(&mut Both(&mut per, &mut peaks), &mut Both(&mut energy, &mut tangent)),
+            &mut Both(&mut Both(&mut record, &mut peaks), &mut Both(&mut energy, &mut tangent)),
         );
         if let Err(e) = run {
             stop = Some(e);
             break;
         }
+        let per = record.finish(d);
         let a = per.amplitudes();
         for &i in &observed {
             series.amplitude[i].push(a[i]);
