@@ -5,7 +5,7 @@
 //! extremes, so its velocity is sampled every sixteenth of the shortest natural period over
 //! the whole period, and every first sign change is refined. [`PeriodExtrema`] holds the
 //! period's segments instead and, at its end, first takes each followed mass's displacement
-//! (and each flying bed's gap) at the start of every window of [`COARSE_STEPS`] fine steps: values
+//! (and each flying bed's gap) at the start of every window of 16 fine steps: values
 //! the motion reaches, so lower bounds of the highest and upper bounds of the lowest. A window
 //! is then sampled finely ([`Extrema`]'s own record of it) only where, from its start, the
 //! bound on the acceleration (on the jerk, for a flight) lets it pass them by more than the
@@ -18,7 +18,7 @@ use super::segment::{Point, Segment};
 use super::system::Dynamics;
 
 /// Shortest natural periods a forcing period holds from which it is taken at its end: below,
-/// a window of [`COARSE_STEPS`] fine steps is a sizeable part of the period and most windows
+/// a window of 16 fine steps is a sizeable part of the period and most windows
 /// open (measured in docs/simulator.md, "Irregular motion").
 pub const WINDOWED_FROM: f64 = 8.0;
 
