@@ -13,17 +13,19 @@ use crate::sim::settle::statistic::Measure;
 use crate::sim::settle::sweep::SweepPoint;
 use crate::sim::SteadyOptions;
 
-/// Periods of a screen record: twenty batches of five periods after the alignment a record
-/// that short cuts (a quarter of it, [`crate::sim::settle::statistic::ALIGN`] at most).
+/// Periods of a screen record: about 113 kept after the alignment a record that short cuts (a
+/// quarter of it, [`crate::sim::settle::statistic::ALIGN`] at most), eleven batches of ten
+/// periods ([`crate::sim::settle::statistic::batches_for`]).
 pub const SCREEN: usize = 150;
 
-/// A screen's half-width is widened by this factor before a point is set aside: its batches of
-/// five periods are short against the correlation of a lightly damped structure's peaks, so
-/// its interval is narrower than it says. Measured (`cargo run --release --example
-/// interval_coverage -- 400000`): a screen's own interval holds the long run's value in 75-81
-/// % of records, widened three times in 99 %; the value lies above the widened upper end in
-/// 0.8-0.9 % (twice: 2.8-4.6 %).
-pub const SCREEN_WIDEN: f64 = 3.0;
+/// A screen's half-width is widened by this factor before a point is set aside: its eleven
+/// batches of ten periods are short against the correlation of a lightly damped structure's
+/// peaks, so its interval is narrower than it says. Measured (`cargo run --release --example
+/// interval_coverage -- 400000`, 3,539 screens of each of two chaotic points): a screen's own
+/// interval holds the long run's value in 80-89 % of records, widened 2.5 times in 99.0-99.4
+/// %; the value lies above the widened upper end in 0.6-0.9 % (twice: 1.5-2.6 %; three times:
+/// 0.2-0.4 %).
+pub const SCREEN_WIDEN: f64 = 2.5;
 
 /// The screen of a design's points ([`Measure::hand_over`] with at most [`SCREEN`] periods a
 /// measurement), where the budget leaves room for it (`max_periods` at least `hand_over +
