@@ -109,7 +109,7 @@ fn table(name: &str, a: &[f64]) {
     let kept = SCREEN - SCREEN / 4;
     let records: Vec<&[f64]> = a.chunks_exact(kept).collect();
     let m = records.len() as f64;
-    for widen in [1.0, 2.0, 2.5, SCREEN_WIDEN] {
+    for widen in [1.0, 2.0, SCREEN_WIDEN, 3.0] {
         let (mut held, mut above) = (0, 0);
         for r in &records {
             let (s, h) = batch_quantile(r, PERCENTILE);
