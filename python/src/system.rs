@@ -8,7 +8,7 @@ use pyo3::types::{PyDict, PyList};
 
 use shotdamp::analysis::curves;
 use shotdamp::experiment::{parts, Case};
-use shotdamp::sim::settle::steady::{Certificate, Steady as Found};
+use shotdamp::sim::settle::steady::{Certificate, Observe, Steady as Found};
 use shotdamp::sim::settle::sweep::{self, Direction, SweepPoint};
 use shotdamp::sim::{SteadyOptions, System as Sim};
 
@@ -110,8 +110,10 @@ impl System {
     /// Returns the columns of the command line's `compliance` table (curve, freq_hz, c1..cn in
     /// m/N, converged, period, impacts per period and highest flight per container,
     /// transient_periods, orbit_residual, max_multiplier, stop), rows in order of frequency
-    /// (continuation: in the order computed). `progress(done, total)` is called as points
-    /// finish.
+    /// (continuation: in the order computed). On a finite-element structure `c1..cn` are its
+    /// points only, as on the command line: its modal coordinates are no displacement of any
+    /// point, and the records do not follow them (docs/fe-models.md). `progress(done, total)`
+    /// is called as points finish.
     #[pyo3(signature = (freq_hz, *, start="rest", steady=None, curve="sweep", jobs=None, progress=None))]
     #[allow(clippy::too_many_arguments)]
     fn sweep<'py>(
@@ -127,7 +129,11 @@ impl System {
         let jobs = compute::jobs(jobs)?;
         let origin = "shotdamp.System.sweep";
         let f = simulated(origin, &floats("freq_hz", freq_hz)?, &self.sim.structure)?;
-        let opts = steady_options(origin, steady)?;
+        let mut opts = steady_options(origin, steady)?;
+        let (n, shown) = (self.sim.dof(), self.sim.structure.physical());
+        if shown < n {
+            opts.observe = Observe::only(0..shown);
+        }
         let dir = match start {
             "rest" => None,
             "up" => Some(Direction::Up),
@@ -149,7 +155,6 @@ impl System {
                 Some(d) => sweep::continued(sim, &f, d, &opts, &|| t.tick()),
             })
         })?;
-        let n = self.sim.dof();
         let c = curves::from_sweep(
             shotdamp::experiment::CurveId::whole(curve),
             curve,
@@ -158,7 +163,7 @@ impl System {
             &self.case.grains(),
             n,
         );
-        let t = curves::table("compliance", "", &[&c], n, self.case.beds.len());
+        let t = curves::table("compliance", "", &[&c], shown, self.case.beds.len());
         crate::convert::columns(py, &t)
     }
 

@@ -104,6 +104,18 @@ def test_a_finite_element_plate_from_calculix_reduces_to_its_points(tmp_path, mo
         paper_structure().reduction([10.0])
     with pytest.raises(ValueError, match="force_point = 5"):
         s.reduction([10.0], force_point=5)
+    # A sweep tabulates the points alone, as the command line does (the modal coordinates are
+    # no displacement of any point): the same compliances as the steady state that follows
+    # every coordinate.
+    system = sd.System(s, [sd.Damper(mass=1, mass_kg=0.05, clearance_mm=1.0)], force_n=0.2)
+    f = [36.0, 38.5]
+    t = system.sweep(f)
+    assert [c for c in t.columns if c.startswith("c") and c[1:].isdigit()] == ["c1", "c2", "c3", "c4"]
+    for i, fi in enumerate(f):
+        st = system.steady_state(fi)
+        assert len(st.compliance) == 20
+        for k in range(4):
+            assert t[f"c{k + 1}"][i] == st.compliance[k], (fi, k)
     # More coordinates than the simulator takes: a structure for modes and responses, refused
     # as a system, named by its points and modes.
     big_fe = {k: v for k, v in fe.items() if k != "cutoff_hz"}

@@ -468,11 +468,13 @@ pub fn deviations(model: &str, check: usize, rows: &[ClaimRow]) -> Option<(f64, 
     Some((first.value, groups))
 }
 
+/// Claim rows for the tests of this room and of the words written from it.
 #[cfg(test)]
-mod tests {
-    use super::*;
+pub(crate) mod fixtures {
+    use super::{ClaimRow, Verdict};
 
-    fn row(sample: usize, values: &[f64], value: f64, settled: bool) -> ClaimRow {
+    /// A claim row of the stated model: the peak ratio, failing its bound unless changed.
+    pub(crate) fn row(sample: usize, values: &[f64], value: f64, settled: bool) -> ClaimRow {
         ClaimRow {
             sample,
             model: "stated".into(),
@@ -488,9 +490,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn deviations_are_measured_from_the_first_sample_per_group() {
-        // grains 1 / 10 x restitution 0 / 0.3 / 0.6; the first sample is the paper's bed.
+    /// Grains 1 / 10 x restitution 0 / 0.3 / 0.6, the first sample the paper's bed; the
+    /// verdict changes at sample 1, sample 2 does not settle, sample 5 has no value.
+    pub(crate) fn grains_by_restitution() -> Vec<ClaimRow> {
         let mut rows = vec![
             row(0, &[1.0, 0.0], 2.0, true),
             row(1, &[1.0, 0.3], 2.2, true),
@@ -500,6 +502,19 @@ mod tests {
             row(5, &[10.0, 0.6], f64::NAN, true),
         ];
         rows[1].outcome = Verdict::Holds;
+        rows
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    use super::fixtures::{grains_by_restitution, row};
+
+    #[test]
+    fn deviations_are_measured_from_the_first_sample_per_group() {
+        let rows = grains_by_restitution();
         let (base, groups) = deviations("stated", 0, &rows).unwrap();
         assert_eq!(base, 2.0);
         assert_eq!(groups.len(), 2);

@@ -211,36 +211,11 @@ pub fn deviation_summary(models: &[(String, String)], names: &[String], rows: &[
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::study::Verdict;
-
-    fn row(sample: usize, values: &[f64], value: f64, settled: bool) -> ClaimRow {
-        ClaimRow {
-            sample,
-            model: "stated".into(),
-            values: values.to_vec(),
-            check: 0,
-            claim: "peak ratio".into(),
-            reading: String::new(),
-            value,
-            bound: "within [2.5, 4]".into(),
-            outcome: Verdict::Fails,
-            reason: String::new(),
-            settled,
-        }
-    }
+    use crate::analysis::study::fixtures::grains_by_restitution;
 
     #[test]
     fn moves_from_the_paper_s_bed_in_words() {
-        // grains 1 / 10 x restitution 0 / 0.3 / 0.6; the first sample is the paper's bed.
-        let mut rows = vec![
-            row(0, &[1.0, 0.0], 2.0, true),
-            row(1, &[1.0, 0.3], 2.2, true),
-            row(2, &[1.0, 0.6], 1.0, false),
-            row(3, &[10.0, 0.0], 2.0, true),
-            row(4, &[10.0, 0.3], 2.002, true),
-            row(5, &[10.0, 0.6], f64::NAN, true),
-        ];
-        rows[1].outcome = Verdict::Holds;
+        let rows = grains_by_restitution();
         let names = vec!["grains".to_string(), "restitution".to_string()];
         let models = vec![("stated".to_string(), "stated chain".to_string())];
         let s = deviation_sentences(&models, &names, &rows);
