@@ -6,7 +6,9 @@
 //! measurement's own is 20 batches), with 20, 10 and 5 batches of at least 20 periods, and
 //! counts how many intervals hold the long run's value (docs/simulator.md, "Irregular
 //! motion"). Short records (20 to 113 kept periods) are judged both in 20 batches and in the
-//! measurement's batches of at least 10 periods (`statistic::batches_for`). Each quarter of
+//! measurement's batches of at least 10 periods (`statistic::batches_for`). Two batch lengths
+//! taken from the record's own correlation (not the measurement's) are judged on 400 and 800
+//! kept periods. Each quarter of
 //! the long run's own percentile is printed too (is it stationary?), and how often a design's
 //! screen (`design::race`) would set aside a point whose long-run value lies above its
 //! widened interval.
@@ -82,6 +84,39 @@ fn table(name: &str, a: &[f64]) {
             );
         }
     }
+    // Two batch lengths taken from the record's own correlation (not built into the
+    // measurement; docs/simulator.md, "Do the intervals hold?"): LBATCH's way (the batches
+    // halved while their quantiles' lag-one correlation is significant, one-sided 10 %, down
+    // to 5 batches), and the same batches' interval widened as for an AR(1) series.
+    for kept in [400, 800] {
+        let records: Vec<&[f64]> = a.chunks_exact(kept).collect();
+        let m = records.len();
+        let (mut held, mut width, mut halved) = ([0usize; 2], [0.0f64; 2], 0usize);
+        for r in &records {
+            let mut k = batches_for(kept);
+            while k / 2 >= 5 && lag_one(&batch_quantiles(r, k)) > 1.2816 / (k as f64).sqrt() {
+                k /= 2;
+                halved += 1;
+            }
+            let (s, h) = batch_quantile_in(r, PERCENTILE, k);
+            let (s2, h20) = batch_quantile_in(r, PERCENTILE, batches_for(kept));
+            let r1 = lag_one(&batch_quantiles(r, batches_for(kept))).max(0.0);
+            let h2 = h20 * ((1.0 + r1) / (1.0 - r1)).sqrt();
+            for (i, (s, h)) in [(s, h), (s2, h2)].into_iter().enumerate() {
+                held[i] += usize::from((s - truth).abs() <= h);
+                width[i] += h / s;
+            }
+        }
+        for (i, rule) in ["halved while correlated", "AR(1) widened"].iter().enumerate() {
+            println!(
+                "  {kept:>12} | {rule} | {m:>7} | {:>5} ({:>5.1} %) | {:.2} %{}",
+                held[i],
+                100.0 * held[i] as f64 / m as f64,
+                100.0 * width[i] / m as f64,
+                if i == 0 { format!(" ({halved} halvings)") } else { String::new() }
+            );
+        }
+    }
     // Short records (a small stated budget: the plate design's 150 periods leave 38 to 113
     // kept): 20 batches of one to five periods, against the measurement's batches of at least
     // `MIN_BATCH` periods (`statistic::batches_for`).
@@ -123,6 +158,23 @@ fn table(name: &str, a: &[f64]) {
             100.0 * held as f64 / m,
             100.0 * above as f64 / m
         );
+    }
+}
+
+/// The `q` = 95th percentiles of `k` equal batches of `r`.
+fn batch_quantiles(r: &[f64], k: usize) -> Vec<f64> {
+    r.chunks_exact(r.len() / k).take(k).map(|c| quantile(c, PERCENTILE)).collect()
+}
+
+/// The lag-one autocorrelation of `x`.
+fn lag_one(x: &[f64]) -> f64 {
+    let m = x.iter().sum::<f64>() / x.len() as f64;
+    let den: f64 = x.iter().map(|v| (v - m) * (v - m)).sum();
+    let num: f64 = x.windows(2).map(|w| (w[0] - m) * (w[1] - m)).sum();
+    if den > 0.0 {
+        num / den
+    } else {
+        0.0
     }
 }
 
