@@ -180,7 +180,7 @@ fn estimates(
             b.expected_seconds(searched, judged_seconds_per_evaluation.unwrap_or(searched), threads, spends_iterations);
         let k = if spends_iterations { 2 } else { 0 };
         let usually = if spends_iterations {
-            " (some of its steady states never settle and it has no step_tolerance: its starts are expected to spend their iterations)"
+            " (some of its steady states never settle and it has no step_tolerance: its starts are expected to spend their iterations; `tolerance` and `step_tolerance` matched to its intervals end them sooner, docs/design.md \"When a start ends\")"
         } else {
             ""
         };
