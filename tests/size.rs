@@ -162,6 +162,28 @@ fn a_32_mass_chain_balances_its_energy_and_both_methods_agree() {
     assert!(compared >= 2, "both methods settle on most of these points");
 }
 
+/// Where a followed branch loses its stability through a multiplier at -1 (a period doubling
+/// of the 32-mass chain between 48.1 and 48.3 Hz), the sweep takes the stable period-2 orbit
+/// born there by Newton from the unstable orbit, without a transient: the orbit the same sweep
+/// reaches without following (the transient search from the previous point), to 1e-9.
+#[test]
+fn a_followed_branch_through_a_period_doubling_takes_the_period_2_orbit_without_a_transient() {
+    let sys = refined(32);
+    let freqs = [48.1, 48.3];
+    let plain = SteadyOptions::default();
+    let follow = SteadyOptions { follow: true, ..plain };
+    let a = sweep::continued(&sys, &freqs, sweep::Direction::Up, &plain, &|| {});
+    let b = sweep::continued(&sys, &freqs, sweep::Direction::Up, &follow, &|| {});
+    let (p, q) = (a[1].result.as_ref().unwrap(), b[1].result.as_ref().unwrap());
+    assert_eq!(b[0].result.as_ref().unwrap().period, 1);
+    assert_eq!((q.period, q.transient_periods), (2, 0), "followed: {q:?}");
+    assert!(p.period == 2 && p.transient_periods > 50, "plain: period {} after {}", p.period, p.transient_periods);
+    assert!(q.certificate.as_ref().is_some_and(|c| c.stable));
+    for (x, y) in p.amplitude.iter().zip(&q.amplitude) {
+        assert!((x - y).abs() <= 1e-9 * x.abs(), "{x} against {y}");
+    }
+}
+
 #[test]
 fn a_32_mass_sweep_is_the_same_on_one_thread_and_two() {
     let sys = refined(32);

@@ -13,7 +13,7 @@
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::steady::{
@@ -465,10 +465,17 @@ pub fn follow(
         guess_exact,
         ..NewtonOptions::default()
     };
-    match solve_recorded(&strobe, d, &u0, &newton, opts) {
-        Ok((orbit, recorded)) => {
-            accept(d, &strobe, orbit, recorded, &u0, &cert.pattern, opts).map(|st| (st, Vec::new()))
+    // A stable orbit is the branch's next point when [`accept`] takes it; where the branch
+    // lost its stability through a multiplier at -1, the stable 2p-orbit born there is.
+    let take = |strobe: &Strobe, (orbit, recorded): (Orbit, Option<Recorded>), u0: &DVector<f64>| {
+        if orbit.stable {
+            accept(d, strobe, orbit, recorded, u0, &cert.pattern, opts)
+        } else {
+            doubled(d, strobe, &orbit, &cert.pattern, &newton, opts)
         }
+    };
+    match solve_recorded(&strobe, d, &u0, &newton, opts) {
+        Ok(found) => take(&strobe, found, &u0).map(|st| (st, Vec::new())),
         // An event has crossed the section between the two frequencies: the same branch on a
         // section at the quietest phase of the previous orbit's events.
         Err(OrbitError::PatternChanged) => {
@@ -480,11 +487,73 @@ pub fn follow(
                 .collect();
             let u0 = extrapolate(&nodes, freq_hz);
             let newton = NewtonOptions { guess_exact: false, ..newton };
-            let (orbit, recorded) = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
-            accept(d, &strobe, orbit, recorded, &u0, &cert.pattern, opts).map(|st| (st, moved))
+            let found = solve_recorded(&strobe, d, &u0, &newton, opts).ok()?;
+            take(&strobe, found, &u0).map(|st| (st, moved))
         }
         Err(_) => None,
     }
+}
+
+/// How far past -1 a followed orbit's leading multiplier may lie for the sweep to look for the
+/// 2p-orbit born at the period doubling (farther, the step likely crossed more than one
+/// bifurcation, and the transient search decides). On the 32-mass chain of the size family a
+/// step of 0.2 Hz left the multiplier at -1.009 (48.3 Hz) and at -1.956 (47.9 Hz): both
+/// 2p-orbits found are the ones the transient reaches (265 and 47 periods) to 1e-7.
+pub const FLIP_MARGIN: f64 = 1.0;
+
+/// The first guesses of the 2p-orbit after a period doubling: the unstable p-orbit moved
+/// along the eigenvector of its multiplier beyond -1 (max-norm 1) by each of these, in the
+/// section's scaled units. The
+/// 2p-orbit lies about `sqrt(|mu| - 1)` times a constant of the bifurcation away; Newton on
+/// the 2p map converges to it from beyond about 0.6 of that distance, and to the p-orbit (also
+/// a fixed point of the 2p map) from nearer.
+pub const FLIP_STEPS: [f64; 3] = [0.3, 0.1, 0.02];
+
+/// The stable 2p-orbit born where the followed p-orbit `orbit` on `strobe` lost its stability
+/// by a real multiplier crossing -1 (a period doubling): Newton on the 2p-period map from
+/// `orbit` moved along that multiplier's eigenvector by each of [`FLIP_STEPS`] (the two signs
+/// give the same orbit half its period apart), taken as [`accept`] takes a followed orbit
+/// (stable, with `pattern`'s events twice, or within [`FOLLOW_NEAR`] of its first guess) when
+/// it is not the p-orbit again. `None` otherwise: the transient search decides.
+fn doubled(
+    d: &Dynamics,
+    strobe: &Strobe,
+    orbit: &Orbit,
+    pattern: &[(usize, Mark, usize)],
+    newton: &NewtonOptions,
+    opts: &SteadyOptions,
+) -> Option<Steady> {
+    let lead = *orbit.multipliers.first()?;
+    let flip = lead.re < -1.0 && lead.im.abs() <= 1e-9 * lead.norm() && lead.norm() <= 1.0 + FLIP_MARGIN;
+    if !flip || 2 * strobe.periods > opts.max_subharmonic {
+        return None;
+    }
+    // The eigenvector by inverse iteration, shifted just off the eigenvalue.
+    let n = orbit.u.len();
+    let shifted = &orbit.jacobian - DMatrix::<f64>::identity(n, n) * (lead.re * (1.0 + 1e-9));
+    let lu = shifted.lu();
+    let mut v = DVector::from_element(n, 1.0);
+    for _ in 0..2 {
+        v = lu.solve(&v)?;
+        let top = v.amax();
+        if !(top.is_finite() && top > 0.0) {
+            return None;
+        }
+        v /= top;
+    }
+    let twice = Strobe { periods: 2 * strobe.periods, ..strobe.clone() };
+    let pattern: Pattern = pattern.iter().map(|&(b, k, c)| (b, k, 2 * c)).collect();
+    let newton = NewtonOptions { guess_exact: false, ..*newton };
+    FLIP_STEPS.iter().find_map(|&step| {
+        let u0 = &orbit.u + &v * step;
+        let (o, recorded) = solve_recorded(&twice, d, &u0, &newton, opts).ok()?;
+        // Newton found the p-orbit again (a fixed point of the 2p map too, ill-conditioned
+        // there: within about the tolerance over `mu^2 - 1`).
+        if (&o.u - &orbit.u).amax() <= 1e-6 {
+            return None;
+        }
+        accept(d, &twice, o, recorded, &u0, &pattern, opts)
+    })
 }
 
 /// A followed orbit taken as the branch's next point (recorded), or `None`: it must be stable
