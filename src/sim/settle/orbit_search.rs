@@ -503,10 +503,9 @@ pub const FLIP_MARGIN: f64 = 1.0;
 
 /// The first guesses of the 2p-orbit after a period doubling: the unstable p-orbit moved
 /// along the eigenvector of its multiplier beyond -1 (max-norm 1) by each of these, in the
-/// section's scaled units. The
-/// 2p-orbit lies about `sqrt(|mu| - 1)` times a constant of the bifurcation away; Newton on
-/// the 2p map converges to it from beyond about 0.6 of that distance, and to the p-orbit (also
-/// a fixed point of the 2p map) from nearer.
+/// section's scaled units. The 2p-orbit lies about `sqrt(|mu| - 1)` times a constant of the
+/// bifurcation away; Newton on the 2p map converges to it from beyond about 0.6 of that
+/// distance, and to the p-orbit (also a fixed point of the 2p map) from nearer.
 pub const FLIP_STEPS: [f64; 3] = [0.3, 0.1, 0.02];
 
 /// The stable 2p-orbit born where the followed p-orbit `orbit` on `strobe` lost its stability
