@@ -31,6 +31,7 @@ mod irregular;
 mod joint;
 mod library;
 mod models;
+mod newton;
 mod opensees;
 mod periodic;
 mod readings;
