@@ -77,22 +77,7 @@ impl Dynamics {
         let cfg = self.config(mask);
         let mut rhs_buf = PerMass::zeros(n);
         let rhs = &mut rhs_buf[..];
-        for (j, d) in self.system.dampers.iter().enumerate() {
-            if mask & (1 << j) != 0 {
-                rhs[d.host] -= d.mass * d.gravity();
-            }
-        }
-        for (r, (cv, kx)) in rhs.iter_mut().zip(st.cv.iter().zip(&st.kx[..])) {
-            *r = *r - cv - kx;
-        }
-        rhs[self.system.driven] += st.f;
-        for (i, r) in rhs.iter_mut().enumerate().take(self.load.len()) {
-            *r += self.load_at(i, st.sin, st.cos).0;
-        }
-        let mut a = PerMass::zeros(n);
-        for (i, ai) in a.iter_mut().enumerate() {
-            *ai = row(&cfg.modes.mass_inv, i, rhs, 1.0);
-        }
+        let a = self.accelerations_from(mask, (st.f, st.sin, st.cos), &st.cv, &st.kx, rhs);
         // `rhs` is spent: it holds the right-hand side of the jerks.
         let rhs_dot = rhs;
         for (i, (r, kv)) in rhs_dot.iter_mut().zip(&st.kv[..]).enumerate() {
@@ -107,6 +92,53 @@ impl Dynamics {
             *ji = row(&cfg.modes.mass_inv, i, rhs_dot, 1.0);
         }
         (a, jerk)
+    }
+
+    /// The accelerations alone of [`Dynamics::accelerations`] (the same numbers: the same sums
+    /// in the same order), without the jerks and the products only they need: what the
+    /// vector field at an impact reads.
+    pub fn accelerations_only(&self, mask: usize, t: f64, x: &DVector<f64>, v: &DVector<f64>) -> PerMass {
+        let n = self.system.dof();
+        let (sin, cos) = (self.omega * t).sin_cos();
+        let f = self.system.force * sin;
+        let (mut cv, mut kx, mut rhs) = (PerMass::zeros(n), PerMass::zeros(n), PerMass::zeros(n));
+        for (i, (cv, kx)) in cv.iter_mut().zip(kx.iter_mut()).enumerate() {
+            *cv = row(&self.c, i, v.as_slice(), 1.0);
+            *kx = row(&self.k, i, x.as_slice(), 1.0);
+        }
+        self.accelerations_from(mask, (f, sin, cos), &cv, &kx, &mut rhs)
+    }
+
+    /// `M^-1 (w - C v - K x + f)` in configuration `mask` from `C v`, `K x` and the drive
+    /// `(f, sin, cos)` at the state; `rhs` (of length `n`, zeros) is left holding the
+    /// right-hand side.
+    #[inline(always)]
+    fn accelerations_from(
+        &self,
+        mask: usize,
+        (f, sin, cos): (f64, f64, f64),
+        cv: &[f64],
+        kx: &[f64],
+        rhs: &mut [f64],
+    ) -> PerMass {
+        let cfg = self.config(mask);
+        for (j, d) in self.system.dampers.iter().enumerate() {
+            if mask & (1 << j) != 0 {
+                rhs[d.host] -= d.mass * d.gravity();
+            }
+        }
+        for (r, (cv, kx)) in rhs.iter_mut().zip(cv.iter().zip(kx)) {
+            *r = *r - cv - kx;
+        }
+        rhs[self.system.driven] += f;
+        for (i, r) in rhs.iter_mut().enumerate().take(self.load.len()) {
+            *r += self.load_at(i, sin, cos).0;
+        }
+        let mut a = PerMass::zeros(rhs.len());
+        for (i, ai) in a.iter_mut().enumerate() {
+            *ai = row(&cfg.modes.mass_inv, i, rhs, 1.0);
+        }
+        a
     }
 
     /// The fourth derivatives of the displacements in configuration `mask`, given the state's
@@ -191,6 +223,9 @@ mod tests {
                 let at = d.at_state(t, &x, &v);
                 let (a, jerk) = d.accelerations_in(mask, &at);
                 let snap = d.snaps_in(mask, &at, &a, &jerk);
+                // The accelerations alone are the same numbers, to the bit.
+                let only = d.accelerations_only(mask, t, &x, &v);
+                assert!(only.iter().zip(a.iter()).all(|(p, q)| p.to_bits() == q.to_bits()), "mask {mask} t {t}");
                 for j in 0..3 {
                     let p = d.system.dampers[j].host;
                     let got = d.host_derivs(mask, j, t, &x, &v);

@@ -4,7 +4,7 @@
 pub use super::state::{Bed, Event, EventKind, State};
 
 use super::roots::{first_root_from, fresh_window, lower_root, TIME_TOL};
-use super::segment::{Point, Segment, Taylor, Watch};
+use super::segment::{Point, Reads, Segment, Taylor, Watch};
 use super::system::{Dynamics, MAX_GRAINS, STEP_FRACTION};
 
 /// Why a run stopped early.
@@ -420,6 +420,10 @@ impl<'a> Engine<'a> {
         // Ordinary windows before the next try of a coarse one: after each failed try twice as
         // many as after the one before (at most MAX_WAIT), none after a skip.
         let (mut wait, mut backoff) = (0usize, 1usize);
+        // The host sums read in one window, each once (a flying bed's two gaps read the same),
+        // above LARGE_ABOVE degrees of freedom: on a small structure a sum costs less than
+        // looking it up.
+        let mut reads = (d.dof > super::system::LARGE_ABOVE).then(Reads::default);
         while a < t_b {
             if behind {
                 match carry {
@@ -447,6 +451,9 @@ impl<'a> Engine<'a> {
             let b = (a + step).min(t_b);
             behind = true;
             let pt = &current;
+            if let Some(reads) = reads.as_mut() {
+                reads.clear();
+            }
             for (w, &start) in watches.iter().zip(&starts[..n_starts]) {
                 let lo = a.max(start);
                 if lo >= b {
@@ -461,7 +468,10 @@ impl<'a> Engine<'a> {
                     }
                     spare.as_ref().unwrap_or(pt)
                 };
-                let ta = w.taylor(seg, d, base);
+                let ta = match reads.as_mut() {
+                    Some(reads) => reads.taylor(w, seg, d, base, lo),
+                    None => w.taylor(seg, d, base),
+                };
                 let Some(tau) = lower_root(&ta, b - lo) else {
                     continue;
                 };

@@ -410,6 +410,49 @@ pub enum Watch {
     },
 }
 
+/// Most distinct host sums [`Reads`] keeps (more are computed each time).
+const READS: usize = 8;
+
+/// The host displacement derivatives that watches read in one window of the event search,
+/// each summed once: a flying bed's gaps below and above read the same sums of its host, as
+/// do beds resting on one host. The numbers are those [`Watch::taylor`] gives, to the bit.
+#[derive(Debug, Default)]
+pub struct Reads {
+    len: usize,
+    keys: [(usize, usize, usize, u64); READS],
+    sums: [([f64; 4], f64); READS],
+}
+
+impl Reads {
+    /// Forgets every sum (a new window).
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    /// [`Watch::taylor`] at `pt`, a point of `seg` at time `at` that every call with the same
+    /// `at` passes (until [`Reads::clear`]): its host's sums taken from an earlier call with
+    /// the same host and orders when there was one.
+    #[inline]
+    pub fn taylor(&mut self, w: &Watch, seg: &Segment, d: &Dynamics, pt: &Point, at: f64) -> Taylor {
+        let Some((host, order, bound_order)) = w.reads() else {
+            return w.taylor(seg, d, pt);
+        };
+        let key = (host, order, bound_order, at.to_bits());
+        let (x, bound4) = match self.keys[..self.len].iter().position(|k| *k == key) {
+            Some(i) => self.sums[i],
+            None => {
+                let sums = seg.derivs4_bound(d, pt, host, order, bound_order);
+                if self.len < READS {
+                    (self.keys[self.len], self.sums[self.len]) = (key, sums);
+                    self.len += 1;
+                }
+                sums
+            }
+        };
+        w.compose(d, pt.t, x, bound4)
+    }
+}
+
 /// One coarse level's part of a displacement derivative ([`Segment::derivs4_levels`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Split {

@@ -460,7 +460,8 @@ fn cycle_to(iterates: &[DVector<f64>], residuals: &[f64], next: &DVector<f64>, t
     if last <= 1e3 * tol {
         return None;
     }
-    (1..iterates.len()).find(|&j| last >= 0.5 * residuals[j - 1] && (next - &iterates[j]).amax() <= CYCLE_NEAR)
+    let near = |a: &DVector<f64>| a.iter().zip(next.iter()).all(|(a, b)| (b - a).abs() <= CYCLE_NEAR);
+    (1..iterates.len()).find(|&j| last >= 0.5 * residuals[j - 1] && near(&iterates[j]))
 }
 
 /// Residuals below this are at the rounding level of the map (scaled units): a ratio that

@@ -216,7 +216,7 @@ impl Tangent {
     fn field(d: &Dynamics, s: &State, f: &mut DVector<f64>) {
         let n = d.system.dof();
         let nb = s.beds.len();
-        let (a, _) = d.accelerations(s.mask(), s.t, &s.x, &s.v);
+        let a = d.accelerations_only(s.mask(), s.t, &s.x, &s.v);
         for i in 0..n {
             f[i] = s.v[i];
             f[n + i] = a[i];
