@@ -557,3 +557,46 @@ impl Watch {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Clearance, Damper, Damping, Structure};
+    use crate::sim::motion::system::System;
+    use nalgebra::DVector;
+    use std::f64::consts::PI;
+
+    /// The host sums kept for a window give every watch the Taylor data it computes alone, to
+    /// the bit: a flying bed's two gaps, a bed resting on the same host, another host, and
+    /// another point of the window.
+    #[test]
+    fn shared_host_sums_give_each_watch_its_own_numbers() {
+        let n = 12;
+        let s = Structure::chain(&vec![0.2; n], &vec![1e5; n], Damping::Rayleigh { alpha: 1.0, beta: 1e-5 });
+        let dampers = [n - 1, n - 1, n - 3].iter().map(|&h| Damper::new(h, 0.02, Clearance::from_m(1e-3))).collect();
+        let d = Dynamics::new(&System::plastic(s, dampers, 0, 1.0), 2.0 * PI * 20.0).unwrap();
+        let x = DVector::from_fn(n, |i, _| 1e-4 * (i as f64 * 0.7).sin());
+        let v = DVector::from_fn(n, |i, _| 1e-2 * (i as f64 * 1.3).cos());
+        let seg = Segment::start(&d, 0b010, 0.01, &x, &v);
+        let (y0, u0, tf) = (2e-4, 0.05, 0.009);
+        let watches = [
+            Watch::GapBottom { bed: 0, host: n - 1, y0, u0, tf },
+            Watch::GapTop { bed: 0, host: n - 1, d: 1e-3, y0, u0, tf },
+            Watch::Contact { bed: 1, host: n - 1, sigma: 1.0 },
+            Watch::GapBottom { bed: 2, host: n - 3, y0, u0, tf },
+            Watch::GapTop { bed: 2, host: n - 3, d: 1e-3, y0, u0, tf },
+        ];
+        let mut reads = Reads::default();
+        for t in [0.01, 0.0103] {
+            let pt = seg.point(&d, t);
+            reads.clear();
+            for _ in 0..2 {
+                for w in &watches {
+                    let (got, want) = (reads.taylor(w, &seg, &d, &pt, t), w.taylor(&seg, &d, &pt));
+                    assert!(got.h.iter().zip(&want.h).all(|(a, b)| a.to_bits() == b.to_bits()), "{w:?} at {t}");
+                    assert_eq!(got.bound4.to_bits(), want.bound4.to_bits());
+                }
+            }
+        }
+    }
+}
