@@ -469,7 +469,7 @@ impl<'a> Engine<'a> {
                     spare.as_ref().unwrap_or(pt)
                 };
                 let ta = match reads.as_mut() {
-                    Some(reads) => reads.taylor(w, seg, d, base, lo),
+                    Some(reads) => reads.taylor(w, seg, d, base),
                     None => w.taylor(seg, d, base),
                 };
                 let Some(tau) = lower_root(&ta, b - lo) else {

@@ -429,15 +429,15 @@ impl Reads {
         self.len = 0;
     }
 
-    /// [`Watch::taylor`] at `pt`, a point of `seg` at time `at` that every call with the same
-    /// `at` passes (until [`Reads::clear`]): its host's sums taken from an earlier call with
-    /// the same host and orders when there was one.
+    /// [`Watch::taylor`] at `pt`, a point of `seg`: its host's sums taken from an earlier call
+    /// (since [`Reads::clear`]) with the same host, orders and time, whose point must then be
+    /// the same one (the search's window start, or a point evaluated directly at that time).
     #[inline]
-    pub fn taylor(&mut self, w: &Watch, seg: &Segment, d: &Dynamics, pt: &Point, at: f64) -> Taylor {
+    pub fn taylor(&mut self, w: &Watch, seg: &Segment, d: &Dynamics, pt: &Point) -> Taylor {
         let Some((host, order, bound_order)) = w.reads() else {
             return w.taylor(seg, d, pt);
         };
-        let key = (host, order, bound_order, at.to_bits());
+        let key = (host, order, bound_order, pt.t.to_bits());
         let (x, bound4) = match self.keys[..self.len].iter().position(|k| *k == key) {
             Some(i) => self.sums[i],
             None => {
@@ -568,7 +568,7 @@ mod tests {
 
     /// The host sums kept for a window give every watch the Taylor data it computes alone, to
     /// the bit: a flying bed's two gaps, a bed resting on the same host, another host, and
-    /// another point of the window.
+    /// another point in the same window.
     #[test]
     fn shared_host_sums_give_each_watch_its_own_numbers() {
         let n = 12;
@@ -586,13 +586,13 @@ mod tests {
             Watch::GapBottom { bed: 2, host: n - 3, y0, u0, tf },
             Watch::GapTop { bed: 2, host: n - 3, d: 1e-3, y0, u0, tf },
         ];
+        // Both points in one window (no clear between them): the time tells their sums apart.
         let mut reads = Reads::default();
         for t in [0.01, 0.0103] {
             let pt = seg.point(&d, t);
-            reads.clear();
             for _ in 0..2 {
                 for w in &watches {
-                    let (got, want) = (reads.taylor(w, &seg, &d, &pt, t), w.taylor(&seg, &d, &pt));
+                    let (got, want) = (reads.taylor(w, &seg, &d, &pt), w.taylor(&seg, &d, &pt));
                     assert!(got.h.iter().zip(&want.h).all(|(a, b)| a.to_bits() == b.to_bits()), "{w:?} at {t}");
                     assert_eq!(got.bound4.to_bits(), want.bound4.to_bits());
                 }
