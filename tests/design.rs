@@ -6,7 +6,9 @@ use crate::common;
 use crate::common::paper;
 
 use shotdamp::design::search::{grid, optimise, placements, Options, Space};
-use shotdamp::design::{band_compliance, bare, evaluate, Band, Combine, Layout, Measure, Problem, Scenario, Sweep};
+use shotdamp::design::{
+    band_compliance, bare, evaluate, evaluate_below, Band, Combine, Layout, Measure, Problem, Scenario, Sweep,
+};
 use shotdamp::model::frf::compliance_curve;
 use shotdamp::sim::{SteadyOptions, System};
 
@@ -128,6 +130,40 @@ fn the_search_is_the_same_for_any_number_of_threads() {
     };
     let (one, two) = (run(1), run(2));
     assert_eq!(format!("{one:?}"), format!("{two:?}"));
+}
+
+/// An evaluation asked only below a cap (a Nelder-Mead comparison) ends early only where its
+/// objective is above the cap, and otherwise is the whole evaluation, bit for bit, for any
+/// number of threads; on this band most layouts' peaks are certified orbits, so a cap below
+/// the objective ends some evaluations.
+#[test]
+fn an_evaluation_below_a_cap_ends_only_above_it_and_is_otherwise_the_whole_one() {
+    let (p, b, _) = small();
+    let layouts: Vec<Layout> = [(0.02, 0.2), (0.035, 0.1), (0.05, 0.4), (0.06, 0.07), (0.071, 0.9)]
+        .iter()
+        .map(|&(m1, d)| Layout { hosts: vec![0, 1], masses_kg: vec![0.071 - m1, m1], clearances_mm: vec![d, d] })
+        .collect();
+    let mut ended = 0;
+    for l in &layouts {
+        let whole = evaluate(&p, &b, l);
+        let o = whole.objective;
+        assert!(o.is_finite() && o > 0.0, "{o}");
+        for cap in [o, o * 1.05, f64::INFINITY] {
+            let e = evaluate_below(&p, &b, l, cap).expect("at or below its cap, the whole evaluation");
+            assert_eq!(format!("{e:?}"), format!("{whole:?}"), "cap {cap}");
+        }
+        let below = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| evaluate_below(&p, &b, l, o * 0.95))
+        };
+        let (one, two) = (below(1), below(2));
+        assert_eq!(one.is_some(), two.is_some(), "ended early for one thread count only");
+        match one {
+            None => ended += 1,
+            Some(e) => assert_eq!(format!("{e:?}"), format!("{whole:?}")),
+        }
+    }
+    assert!(ended >= 3, "{ended} of {} evaluations ended below their objective", layouts.len());
 }
 
 #[test]

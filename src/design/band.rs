@@ -7,6 +7,7 @@ use crate::sim::settle::statistic::{self, Motion as Class};
 use crate::sim::settle::sweep::{self, Direction, SweepPoint};
 use crate::sim::{SteadyOptions, System};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A band's sweeps of one layout.
 pub(super) struct BandRun {
@@ -23,8 +24,46 @@ pub(super) struct BandRun {
     pub(super) screened: usize,
 }
 
+/// Where a layout's evaluation may end early: once a certified orbit of a band's mass has a
+/// compliance whose ratio to the band's bare measure `bare` is finite and above `objective`
+/// (the comparison the evaluation feeds, [`super::evaluate_below`]), the band's peak relative
+/// to the bare one, and so the objective, are above it whatever the rest gives (the ratio is
+/// formed as the objective's is, so rounding cannot tell them apart); `reached` tells every
+/// sweep of the evaluation.
+pub(super) struct Over<'a> {
+    pub(super) objective: f64,
+    pub(super) bare: f64,
+    pub(super) reached: &'a AtomicBool,
+}
+
+impl Over<'_> {
+    /// Whether the sweeps can end after `p`: it or an earlier point of any sweep showed the
+    /// objective above the comparison. Only a certified periodic orbit counts (a measured
+    /// point's statistic may still move with its measurement).
+    fn after(&self, p: &SweepPoint, band: &Band, steady: &SteadyOptions, drive: f64) -> bool {
+        if self.reached.load(Ordering::Relaxed) {
+            return true;
+        }
+        let Ok(st) = &p.result else { return false };
+        let over = st.converged
+            && st.motion == Class::Periodic
+            && st.measured.is_none()
+            && band.masses.iter().any(|&m| {
+                let ratio = |a: &f64| a / drive / self.bare;
+                steady.observe.contains(m)
+                    && st.amplitude.get(m).map(ratio).is_some_and(|r| r.is_finite() && r > self.objective)
+            });
+        if over {
+            self.reached.store(true, Ordering::Relaxed);
+        }
+        over
+    }
+}
+
 /// [`band_compliance`] of a system already decomposed (`base`, [`Dynamics::unforced`] of
-/// `sys`): every band and sweep of one layout shares one decomposition.
+/// `sys`): every band and sweep of one layout shares one decomposition. With `over`, the
+/// continued sweeps end where [`Over`] says (their numbers are then not the band's, and
+/// `over.reached` says so).
 pub(super) fn band_compliance_on(
     base: &Result<Dynamics, SetupError>,
     sys: &System,
@@ -32,6 +71,7 @@ pub(super) fn band_compliance_on(
     sweeps: &[Sweep],
     steady: &SteadyOptions,
     peak: bool,
+    over: Option<&Over>,
 ) -> BandRun {
     let n = sys.dof();
     // A point with no orbit after HAND_OVER periods is measured as irregular motion within the
@@ -64,7 +104,9 @@ pub(super) fn band_compliance_on(
     let mut swept: Vec<Vec<SweepPoint>> = sweeps
         .par_iter()
         .map(|s| {
-            let continued = |dir| sweep::continued_at(forced.as_deref().unwrap_or_default(), dir, steady, &|| {});
+            let enough = |p: &SweepPoint| over.is_some_and(|o| o.after(p, band, steady, drive));
+            let continued =
+                |dir| sweep::continued_until(forced.as_deref().unwrap_or_default(), dir, steady, &|| {}, &enough);
             match s {
                 Sweep::Rest => sweep::from_rest_on(base, &band.freq_hz, steady, &|| {}),
                 Sweep::Up => continued(Direction::Up),
@@ -73,8 +115,11 @@ pub(super) fn band_compliance_on(
         })
         .collect();
     // Per sweep and point: measured over its screen only.
+    let ended = over.is_some_and(|o| o.reached.load(Ordering::Relaxed));
     let aside = match (screen, &forced) {
         (None, _) => swept.iter().map(|s| vec![false; s.len()]).collect(),
+        // Ended early: nothing here is the band's, so nothing is measured on.
+        _ if ended => swept.iter().map(|s| vec![false; s.len()]).collect(),
         (Some(_), Some(f)) => race::measure_on(f, &mut swept, band, steady),
         (Some(_), None) => race::measure_on(&sweep::forced_at(base, &band.freq_hz), &mut swept, band, steady),
     };
@@ -159,8 +204,16 @@ pub(super) struct ScenarioRun {
     pub(super) screened: usize,
 }
 
-/// One scenario of a layout: its bands' measures, its objective, where the worst is.
-pub(super) fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &Layout) -> ScenarioRun {
+/// One scenario of a layout: its bands' measures, its objective, where the worst is. With
+/// `over` (an objective and a flag), its sweeps end once a certified orbit shows the objective
+/// above it ([`Over`]; the flag then says that the numbers are not the scenario's).
+pub(super) fn scenario(
+    problem: &Problem,
+    sc: &Scenario,
+    bare: &[f64],
+    layout: &Layout,
+    over: Option<(f64, &AtomicBool)>,
+) -> ScenarioRun {
     let sys = problem.system(sc, layout.dampers(problem.direction));
     let mut bands = Vec::with_capacity(problem.bands.len());
     let mut worst = (f64::NEG_INFINITY, (0, 0.0, 0));
@@ -179,8 +232,11 @@ pub(super) fn scenario(problem: &Problem, sc: &Scenario, bare: &[f64], layout: &
     let swept: Vec<_> = problem
         .bands
         .par_iter()
-        .map(|band| {
-            band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady, problem.measure == Measure::Peak)
+        .zip(bare)
+        .map(|(band, &bare)| {
+            let over = over.map(|(objective, reached)| Over { objective, bare, reached });
+            let peak = problem.measure == Measure::Peak;
+            band_compliance_on(&base, &sys, band, &problem.sweeps, &problem.steady, peak, over.as_ref())
         })
         .collect();
     for ((k, band), run) in problem.bands.iter().enumerate().zip(swept) {

@@ -178,11 +178,28 @@ impl Halt {
     pub fn timed<T>(&self, f: impl FnOnce() -> T) -> T {
         let started = Instant::now();
         let out = f();
-        let ns = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
-        self.outlook.evaluated.fetch_add(1, Ordering::Relaxed);
-        self.after.nanos.fetch_add(ns, Ordering::Relaxed);
-        self.after.timed.fetch_add(1, Ordering::Relaxed);
+        self.count(started, true);
         out
+    }
+
+    /// [`Halt::timed`] for an evaluation that may end early (`None`,
+    /// [`crate::design::evaluate_below`]): counted, but only a whole one sets the pace (what
+    /// runs after the searches are whole evaluations).
+    pub fn timed_whole<T>(&self, f: impl FnOnce() -> Option<T>) -> Option<T> {
+        let started = Instant::now();
+        let out = f();
+        self.count(started, out.is_some());
+        out
+    }
+
+    /// Counts an evaluation begun at `started`; a `whole` one's time sets the pace.
+    fn count(&self, started: Instant, whole: bool) {
+        self.outlook.evaluated.fetch_add(1, Ordering::Relaxed);
+        if whole {
+            let ns = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
+            self.after.nanos.fetch_add(ns, Ordering::Relaxed);
+            self.after.timed.fetch_add(1, Ordering::Relaxed);
+        }
     }
 
     /// The mean wall time of an evaluation so far (zero before the first).

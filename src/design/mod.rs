@@ -500,7 +500,7 @@ impl Layout {
 /// Compliance of every mass at each frequency of `band` for `sys`, the largest over `sweeps`,
 /// and the number of unsettled points.
 pub fn band_compliance(sys: &System, band: &Band, sweeps: &[Sweep], steady: &SteadyOptions) -> (Vec<Vec<f64>>, usize) {
-    let b = band::band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady, false);
+    let b = band::band_compliance_on(&Dynamics::unforced(sys), sys, band, sweeps, steady, false, None);
     (b.compliance, b.unsettled)
 }
 
@@ -569,9 +569,38 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
     if let Some(suite) = &problem.suite {
         return seismic::evaluate(problem, suite, bare, layout);
     }
+    evaluated(problem, bare, layout, None)
+}
+
+/// [`evaluate`] where only an objective below `cap` matters (the comparison a Nelder-Mead step
+/// makes with it): `None` when the objective is above `cap`, found as soon as a certified
+/// periodic orbit of a band's mass has a compliance above `cap` times the band's bare measure
+/// (a peak lies at least that high, so the objective, the worst band's and scenario's peak
+/// relative to the bare structure's, does too), its sweeps then ended there. Else the
+/// evaluation [`evaluate`] gives, the same numbers: every point was computed. Where the
+/// objective is not a largest of its parts (a mean over scenarios, an RMS measure, a suite of
+/// records) or `cap` is not finite, always the whole evaluation.
+pub fn evaluate_below(problem: &Problem, bare: &[Vec<f64>], layout: &Layout, cap: f64) -> Option<Evaluation> {
+    let largest = problem.suite.is_none() && problem.combine == Combine::Worst && problem.measure == Measure::Peak;
+    if !(largest && cap.is_finite()) {
+        return Some(evaluate(problem, bare, layout));
+    }
+    let reached = std::sync::atomic::AtomicBool::new(false);
+    let e = evaluated(problem, bare, layout, Some((cap, &reached)));
+    (!reached.load(std::sync::atomic::Ordering::Relaxed)).then_some(e)
+}
+
+/// [`evaluate`] without a suite of records, its sweeps ended early where `over` says
+/// ([`band::scenario`]).
+fn evaluated(
+    problem: &Problem,
+    bare: &[Vec<f64>],
+    layout: &Layout,
+    over: Option<(f64, &std::sync::atomic::AtomicBool)>,
+) -> Evaluation {
     // The scenarios side by side, gathered in order: the same numbers for any thread count.
     let mut runs: Vec<_> =
-        problem.cases().par_iter().zip(bare).map(|(sc, b)| band::scenario(problem, sc, b, layout)).collect();
+        problem.cases().par_iter().zip(bare).map(|(sc, b)| band::scenario(problem, sc, b, layout, over)).collect();
     let objectives: Vec<f64> = runs.iter().map(|r| r.relative).collect();
     let worst_scenario =
         objectives.iter().enumerate().fold(0, |w, (i, o)| if *o > objectives[w] || o.is_nan() { i } else { w });

@@ -4,6 +4,13 @@
 //! size in the search's coordinates. On an objective with noise (a design whose bands hold
 //! points that never settle) the spread of the simplex's objectives may never fall below the
 //! tolerance however small the simplex, and a run would spend all its iterations there.
+//!
+//! The objective is asked with the comparison its value feeds (`cost(x, cap)`): a reflected
+//! point only against the worst vertex, an expanded or outside-contracted one against the
+//! reflected point, an inside-contracted one against the worst. Above `cap` its value decides
+//! nothing and is never kept, so the objective may return any number above `cap` there (a
+//! design's evaluation ends its sweeps once a certified orbit shows it above): the same
+//! steps, the same vertices, bit for bit.
 
 /// When a run ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,10 +47,10 @@ pub struct Simplex {
 
 impl Simplex {
     /// The simplex of `vertices` (`d + 1` points of `d` coordinates), each evaluated.
-    pub fn new<E>(mut cost: impl FnMut(&[f64]) -> Result<f64, E>, vertices: Vec<Vec<f64>>) -> Result<Self, E> {
+    pub fn new<E>(mut cost: impl FnMut(&[f64], f64) -> Result<f64, E>, vertices: Vec<Vec<f64>>) -> Result<Self, E> {
         let mut p = Vec::with_capacity(vertices.len());
         for v in vertices {
-            let c = cost(&v)?;
+            let c = cost(&v, f64::INFINITY)?;
             p.push((v, c));
         }
         sort(&mut p);
@@ -65,7 +72,7 @@ impl Simplex {
     /// `cost` ends the piece with it (the simplex keeps what it had).
     pub fn advance<E>(
         &mut self,
-        mut cost: impl FnMut(&[f64]) -> Result<f64, E>,
+        mut cost: impl FnMut(&[f64], f64) -> Result<f64, E>,
         s: &Settings,
         iterations: u64,
     ) -> Result<Option<End>, E> {
@@ -92,8 +99,9 @@ impl Simplex {
 
 /// Minimises `cost` from the simplex `vertices` (`d + 1` points of `d` coordinates) and
 /// returns the best vertex and its objective. The first error of `cost` ends the run with it.
+/// `cost(x, cap)`: the objective at `x`, or any number above `cap` where it is above `cap`.
 pub fn minimise<E>(
-    mut cost: impl FnMut(&[f64]) -> Result<f64, E>,
+    mut cost: impl FnMut(&[f64], f64) -> Result<f64, E>,
     vertices: Vec<Vec<f64>>,
     s: &Settings,
 ) -> Result<Vertex, E> {
@@ -126,7 +134,7 @@ fn toward(a: &[f64], b: &[f64], f: f64) -> Vec<f64> {
 
 /// One iteration: reflect the worst vertex through the centroid of the others, then expand,
 /// contract or shrink.
-fn step<E>(p: &mut [Vertex], cost: &mut impl FnMut(&[f64]) -> Result<f64, E>) -> Result<(), E> {
+fn step<E>(p: &mut [Vertex], cost: &mut impl FnMut(&[f64], f64) -> Result<f64, E>) -> Result<(), E> {
     let n = p.len();
     let others = n - 1;
     let mut x0 = p[0].0.clone();
@@ -138,24 +146,25 @@ fn step<E>(p: &mut [Vertex], cost: &mut impl FnMut(&[f64]) -> Result<f64, E>) ->
     let (best, worst, second) = (p[0].1, p[n - 1].1, p[n - 2].1);
     // x0 + (x0 - worst) * 1
     let xr: Vec<f64> = x0.iter().zip(&p[n - 1].0).map(|(c, w)| c + (c - w) * 1.0).collect();
-    let cr = cost(&xr)?;
+    // At or above the worst only the inside contraction follows, which does not read it.
+    let cr = cost(&xr, worst)?;
     if cr < second && cr >= best {
         p[n - 1] = (xr, cr);
     } else if cr < best {
         let xe = toward(&x0, &xr, 2.0);
-        let ce = cost(&xe)?;
+        let ce = cost(&xe, cr)?;
         p[n - 1] = if ce < cr { (xe, ce) } else { (xr, cr) };
     } else {
         let outside = cr < worst;
         let xc = if outside { toward(&x0, &xr, 0.5) } else { toward(&x0, &p[n - 1].0, 0.5) };
-        let cc = cost(&xc)?;
+        let cc = cost(&xc, if outside { cr } else { worst })?;
         if (outside && cc <= cr) || (!outside && cc < worst) {
             p[n - 1] = (xc, cc);
         } else {
             let first = p[0].0.clone();
             for v in &mut p[1..] {
                 v.0 = toward(&first, &v.0, 0.5);
-                v.1 = cost(&v.0)?;
+                v.1 = cost(&v.0, f64::INFINITY)?;
             }
         }
     }
@@ -209,7 +218,7 @@ mod tests {
         ] {
             let ours = std::cell::Cell::new(0u64);
             let (x, c) = minimise(
-                |x| {
+                |x, _| {
                     ours.set(ours.get() + 1);
                     Ok::<_, ()>(f(x))
                 },
@@ -235,7 +244,7 @@ mod tests {
         let run = |step| {
             let mut n = 0;
             let (x, _) = minimise(
-                |x| {
+                |x, _| {
                     n += 1;
                     Ok::<_, ()>(bumpy(x))
                 },
@@ -256,8 +265,8 @@ mod tests {
     #[test]
     fn a_run_advanced_in_pieces_makes_the_same_steps() {
         let settings = Settings { max_iters: 150, sd_tolerance: 1e-9, step_tolerance: 0.0 };
-        fn count(f: fn(&[f64]) -> f64, n: &std::cell::Cell<u64>) -> impl FnMut(&[f64]) -> Result<f64, ()> + '_ {
-            move |x| {
+        fn count(f: fn(&[f64]) -> f64, n: &std::cell::Cell<u64>) -> impl FnMut(&[f64], f64) -> Result<f64, ()> + '_ {
+            move |x, _| {
                 n.set(n.get() + 1);
                 Ok(f(x))
             }
@@ -274,18 +283,60 @@ mod tests {
             assert_eq!((&run.best().0, run.best().1.to_bits()), (&x, c.to_bits()));
             assert_eq!(whole.get(), pieces.get());
         }
-        let mut run = Simplex::new(|x| Ok::<_, ()>(rosenbrock(x)), simplex(&[-1.2, 1.0])).unwrap();
+        let mut run = Simplex::new(|x, _| Ok::<_, ()>(rosenbrock(x)), simplex(&[-1.2, 1.0])).unwrap();
         assert_eq!(
-            run.advance(|x| Ok::<_, ()>(rosenbrock(x)), &Settings { max_iters: 5, ..settings }, 100),
+            run.advance(|x, _| Ok::<_, ()>(rosenbrock(x)), &Settings { max_iters: 5, ..settings }, 100),
             Ok(Some(End::Iterations))
         );
+    }
+
+    #[test]
+    fn an_objective_that_stops_above_its_cap_makes_the_same_steps() {
+        // Above the comparison it feeds the objective answers infinity (a design's evaluation
+        // ends its sweeps there): every vertex, objective and evaluation count is the same,
+        // and a good share of the evaluations needed no value.
+        let settings = Settings { max_iters: 200, sd_tolerance: 1e-9, step_tolerance: 0.0 };
+        for (f, x0) in [
+            (rosenbrock as fn(&[f64]) -> f64, vec![-1.2, 1.0]),
+            (rosenbrock, vec![0.5, -0.5, 2.0]),
+            (bumpy, vec![2.0, -1.0, 0.0]),
+        ] {
+            let (mut exact, mut lazy, mut capped) = (0u64, 0u64, 0u64);
+            let whole = minimise(
+                |x, _| {
+                    exact += 1;
+                    Ok::<_, ()>(f(x))
+                },
+                simplex(&x0),
+                &settings,
+            )
+            .unwrap();
+            let stopped = minimise(
+                |x, cap| {
+                    lazy += 1;
+                    let v = f(x);
+                    if v > cap {
+                        capped += 1;
+                        Ok::<_, ()>(f64::INFINITY)
+                    } else {
+                        Ok(v)
+                    }
+                },
+                simplex(&x0),
+                &settings,
+            )
+            .unwrap();
+            assert_eq!((&whole.0, whole.1.to_bits()), (&stopped.0, stopped.1.to_bits()), "{x0:?}");
+            assert_eq!(exact, lazy, "{x0:?}");
+            assert!(capped * 5 > lazy, "{capped} of {lazy} evaluations above their cap from {x0:?}");
+        }
     }
 
     #[test]
     fn an_error_of_the_objective_ends_the_run_with_it() {
         let mut n = 0;
         let r = minimise(
-            |x| {
+            |x, _| {
                 n += 1;
                 if n > 5 {
                     Err("stop")

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use super::halt::Halt;
 use super::nelder_mead::{End, Settings, Simplex};
 use super::space::{layout, Options, Space};
-use super::{evaluate, Evaluation, Problem};
+use super::{evaluate_below, Evaluation, Problem};
 
 /// Nelder-Mead iterations a run makes in a round (a placement of the shipped designs
 /// converges in 5-60).
@@ -112,8 +112,10 @@ struct Shared<'a> {
 
 impl Shared<'_> {
     /// The objective of `x` for the run's placement (a point that cannot be computed is
-    /// +1e300), or the halt.
-    fn cost(&self, run: (&[usize], &AtomicU64, &Mutex<Best>), x: &[f64]) -> Result<f64, TimeLimit> {
+    /// +1e300), or the halt; infinity where the evaluation ended once it showed the objective
+    /// above `cap` ([`evaluate_below`]: the comparison Nelder-Mead makes with it, which then
+    /// needs no value; such a point is never the run's best).
+    fn cost(&self, run: (&[usize], &AtomicU64, &Mutex<Best>), x: &[f64], cap: f64) -> Result<f64, TimeLimit> {
         let (hosts, count, best) = run;
         if self.halt.reached() {
             self.stopped.store(true, Ordering::Relaxed);
@@ -121,7 +123,10 @@ impl Shared<'_> {
         }
         count.fetch_add(1, Ordering::Relaxed);
         (self.check)();
-        let e = self.halt.timed(|| evaluate(self.problem, self.bare, &layout(hosts, x, self.space)));
+        let layout = layout(hosts, x, self.space);
+        let Some(e) = self.halt.timed_whole(|| evaluate_below(self.problem, self.bare, &layout, cap)) else {
+            return Ok(f64::INFINITY);
+        };
         let objective = if e.objective.is_finite() { e.objective } else { 1e300 };
         if let Ok(mut best) = best.lock() {
             if best.as_ref().is_none_or(|b| objective < b.1) {
@@ -136,7 +141,7 @@ impl Shared<'_> {
     fn round(&self, run: &mut Run, opts: &Options) {
         let Run { placement, x0, simplex, best, count, end } = run;
         let hosts = &self.space.placements[*placement];
-        let cost = |x: &[f64]| self.cost((hosts, count, best), x);
+        let cost = |x: &[f64], cap: f64| self.cost((hosts, count, best), x, cap);
         let settings =
             Settings { max_iters: opts.max_iters, sd_tolerance: opts.tolerance, step_tolerance: opts.step_tolerance };
         if simplex.is_none() {

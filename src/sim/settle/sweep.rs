@@ -118,6 +118,19 @@ pub fn continued_at(
     opts: &SteadyOptions,
     tick: &(dyn Fn() + Sync),
 ) -> Vec<SweepPoint> {
+    continued_until(forced, dir, opts, tick, &|_| false)
+}
+
+/// [`continued_at`] that ends after the first point `enough` accepts: its points are the
+/// first ones of [`continued_at`]'s, the same numbers (a design's evaluation ends there once
+/// a point shows its objective above the comparison it feeds).
+pub fn continued_until(
+    forced: &[(f64, Result<Dynamics, SetupError>)],
+    dir: Direction,
+    opts: &SteadyOptions,
+    tick: &(dyn Fn() + Sync),
+    enough: &(dyn Fn(&SweepPoint) -> bool + Sync),
+) -> Vec<SweepPoint> {
     let order: Vec<&(f64, Result<Dynamics, SetupError>)> = match dir {
         Direction::Up => forced.iter().collect(),
         Direction::Down => forced.iter().rev().collect(),
@@ -182,6 +195,9 @@ pub fn continued_at(
         };
         tick();
         out.push(SweepPoint { freq_hz: f, result });
+        if out.last().is_some_and(enough) {
+            break;
+        }
     }
     out
 }
