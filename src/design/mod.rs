@@ -574,9 +574,10 @@ pub fn evaluate(problem: &Problem, bare: &[Vec<f64>], layout: &Layout) -> Evalua
 
 /// [`evaluate`] where only an objective below `cap` matters (the comparison a Nelder-Mead step
 /// makes with it): `None` when the objective is above `cap`, found as soon as a certified
-/// periodic orbit of a band's mass has a compliance above `cap` times the band's bare measure
-/// (a peak lies at least that high, so the objective, the worst band's and scenario's peak
-/// relative to the bare structure's, does too), its sweeps then ended there. Else the
+/// periodic orbit of a band's mass has a compliance whose ratio to the band's bare measure is
+/// above `cap` (the band's peak lies at least that high, so the objective, the worst band's
+/// and scenario's peak relative to the bare structure's, does too), its sweeps then ended
+/// there. Else the
 /// evaluation [`evaluate`] gives, the same numbers: every point was computed. Where the
 /// objective is not a largest of its parts (a mean over scenarios, an RMS measure, a suite of
 /// records) or `cap` is not finite, always the whole evaluation.
