@@ -115,11 +115,10 @@ pub(super) fn band_compliance_on(
         })
         .collect();
     // Per sweep and point: measured over its screen only.
+    // Ended early, nothing here is the band's, so nothing is measured on.
     let ended = over.is_some_and(|o| o.reached.load(Ordering::Relaxed));
-    let aside = match (screen, &forced) {
+    let aside = match (screen.filter(|_| !ended), &forced) {
         (None, _) => swept.iter().map(|s| vec![false; s.len()]).collect(),
-        // Ended early: nothing here is the band's, so nothing is measured on.
-        _ if ended => swept.iter().map(|s| vec![false; s.len()]).collect(),
         (Some(_), Some(f)) => race::measure_on(f, &mut swept, band, steady),
         (Some(_), None) => race::measure_on(&sweep::forced_at(base, &band.freq_hz), &mut swept, band, steady),
     };
