@@ -65,7 +65,7 @@ fn main() {
     let start = Instant::now();
     let e = one.install(|| evaluate(&problem, &b, &layout));
     println!(
-        "  the design's evaluation: {:.2} s, objective {:.4} +- {:.4}, {} of {} points unsettled (periodic {}, quasi-periodic {}, chaotic {}, transient {})",
+        "  the design's evaluation: {:.2} s, objective {:.4} +- {:.4}, {} of {} points unsettled (periodic {}, quasi-periodic {}, chaotic {}, transient {}, unclassified {})",
         start.elapsed().as_secs_f64(),
         e.objective,
         e.half_width,
@@ -74,16 +74,17 @@ fn main() {
         e.classes[0],
         e.classes[1],
         e.classes[2],
-        e.classes[3]
+        e.classes[3],
+        e.classes[6]
     );
     // The same sweeps point by point (the measurement the design asks of a point without an
     // orbit: handed over after HAND_OVER periods, to INTERVAL_TOL, within the 150).
     let sys = answer_system(&exp);
     let base = Dynamics::unforced(&sys);
     let opts = SteadyOptions { measure: Irregular::handed_over(HAND_OVER, INTERVAL_TOL), ..steady };
-    let mut time = [0.0f64; 6];
-    let mut count = [0usize; 6];
-    let mut periods = [0usize; 6];
+    let mut time = [0.0f64; Motion::ALL.len()];
+    let mut count = [0usize; Motion::ALL.len()];
+    let mut periods = [0usize; Motion::ALL.len()];
     for band in &bands {
         let forced = sweep::forced_at(&base, &band.freq_hz);
         for way in [Way::Up, Way::Down] {

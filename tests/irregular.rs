@@ -101,6 +101,23 @@ fn the_exponent_of_chaos_agrees_with_two_nearby_trajectories() {
     );
 }
 
+/// A record too short for two batches gives no interval, and no class: the chaotic point of
+/// (a) measured over 24 periods (18 kept after the alignment) is unclassified, its statistic
+/// stated without an interval; over 2000 it is chaos again. Before the class existed such a
+/// record was called quasi-periodic or a transient by an interval it did not have.
+#[test]
+fn a_record_too_short_for_an_interval_is_unclassified() {
+    let d = heavy_ball(5.0, 0.8, 0.2);
+    let short = measured(&d, 200, Measure::periods(24, 0.0));
+    let got = short.measured.clone().unwrap();
+    assert_eq!(short.motion, Motion::Unclassified, "{got:?}");
+    assert!(got.periods < 2 * shotdamp::sim::settle::statistic::MIN_BATCH, "{got:?}");
+    assert!(got.lyapunov.is_finite() && got.lyapunov_half_width.is_nan(), "{got:?}");
+    assert!(got.statistic[0].is_finite() && got.half_width[0].is_nan(), "{got:?}");
+    let long = measured(&d, 200, Measure::periods(2000, 0.0));
+    assert_eq!(long.motion, Motion::Chaotic, "{:?}", long.measured);
+}
+
 /// (b) On a torus (Fig. 8's stated chain, one bed on m1 at 33.6 Hz, recognised as one by the
 /// orbit search) the exponent is indistinguishable from 0.
 #[test]

@@ -310,7 +310,7 @@ pub struct Steady {
     /// The certificate of a periodic orbit (None when the point is not one).
     #[pyo3(get)]
     orbit: Option<Py<Orbit>>,
-    /// What the motion is: "periodic", "quasi-periodic", "chaotic", "transient", "chatter"
+    /// What the motion is: "periodic", "quasi-periodic", "chaotic", "transient", "unclassified", "chatter"
     /// or "aperiodic".
     #[pyo3(get)]
     motion: String,

@@ -67,7 +67,7 @@ fn layouts_table(
         description.to_string()
     };
     let description = format!(
-        "{description}. measured_points: steady states with no certified orbit, measured as irregular motion (chaotic_points of them chaotic; screened_points of them over a {}-period screen only: their widened interval lies below their band's highest point's, so they cannot set a peak measure, docs/design.md); objective_half_width: the half-width of the objective's 95 % interval from the measured points it rests on (0: every one a certified orbit; NaN: one was measured too briefly for its batches, so its interval is not known); equal_to_lowest_within_intervals: 1 where the row's interval overlaps the lowest objective's (an interval not known counts as its objective alone)",
+        "{description}. measured_points: steady states with no certified orbit, measured as irregular motion (chaotic_points of them chaotic; unclassified_points of them measured over too short a record to tell chaos from a torus or a transient; screened_points of them over a {}-period screen only: their widened interval lies below their band's highest point's, so they cannot set a peak measure, docs/design.md); objective_half_width: the half-width of the objective's 95 % interval from the measured points it rests on (0: every one a certified orbit; NaN: one was measured too briefly for its batches, so its interval is not known); equal_to_lowest_within_intervals: 1 where the row's interval overlaps the lowest objective's (an interval not known counts as its objective alone)",
         crate::design::race::SCREEN
     );
     let mut t = Table::new(name, description)
@@ -112,6 +112,7 @@ fn layouts_table(
         .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
         .i64("measured_points", rows.iter().map(|r| r.2.measured() as i64).collect())
         .i64("chaotic_points", rows.iter().map(|r| r.2.classes[2] as i64).collect())
+        .i64("unclassified_points", rows.iter().map(|r| r.2.classes[6] as i64).collect())
         .i64("screened_points", rows.iter().map(|r| r.2.screened as i64).collect())
         .f64("objective_half_width", rows.iter().map(|r| r.2.half_width).collect())
         .i64(

@@ -11,7 +11,7 @@ use crate::table::Table;
 
 /// The drawn points of the layouts with shot (each band's masses) counted by class, in words.
 pub(super) fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option<&Evaluation>]) -> String {
-    let mut count = [0usize; 6];
+    let mut count = [0usize; 7];
     let mut screened = 0;
     for e in evaluations.iter().flatten() {
         for (band, rows) in bands.iter().zip(&e.points_class) {
@@ -34,11 +34,12 @@ pub(super) fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option
         ),
     };
     format!(
-        "Of the {all} points with shot drawn (per frequency and band mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.{screen}",
+        "Of the {all} points with shot drawn (per frequency and band mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares){}; a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.{screen}",
         count[0],
         count[1],
         count[2],
-        count[3] + count[4] + count[5]
+        count[3] + count[4] + count[5] + count[6],
+        crate::analysis::figures::unclassified_words(count[6])
     )
 }
 

@@ -38,9 +38,23 @@ pub fn class_words(curves: &[&Curve]) -> String {
         return format!("Every one of the {} points is a periodic motion.", all.len());
     }
     format!(
-        "Of the {} points, {periodic} periodic (circles where the period is longer than one forcing period), {quasi} quasi-periodic (triangles), {chaotic} chaotic (crosses: largest Lyapunov exponent above 0), {rest} not settled within the budget (squares); a point with no certified orbit is the 95th percentile of its per-period amplitudes over a stationary record, the bar its 95 % interval.",
-        all.len()
+        "Of the {} points, {periodic} periodic (circles where the period is longer than one forcing period), {quasi} quasi-periodic (triangles), {chaotic} chaotic (crosses: largest Lyapunov exponent above 0), {rest} not settled within the budget (squares){}; a point with no certified orbit is the 95th percentile of its per-period amplitudes over a stationary record, the bar its 95 % interval.",
+        all.len(),
+        unclassified_words(count("unclassified"))
     )
+}
+
+/// What a caption adds of the points measured over records too short to classify
+/// ([`crate::sim::settle::statistic::Motion::Unclassified`]), counted among the squares.
+pub fn unclassified_words(unclassified: usize) -> String {
+    match unclassified {
+        0 => String::new(),
+        k => format!(
+            ", {k} of them unclassified (measured over too short a record to tell chaos, a torus and a transient apart: fewer than {} kept periods, no interval, or fewer than {} batches whose interval contains 0)",
+            2 * crate::sim::settle::statistic::MIN_BATCH,
+            crate::sim::settle::statistic::BATCHES
+        ),
+    }
 }
 
 /// How a point that is not a settled period-1 orbit is drawn: its class's marker and legend
@@ -56,7 +70,7 @@ pub fn class_marker(class: &str) -> (Marker, &'static str) {
         "periodic" => (Marker::Circle, "periodic, period > 1"),
         "quasi-periodic" => (Marker::Triangle, "quasi-periodic (torus)"),
         "chaotic" => (Marker::Cross, "chaotic (Lyapunov exponent > 0)"),
-        _ => (Marker::Square, "not settled (transient, chatter, not computed)"),
+        _ => (Marker::Square, "not settled (transient, unclassified, chatter, not computed)"),
     }
 }
 

@@ -17,7 +17,7 @@ pub(super) struct BandRun {
     pub(super) points: Vec<Vec<Point>>,
     pub(super) unsettled: usize,
     pub(super) motion: Motion,
-    pub(super) classes: [usize; 6],
+    pub(super) classes: [usize; 7],
     pub(super) measured: usize,
     /// Points measured over their screen only: they cannot be the band's highest
     /// ([`race::measure_on`]).
@@ -96,7 +96,7 @@ pub(super) fn band_compliance_on(
     let mut given = vec![0usize; band.freq_hz.len()];
     let mut unsettled = 0;
     let mut motion = Motion::default();
-    let mut classes = [0; 6];
+    let mut classes = [0; 7];
     let mut measured = 0;
     // The dynamics at each frequency, shared by the continued sweeps; the sweeps run side by
     // side and are gathered in order.
@@ -198,7 +198,7 @@ pub(super) struct ScenarioRun {
     pub(super) bands_half_width: Vec<f64>,
     /// The half-width of `relative`.
     pub(super) half_width: f64,
-    pub(super) classes: [usize; 6],
+    pub(super) classes: [usize; 7],
     pub(super) measured: usize,
     pub(super) screened: usize,
 }
@@ -223,7 +223,7 @@ pub(super) fn scenario(
     let mut all_points = Vec::with_capacity(problem.bands.len());
     let mut bands_half_width = Vec::with_capacity(problem.bands.len());
     let mut half_width = 0.0;
-    let mut classes = [0; 6];
+    let mut classes = [0; 7];
     let mut measured = 0;
     let mut screened = 0;
     let base = Dynamics::unforced(&sys);

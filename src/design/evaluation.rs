@@ -37,7 +37,7 @@ pub struct Evaluation {
     /// Per band: the half-width of its measure's interval (the worst scenario's).
     pub bands_half_width: Vec<f64>,
     /// Steady states of each class ([`Class::ALL`]'s order), over every scenario.
-    pub classes: [usize; 6],
+    pub classes: [usize; 7],
     /// Steady states measured as irregular motion (a statistic with its interval), over every
     /// scenario.
     pub measured: usize,
@@ -148,7 +148,7 @@ impl Evaluation {
             motion: Vec::new(),
             half_width: 0.0,
             bands_half_width: vec![0.0],
-            classes: [points.saturating_sub(unsettled), 0, 0, unsettled, 0, 0],
+            classes: [points.saturating_sub(unsettled), 0, 0, unsettled, 0, 0, 0],
             measured: 0,
             screened: 0,
             points_class: Vec::new(),

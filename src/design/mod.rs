@@ -613,7 +613,7 @@ fn evaluated(
             (objectives.iter().sum::<f64>() / k, runs.iter().map(|r| r.half_width).sum::<f64>() / k)
         }
     };
-    let mut classes = [0; 6];
+    let mut classes = [0; 7];
     for r in &runs {
         classes.iter_mut().zip(r.classes).for_each(|(a, b)| *a += b);
     }

@@ -239,7 +239,7 @@ pub fn evaluate(problem: &Problem, suite: &Suite, bare: &[Vec<f64>], layout: &La
         motion: w.motion.clone(),
         half_width: 0.0,
         bands_half_width: vec![0.0; records],
-        classes: [0; 6],
+        classes: [0; 7],
         measured: 0,
         screened: 0,
         points_class: Vec::new(),

@@ -106,6 +106,10 @@ pub enum Motion {
     /// A bed with restitution or a column of grains that never settled: measured by its long
     /// record ([`super::long_record`]).
     Aperiodic,
+    /// Measured, but over a record too short to tell: fewer kept periods than two batches of
+    /// [`MIN_BATCH`] (no interval for the exponent), or fewer than [`BATCHES`] batches whose
+    /// interval contains 0 (too wide to tell a torus from chaos). A design's short budgets.
+    Unclassified,
 }
 
 impl Motion {
@@ -118,17 +122,19 @@ impl Motion {
             Motion::Transient => "transient",
             Motion::Chatter => "chatter",
             Motion::Aperiodic => "aperiodic",
+            Motion::Unclassified => "unclassified",
         }
     }
 
     /// Every class, in the order pages count them.
-    pub const ALL: [Motion; 6] = [
+    pub const ALL: [Motion; 7] = [
         Motion::Periodic,
         Motion::QuasiPeriodic,
         Motion::Chaotic,
         Motion::Transient,
         Motion::Chatter,
         Motion::Aperiodic,
+        Motion::Unclassified,
     ];
 }
 
@@ -157,15 +163,21 @@ pub struct Measured {
 }
 
 impl Measured {
-    /// The class the exponent gives.
+    /// The class the exponent gives; none without its interval (a record too short for two
+    /// batches: an unknown interval neither lies above 0 nor contains it), nor where an
+    /// interval of fewer than [`BATCHES`] batches contains 0 (so wide that it cannot tell a
+    /// torus from chaos: on the plate design's points, every one of nine such records was
+    /// chaos or a periodic orbit once measured for 1500 periods, docs/design.md).
     pub fn class(&self) -> Motion {
         let (lo, hi) = (self.lyapunov - self.lyapunov_half_width, self.lyapunov + self.lyapunov_half_width);
-        if !self.lyapunov.is_finite() {
-            Motion::Transient
+        if !lo.is_finite() || !hi.is_finite() {
+            Motion::Unclassified
         } else if lo > 0.0 {
             Motion::Chaotic
         } else if hi < 0.0 || !self.stationary {
             Motion::Transient
+        } else if batches_for(self.periods) < BATCHES {
+            Motion::Unclassified
         } else {
             Motion::QuasiPeriodic
         }
@@ -301,6 +313,37 @@ fn half_width(batches: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn with_exponent(lyapunov: f64, half_width: f64, periods: usize) -> Measured {
+        Measured {
+            statistic: vec![1.0],
+            half_width: vec![0.01],
+            largest: vec![1.1],
+            lyapunov,
+            lyapunov_half_width: half_width,
+            periods,
+            discarded: 0,
+            stationary: true,
+            met: false,
+        }
+    }
+
+    #[test]
+    fn a_class_needs_an_interval_and_a_torus_a_whole_one() {
+        // Above 0 from any interval; below 0 a transient.
+        assert_eq!(with_exponent(300.0, 100.0, 30).class(), Motion::Chaotic);
+        assert_eq!(with_exponent(-50.0, 20.0, 30).class(), Motion::Transient);
+        // No interval: no class.
+        assert_eq!(with_exponent(300.0, f64::NAN, 15).class(), Motion::Unclassified);
+        assert_eq!(with_exponent(f64::NAN, f64::NAN, 0).class(), Motion::Unclassified);
+        // Containing 0: a torus only from the whole number of batches.
+        assert_eq!(with_exponent(80.0, 120.0, 199).class(), Motion::Unclassified);
+        assert_eq!(with_exponent(80.0, 120.0, 200).class(), Motion::QuasiPeriodic);
+        assert_eq!(with_exponent(1.0, 3.0, 400).class(), Motion::QuasiPeriodic);
+        // A record that is not stationary is a transient not over, whatever its exponent's sign.
+        let drifting = Measured { stationary: false, ..with_exponent(1.0, 3.0, 400) };
+        assert_eq!(drifting.class(), Motion::Transient);
+    }
 
     #[test]
     fn quantiles_follow_the_type_7_rule() {
