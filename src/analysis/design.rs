@@ -136,7 +136,10 @@ fn convergence_words(found: &[Found]) -> String {
             others.len(),
             if lo == hi { lo.to_string() } else { format!("{lo}-{hi}") }
         ),
-        _ => format!("every one of the {} placements was searched to convergence", found.len()),
+        _ => format!(
+            "it stopped only what comes after the main search (the Pareto budgets' searches, the maps near the optimum): every one of the {} placements was searched to convergence first",
+            found.len()
+        ),
     };
     let unjudged = found.iter().filter(|f| !f.judged).count();
     if unjudged == 0 {
