@@ -71,11 +71,11 @@ fn main() {
         e.half_width,
         e.unsettled,
         e.points,
-        e.classes[0],
-        e.classes[1],
-        e.classes[2],
-        e.classes[3],
-        e.classes[6]
+        e.classes[Motion::Periodic.index()],
+        e.classes[Motion::QuasiPeriodic.index()],
+        e.classes[Motion::Chaotic.index()],
+        e.classes[Motion::Transient.index()],
+        e.classes[Motion::Unclassified.index()]
     );
     // The same sweeps point by point (the measurement the design asks of a point without an
     // orbit: handed over after HAND_OVER periods, to INTERVAL_TOL, within the 150).
@@ -99,7 +99,7 @@ fn main() {
             let stamps = stamps.into_inner().unwrap_or_default();
             for (i, p) in swept.iter().enumerate() {
                 let (Ok(st), Some(t0), Some(t1)) = (&p.result, stamps.get(i), stamps.get(i + 1)) else { continue };
-                let k = Motion::ALL.iter().position(|c| *c == st.motion).unwrap_or(3);
+                let k = st.motion.index();
                 time[k] += (*t1 - *t0).as_secs_f64();
                 count[k] += 1;
                 periods[k] += st.transient_periods + st.recorded_periods;

@@ -13,6 +13,7 @@ use crate::design::{band_compliance, bare, evaluate, Evaluation, Layout, Problem
 use crate::experiment::Experiment;
 use crate::figure::{Figure, Marker, Panel, Series};
 use crate::number::fmt_num;
+use crate::sim::settle::statistic::Motion as Class;
 use crate::sim::SteadyOptions;
 use crate::table::Table;
 
@@ -111,8 +112,8 @@ fn layouts_table(
         .str("scenario", rows.iter().map(|r| scenarios.get(r.2.worst_scenario).cloned().unwrap_or_default()).collect())
         .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect())
         .i64("measured_points", rows.iter().map(|r| r.2.measured() as i64).collect())
-        .i64("chaotic_points", rows.iter().map(|r| r.2.classes[2] as i64).collect())
-        .i64("unclassified_points", rows.iter().map(|r| r.2.classes[6] as i64).collect())
+        .i64("chaotic_points", rows.iter().map(|r| r.2.classes[Class::Chaotic.index()] as i64).collect())
+        .i64("unclassified_points", rows.iter().map(|r| r.2.classes[Class::Unclassified.index()] as i64).collect())
         .i64("screened_points", rows.iter().map(|r| r.2.screened as i64).collect())
         .f64("objective_half_width", rows.iter().map(|r| r.2.half_width).collect())
         .i64(

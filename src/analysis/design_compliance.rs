@@ -11,12 +11,12 @@ use crate::table::Table;
 
 /// The drawn points of the layouts with shot (each band's masses) counted by class, in words.
 pub(super) fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option<&Evaluation>]) -> String {
-    let mut count = [0usize; 7];
+    let mut count = crate::sim::settle::statistic::ClassCounts::default();
     let mut screened = 0;
     for e in evaluations.iter().flatten() {
         for (band, rows) in bands.iter().zip(&e.points_class) {
             for p in rows.iter().flat_map(|r| band.masses.iter().filter_map(|&m| r.get(m))) {
-                count[Class::ALL.iter().position(|c| *c == p.class).unwrap_or(3)] += 1;
+                count[p.class.index()] += 1;
                 screened += usize::from(p.screened);
             }
         }
@@ -35,11 +35,11 @@ pub(super) fn drawn_classes(bands: &[crate::design::Band], evaluations: &[Option
     };
     format!(
         "Of the {all} points with shot drawn (per frequency and band mass), {} periodic, {} quasi-periodic (triangles), {} chaotic (crosses), {} not settled within the budget (squares){}; a point with no certified orbit is the 95th percentile of its per-period amplitudes, the bar its 95 % interval.{screen}",
-        count[0],
-        count[1],
-        count[2],
-        count[3] + count[4] + count[5] + count[6],
-        crate::analysis::figures::unclassified_words(count[6])
+        count[Class::Periodic.index()],
+        count[Class::QuasiPeriodic.index()],
+        count[Class::Chaotic.index()],
+        all - count[Class::Periodic.index()] - count[Class::QuasiPeriodic.index()] - count[Class::Chaotic.index()],
+        crate::analysis::figures::unclassified_words(count[Class::Unclassified.index()])
     )
 }
 

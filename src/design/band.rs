@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::sim::motion::system::{Dynamics, SetupError};
-use crate::sim::settle::statistic::{self, Motion as Class};
+use crate::sim::settle::statistic::{self, ClassCounts, Motion as Class};
 use crate::sim::settle::sweep::{self, Direction, SweepPoint};
 use crate::sim::{SteadyOptions, System};
 use rayon::prelude::*;
@@ -17,7 +17,7 @@ pub(super) struct BandRun {
     pub(super) points: Vec<Vec<Point>>,
     pub(super) unsettled: usize,
     pub(super) motion: Motion,
-    pub(super) classes: [usize; 7],
+    pub(super) classes: ClassCounts,
     pub(super) measured: usize,
     /// Points measured over their screen only: they cannot be the band's highest
     /// ([`race::measure_on`]).
@@ -96,7 +96,7 @@ pub(super) fn band_compliance_on(
     let mut given = vec![0usize; band.freq_hz.len()];
     let mut unsettled = 0;
     let mut motion = Motion::default();
-    let mut classes = [0; 7];
+    let mut classes = ClassCounts::default();
     let mut measured = 0;
     // The dynamics at each frequency, shared by the continued sweeps; the sweeps run side by
     // side and are gathered in order.
@@ -132,7 +132,7 @@ pub(super) fn band_compliance_on(
                     if !st.converged {
                         unsettled += 1;
                     }
-                    classes[Class::ALL.iter().position(|c| *c == st.motion).unwrap_or(3)] += 1;
+                    classes[st.motion.index()] += 1;
                     measured += usize::from(st.measured.is_some());
                     let half = |m: usize| st.measured.as_ref().map_or(0.0, |x| x.half_width[m] / drive);
                     if st.liftoffs.iter().any(|&l| l > 0.0) || st.max_flight.iter().any(|&f| f > 0.0) {
@@ -161,7 +161,7 @@ pub(super) fn band_compliance_on(
                 }
                 Err(_) => {
                     unsettled += 1;
-                    classes[3] += 1;
+                    classes[Class::Transient.index()] += 1;
                     worst[i].iter_mut().for_each(|w| *w = f64::INFINITY);
                     behind[i].iter_mut().for_each(|p| *p = Point { class: Class::Transient, ..Point::default() });
                 }
@@ -198,7 +198,7 @@ pub(super) struct ScenarioRun {
     pub(super) bands_half_width: Vec<f64>,
     /// The half-width of `relative`.
     pub(super) half_width: f64,
-    pub(super) classes: [usize; 7],
+    pub(super) classes: ClassCounts,
     pub(super) measured: usize,
     pub(super) screened: usize,
 }
@@ -223,7 +223,7 @@ pub(super) fn scenario(
     let mut all_points = Vec::with_capacity(problem.bands.len());
     let mut bands_half_width = Vec::with_capacity(problem.bands.len());
     let mut half_width = 0.0;
-    let mut classes = [0; 7];
+    let mut classes = ClassCounts::default();
     let mut measured = 0;
     let mut screened = 0;
     let base = Dynamics::unforced(&sys);

@@ -2,7 +2,7 @@
 //! ([`Evaluation`]), each frequency's steady state as the design measures it ([`Point`]) and
 //! how its beds moved ([`Motion`]).
 
-use crate::sim::settle::statistic::Motion as Class;
+use crate::sim::settle::statistic::{ClassCounts, Motion as Class};
 
 /// The objective of one layout and where it comes from.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,7 +37,7 @@ pub struct Evaluation {
     /// Per band: the half-width of its measure's interval (the worst scenario's).
     pub bands_half_width: Vec<f64>,
     /// Steady states of each class ([`Class::ALL`]'s order), over every scenario.
-    pub classes: [usize; 7],
+    pub classes: ClassCounts,
     /// Steady states measured as irregular motion (a statistic with its interval), over every
     /// scenario.
     pub measured: usize,
@@ -148,7 +148,12 @@ impl Evaluation {
             motion: Vec::new(),
             half_width: 0.0,
             bands_half_width: vec![0.0],
-            classes: [points.saturating_sub(unsettled), 0, 0, unsettled, 0, 0, 0],
+            classes: {
+                let mut c = ClassCounts::default();
+                c[Class::Periodic.index()] = points.saturating_sub(unsettled);
+                c[Class::Transient.index()] = unsettled;
+                c
+            },
             measured: 0,
             screened: 0,
             points_class: Vec::new(),

@@ -25,6 +25,7 @@ pub use evaluation::{Evaluation, Motion, Point, SAME_ORBIT};
 
 use crate::model::{Clearance, Damper, Structure};
 use crate::sim::motion::system::Dynamics;
+use crate::sim::settle::statistic::ClassCounts;
 use crate::sim::{SteadyOptions, System};
 
 /// Periods of a design point's orbit search before a point with no orbit is measured
@@ -613,7 +614,7 @@ fn evaluated(
             (objectives.iter().sum::<f64>() / k, runs.iter().map(|r| r.half_width).sum::<f64>() / k)
         }
     };
-    let mut classes = [0; 7];
+    let mut classes = ClassCounts::default();
     for r in &runs {
         classes.iter_mut().zip(r.classes).for_each(|(a, b)| *a += b);
     }

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use super::{Combine, Evaluation, Layout, Motion, Problem, Scenario};
 use crate::model::ground::{GroundMotion, Record};
 use crate::sim::record::{respond, RecordOptions, RecordResponse, RecordStop};
+use crate::sim::settle::statistic::ClassCounts;
 
 /// What a design against records measures of each response.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -239,7 +240,7 @@ pub fn evaluate(problem: &Problem, suite: &Suite, bare: &[Vec<f64>], layout: &La
         motion: w.motion.clone(),
         half_width: 0.0,
         bands_half_width: vec![0.0; records],
-        classes: [0; 7],
+        classes: ClassCounts::default(),
         measured: 0,
         screened: 0,
         points_class: Vec::new(),

@@ -126,7 +126,12 @@ impl Motion {
         }
     }
 
-    /// Every class, in the order pages count them.
+    /// Its place in [`Motion::ALL`], and so in [`ClassCounts`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Every class, in the order pages count them (their order of declaration).
     pub const ALL: [Motion; 7] = [
         Motion::Periodic,
         Motion::QuasiPeriodic,
@@ -137,6 +142,9 @@ impl Motion {
         Motion::Unclassified,
     ];
 }
+
+/// Steady states counted by class, in [`Motion::ALL`]'s order (index [`Motion::index`]).
+pub type ClassCounts = [usize; Motion::ALL.len()];
 
 /// The measurement of an irregular point.
 #[derive(Debug, Clone, PartialEq)]
@@ -325,6 +333,13 @@ mod tests {
             discarded: 0,
             stationary: true,
             met: false,
+        }
+    }
+
+    #[test]
+    fn every_class_counts_at_its_place() {
+        for (i, class) in Motion::ALL.iter().enumerate() {
+            assert_eq!(class.index(), i, "{class:?}");
         }
     }
 
