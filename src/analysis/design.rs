@@ -123,32 +123,32 @@ fn layouts_table(
         .i64("evaluations", rows.iter().map(|r| r.3 as i64).collect())
 }
 
-/// How far each placement's search got, in words: how many converged, and the evaluations of
-/// the others (from the placements table's `converged` and `evaluations`).
-fn convergence_words(found: &[Found]) -> String {
+/// What a stopped search's answer is, in a sentence or two: why it stopped (`why`), how far
+/// each placement's search got (from the placements table's `converged` and `evaluations`),
+/// and so what the layout that follows is.
+fn stop_words(why: &str, found: &[Found]) -> String {
     let converged = found.iter().filter(|f| f.ended == Some(search::Ended::Converged)).count();
     let others: Vec<u64> =
         found.iter().filter(|f| f.ended != Some(search::Ended::Converged)).map(|f| f.evaluations).collect();
-    let (lo, hi) = (others.iter().min(), others.iter().max());
-    let searched = match (lo, hi) {
+    let unjudged = found.iter().filter(|f| !f.judged).count();
+    let unjudged = match unjudged {
+        0 => String::new(),
+        k => format!(
+            " on the searched model; {k} of them were not judged on the file's model before the search stopped (their objective is blank and they are not ranked)"
+        ),
+    };
+    match (others.iter().min(), others.iter().max()) {
         (Some(lo), Some(hi)) => format!(
-            "{converged} of the {} placements were searched to convergence, the other {} stopped after {} evaluations (the placements table's converged and evaluations)",
+            "Not a converged answer: {why}; {converged} of the {} placements were searched to convergence, the other {} stopped after {} evaluations (the placements table's converged and evaluations){unjudged}; what follows is the best layout found so far.",
             found.len(),
             others.len(),
             if lo == hi { lo.to_string() } else { format!("{lo}-{hi}") }
         ),
         _ => format!(
-            "it stopped only what comes after the main search (the Pareto budgets' searches, the maps near the optimum): every one of the {} placements was searched to convergence first",
+            "Not the whole answer: {why} after every one of the {} placements had been searched to convergence{unjudged}, so it stopped only what comes after the main search (the Pareto budgets' searches, the maps near the optimum) and the answer is not stored; what follows is the main search's best layout.",
             found.len()
         ),
-    };
-    let unjudged = found.iter().filter(|f| !f.judged).count();
-    if unjudged == 0 {
-        return searched;
     }
-    format!(
-        "{searched} on the searched model; {unjudged} of them were not judged on the file's model before the search stopped (their objective is blank and they are not ranked)"
-    )
 }
 
 /// The placements table's column `converged`: whether each placement's search converged (every
@@ -249,7 +249,7 @@ fn run(
     });
     // How far the stopped search got, placement by placement (the placements table's
     // `evaluations` and `converged`).
-    let stop_words = why.map(|w| format!("{w}; {}", convergence_words(&found)));
+    let stop_words = why.map(|w| stop_words(w, &found));
     let answer = best.as_ref().map(|best| {
         let best_in = BestIn {
             p: &p,

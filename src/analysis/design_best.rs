@@ -50,6 +50,7 @@ pub(super) struct BestIn<'a> {
     pub(super) case_rows: &'a [(String, Layout, Evaluation, u64)],
     pub(super) total_mass: Option<(f64, String)>,
     pub(super) more: bool,
+    /// Where the search stopped: the sentences that lead the answer, saying what it is.
     pub(super) stopped: Option<&'a str>,
 }
 

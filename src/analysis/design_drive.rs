@@ -270,9 +270,7 @@ pub fn answer(problem: &Problem, best: &Rated<'_>, inputs: &AnswerIn<'_>, bare: 
             worse.join(", ")
         )
     };
-    let stop = inputs.stopped.map_or(String::new(), |why| {
-        format!("Not a converged answer: {why}; what follows is the best layout found so far. ")
-    });
+    let stop = inputs.stopped.map_or(String::new(), |words| format!("{words} "));
     let bands: Vec<String> = problem
         .bands
         .iter()

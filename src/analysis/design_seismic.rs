@@ -217,7 +217,7 @@ pub(super) fn about_the_best(
         );
     }
     if let Some(stopped) = i.stopped {
-        words.push(format!("Not a converged optimum: {stopped}."));
+        words.push(stopped.to_string());
     }
     words.join(" ")
 }
