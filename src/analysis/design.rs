@@ -610,3 +610,37 @@ fn sdof_method(
     .i64("unsettled_points", rows.iter().map(|r| r.2.unsettled as i64).collect());
     (table, exports)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn found(ended: search::Ended, evaluations: u64) -> Found {
+        Found {
+            layout: Layout { hosts: vec![0], masses_kg: vec![0.1], clearances_mm: vec![1.0] },
+            evaluation: Evaluation::with_objective(0.5, 0, 10),
+            x: Vec::new(),
+            starts: 1,
+            evaluations,
+            screened: None,
+            judged: true,
+            ended: Some(ended),
+        }
+    }
+
+    #[test]
+    fn a_stopped_search_says_what_its_layout_is() {
+        use search::Ended::{Converged, Stopped};
+        let why = "the search stopped at its time limit (--time-limit)";
+        // Stopped inside the main search: not converged, the best so far.
+        let w = stop_words(why, &[found(Converged, 40), found(Stopped, 3), found(Stopped, 5)]);
+        assert!(w.starts_with("Not a converged answer: the search stopped"), "{w}");
+        assert!(w.contains("1 of the 3 placements were searched to convergence, the other 2 stopped after 3-5"), "{w}");
+        assert!(w.ends_with("the best layout found so far."), "{w}");
+        // Stopped after every placement converged: converged, but not the whole answer.
+        let w = stop_words(why, &[found(Converged, 40), found(Converged, 30)]);
+        assert!(w.starts_with("Not the whole answer: the search stopped"), "{w}");
+        assert!(w.contains("every one of the 2 placements had been searched to convergence"), "{w}");
+        assert!(!w.contains("Not a converged") && !w.contains("found so far"), "{w}");
+    }
+}
