@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use shotdamp::design::{bare, evaluate, Band, Combine, Evaluation, Layout, Measure, Problem, Sweep};
 use shotdamp::model::{Damping, Direction, Structure};
-use shotdamp::sim::settle::statistic::{Measure as Irregular, Motion as Class};
+use shotdamp::sim::settle::statistic::Measure as Irregular;
 use shotdamp::sim::SteadyOptions;
 
 fn problem(sweeps: Vec<Sweep>, measure: Irregular, max_periods: usize) -> Problem {
@@ -62,16 +62,12 @@ fn line(p: &Problem, name: &str, e: &Evaluation, seconds: f64) {
         }
     });
     println!(
-        "  {name:<34} {:.4} +- {:.4} (at {f} Hz{there})  unsettled {:>3} of {:>3} (periodic {}, quasi {}, chaotic {}, transient {}, unclassified {}; coexisting at {both}; measured {}, over a screen only {})  {:.1} s",
+        "  {name:<34} {:.4} +- {:.4} (at {f} Hz{there})  unsettled {:>3} of {:>3} ({}; coexisting at {both}; measured {}, over a screen only {})  {:.1} s",
         e.objective,
         e.half_width,
         e.unsettled,
         e.points,
-        e.classes[Class::Periodic.index()],
-        e.classes[Class::QuasiPeriodic.index()],
-        e.classes[Class::Chaotic.index()],
-        e.classes[Class::Transient.index()],
-        e.classes[Class::Unclassified.index()],
+        e.class_words(),
         e.measured,
         e.screened,
         seconds

@@ -65,17 +65,13 @@ fn main() {
     let start = Instant::now();
     let e = one.install(|| evaluate(&problem, &b, &layout));
     println!(
-        "  the design's evaluation: {:.2} s, objective {:.4} +- {:.4}, {} of {} points unsettled (periodic {}, quasi-periodic {}, chaotic {}, transient {}, unclassified {})",
+        "  the design's evaluation: {:.2} s, objective {:.4} +- {:.4}, {} of {} points unsettled ({})",
         start.elapsed().as_secs_f64(),
         e.objective,
         e.half_width,
         e.unsettled,
         e.points,
-        e.classes[Motion::Periodic.index()],
-        e.classes[Motion::QuasiPeriodic.index()],
-        e.classes[Motion::Chaotic.index()],
-        e.classes[Motion::Transient.index()],
-        e.classes[Motion::Unclassified.index()]
+        e.class_words()
     );
     // The same sweeps point by point (the measurement the design asks of a point without an
     // orbit: handed over after HAND_OVER periods, to INTERVAL_TOL, within the 150).

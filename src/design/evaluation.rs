@@ -129,6 +129,13 @@ impl Evaluation {
     pub fn measured(&self) -> usize {
         self.measured
     }
+
+    /// Its steady states counted by class, the classes it has, in words ("periodic 208,
+    /// chaotic 15, unclassified 43").
+    pub fn class_words(&self) -> String {
+        let named = Class::ALL.iter().filter(|c| self.classes[c.index()] > 0);
+        named.map(|c| format!("{} {}", c.name(), self.classes[c.index()])).collect::<Vec<_>>().join(", ")
+    }
 }
 
 #[cfg(test)]
